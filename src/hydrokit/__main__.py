@@ -1,0 +1,3 @@
+from hydrokit.cli.main import main
+
+raise SystemExit(main())

@@ -1,0 +1,101 @@
+"""The ``hydrokit`` command.
+
+Subcommands are registered by name and imported only when invoked, so ``hydrokit --help``
+starts quickly (no numpy/scipy/numba/matplotlib import). Each subcommand module defines a
+click command object; heavy imports go inside the command function.
+
+Errors: a :class:`hydrokit.errors.HydrokitError` (bad input) prints one line on stderr and
+exits with code 2, as do click's usage errors. Anything else is a bug: one line and exit 1
+(set ``HYDROKIT_DEBUG=1`` for the traceback).
+"""
+
+from __future__ import annotations
+
+import importlib
+import os
+import sys
+
+import click
+
+# name -> "module:attribute", imported lazily.
+COMMANDS: dict[str, tuple[str, str]] = {
+    "demo": ("hydrokit.cli.demo:demo", "Identify the bundled UDrobot campaign and write an HTML report."),
+    "identify": ("hydrokit.cli.identify:identify", "Identify coefficients from free-decay launches."),
+    "scale": ("hydrokit.cli.identify:scale", "Scale model-test coefficients to full size (similitude)."),
+    "rig": ("hydrokit.cli.identify:rig", "Virtual rig: simulate launches, plan an experiment."),
+    "simulate": ("hydrokit.cli.simulate:simulate", "Simulate a vehicle under a constant or tabulated force."),
+    "allocate": ("hydrokit.cli.control:allocate", "Allocate a demanded force/moment to thrusters."),
+    "mission": ("hydrokit.cli.control:mission", "Run a closed-loop waypoint mission."),
+    "estimate": ("hydrokit.cli.estimate:estimate", "Estimate coefficients from geometry."),
+    "fit-forces": ("hydrokit.cli.estimate:fit_forces", "Fit damping models to a force-speed curve."),
+}
+
+
+class LazyGroup(click.Group):
+    """A click group whose subcommands are imported on first use."""
+
+    def list_commands(self, ctx: click.Context) -> list[str]:
+        return sorted(COMMANDS)
+
+    def get_command(self, ctx: click.Context, cmd_name: str) -> click.Command | None:
+        if cmd_name not in COMMANDS:
+            return None
+        target = COMMANDS[cmd_name][0]
+        module_name, attr = target.split(":")
+        try:
+            module = importlib.import_module(module_name)
+        except ModuleNotFoundError as exc:  # a command whose module is not built yet
+            if exc.name == module_name:
+                return None
+            raise
+        return getattr(module, attr)
+
+    def format_commands(self, ctx: click.Context, formatter: click.HelpFormatter) -> None:
+        # Short help without importing every subcommand module.
+        rows = [(name, COMMANDS[name][1]) for name in self.list_commands(ctx)]
+        with formatter.section("Commands"):
+            formatter.write_dl(rows)
+
+
+@click.group(cls=LazyGroup, context_settings={"help_option_names": ["-h", "--help"]})
+@click.version_option(package_name="hydrokit")
+def cli() -> None:
+    """hydrokit: from a tank test to a 6-DOF underwater-vehicle model and controller.
+
+    All quantities are SI (m, kg, s, N, rad) unless an option says otherwise.
+    """
+
+
+def main(argv: list[str] | None = None) -> int:
+    """Entry point; returns the process exit code (0 ok, 2 bad input, 1 internal error)."""
+    from hydrokit.errors import HydrokitError
+
+    try:
+        cli.main(args=argv, prog_name="hydrokit", standalone_mode=False)
+    except click.exceptions.Exit as exc:
+        return _exit(exc.exit_code)
+    except click.ClickException as exc:
+        exc.show()
+        return _exit(2)
+    except click.exceptions.Abort:
+        click.echo("Aborted.", err=True)
+        return _exit(2)
+    except HydrokitError as exc:
+        click.echo(f"error: {exc}", err=True)
+        return _exit(2)
+    except Exception as exc:  # a bug, not bad input: still no traceback unless asked
+        if os.environ.get("HYDROKIT_DEBUG"):
+            raise
+        msg = " ".join(str(exc).split())
+        click.echo(f"internal error: {type(exc).__name__}: {msg} (set HYDROKIT_DEBUG=1 for details)", err=True)
+        return _exit(1)
+    return _exit(0)
+
+
+def _exit(code: int | None) -> int:
+    # The console-script wrapper calls sys.exit(main()), so returning is enough.
+    return 0 if code is None else int(code)
+
+
+if __name__ == "__main__":  # pragma: no cover
+    sys.exit(main())

@@ -1,0 +1,1 @@
+"""Coefficients from geometry and from force-speed curves."""

@@ -1,0 +1,1 @@
+"""Free-decay identification: rig models (spring, pendulum, torsion) and estimators."""

@@ -1,0 +1,1 @@
+"""File formats: rig, launch, vehicle, mission, force files; results as JSON/CSV."""

@@ -1,0 +1,1 @@
+"""Vehicle model (Fossen form + general derivative terms), thrusters, allocation, control."""

@@ -1,0 +1,1 @@
+"""Integrators and simulation drivers; they live outside the models."""
