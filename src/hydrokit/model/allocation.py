@@ -1,0 +1,295 @@
+"""Thrust allocation: configuration matrix, pseudo-inverse and constrained solutions.
+
+The demanded generalised force τ = [X Y Z K M N] (N, N·m, body axes) is mapped to thruster
+forces f (N) with τ = T f, where column i of the 6×m configuration matrix T is
+[e_i; r_i × e_i] (LI2021 eq. 22–23).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+
+from hydrokit.errors import InputError
+
+Array = NDArray[np.float64]
+
+DOF_NAMES = ("surge", "sway", "heave", "roll", "pitch", "yaw")
+
+#: A row of T whose largest entry is below this (N per N, m) counts as all-zero: poses are
+#: given to ~1e-3 m, so anything smaller is round-off, not a lever arm.
+ZERO_ROW_TOL = 1e-9
+
+#: Weight of the exact-achievement term in the second (least-norm) stage of the constrained
+#: allocation, relative to the thrust-norm term after scaling T to unit norm. The achieved τ
+#: then deviates from the stage-1 optimum by about |f| / W² ≈ 1e-10 of the thrust scale.
+_STAGE2_WEIGHT = 1e5
+
+
+def configuration_matrix(positions: ArrayLike, directions: ArrayLike) -> Array:
+    """The 6×m configuration matrix (LI2021 eq. 22–23).
+
+    Parameters
+    ----------
+    positions : (m, 3) array — thruster positions r_i in body axes, m
+    directions : (m, 3) array — unit thrust directions e_i in body axes, –
+
+    Returns
+    -------
+    T : (6, m) array — column i = [e_i; r_i × e_i]; rows X, Y, Z (N per N) and K, M, N
+        (N·m per N, i.e. m)
+    """
+    r = np.atleast_2d(np.asarray(positions, dtype=float))
+    e = np.atleast_2d(np.asarray(directions, dtype=float))
+    if r.shape != e.shape or r.shape[1] != 3:
+        raise InputError(
+            f"positions {r.shape} and directions {e.shape}: expected two (m, 3) arrays"
+        )
+    return np.vstack([e.T, np.cross(r, e).T])
+
+
+def uncontrollable_dofs(T: ArrayLike, tol: float = ZERO_ROW_TOL) -> list[str]:
+    """Names of the DOF whose row of T is all zero (LI2021 eq. 28): the layout cannot act on them."""
+    T = np.asarray(T, dtype=float)
+    return [DOF_NAMES[i] for i in range(6) if np.max(np.abs(T[i]), initial=0.0) <= tol]
+
+
+def weighted_pinv(T: ArrayLike, weights: ArrayLike | None = None) -> Array:
+    """Weighted pseudo-inverse T_W⁺ = W⁻¹ Tᵀ (T W⁻¹ Tᵀ)⁺ (Fossen 2011 eq. 12.245).
+
+    Minimises fᵀ W f subject to T f = τ for achievable τ; W = I gives the Moore–Penrose
+    inverse of LI2021 eq. 34. ``weights`` are the m positive diagonal entries of W (–):
+    a larger weight makes a thruster less used.
+    """
+    T = np.asarray(T, dtype=float)
+    m = T.shape[1]
+    if weights is None:
+        return np.linalg.pinv(T)
+    w = np.asarray(weights, dtype=float).reshape(-1)
+    if w.shape != (m,) or not np.all(np.isfinite(w)) or np.any(w <= 0):
+        raise InputError(f"allocation weights {w.tolist()}: expected {m} positive numbers")
+    Winv = np.diag(1.0 / w)
+    return Winv @ T.T @ np.linalg.pinv(T @ Winv @ T.T)
+
+
+@dataclass(frozen=True)
+class AllocationResult:
+    """Outcome of one allocation.
+
+    Attributes
+    ----------
+    thrust : (m,) array — thruster forces f, N (file order)
+    achieved_tau : (6,) array — T f, N and N·m
+    residual : float — |T f − τ|, in the mixed units of τ
+    saturated : list of str — thrusters at a limit (within 1e-6 of the limit's magnitude)
+    uncontrollable : list of str — DOF the layout cannot actuate
+    warnings : list of str — recoverable oddities (e.g. τ asked in an uncontrollable DOF)
+    method : str — "pinv", "weighted-pinv" or "constrained"
+    """
+
+    thrust: Array
+    achieved_tau: Array
+    residual: float
+    saturated: list[str]
+    uncontrollable: list[str]
+    warnings: list[str] = field(default_factory=list)
+    method: str = "constrained"
+
+
+def _check_tau(tau: ArrayLike) -> Array:
+    t = np.asarray(tau, dtype=float).reshape(-1)
+    if t.shape != (6,) or not np.all(np.isfinite(t)):
+        raise InputError(f"tau = {np.asarray(tau).tolist()}: expected 6 finite numbers X,Y,Z,K,M,N")
+    return t
+
+
+def _uncontrollable_warning(T: Array, tau: Array) -> tuple[list[str], list[str]]:
+    unc = uncontrollable_dofs(T)
+    asked = [d for d in unc if tau[DOF_NAMES.index(d)] != 0.0]
+    warns = []
+    if asked:
+        vals = ", ".join(f"{d}={tau[DOF_NAMES.index(d)]:g}" for d in asked)
+        warns.append(
+            f"tau asks for {vals} but the thruster layout cannot actuate "
+            f"{', '.join(asked)}; those components are ignored and the rest allocated"
+        )
+    return unc, warns
+
+
+def allocate_pinv(
+    T: ArrayLike,
+    tau: ArrayLike,
+    weights: ArrayLike | None = None,
+    f_min: ArrayLike | None = None,
+    f_max: ArrayLike | None = None,
+    names: list[str] | None = None,
+) -> AllocationResult:
+    """Unconstrained allocation f = T_W⁺ τ (LI2021 eq. 34; weighted if ``weights`` given).
+
+    Exact (T f = τ) whenever τ is achievable and the limits are ignored. Limits, if given,
+    are only used to *report* saturation (forces beyond a limit are listed, not clipped).
+
+    Parameters
+    ----------
+    T : (6, m) array — configuration matrix, – and m
+    tau : 6 floats — demanded [X Y Z K M N], N and N·m
+    weights : m floats or None — W diagonal, –
+    f_min, f_max : m floats or None — thrust limits, N
+    names : list of str or None — thruster names for the report
+    """
+    T = np.asarray(T, dtype=float)
+    tau = _check_tau(tau)
+    m = T.shape[1]
+    names = names or [f"T{i + 1}" for i in range(m)]
+    f = weighted_pinv(T, weights) @ tau
+    achieved = T @ f
+    unc, warns = _uncontrollable_warning(T, tau)
+    sat: list[str] = []
+    if f_min is not None and f_max is not None:
+        lo, hi = np.asarray(f_min, float), np.asarray(f_max, float)
+        over = [n for n, x, a, b in zip(names, f, lo, hi) if x > b * (1 + 1e-9) or x < a * (1 + 1e-9)]
+        if over:
+            warns.append(f"pseudo-inverse thrust exceeds the limits of {', '.join(over)}")
+        sat = _at_limit(f, lo, hi, names)
+    return AllocationResult(
+        thrust=f,
+        achieved_tau=achieved,
+        residual=float(np.linalg.norm(achieved - tau)),
+        saturated=sat,
+        uncontrollable=unc,
+        warnings=warns,
+        method="pinv" if weights is None else "weighted-pinv",
+    )
+
+
+def _at_limit(f: Array, lo: Array, hi: Array, names: list[str]) -> list[str]:
+    tol = 1e-6 * np.maximum(np.maximum(np.abs(lo), np.abs(hi)), 1.0)
+    return [n for n, x, a, b, t in zip(names, f, lo, hi, tol) if x >= b - t or x <= a + t]
+
+
+def allocate_constrained(
+    T: ArrayLike,
+    tau: ArrayLike,
+    f_min: ArrayLike,
+    f_max: ArrayLike,
+    names: list[str] | None = None,
+) -> AllocationResult:
+    """Allocation within every thruster's limits; least residual, then least thrust.
+
+    Stage 1 solves ``min |T f − τ|`` subject to ``f_min ≤ f ≤ f_max`` (bounded least squares,
+    :func:`scipy.optimize.lsq_linear`, BVLS). The achieved force a* = T f* of that problem
+    is unique (the objective is strictly convex in T f), so every optimal f satisfies
+    T f = a*. Stage 2 picks the one with the smallest |f| among them:
+    ``min W² |T̂ f − â*|² + |f|²`` within the bounds, with T̂, â* scaled so |T̂| = 1 and
+    W = 1e5, which keeps T f within ~|f|·1e-10 of a*; then a polishing step fixes the
+    thrusters found at a limit and gives the others the exact minimum-norm solution of
+    T f = a* (the KKT point of that active set), kept if it stays within the limits. If stage
+    2 ever raised the residual beyond 1e-8 of the thrust scale the stage-1 solution is kept.
+
+    Parameters
+    ----------
+    T : (6, m) array — configuration matrix, – and m
+    tau : 6 floats — demanded [X Y Z K M N], N and N·m
+    f_min, f_max : m floats — thrust limits, N (f_min ≤ 0 ≤ f_max)
+    names : list of str or None — thruster names for the report
+    """
+    from scipy.optimize import lsq_linear
+
+    T = np.asarray(T, dtype=float)
+    tau = _check_tau(tau)
+    m = T.shape[1]
+    names = names or [f"T{i + 1}" for i in range(m)]
+    lo = np.asarray(f_min, dtype=float).reshape(-1)
+    hi = np.asarray(f_max, dtype=float).reshape(-1)
+    if lo.shape != (m,) or hi.shape != (m,) or np.any(lo > hi):
+        raise InputError(f"thrust limits: expected {m} pairs with min ≤ max, got {lo} and {hi}")
+    unc, warns = _uncontrollable_warning(T, tau)
+    # Degenerate bounds (min == max) are allowed by the maths but not by lsq_linear.
+    fixed = hi - lo <= 0
+    lo_s, hi_s = lo.copy(), hi.copy()
+    hi_s[fixed] = lo[fixed] + 1e-12
+
+    f1 = lsq_linear(T, tau, bounds=(lo_s, hi_s), method="bvls", tol=1e-12).x
+    f1 = np.clip(f1, lo, hi)
+    a1 = T @ f1
+    r1 = float(np.linalg.norm(a1 - tau))
+
+    scale = max(float(np.linalg.norm(T, 2)), 1e-300)
+    A = np.vstack([_STAGE2_WEIGHT * T / scale, np.eye(m)])
+    b = np.concatenate([_STAGE2_WEIGHT * a1 / scale, np.zeros(m)])
+    f2 = np.clip(lsq_linear(A, b, bounds=(lo_s, hi_s), method="bvls", tol=1e-12).x, lo, hi)
+    f2 = _polish(T, a1, f2, lo, hi)
+    a2 = T @ f2
+    r2 = float(np.linalg.norm(a2 - tau))
+    thrust_scale = max(float(np.max(np.abs(np.concatenate([lo, hi])))), 1.0)
+    if r2 <= r1 + 1e-8 * thrust_scale:
+        f, a, r = f2, a2, r2
+    else:  # pragma: no cover - defensive; stage 2 is designed not to lose residual
+        f, a, r = f1, a1, r1
+    return AllocationResult(
+        thrust=f,
+        achieved_tau=a,
+        residual=r,
+        saturated=_at_limit(f, lo, hi, names),
+        uncontrollable=unc,
+        warnings=warns,
+        method="constrained",
+    )
+
+
+def _polish(T: Array, target: Array, f: Array, lo: Array, hi: Array) -> Array:
+    """Remove the penalty's small bias: keep the thrusters found at a limit, give the others
+    the exact minimum-norm solution of T f = target (the KKT point for that active set).
+    The polished point is used only if it stays within the limits."""
+    tol = 1e-7 * np.maximum(np.maximum(np.abs(lo), np.abs(hi)), 1.0)
+    active = (f <= lo + tol) | (f >= hi - tol)
+    if np.all(active):
+        return f
+    fixed = np.where(f <= lo + tol, lo, hi)
+    g = np.where(active, fixed, 0.0)
+    free = ~active
+    g[free] = np.linalg.pinv(T[:, free]) @ (target - T[:, active] @ fixed[active])
+    if np.all(g >= lo) and np.all(g <= hi) and np.linalg.norm(T @ g - target) <= np.linalg.norm(
+        T @ f - target
+    ):
+        return g
+    return f
+
+
+class Allocator:
+    """Fast allocation for control loops: cached pseudo-inverse, constrained only if needed.
+
+    The weighted pseudo-inverse is computed once; each call costs one matrix–vector product.
+    Only when that solution would break a limit is :func:`allocate_constrained` called.
+
+    Parameters
+    ----------
+    T : (6, m) array — configuration matrix, – and m
+    f_min, f_max : m floats — thrust limits, N
+    weights : m floats or None — W diagonal for the pseudo-inverse, –
+    """
+
+    def __init__(
+        self,
+        T: ArrayLike,
+        f_min: ArrayLike,
+        f_max: ArrayLike,
+        weights: ArrayLike | None = None,
+    ) -> None:
+        self.T = np.asarray(T, dtype=float)
+        self.f_min = np.asarray(f_min, dtype=float)
+        self.f_max = np.asarray(f_max, dtype=float)
+        self.P = weighted_pinv(self.T, weights)
+        self.unactuated = np.array([d in uncontrollable_dofs(self.T) for d in DOF_NAMES])
+
+    def __call__(self, tau: ArrayLike) -> tuple[Array, bool]:
+        """Thrust (N) for the demanded τ (N, N·m) and whether the limits were active."""
+        tau = np.asarray(tau, dtype=float)
+        f = self.P @ tau
+        if np.all(f <= self.f_max) and np.all(f >= self.f_min):
+            return f, False
+        tau_eff = np.where(self.unactuated, 0.0, tau)
+        res = allocate_constrained(self.T, tau_eff, self.f_min, self.f_max)
+        return res.thrust, True

@@ -1,0 +1,324 @@
+"""Feedback controllers: PID and S-plane per axis, and the speed/depth/heading autopilot.
+
+Controllers hold *settings* only. Their memory (integral, last measurement) lives in a small
+frozen state object that is passed in and returned, so a run is repeatable and two runs never
+share state::
+
+    pid = PID(kp=200.0, ki=10.0, kd=50.0, output_min=-100, output_max=100)
+    s = pid.initial_state()
+    force, s = pid.update(s, measurement=z, setpoint=z_d, dt=0.05, rate=z_dot)
+
+Sign convention (LI2021 §1.4, SPEC §5): the error is *measurement − set-point*
+(e = u − u_d, z − z_d, ψ − ψ_d wrapped to ±π) and the output pushes against it:
+PID ``P = −k_p e − k_i ∫e dt − k_d ė``; S-plane ``P = −K (2 / (1 + exp(−k1 e − k2 ė)) − 1)``.
+ė is the rate of the *measurement* (derivative on measurement: no kick when the set-point
+jumps, and it is what the vehicle's sensors give).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+from typing import Protocol
+
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+
+from hydrokit.errors import InputError
+
+Array = NDArray[np.float64]
+
+
+def wrap_angle(a: float) -> float:
+    """Wrap an angle to [−π, π), rad."""
+    return (a + math.pi) % (2.0 * math.pi) - math.pi
+
+
+def _num(value: object, what: str, *, positive: bool = False, nonneg: bool = False) -> float:
+    if isinstance(value, bool) or not isinstance(value, (int, float, np.integer, np.floating)):
+        raise InputError(f"{what} = {value!r}: expected a number")
+    v = float(value)
+    if math.isnan(v):
+        raise InputError(f"{what} = nan: expected a number")
+    if positive and not v > 0:
+        raise InputError(f"{what} = {v}: expected a positive number")
+    if nonneg and not v >= 0:
+        raise InputError(f"{what} = {v}: expected a number ≥ 0")
+    return v
+
+
+@dataclass(frozen=True)
+class AxisState:
+    """Memory of one axis controller.
+
+    Attributes
+    ----------
+    integral : float — ∫e dt, error unit × s
+    previous : float or None — last measurement (for ė when no rate is given)
+    """
+
+    integral: float = 0.0
+    previous: float | None = None
+
+
+class AxisController(Protocol):
+    """What the autopilot needs from a single-axis controller."""
+
+    def initial_state(self) -> AxisState: ...
+
+    def update(
+        self,
+        state: AxisState,
+        measurement: float,
+        setpoint: float,
+        dt: float,
+        rate: float | None = None,
+    ) -> tuple[float, AxisState]: ...
+
+
+def _error_and_rate(
+    state: AxisState, measurement: float, setpoint: float, dt: float, rate: float | None, angle: bool
+) -> tuple[float, float]:
+    e = measurement - setpoint
+    if angle:
+        e = wrap_angle(e)
+    if rate is None:
+        if state.previous is None or dt <= 0:
+            rate = 0.0
+        else:
+            d = measurement - state.previous
+            rate = (wrap_angle(d) if angle else d) / dt
+    return e, float(rate)
+
+
+@dataclass(frozen=True)
+class PID:
+    """PID with derivative on measurement, output limits and anti-windup.
+
+    Parameters
+    ----------
+    kp : float — proportional gain, output unit per error unit (e.g. N per m/s)
+    ki : float — integral gain, output unit per (error unit · s)
+    kd : float — derivative gain, output unit per (error unit / s)
+    output_min, output_max : float — output limits, output unit (N or N·m)
+    angle : bool — the measured quantity is an angle (rad): errors wrapped to ±π
+
+    Notes
+    -----
+    ``P = −k_p e − k_i I − k_d ẏ`` with e = y − y_d (SPEC §5). Anti-windup by clamping:
+    while the error drives the output into a limit, the integral advances at most to the
+    value that puts the output exactly at that limit (and never further); in addition
+    |k_i I| is bounded by the larger output limit, so the integral alone can never demand
+    more than the actuator gives.
+    """
+
+    kp: float
+    ki: float = 0.0
+    kd: float = 0.0
+    output_min: float = -math.inf
+    output_max: float = math.inf
+    angle: bool = False
+
+    def __post_init__(self) -> None:
+        for name in ("kp", "ki", "kd"):
+            object.__setattr__(self, name, _num(getattr(self, name), f"PID {name}", nonneg=True))
+        lo = _num(self.output_min, "PID output_min")
+        hi = _num(self.output_max, "PID output_max")
+        if not lo < hi:
+            raise InputError(f"PID output limits [{lo}, {hi}]: expected output_min < output_max")
+        object.__setattr__(self, "output_min", lo)
+        object.__setattr__(self, "output_max", hi)
+
+    def initial_state(self) -> AxisState:
+        """A fresh state: zero integral, no previous measurement."""
+        return AxisState()
+
+    def update(
+        self,
+        state: AxisState,
+        measurement: float,
+        setpoint: float,
+        dt: float,
+        rate: float | None = None,
+    ) -> tuple[float, AxisState]:
+        """One control step.
+
+        Parameters
+        ----------
+        state : AxisState — from :meth:`initial_state` or the previous call
+        measurement, setpoint : float — y and y_d, in the axis unit (m/s, m, rad)
+        dt : float — time since the previous call, s
+        rate : float or None — measured ẏ (axis unit per s); None = finite difference
+
+        Returns
+        -------
+        output : float — saturated controller output (N or N·m)
+        state : AxisState — the new state
+        """
+        e, rate = _error_and_rate(state, measurement, setpoint, dt, rate, self.angle)
+        integral = state.integral + e * dt
+        if self.ki > 0:
+            bound = max(abs(self.output_min), abs(self.output_max)) / self.ki
+            integral = min(max(integral, -bound), bound)
+        pd = -self.kp * e - self.kd * rate
+        raw = pd - self.ki * integral
+        if self.ki > 0 and raw > self.output_max and e < 0:
+            # integrate only up to the value that puts the output exactly at the limit
+            at_limit = (pd - self.output_max) / self.ki
+            integral = max(integral, min(state.integral, at_limit))
+        elif self.ki > 0 and raw < self.output_min and e > 0:
+            at_limit = (pd - self.output_min) / self.ki
+            integral = min(integral, max(state.integral, at_limit))
+        raw = pd - self.ki * integral
+        out = min(max(raw, self.output_min), self.output_max)
+        return out, AxisState(integral=integral, previous=float(measurement))
+
+
+@dataclass(frozen=True)
+class SPlane:
+    """S-plane controller (LI2021 §1.4, SPEC §5).
+
+    Parameters
+    ----------
+    k1 : float — error gain, 1 per error unit (e.g. 1/m)
+    k2 : float — error-rate gain, s per error unit
+    scale : float — output magnitude K (actuator range), N or N·m
+    angle : bool — the measured quantity is an angle (rad): errors wrapped to ±π
+
+    Notes
+    -----
+    ``u = 2 / (1 + exp(−k1 e − k2 ė)) − 1`` lies in (−1, 1), is odd (u(−x) = −u(x)) and
+    equals tanh((k1 e + k2 ė)/2); the output is ``P = −K u``. LI2021 prints the formula with
+    the parenthesis closing after the ``− 1`` (``2/(1 + exp(…) − 1)``), which is unbounded
+    and singular at zero error; the bracketing above is the one that gives the stated
+    (−1, 1) range.
+    """
+
+    k1: float
+    k2: float
+    scale: float
+    angle: bool = False
+
+    def __post_init__(self) -> None:
+        object.__setattr__(self, "k1", _num(self.k1, "S-plane k1", nonneg=True))
+        object.__setattr__(self, "k2", _num(self.k2, "S-plane k2", nonneg=True))
+        object.__setattr__(self, "scale", _num(self.scale, "S-plane scale", positive=True))
+
+    @staticmethod
+    def surface(e: ArrayLike, e_rate: ArrayLike, k1: float, k2: float) -> Array:
+        """The S-surface ``2/(1 + exp(−k1 e − k2 ė)) − 1`` (–), in (−1, 1)."""
+        x = k1 * np.asarray(e, dtype=float) + k2 * np.asarray(e_rate, dtype=float)
+        return np.tanh(0.5 * x)  # same function, without overflow for large |x|
+
+    def initial_state(self) -> AxisState:
+        """A fresh state (no previous measurement)."""
+        return AxisState()
+
+    def update(
+        self,
+        state: AxisState,
+        measurement: float,
+        setpoint: float,
+        dt: float,
+        rate: float | None = None,
+    ) -> tuple[float, AxisState]:
+        """One control step; arguments and returns as :meth:`PID.update`."""
+        e, rate = _error_and_rate(state, measurement, setpoint, dt, rate, self.angle)
+        u = float(self.surface(e, rate, self.k1, self.k2))
+        return -self.scale * u, AxisState(integral=state.integral, previous=float(measurement))
+
+
+@dataclass(frozen=True)
+class Reference:
+    """Set-points for the autopilot.
+
+    Attributes
+    ----------
+    speed : float — surge speed u_d, m/s
+    depth : float — depth z_d (NED, down positive), m
+    heading : float — heading ψ_d, rad
+    roll, pitch : float — φ_d, θ_d for the optional hold loops, rad
+    """
+
+    speed: float
+    depth: float
+    heading: float
+    roll: float = 0.0
+    pitch: float = 0.0
+
+
+@dataclass(frozen=True)
+class AutopilotState:
+    """States of the autopilot's loops, in the order speed, depth, heading, roll, pitch."""
+
+    loops: tuple[AxisState, ...] = field(default_factory=tuple)
+
+
+def euler_rates(eta: ArrayLike, nu: ArrayLike) -> tuple[float, float, float, float]:
+    """ż (m/s), φ̇, θ̇, ψ̇ (rad/s) from η and ν (zyx Euler angles, Fossen 2011 eq. 2.29)."""
+    _, _, _, phi, theta, _ = (float(x) for x in eta)
+    u, v, w, p, q, r = (float(x) for x in nu)
+    cphi, sphi = math.cos(phi), math.sin(phi)
+    cth, sth = math.cos(theta), math.sin(theta)
+    zdot = -sth * u + cth * sphi * v + cth * cphi * w
+    cth = cth if abs(cth) > 1e-9 else math.copysign(1e-9, cth)
+    phidot = p + (sphi * q + cphi * r) * sth / cth
+    thetadot = cphi * q - sphi * r
+    psidot = (sphi * q + cphi * r) / cth
+    return zdot, phidot, thetadot, psidot
+
+
+@dataclass(frozen=True)
+class Autopilot:
+    """Speed, depth and heading loops (+ optional roll and pitch hold) → demanded τ.
+
+    Parameters
+    ----------
+    speed : AxisController — surge speed loop, output X in N
+    depth : AxisController — depth loop, output Z in N
+    heading : AxisController — heading loop (angle=True), output N in N·m
+    roll, pitch : AxisController or None — optional hold loops, outputs K, M in N·m
+
+    Notes
+    -----
+    τ = [P_speed, 0, P_depth, P_roll, P_pitch, P_heading] as LI2021 §1.4 (roll and pitch
+    zero without the hold loops). Rates: ż and ψ̇ (and φ̇, θ̇) from the Euler kinematics;
+    the speed loop differentiates u itself.
+    """
+
+    speed: AxisController
+    depth: AxisController
+    heading: AxisController
+    roll: AxisController | None = None
+    pitch: AxisController | None = None
+
+    def _loops(self) -> list[AxisController | None]:
+        return [self.speed, self.depth, self.heading, self.roll, self.pitch]
+
+    def initial_state(self) -> AutopilotState:
+        """Fresh states for every loop."""
+        return AutopilotState(
+            tuple(c.initial_state() if c is not None else AxisState() for c in self._loops())
+        )
+
+    def update(
+        self, state: AutopilotState, reference: Reference, eta: ArrayLike, nu: ArrayLike, dt: float
+    ) -> tuple[Array, AutopilotState]:
+        """Demanded τ (N, N·m) for the measured η, ν and the set-points; and the new state.
+
+        ``dt`` is the control period, s.
+        """
+        eta = np.asarray(eta, dtype=float)
+        nu = np.asarray(nu, dtype=float)
+        zdot, phidot, thetadot, psidot = euler_rates(eta, nu)
+        s = state.loops or self.initial_state().loops
+        tau = np.zeros(6)
+        new = list(s)
+        tau[0], new[0] = self.speed.update(s[0], nu[0], reference.speed, dt, None)
+        tau[2], new[1] = self.depth.update(s[1], eta[2], reference.depth, dt, zdot)
+        tau[5], new[2] = self.heading.update(s[2], eta[5], reference.heading, dt, psidot)
+        if self.roll is not None:
+            tau[3], new[3] = self.roll.update(s[3], eta[3], reference.roll, dt, phidot)
+        if self.pitch is not None:
+            tau[4], new[4] = self.pitch.update(s[4], eta[4], reference.pitch, dt, thetadot)
+        return tau, AutopilotState(tuple(new))

@@ -1,0 +1,121 @@
+"""PID and S-plane controllers and the autopilot (SPEC §5, LI2021 §1.4)."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+from hypothesis import given
+from hypothesis import strategies as st
+
+from hydrokit.errors import InputError
+from hydrokit.model.control import PID, Autopilot, Reference, SPlane, euler_rates, wrap_angle
+
+M, D = 10.0, 5.0  # first-order plant m v' = -d v + P (kg, N s/m)
+
+
+def run_plant(ctrl, v_d: float, t_end: float, dt: float = 0.01, v0: float = 0.0):
+    """Exact ZOH discretisation of the plant; returns final v and the state history."""
+    a = math.exp(-D / M * dt)
+    v, s = v0, ctrl.initial_state()
+    outputs = []
+    for _ in range(int(round(t_end / dt))):
+        P, s = ctrl.update(s, v, v_d, dt)
+        outputs.append(P)
+        v = v * a + (1 - a) * P / D
+    return v, s, np.array(outputs)
+
+
+def test_p_only_steady_state_error() -> None:
+    kp = 20.0
+    v, _, _ = run_plant(PID(kp=kp), v_d=1.0, t_end=20.0)
+    # closed form: -d v - kp (v - v_d) = 0 -> v = kp v_d / (d + kp) = 0.8; after 50 time
+    # constants the transient is e^-50, so 1e-9 is a round-off tolerance
+    assert v == pytest.approx(kp / (D + kp), rel=1e-9)
+
+
+def test_integral_removes_steady_state_error() -> None:
+    v, _, _ = run_plant(PID(kp=20.0, ki=10.0), v_d=1.0, t_end=60.0)
+    assert v == pytest.approx(1.0, rel=1e-6)
+
+
+def test_anti_windup_bounds_the_integral() -> None:
+    ki, umax = 5.0, 3.0  # 3 N can hold only 0.6 m/s against 5 N s/m: v_d = 1 is out of reach
+    pid = PID(kp=1.0, ki=ki, output_min=-umax, output_max=umax)
+    v, s, out = run_plant(pid, v_d=1.0, t_end=100.0)
+    assert np.all(np.abs(out) <= umax)
+    assert v == pytest.approx(umax / D, rel=1e-6)  # saturated steady state, closed form
+    assert abs(ki * s.integral) <= umax + 1e-12  # the integral alone never exceeds the range
+    # After the set-point drops to a reachable 0.2 m/s, the output leaves saturation at once
+    # (a wound-up integral of ~40 m would keep it at +3 N for many seconds).
+    P, _ = pid.update(s, v, 0.2, 0.01)
+    assert P < umax
+
+
+def test_derivative_on_measurement_has_no_setpoint_kick() -> None:
+    pid = PID(kp=0.0, kd=100.0)
+    s = pid.initial_state()
+    _, s = pid.update(s, 1.0, 0.0, 0.1)
+    P, _ = pid.update(s, 1.0, 5.0, 0.1)  # set-point jumps, measurement steady
+    assert P == 0.0
+    P, _ = pid.update(s, 1.5, 0.0, 0.1)  # measurement moves +0.5 in 0.1 s -> -kd * 5
+    assert P == pytest.approx(-500.0, rel=1e-12)
+
+
+def test_heading_error_wraps() -> None:
+    pid = PID(kp=1.0, angle=True)
+    P, _ = pid.update(pid.initial_state(), 3.1, -3.1, 0.1)
+    # e = wrap(6.2) = 6.2 - 2 pi
+    assert P == pytest.approx(-(6.2 - 2 * math.pi), rel=1e-12)
+    assert wrap_angle(math.pi + 0.1) == pytest.approx(-math.pi + 0.1)
+
+
+@given(st.floats(-50, 50), st.floats(-50, 50))
+def test_s_plane_output_bounded_and_odd(e: float, de: float) -> None:
+    k1, k2 = 1.3, 0.7
+    u = float(SPlane.surface(e, de, k1, k2))
+    u_neg = float(SPlane.surface(-e, -de, k1, k2))
+    assert -1.0 <= u <= 1.0
+    assert u == pytest.approx(-u_neg, abs=1e-15)
+    x = k1 * e + k2 * de
+    if abs(x) < 30:  # the printed form (SPEC §5), evaluated directly, where it does not overflow
+        assert u == pytest.approx(2 / (1 + math.exp(-x)) - 1, abs=1e-12)
+
+
+def test_s_plane_scaled_to_actuator_range() -> None:
+    sp = SPlane(k1=2.0, k2=0.0, scale=50.0)
+    P, _ = sp.update(sp.initial_state(), 10.0, 0.0, 0.1)
+    assert -50.0 < P < -49.0  # far from the set-point: close to the full range, never beyond
+    P, _ = sp.update(sp.initial_state(), 0.1, 0.0, 0.1)
+    assert P == pytest.approx(-50.0 * math.tanh(0.1), rel=1e-12)
+
+
+def test_autopilot_tau_layout() -> None:
+    ap = Autopilot(speed=PID(kp=10), depth=PID(kp=20), heading=PID(kp=5, angle=True))
+    eta = [0, 0, 2.0, 0, 0, 0.5]
+    nu = [0.2, 0, 0, 0, 0, 0]
+    tau, _ = ap.update(ap.initial_state(), Reference(speed=0.5, depth=3.0, heading=0.0), eta, nu, 0.1)
+    # [P_speed, 0, P_depth, 0, 0, P_heading] (LI2021 §1.4), P = -kp e
+    np.testing.assert_allclose(tau, [3.0, 0, 20.0, 0, 0, -2.5], rtol=1e-12)
+
+
+def test_euler_rates_level_flight() -> None:
+    zdot, _, _, psidot = euler_rates([0, 0, 0, 0, 0, 0], [1, 0, 0.3, 0, 0, 0.2])
+    assert zdot == pytest.approx(0.3) and psidot == pytest.approx(0.2)
+
+
+@pytest.mark.parametrize(
+    ("kw", "match"),
+    [({"kp": "fast"}, "PID kp = 'fast': expected a number"),
+     ({"kp": 1.0, "ki": -2}, "PID ki = -2.0: expected a number ≥ 0"),
+     ({"kp": 1.0, "output_min": 5, "output_max": 1}, "output_min < output_max")],
+)
+def test_bad_gains_rejected(kw: dict, match: str) -> None:
+    with pytest.raises(InputError, match=match):
+        PID(**kw)
+
+
+def test_bad_s_plane_scale_rejected() -> None:
+    with pytest.raises(InputError, match="S-plane scale = 0.0: expected a positive"):
+        SPlane(k1=1, k2=1, scale=0)
