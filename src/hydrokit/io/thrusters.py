@@ -1,0 +1,189 @@
+"""The ``thrusters:`` block of a vehicle file.
+
+Each entry (units in the file: m, N, s, rpm, degrees)::
+
+    thrusters:
+      - name: T1
+        position: [-0.4, -0.2, 0.0]   # m, body axes from the body origin
+        direction: [1, 0, 0]          # positive-thrust direction (normalised here)
+        max_thrust: 60                # N, largest forward thrust
+        min_thrust: -40               # N, largest reverse thrust (default -max_thrust)
+        # optional:
+        azimuth_deg: 10               # instead of direction: angle from +x towards +y, deg
+        elevation_deg: 0              #   and angle below the x-y plane (towards +z), deg
+        diameter: 0.22                # m  } propeller model f = loss K_T(J) rho D^4 |n| n
+        kt_forward: [0.5, -0.66, -0.25, 0.24]   # K_T(J), highest power first
+        kt_reverse: [0.025, -0.28, 0.17, 0.15]
+        thrust_loss: {forward: 0.72, reverse: 0.53}   # or one number
+        max_rpm: 1500                 # rpm (propeller model: required)
+        advance_ratio_range: [-0.5, 1.0]
+        wake_fraction: 0.1
+        time_constant: 0.2            # s, first-order rotor lag
+        thrust_table: {command: [...], thrust: [...]}  # table model, thrust in N
+
+Conversions (rpm → rev/s, degrees → rad) happen here and nowhere else.
+"""
+
+from __future__ import annotations
+
+import math
+import os
+from pathlib import Path
+from typing import Any
+
+from hydrokit.errors import InputError
+from hydrokit.io.yamlfile import read_yaml
+from hydrokit.model.thrusters import DEFAULT_ADVANCE_RATIO_RANGE, Thruster, ThrusterSet
+
+VEHICLES_DIR = Path(__file__).resolve().parents[1] / "data" / "vehicles"
+
+ALLOWED = {
+    "name", "position", "direction", "azimuth_deg", "elevation_deg", "max_thrust",
+    "min_thrust", "diameter", "kt_forward", "kt_reverse", "thrust_loss", "max_rpm",
+    "advance_ratio_range", "wake_fraction", "time_constant", "thrust_table",
+}
+
+
+def resolve_vehicle(name_or_path: str | os.PathLike[str]) -> Path:
+    """A vehicle file path from a path or a bundled vehicle name (e.g. ``minerva``)."""
+    p = Path(name_or_path)
+    if p.is_file():
+        return p
+    bundled = VEHICLES_DIR / f"{name_or_path}.yaml"
+    if "/" not in str(name_or_path) and bundled.is_file():
+        return bundled
+    names = sorted(q.stem for q in VEHICLES_DIR.glob("*.yaml"))
+    raise InputError(
+        f"no such file or bundled vehicle '{name_or_path}' (bundled: {', '.join(names) or 'none'})"
+    )
+
+
+def load_thrusters(name_or_path: str | os.PathLike[str]) -> ThrusterSet:
+    """Read the ``thrusters:`` block of a vehicle file (path or bundled name)."""
+    path = resolve_vehicle(name_or_path)
+    return parse_thrusters(read_yaml(path), source=str(path))
+
+
+def parse_thrusters(data: dict[str, Any], source: str) -> ThrusterSet:
+    """Build a :class:`ThrusterSet` from a parsed vehicle document.
+
+    Parameters
+    ----------
+    data : mapping — the whole vehicle document (``thrusters`` and ``fluid.density`` used)
+    source : str — the file name, for messages
+
+    Raises
+    ------
+    InputError
+        No or an empty ``thrusters`` list, an unknown or bad field, zero-length direction,
+        duplicate names. The message names the file, the entry and the field.
+    """
+    raw = data.get("thrusters")
+    if raw is None:
+        raise InputError("no 'thrusters' list: allocation needs the thruster layout", source)
+    if not isinstance(raw, list) or not raw:
+        raise InputError(f"'thrusters' = {raw!r}: expected a non-empty list of thrusters", source)
+    density = _density(data, source)
+    items = []
+    for i, entry in enumerate(raw):
+        where = f"thrusters[{i}]"
+        if not isinstance(entry, dict):
+            raise InputError(f"{where} = {entry!r}: expected a mapping of fields", source)
+        unknown = sorted(set(map(str, entry)) - ALLOWED)
+        if unknown:
+            raise InputError(
+                f"{where}: unknown field '{unknown[0]}' (allowed: {', '.join(sorted(ALLOWED))})",
+                source,
+            )
+        name = entry.get("name")
+        if isinstance(name, (int, float)) and not isinstance(name, bool):
+            name = str(name)
+        if not isinstance(name, str) or not name.strip():
+            raise InputError(f"{where}.name = {name!r}: expected a non-empty name", source)
+        where = f"thrusters[{i}] ({name})"
+        try:
+            items.append(_one(entry, name, where, density))
+        except InputError as exc:
+            raise InputError(exc.detail, source) from None
+    try:
+        return ThrusterSet(tuple(items), density=density if density is not None else 1025.0)
+    except InputError as exc:
+        raise InputError(exc.detail, source) from None
+
+
+def _density(data: dict[str, Any], source: str) -> float | None:
+    fluid = data.get("fluid")
+    if not isinstance(fluid, dict) or "density" not in fluid:
+        return None
+    rho = fluid["density"]
+    if isinstance(rho, bool) or not isinstance(rho, (int, float)) or not rho > 0:
+        raise InputError(f"fluid.density = {rho!r}: expected a positive number in kg/m³", source)
+    return float(rho)
+
+
+def _one(entry: dict[str, Any], name: str, where: str, density: float | None) -> Thruster:
+    if "position" not in entry:
+        raise InputError(f"{where}: missing 'position' (3 numbers, m)")
+    if "max_thrust" not in entry:
+        raise InputError(f"{where}: missing 'max_thrust' (N)")
+    has_dir = "direction" in entry
+    has_angles = "azimuth_deg" in entry or "elevation_deg" in entry
+    if has_dir == has_angles:
+        raise InputError(
+            f"{where}: give either 'direction' (3 numbers) or 'azimuth_deg'/'elevation_deg'"
+        )
+    if has_dir:
+        direction = entry["direction"]
+    else:
+        az = math.radians(_number(entry.get("azimuth_deg", 0.0), f"{where}.azimuth_deg"))
+        el = math.radians(_number(entry.get("elevation_deg", 0.0), f"{where}.elevation_deg"))
+        direction = (math.cos(el) * math.cos(az), math.cos(el) * math.sin(az), math.sin(el))
+    kw: dict[str, Any] = {
+        "name": name,
+        "position": entry["position"],
+        "direction": direction,
+        "max_thrust": entry["max_thrust"],
+        "min_thrust": entry.get("min_thrust"),
+        "time_constant": entry.get("time_constant", 0.0),
+        "wake_fraction": entry.get("wake_fraction", 0.0),
+    }
+    if "diameter" in entry or "kt_forward" in entry:
+        if density is None:
+            raise InputError(f"{where}: the propeller model needs fluid.density in the file")
+        for key in ("diameter", "kt_forward", "max_rpm"):
+            if key not in entry:
+                raise InputError(f"{where}: the propeller model needs '{key}'")
+        kw["diameter"] = entry["diameter"]
+        kw["kt_forward"] = entry["kt_forward"]
+        kw["kt_reverse"] = entry.get("kt_reverse")
+        kw["max_speed"] = _number(entry["max_rpm"], f"{where}.max_rpm") / 60.0  # rpm -> rev/s
+        kw["advance_ratio_range"] = tuple(
+            entry.get("advance_ratio_range", DEFAULT_ADVANCE_RATIO_RANGE)
+        )
+        loss = entry.get("thrust_loss", 1.0)
+        if isinstance(loss, dict):
+            extra = set(loss) - {"forward", "reverse"}
+            if extra:
+                raise InputError(f"{where}.thrust_loss: unknown key '{sorted(extra)[0]}'")
+            kw["thrust_loss_forward"] = loss.get("forward", 1.0)
+            kw["thrust_loss_reverse"] = loss.get("reverse", loss.get("forward", 1.0))
+        else:
+            kw["thrust_loss_forward"] = kw["thrust_loss_reverse"] = loss
+    if "thrust_table" in entry:
+        table = entry["thrust_table"]
+        if not isinstance(table, dict) or set(table) != {"command", "thrust"}:
+            raise InputError(f"{where}.thrust_table: expected a mapping with 'command' and 'thrust'")
+        kw["table_command"] = table["command"]
+        kw["table_thrust"] = table["thrust"]
+    try:
+        return Thruster(**kw)
+    except InputError as exc:
+        raise InputError(f"{where}: {exc.detail}") from None
+    except (TypeError, ValueError) as exc:
+        raise InputError(f"{where}: {exc}") from None
+
+
+def _number(value: Any, what: str) -> float:
+    if isinstance(value, bool) or not isinstance(value, (int, float)) or not math.isfinite(value):
+        raise InputError(f"{what} = {value!r}: expected a finite number")
+    return float(value)
