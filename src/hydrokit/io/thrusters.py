@@ -12,6 +12,7 @@ Each entry (units in the file: m, N, s, rpm, degrees)::
         azimuth_deg: 10               # instead of direction: angle from +x towards +y, deg
         elevation_deg: 0              #   and angle below the x-y plane (towards +z), deg
         diameter: 0.22                # m  } propeller model f = loss K_T(J) rho D^4 |n| n
+                                      #      (alone: only sizes the disk for power figures)
         kt_forward: [0.5, -0.66, -0.25, 0.24]   # K_T(J), highest power first
         kt_reverse: [0.025, -0.28, 0.17, 0.15]
         thrust_loss: {forward: 0.72, reverse: 0.53}   # or one number
@@ -147,13 +148,14 @@ def _one(entry: dict[str, Any], name: str, where: str, density: float | None) ->
         "time_constant": entry.get("time_constant", 0.0),
         "wake_fraction": entry.get("wake_fraction", 0.0),
     }
-    if "diameter" in entry or "kt_forward" in entry:
+    if "diameter" in entry:
+        kw["diameter"] = entry["diameter"]
+    if "kt_forward" in entry:
         if density is None:
             raise InputError(f"{where}: the propeller model needs fluid.density in the file")
         for key in ("diameter", "kt_forward", "max_rpm"):
             if key not in entry:
                 raise InputError(f"{where}: the propeller model needs '{key}'")
-        kw["diameter"] = entry["diameter"]
         kw["kt_forward"] = entry["kt_forward"]
         kw["kt_reverse"] = entry.get("kt_reverse")
         kw["max_speed"] = _number(entry["max_rpm"], f"{where}.max_rpm") / 60.0  # rpm -> rev/s

@@ -62,7 +62,8 @@ class Thruster:
         zero length is an error)
     max_thrust : float — largest forward thrust, N (> 0)
     min_thrust : float or None — largest reverse thrust, N (≤ 0); None means −max_thrust
-    diameter : float or None — propeller diameter D, m (propeller model)
+    diameter : float or None — propeller diameter D, m (required by the propeller model;
+        optional otherwise, where it only sizes the actuator disk for power estimates)
     kt_forward, kt_reverse : tuple of float or None — K_T(J) polynomial coefficients, highest
         power first (c3, c2, c1, c0 for a cubic), for forward and reverse rotation, –
     thrust_loss_forward, thrust_loss_reverse : float — thrust-loss factors, – (1 = none)
@@ -128,11 +129,15 @@ class Thruster:
         if not 0 <= w < 1:
             raise InputError(f"{where} wake_fraction = {w}: expected 0 ≤ w < 1")
         object.__setattr__(self, "wake_fraction", w)
-        model = self.model
-        if model == "propeller":
+        if self.diameter is not None:
             D = _finite(self.diameter, f"{where} diameter")
             if D <= 0:
                 raise InputError(f"{where} diameter = {D}: expected a positive length in m")
+            object.__setattr__(self, "diameter", D)
+        model = self.model
+        if model == "propeller":
+            if self.diameter is None:
+                raise InputError(f"{where}: a propeller thruster needs its diameter (m)")
             if self.max_speed is None:
                 raise InputError(f"{where}: a propeller thruster needs max_rpm (speed limit)")
             ns = _finite(self.max_speed, f"{where} max_speed")
@@ -172,7 +177,7 @@ class Thruster:
         """Which thrust model applies: ``propeller``, ``table`` or ``ideal``."""
         if self.table_command is not None or self.table_thrust is not None:
             return "table"
-        if self.kt_forward is not None or self.diameter is not None:
+        if self.kt_forward is not None:
             return "propeller"
         return "ideal"
 
