@@ -148,3 +148,167 @@ def _print_allocation(doc: dict[str, Any]) -> None:
     console.print(at)
     unc = ", ".join(doc["uncontrollable"]) or "none"
     console.print(f"residual |Tf − τ| = {doc['residual']:.4g}; not actuated: {unc}")
+
+
+CONTROLLER_LABEL = {"pid": "PID", "s-plane": "S-plane"}
+
+
+@click.command()
+@click.argument("mission_file", metavar="MISSION")
+@click.option("--out", "out_dir", required=True, type=click.Path(file_okay=False), help="Output directory (created if missing) for the CSV (SI: m, rad, s, N), plots and metrics JSON.")
+@click.option(
+    "--controller",
+    type=click.Choice(["file", "pid", "s-plane", "both"]),
+    default="file",
+    show_default=True,
+    help="Which gain set of the mission file to fly (dimensionless choice): the file's "
+    "'controller', pid, s-plane, or both for a side-by-side comparison.",
+)
+@click.option("--duration", type=float, default=None, help="Override the mission duration, s.")
+@click.option("--no-plots", is_flag=True, help="Skip the PNG figures (no unit).")
+def mission(mission_file: str, out_dir: str, controller: str, duration: float | None, no_plots: bool) -> None:
+    """Fly MISSION (a mission YAML file or bundled name) in closed loop and write results.
+
+    Writes trajectory.csv (time,x,y,z,phi,theta,psi,u,v,w,p,q,r in m, rad, m/s, rad/s, then
+    per thruster the demanded and reached command and the allocated and actual thrust in N;
+    with --controller both, one trajectory_<controller>.csv per controller), metrics.json,
+    path.png (3-D path and projections), tracking.png and thrusters.png.
+    """
+    from hydrokit.io.mission import load_mission
+
+    mis = load_mission(mission_file)
+    if duration is not None and not (math.isfinite(duration) and duration >= mis.dt):
+        raise InputError(f"--duration {duration}: expected a time ≥ the step dt = {mis.dt} s")
+    kinds = {"file": [mis.controller], "both": ["pid", "s-plane"]}.get(controller, [controller])
+    autopilots = {k: mis.autopilot(k) for k in kinds}  # validates gains before any work
+
+    import numpy as np
+    from rich.progress import BarColumn, Progress, TextColumn, TimeRemainingColumn
+
+    from hydrokit.io.mission import fly
+
+    results = {}
+    console_err = _stderr_console()
+    with Progress(
+        TextColumn("{task.description}"), BarColumn(), TextColumn("{task.percentage:>3.0f}%"),
+        TimeRemainingColumn(), console=console_err, transient=True,
+    ) as bar:
+        for kind in kinds:
+            total = duration if duration is not None else mis.duration
+            task = bar.add_task(f"{CONTROLLER_LABEL[kind]} mission", total=total)
+            results[kind] = fly(
+                mis, kind, duration=duration,
+                progress=lambda t, task=task: bar.update(task, completed=t),
+            )
+    thrusters = next(iter(results.values())).thrusters
+    metrics = {CONTROLLER_LABEL[k]: r.result.metrics(r.thrusters) for k, r in results.items()}
+
+    # everything computed: build the outputs in memory, then write them
+    files: dict[str, bytes] = {}
+    for kind, run in results.items():
+        name = "trajectory.csv" if len(results) == 1 else f"trajectory_{kind}.csv"
+        files[name] = _trajectory_csv(run.result).encode("utf-8")
+    doc = {
+        "mission": mis.name,
+        "source": mis.source,
+        "vehicle": mis.vehicle,
+        "thrusters": thrusters.names,
+        "command_units": [_command_unit(t) for t in thrusters.thrusters],
+        "controllers": metrics,
+        "units": {
+            "cross_track_rms": "m", "cross_track_max": "m", "depth_error_rms": "m",
+            "heading_error_rms": "rad", "waypoint_times": "s", "final_time": "s",
+            "thrust_impulse": "N s", "thruster_energy": "J (ideal actuator-disk, lower bound)",
+            "saturation_time": "s", "saturation_fraction": "-",
+        },
+    }
+    files["metrics.json"] = (json.dumps(doc, indent=2) + "\n").encode("utf-8")
+    if not no_plots:
+        from hydrokit.plot._mpl import to_png
+        from hydrokit.plot.mission import path_figure, thruster_figure, tracking_figure
+
+        runs = {CONTROLLER_LABEL[k]: r.result for k, r in results.items()}
+        files["path.png"] = to_png(path_figure(runs, f"{mis.name}: 3-D path and projections"))
+        files["tracking.png"] = to_png(tracking_figure(runs, f"{mis.name}: tracking error"))
+        for kind, run in results.items():
+            name = "thrusters.png" if len(results) == 1 else f"thrusters_{kind}.png"
+            files[name] = to_png(thruster_figure(run.result, thrusters.f_min, thrusters.f_max,
+                                                 f"{mis.name} ({CONTROLLER_LABEL[kind]}): thruster usage"))
+    from hydrokit._atomic import write_bytes
+
+    out = Path(out_dir)
+    for name, data in files.items():
+        write_bytes(out / name, data)
+    _print_metrics(metrics)
+    click.echo(f"wrote {', '.join(sorted(files))} to {out}", err=True)
+    del np
+
+
+def _stderr_console():
+    from rich.console import Console
+
+    return Console(stderr=True)
+
+
+def _command_unit(th: Any) -> str:
+    return {"propeller": "rev/s", "table": "table command", "ideal": "N"}[th.model]
+
+
+def _trajectory_csv(res: Any) -> str:
+    import numpy as np
+
+    cols = ["time", "x", "y", "z", "phi", "theta", "psi", "u", "v", "w", "p", "q", "r"]
+    blocks = [res.time[:, None], res.eta, res.nu]
+    for prefix, arr in (("cmd_demand_", res.command_demand), ("cmd_", res.command),
+                        ("thrust_demand_", res.thrust_demand), ("thrust_", res.thrust)):
+        cols += [prefix + n for n in res.thruster_names]
+        blocks.append(arr)
+    cols += ["saturated", "leg"]
+    blocks += [res.limited[:, None].astype(float), res.leg[:, None].astype(float)]
+    data = np.hstack(blocks)
+    lines = [",".join(cols)]
+    ncol = data.shape[1]
+    for row in data:
+        vals = [f"{v:.9g}" for v in row[: ncol - 2]]
+        vals += [str(int(row[ncol - 2])), str(int(row[ncol - 1]))]
+        lines.append(",".join(vals))
+    return "\n".join(lines) + "\n"
+
+
+def _print_metrics(metrics: dict[str, dict[str, Any]]) -> None:
+    from rich.console import Console
+    from rich.table import Table
+
+    table = Table(title="Mission metrics")
+    table.add_column("metric")
+    for label in metrics:
+        table.add_column(label, justify="right")
+    rows = [
+        ("cross-track RMS [m]", "cross_track_rms", "{:.3f}"),
+        ("cross-track max [m]", "cross_track_max", "{:.3f}"),
+        ("depth error RMS [m]", "depth_error_rms", "{:.3f}"),
+        ("heading error RMS [deg]", "heading_error_rms", "deg"),
+        ("thrust impulse [N s]", "thrust_impulse", "{:.4g}"),
+        ("thruster energy [J]", "thruster_energy", "{:.4g}"),
+        ("saturation time [s]", "saturation_time", "{:.2f}"),
+        ("completed", "completed", "{}"),
+    ]
+    for title, key, f in rows:
+        cells = []
+        for m in metrics.values():
+            v = m[key]
+            if v is None:
+                cells.append("–")
+            elif f == "deg":
+                cells.append(f"{math.degrees(v):.2f}")
+            else:
+                cells.append(f.format(v))
+        table.add_row(title, *cells)
+    n_wp = len(next(iter(metrics.values()))["waypoint_times"])
+    for i in range(n_wp):
+        cells = []
+        for m in metrics.values():
+            t = m["waypoint_times"][i]
+            cells.append("not reached" if t is None else f"{t:.1f}")
+        table.add_row(f"time to waypoint {i + 1} [s]", *cells)
+    Console().print(table)

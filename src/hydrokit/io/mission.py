@@ -315,3 +315,46 @@ def _parse_guidance(value: Any, source: str) -> WaypointPath:
     else:
         leg_speeds = [default_speed if s is None else s for s in speeds[1:]]
     return WaypointPath(points=P, speeds=np.array(leg_speeds), acceptance_radius=radius, lookahead=lookahead)
+
+
+@dataclass(frozen=True)
+class MissionRun:
+    """One flown mission: the closed-loop result and the vehicle's thrusters."""
+
+    result: Any
+    thrusters: Any
+
+
+def fly(
+    mission: Mission,
+    kind: str | None = None,
+    duration: float | None = None,
+    progress: Any = None,
+) -> MissionRun:
+    """Fly ``mission`` with the ``kind`` controller ("pid" / "s-plane"; default the file's).
+
+    Loads the vehicle (model and ``thrusters:`` block) named by the mission, then runs
+    :func:`hydrokit.simulate.closed_loop.run_closed_loop`. ``duration`` (s) overrides the
+    file's; ``progress`` is called with the simulated time (s).
+    """
+    from hydrokit.io.thrusters import parse_thrusters
+    from hydrokit.io.vehicle import load_vehicle_document
+    from hydrokit.simulate.closed_loop import run_closed_loop, vehicle_dynamics
+
+    autopilot = mission.autopilot(kind)
+    vehicle, raw, source = load_vehicle_document(mission.vehicle)
+    thrusters = parse_thrusters(raw, str(source))
+    if mission.weights is not None and len(mission.weights) != len(thrusters):
+        raise InputError(
+            f"field 'allocation.weights': {len(mission.weights)} given; expected one per "
+            f"thruster ({len(thrusters)})",
+            mission.source,
+        )
+    dynamics = vehicle_dynamics(vehicle, mission.current)
+    result = run_closed_loop(
+        dynamics, thrusters, autopilot, mission.path, mission.eta0, mission.nu0,
+        duration=mission.duration if duration is None else float(duration),
+        dt=mission.dt, current_ned=mission.current, weights=mission.weights,
+        output_every=mission.output_every, progress=progress,
+    )
+    return MissionRun(result=result, thrusters=thrusters)

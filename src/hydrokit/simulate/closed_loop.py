@@ -272,3 +272,14 @@ def mission_metrics(res: ClosedLoopResult, thrusters: ThrusterSet | None = None)
         "saturation_time": sat_time,
         "saturation_fraction": sat_time / total if total > 0 else 0.0,
     }
+
+
+def vehicle_dynamics(vehicle: Any, current_ned: ArrayLike | None = None) -> Dynamics:
+    """Adapter: the vehicle model as ``f(t, x, tau) -> xdot`` with x = [η; ν] (12 values).
+
+    Parameters
+    ----------
+    vehicle : hydrokit.model.vehicle.Vehicle — the 6-DOF model
+    current_ned : 3 floats or None — constant current velocity in NED, m/s
+    """
+    raise NotImplementedError("waiting for the vehicle model (issue #3)")

@@ -1,0 +1,100 @@
+"""Figures of a closed-loop mission: path in 3-D and projections, tracking error, thrusters.
+
+Each function returns a matplotlib Figure (Agg); the caller saves it with
+:func:`hydrokit.plot._mpl.save_png` or embeds :func:`hydrokit.plot._mpl.to_png`.
+Depth is drawn positive downwards (NED z), as in LI2021 Figs. 16–17.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping
+from typing import Any
+
+import numpy as np
+
+from hydrokit.model.control import wrap_angle
+from hydrokit.model.guidance import path_distance
+from hydrokit.plot._mpl import pyplot
+from hydrokit.simulate.closed_loop import ClosedLoopResult
+
+
+def path_figure(runs: Mapping[str, ClosedLoopResult], title: str = "") -> Any:
+    """3-D path and its x–y, x–z, y–z projections; planned path dashed, one line per run.
+
+    ``runs`` maps a label (e.g. "PID", "S-plane") to a result; all share the planned path.
+    """
+    plt = pyplot()
+    first = next(iter(runs.values()))
+    wp = first.path.points
+    fig = plt.figure(figsize=(11, 8.5))
+    ax3 = fig.add_subplot(2, 2, 1, projection="3d")
+    ax3.plot(wp[:, 0], wp[:, 1], wp[:, 2], "k--", lw=1.2, label="planned")
+    ax3.scatter(wp[:, 0], wp[:, 1], wp[:, 2], c="k", s=14)
+    for label, res in runs.items():
+        ax3.plot(res.eta[:, 0], res.eta[:, 1], res.eta[:, 2], lw=1.3, label=label)
+    ax3.set_xlabel("x north [m]")
+    ax3.set_ylabel("y east [m]")
+    ax3.set_zlabel("z depth [m]")
+    ax3.invert_zaxis()
+    ax3.legend(fontsize=8)
+    panels = [((0, 1), "x north [m]", "y east [m]", False),
+              ((0, 2), "x north [m]", "z depth [m]", True),
+              ((1, 2), "y east [m]", "z depth [m]", True)]
+    for k, ((i, j), xl, yl, invert) in enumerate(panels, start=2):
+        ax = fig.add_subplot(2, 2, k)
+        ax.plot(wp[:, i], wp[:, j], "k--", lw=1.2, label="planned")
+        ax.plot(wp[:, i], wp[:, j], "ko", ms=3)
+        for label, res in runs.items():
+            ax.plot(res.eta[:, i], res.eta[:, j], lw=1.3, label=label)
+        ax.set_xlabel(xl)
+        ax.set_ylabel(yl)
+        if invert:
+            ax.invert_yaxis()
+        ax.grid(alpha=0.3)
+        if (i, j) == (0, 1):
+            ax.set_aspect("equal", adjustable="datalim")
+    fig.suptitle(title or "Path following")
+    fig.tight_layout()
+    return fig
+
+
+def tracking_figure(runs: Mapping[str, ClosedLoopResult], title: str = "") -> Any:
+    """Distance to the path (m), depth error (m) and heading error (deg) against time (s)."""
+    plt = pyplot()
+    fig, axes = plt.subplots(3, 1, figsize=(10, 7.5), sharex=True)
+    for label, res in runs.items():
+        d = path_distance(res.eta[:, :3], res.path.points)
+        axes[0].plot(res.time, d, label=label)
+        axes[1].plot(res.time, res.eta[:, 2] - res.reference[:, 1], label=label)
+        dpsi = np.degrees([wrap_angle(a - b) for a, b in zip(res.eta[:, 5], res.reference[:, 2])])
+        axes[2].plot(res.time, dpsi, label=label)
+    axes[0].set_ylabel("distance to path [m]")
+    axes[1].set_ylabel("depth error z − z_d [m]")
+    axes[2].set_ylabel("heading error ψ − ψ_d [deg]")
+    axes[2].set_xlabel("time [s]")
+    for ax in axes:
+        ax.grid(alpha=0.3)
+        ax.legend(fontsize=8)
+    fig.suptitle(title or "Tracking error")
+    fig.tight_layout()
+    return fig
+
+
+def thruster_figure(res: ClosedLoopResult, f_min: Any, f_max: Any, title: str = "") -> Any:
+    """Actual (solid) and allocated (dotted) thrust of each thruster (N) with its limits."""
+    plt = pyplot()
+    m = len(res.thruster_names)
+    fig, axes = plt.subplots(m, 1, figsize=(10, 1.9 * m + 1), sharex=True, squeeze=False)
+    for i, name in enumerate(res.thruster_names):
+        ax = axes[i, 0]
+        ax.plot(res.time, res.thrust[:, i], lw=1.2, label="actual")
+        ax.plot(res.time, res.thrust_demand[:, i], ":", lw=1.0, label="allocated")
+        ax.axhline(float(f_max[i]), color="r", lw=0.8, ls="--")
+        ax.axhline(float(f_min[i]), color="r", lw=0.8, ls="--")
+        ax.set_ylabel(f"{name} [N]")
+        ax.grid(alpha=0.3)
+    axes[0, 0].legend(fontsize=8, loc="upper right")
+    axes[-1, 0].set_xlabel("time [s]")
+    fig.suptitle(title or "Thruster usage (limits dashed)")
+    fig.tight_layout()
+    return fig
