@@ -77,3 +77,12 @@ def test_bad_paths_rejected(pts, speeds, match) -> None:
 def test_bad_radius_rejected() -> None:
     with pytest.raises(InputError, match="acceptance_radius = 0.0"):
         Path(points=[[0, 0, 0], [1, 0, 0]], speeds=[1], acceptance_radius=0)
+
+
+def test_speed_reduced_by_heading_error() -> None:
+    path = square()
+    ref, _ = path.update(path.initial_state(), [5.0, 0.0, 2.0], vehicle_heading=math.pi / 3)
+    # on the line, psi_d = 0: speed x cos(60 deg) = 0.25 (closed form)
+    assert ref.speed == pytest.approx(0.5 * 0.5, rel=1e-12)
+    ref, _ = path.update(path.initial_state(), [5.0, 0.0, 2.0], vehicle_heading=math.pi)
+    assert ref.speed == 0.0  # pointing backwards: no forward push

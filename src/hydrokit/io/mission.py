@@ -337,12 +337,12 @@ def fly(
     :func:`hydrokit.simulate.closed_loop.run_closed_loop`. ``duration`` (s) overrides the
     file's; ``progress`` is called with the simulated time (s).
     """
-    from hydrokit.io.thrusters import parse_thrusters
-    from hydrokit.io.vehicle import load_vehicle_document
-    from hydrokit.simulate.closed_loop import run_closed_loop, vehicle_dynamics
+    from hydrokit.io.thrusters import parse_thrusters, resolve_vehicle
+    from hydrokit.simulate.closed_loop import fossen_dynamics, run_closed_loop
 
     autopilot = mission.autopilot(kind)
-    vehicle, raw, source = load_vehicle_document(mission.vehicle)
+    source = resolve_vehicle(mission.vehicle)
+    raw = read_yaml(source)
     thrusters = parse_thrusters(raw, str(source))
     if mission.weights is not None and len(mission.weights) != len(thrusters):
         raise InputError(
@@ -350,7 +350,7 @@ def fly(
             f"thruster ({len(thrusters)})",
             mission.source,
         )
-    dynamics = vehicle_dynamics(vehicle, mission.current)
+    dynamics = fossen_dynamics(vehicle_params(raw, str(source)), mission.current)
     result = run_closed_loop(
         dynamics, thrusters, autopilot, mission.path, mission.eta0, mission.nu0,
         duration=mission.duration if duration is None else float(duration),
@@ -358,3 +358,46 @@ def fly(
         output_every=mission.output_every, progress=progress,
     )
     return MissionRun(result=result, thrusters=thrusters)
+
+
+def vehicle_params(raw: dict[str, Any], source: str) -> Any:
+    """The frozen vehicle-file fields as :class:`hydrokit.simulate.closed_loop.DiagonalParams`.
+
+    Fields (SI): ``mass`` kg, ``volume`` m³, ``gravity`` m/s², ``fluid.density`` kg/m³,
+    ``inertia`` (3 principal values or 3×3, kg·m², about the CG), ``center_of_gravity`` and
+    ``center_of_buoyancy`` (m, body axes), ``added_mass``, ``linear_damping``,
+    ``quadratic_damping`` (6 positive values each, surge … yaw).
+    """
+    from hydrokit.core.rigid_body import rigid_body_mass_matrix
+    from hydrokit.simulate.closed_loop import DiagonalParams
+
+    def get(key: str) -> Any:
+        node: Any = raw
+        for part in key.split("."):
+            if not isinstance(node, dict) or part not in node:
+                raise InputError(f"missing field '{key}' (needed to simulate the vehicle)", source)
+            node = node[part]
+        return node
+
+    mass = _num(get("mass"), "mass", source, positive=True)
+    volume = _num(get("volume"), "volume", source, positive=True)
+    gravity = _num(get("gravity"), "gravity", source, positive=True)
+    rho = _num(get("fluid.density"), "fluid.density", source, positive=True)
+    inertia = get("inertia")
+    if isinstance(inertia, list) and len(inertia) == 3 and all(isinstance(r, list) for r in inertia):
+        I = np.array([_vector(r, 3, f"inertia[{i}]", source) for i, r in enumerate(inertia)])
+    else:
+        I = np.diag(_vector(inertia, 3, "inertia", source))
+    r_g = _vector(get("center_of_gravity"), 3, "center_of_gravity", source)
+    r_b = _vector(get("center_of_buoyancy"), 3, "center_of_buoyancy", source)
+    six = {}
+    for key in ("added_mass", "linear_damping", "quadratic_damping"):
+        v = _vector(get(key), 6, key, source)
+        if np.any(v < 0):
+            raise InputError(f"field '{key}' = {v.tolist()}: expected values ≥ 0 (magnitudes)", source)
+        six[key] = v
+    return DiagonalParams(
+        M_RB=rigid_body_mass_matrix(mass, I, r_g), M_A=six["added_mass"],
+        D_L=six["linear_damping"], D_Q=six["quadratic_damping"], mass=mass, r_g=r_g, r_b=r_b,
+        weight=mass * gravity, buoyancy=rho * gravity * volume,
+    )

@@ -175,6 +175,7 @@ def allocate_constrained(
     f_min: ArrayLike,
     f_max: ArrayLike,
     names: list[str] | None = None,
+    dof_weights: ArrayLike | None = None,
 ) -> AllocationResult:
     """Allocation within every thruster's limits; least residual, then least thrust.
 
@@ -194,6 +195,9 @@ def allocate_constrained(
     tau : 6 floats — demanded [X Y Z K M N], N and N·m
     f_min, f_max : m floats — thrust limits, N (f_min ≤ 0 ≤ f_max)
     names : list of str or None — thruster names for the report
+    dof_weights : 6 floats or None — Q in ``min |Q (T f − τ)|`` (1/N and 1/(N·m)), to rank
+        DOF when τ is out of reach; None = identity (the plain residual). ``residual`` in
+        the result is always the unweighted |T f − τ|.
     """
     from scipy.optimize import lsq_linear
 
@@ -211,7 +215,8 @@ def allocate_constrained(
     lo_s, hi_s = lo.copy(), hi.copy()
     hi_s[fixed] = lo[fixed] + 1e-12
 
-    f1 = lsq_linear(T, tau, bounds=(lo_s, hi_s), method="bvls", tol=1e-12).x
+    Q = np.ones(6) if dof_weights is None else np.asarray(dof_weights, dtype=float).reshape(6)
+    f1 = lsq_linear(Q[:, None] * T, Q * tau, bounds=(lo_s, hi_s), method="bvls", tol=1e-12).x
     f1 = np.clip(f1, lo, hi)
     a1 = T @ f1
     r1 = float(np.linalg.norm(a1 - tau))
@@ -224,7 +229,9 @@ def allocate_constrained(
     a2 = T @ f2
     r2 = float(np.linalg.norm(a2 - tau))
     thrust_scale = max(float(np.max(np.abs(np.concatenate([lo, hi])))), 1.0)
-    if r2 <= r1 + 1e-8 * thrust_scale:
+    q1 = float(np.linalg.norm(Q * (a1 - tau)))
+    q2 = float(np.linalg.norm(Q * (a2 - tau)))
+    if q2 <= q1 + 1e-8 * thrust_scale * float(np.max(Q)):
         f, a, r = f2, a2, r2
     else:  # pragma: no cover - defensive; stage 2 is designed not to lose residual
         f, a, r = f1, a1, r1
@@ -269,6 +276,11 @@ class Allocator:
     T : (6, m) array — configuration matrix, – and m
     f_min, f_max : m floats — thrust limits, N
     weights : m floats or None — W diagonal for the pseudo-inverse, –
+    dof_weights : 6 floats, "capability" or None — Q for the constrained fallback (see
+        :func:`allocate_constrained`). "capability" (default) uses 1 / (largest |τ_j| the
+        layout can produce in DOF j), so a shortfall counts relative to what each DOF can
+        do; without it a 40 N·m yaw shortfall weighs like 40 N of surge, and a saturated
+        speed loop can starve heading control.
     """
 
     def __init__(
@@ -277,12 +289,20 @@ class Allocator:
         f_min: ArrayLike,
         f_max: ArrayLike,
         weights: ArrayLike | None = None,
+        dof_weights: ArrayLike | str | None = "capability",
     ) -> None:
         self.T = np.asarray(T, dtype=float)
         self.f_min = np.asarray(f_min, dtype=float)
         self.f_max = np.asarray(f_max, dtype=float)
         self.P = weighted_pinv(self.T, weights)
         self.unactuated = np.array([d in uncontrollable_dofs(self.T) for d in DOF_NAMES])
+        if isinstance(dof_weights, str):
+            if dof_weights != "capability":
+                raise InputError(f"dof_weights = {dof_weights!r}: expected 6 numbers or 'capability'")
+            reach = np.abs(self.T) @ np.maximum(np.abs(self.f_min), np.abs(self.f_max))
+            self.Q: Array | None = np.where(reach > 0, 1.0 / np.where(reach > 0, reach, 1.0), 1.0)
+        else:
+            self.Q = None if dof_weights is None else np.asarray(dof_weights, dtype=float)
 
     def __call__(self, tau: ArrayLike) -> tuple[Array, bool]:
         """Thrust (N) for the demanded τ (N, N·m) and whether the limits were active."""
@@ -291,5 +311,5 @@ class Allocator:
         if np.all(f <= self.f_max) and np.all(f >= self.f_min):
             return f, False
         tau_eff = np.where(self.unactuated, 0.0, tau)
-        res = allocate_constrained(self.T, tau_eff, self.f_min, self.f_max)
+        res = allocate_constrained(self.T, tau_eff, self.f_min, self.f_max, dof_weights=self.Q)
         return res.thrust, True

@@ -8,7 +8,8 @@ The path is a polyline through waypoints p_0 … p_N (NED, m). The vehicle start
   horizontal cross-track error (positive to starboard of the leg) and Δ the lookahead
   distance; a vertical leg keeps the last heading;
 - depth: the leg's depth at the along-track position s + Δ (linear between a_z and b_z);
-- speed: the leg's speed times the horizontal share of the leg (0 on a vertical leg);
+- speed: the leg's speed times the horizontal share of the leg (0 on a vertical leg), and,
+  when the vehicle's heading is given, times max(0, cos(ψ_d − ψ)) (slow down in turns);
 - switching: to leg k+1 when |p − b| ≤ R (acceptance radius) or the along-track position
   has passed b. After the last waypoint the reference holds it with zero speed.
 """
@@ -93,10 +94,15 @@ class Path:
             return fallback
         return math.atan2(d[1], d[0])
 
-    def update(self, state: GuidanceState, position: ArrayLike) -> tuple[Reference, GuidanceState]:
+    def update(
+        self, state: GuidanceState, position: ArrayLike, vehicle_heading: float | None = None
+    ) -> tuple[Reference, GuidanceState]:
         """Reference for the vehicle at ``position`` (NED, m), and the new guidance state.
 
         The returned state's ``leg`` advances past every waypoint reached at this position.
+        With the vehicle's heading ψ (``vehicle_heading``, rad) given, the speed set-point is scaled by
+        max(0, cos(ψ_d − ψ)): no forward push while the vehicle still points the wrong way,
+        which keeps a saturated speed loop from starving the heading loop in turns.
         """
         p = np.asarray(position, dtype=float)[:3]
         k, heading = state.leg, state.heading
@@ -128,6 +134,8 @@ class Path:
             e = -(p[0] - a[0]) * math.sin(alpha) + (p[1] - a[1]) * math.cos(alpha)
             command = alpha + math.atan(-e / self.lookahead)
         speed = float(self.speeds[k - 1]) * horiz / L
+        if vehicle_heading is not None:
+            speed *= max(0.0, math.cos(command - vehicle_heading))
         return Reference(speed=speed, depth=depth, heading=command), GuidanceState(k, heading)
 
 

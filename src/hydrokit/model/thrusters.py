@@ -220,6 +220,8 @@ class ThrusterSet:
     time_constants: Array = field(init=False, repr=False, compare=False)
     command_max: Array = field(init=False, repr=False, compare=False)
     command_min: Array = field(init=False, repr=False, compare=False)
+    _wake_factor: Array = field(init=False, repr=False, compare=False)
+    _moment_arms: Array = field(init=False, repr=False, compare=False)
 
     def __post_init__(self) -> None:
         ths = tuple(self.thrusters)
@@ -239,6 +241,8 @@ class ThrusterSet:
         put("positions", np.array([t.position for t in ths], dtype=float))
         put("directions", np.array([t.direction for t in ths], dtype=float))
         put("time_constants", np.array([t.time_constant for t in ths], dtype=float))
+        put("_wake_factor", np.array([1.0 - t.wake_fraction for t in ths]))
+        put("_moment_arms", np.cross(self.positions, self.directions))
         cmax, cmin, fmax, fmin = [], [], [], []
         for t in ths:
             if t.model == "propeller":
@@ -291,9 +295,8 @@ class ThrusterSet:
         """
         nu = np.asarray(nu, dtype=float)
         v, w = nu[:3], nu[3:6]
-        local = v[None, :] + np.cross(w[None, :], self.positions)
-        wake = np.array([t.wake_fraction for t in self.thrusters])
-        return (1.0 - wake) * np.einsum("ij,ij->i", self.directions, local)
+        # e_i · (v + ω × r_i) = e_i · v + ω · (r_i × e_i)
+        return self._wake_factor * (self.directions @ v + self._moment_arms @ w)
 
     # ------------------------------------------------------------------ thrust curves
     def _single_thrust(self, t: Thruster, n: float, va: float) -> float:
