@@ -119,3 +119,90 @@ def test_allocate_bad_input_one_line_exit_2(run_cli, tmp_path: Path, thrusters, 
 def test_allocate_missing_vehicle(run_cli, tmp_path: Path) -> None:
     code, _, err = run_cli("allocate", tmp_path / "nope.yaml", "--tau", "1,0,0,0,0,0")
     assert code == 2 and "no such file or bundled vehicle" in err
+
+
+# --------------------------------------------------------------------------- mission
+from hydrokit.io.mission import MISSIONS_DIR  # noqa: E402
+
+CSV_HEAD = "time,x,y,z,phi,theta,psi,u,v,w,p,q,r"
+
+
+def test_mission_short_run_writes_everything(run_cli, tmp_path: Path) -> None:
+    out = tmp_path / "run"
+    code, stdout, err = run_cli("mission", "lingyun_path", "--out", out, "--duration", 10)
+    assert code == 0, err
+    names = {"trajectory.csv", "metrics.json", "path.png", "tracking.png", "thrusters.png"}
+    assert names <= {p.name for p in out.iterdir()}
+    for png in ("path.png", "tracking.png", "thrusters.png"):
+        assert (out / png).read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+    lines = (out / "trajectory.csv").read_text().splitlines()
+    assert lines[0].startswith(CSV_HEAD + ",cmd_demand_HT1")
+    assert "thrust_VT2" in lines[0]
+    # dt 0.05 s, output_every 2 -> rows every 0.1 s from 0 to 10 s inclusive
+    assert len(lines) == 1 + 101
+    doc = json.loads((out / "metrics.json").read_text())
+    m = doc["controllers"]["PID"]
+    for key in ("cross_track_rms", "cross_track_max", "waypoint_times", "thruster_energy",
+                "saturation_time"):
+        assert key in m
+    assert "Mission metrics" in stdout
+
+
+@pytest.mark.parametrize("controller", ["pid", "s-plane"])
+def test_bundled_lingyun_mission_completes(run_cli, tmp_path: Path, controller: str) -> None:
+    out = tmp_path / controller
+    code, _, err = run_cli("mission", "lingyun_path", "--out", out, "--controller", controller,
+                           "--no-plots")
+    assert code == 0, err
+    m = json.loads((out / "metrics.json").read_text())["controllers"]
+    (metrics,) = m.values()
+    assert metrics["completed"], metrics["waypoint_times"]
+    times = metrics["waypoint_times"]
+    assert all(b > a for a, b in zip(times, times[1:]))
+    # path legs 25, 15.3, 25, 15.1 m at 0.5 m/s: at least 161 s of pure travel, and the
+    # vehicle stays within a couple of metres of the planned path in the 90-degree turns
+    assert times[-1] > 161.0
+    assert metrics["cross_track_max"] < 2.5
+    rows = np.loadtxt(out / "trajectory.csv", delimiter=",", skiprows=1)
+    header = (out / "trajectory.csv").read_text().splitlines()[0].split(",")
+    thrust = rows[:, [i for i, h in enumerate(header) if h.startswith("thrust_HT") or h.startswith("thrust_VT")]]
+    assert np.all(thrust <= 60 + 1e-9) and np.all(thrust >= -45 - 1e-9)  # lingyun limits
+
+
+def _mission_doc() -> dict:
+    return yaml.safe_load((MISSIONS_DIR / "lingyun_path.yaml").read_text())
+
+
+@pytest.mark.parametrize(
+    ("edit", "match"),
+    [
+        (lambda d: d["controllers"]["pid"]["speed"].update(kp="fast"), "controllers.pid.speed.kp' = 'fast'"),
+        (lambda d: d["guidance"].update(waypoints=[]), "0 given; expected a list of at least 2"),
+        (lambda d: d["guidance"].update(waypoints=[{"x": 0, "y": 0, "z": 1, "time": 9},
+                                                   {"x": 9, "y": 0, "z": 1, "time": 3}]),
+         "waypoints out of order"),
+        (lambda d: d.update(vehicle="no-such-vehicle"), "no such file or bundled vehicle"),
+    ],
+)
+def test_mission_bad_input_exit_2_nothing_written(run_cli, tmp_path: Path, edit, match) -> None:
+    doc = _mission_doc()
+    doc["vehicle"] = str(MISSIONS_DIR / doc["vehicle"])
+    edit(doc)
+    p = tmp_path / "m.yaml"
+    p.write_text(yaml.safe_dump(doc))
+    out = tmp_path / "out"
+    code, _, err = run_cli("mission", p, "--out", out, "--duration", 1)
+    assert code == 2
+    assert err.startswith("error: ") and len(err.strip().splitlines()) == 1
+    assert __import__("re").search(match, err), err
+    assert not out.exists() or not any(out.iterdir())
+
+
+def test_mission_missing_controller_gains(run_cli, tmp_path: Path) -> None:
+    doc = _mission_doc()
+    doc["vehicle"] = str(MISSIONS_DIR / doc["vehicle"])
+    del doc["controllers"]["s-plane"]
+    p = tmp_path / "m.yaml"
+    p.write_text(yaml.safe_dump(doc))
+    code, _, err = run_cli("mission", p, "--out", tmp_path / "o", "--controller", "s-plane")
+    assert code == 2 and "no gains for the 's-plane' controller" in err

@@ -34,9 +34,10 @@ def test_switching_depth_ramp_and_vertical_leg() -> None:
     assert s.leg == 2
     # leg 2 runs along +y; x = 19.5 is 0.5 m to its starboard side
     assert ref.heading == pytest.approx(math.pi / 2 + math.atan(-0.5 / 4.0), rel=1e-12)
-    # leg 2 rises 4 m over its 3-D length L; at s = 0.5/L along it plus 4 m lookahead
+    # leg 2 descends 4 m over its 3-D length L; along-track fraction of the position plus
+    # the lookahead scaled by the vertical share 4/L
     L = math.hypot(20.0, 4.0)
-    s_ahead = (np.array([-0.5, 0.0, 0.0]) @ np.array([0, 20, 4]) / L + 4.0) / L
+    s_ahead = (np.array([-0.5, 0.0, 0.0]) @ np.array([0, 20, 4]) / L + 4.0 * 4.0 / L) / L
     assert ref.depth == pytest.approx(2.0 + 4.0 * s_ahead, rel=1e-12)
     assert ref.speed == pytest.approx(0.4 * 20.0 / L, rel=1e-12)  # horizontal share
     ref, s = path.update(s, [20.0, 20.0, 6.0])  # at wp 2: vertical leg 3 starts

@@ -130,7 +130,7 @@ def _print_allocation(doc: dict[str, Any]) -> None:
         mt.add_row(dof, *[f"{x:.4g}" for x in row])
     console.print(mt)
     tt = Table(title=f"Allocation ({doc['method']})")
-    for col in ("thruster", "thrust [N]", "min [N]", "max [N]", "command", "unit", "saturated"):
+    for col in ("thruster", "thrust (N)", "min (N)", "max (N)", "command", "unit", "saturated"):
         tt.add_column(col, justify="left" if col in ("thruster", "unit") else "right")
     for i, name in enumerate(doc["thrusters"]):
         lo, hi = doc["thrust_limits"][i]
@@ -185,8 +185,9 @@ def mission(mission_file: str, out_dir: str, controller: str, duration: float | 
     import numpy as np
     from rich.progress import BarColumn, Progress, TextColumn, TimeRemainingColumn
 
-    from hydrokit.io.mission import fly
+    from hydrokit.io.mission import fly, prepare_vehicle
 
+    prepared = prepare_vehicle(mis)  # all input validated before the run starts
     results = {}
     console_err = _stderr_console()
     with Progress(
@@ -197,7 +198,7 @@ def mission(mission_file: str, out_dir: str, controller: str, duration: float | 
             total = duration if duration is not None else mis.duration
             task = bar.add_task(f"{CONTROLLER_LABEL[kind]} mission", total=total)
             results[kind] = fly(
-                mis, kind, duration=duration,
+                mis, kind, duration=duration, prepared=prepared,
                 progress=lambda t, task=task: bar.update(task, completed=t),
             )
     thrusters = next(iter(results.values())).thrusters
@@ -284,13 +285,13 @@ def _print_metrics(metrics: dict[str, dict[str, Any]]) -> None:
     for label in metrics:
         table.add_column(label, justify="right")
     rows = [
-        ("cross-track RMS [m]", "cross_track_rms", "{:.3f}"),
-        ("cross-track max [m]", "cross_track_max", "{:.3f}"),
-        ("depth error RMS [m]", "depth_error_rms", "{:.3f}"),
-        ("heading error RMS [deg]", "heading_error_rms", "deg"),
-        ("thrust impulse [N s]", "thrust_impulse", "{:.4g}"),
-        ("thruster energy [J]", "thruster_energy", "{:.4g}"),
-        ("saturation time [s]", "saturation_time", "{:.2f}"),
+        ("cross-track RMS (m)", "cross_track_rms", "{:.3f}"),
+        ("cross-track max (m)", "cross_track_max", "{:.3f}"),
+        ("depth error RMS (m)", "depth_error_rms", "{:.3f}"),
+        ("heading error RMS (deg)", "heading_error_rms", "deg"),
+        ("thrust impulse (N s)", "thrust_impulse", "{:.4g}"),
+        ("thruster energy (J)", "thruster_energy", "{:.4g}"),
+        ("saturation time (s)", "saturation_time", "{:.2f}"),
         ("completed", "completed", "{}"),
     ]
     for title, key, f in rows:
@@ -310,5 +311,5 @@ def _print_metrics(metrics: dict[str, dict[str, Any]]) -> None:
         for m in metrics.values():
             t = m["waypoint_times"][i]
             cells.append("not reached" if t is None else f"{t:.1f}")
-        table.add_row(f"time to waypoint {i + 1} [s]", *cells)
+        table.add_row(f"time to waypoint {i + 1} (s)", *cells)
     Console().print(table)

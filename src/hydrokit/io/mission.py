@@ -325,22 +325,15 @@ class MissionRun:
     thrusters: Any
 
 
-def fly(
-    mission: Mission,
-    kind: str | None = None,
-    duration: float | None = None,
-    progress: Any = None,
-) -> MissionRun:
-    """Fly ``mission`` with the ``kind`` controller ("pid" / "s-plane"; default the file's).
+def prepare_vehicle(mission: Mission) -> tuple[Any, Any]:
+    """Load and validate the mission's vehicle: (ThrusterSet, dynamics f(t, x, τ)).
 
-    Loads the vehicle (model and ``thrusters:`` block) named by the mission, then runs
-    :func:`hydrokit.simulate.closed_loop.run_closed_loop`. ``duration`` (s) overrides the
-    file's; ``progress`` is called with the simulated time (s).
+    Raises :class:`InputError` for a missing vehicle, a bad ``thrusters:`` block or
+    allocation weights that do not match the thrusters.
     """
     from hydrokit.io.thrusters import parse_thrusters, resolve_vehicle
-    from hydrokit.simulate.closed_loop import fossen_dynamics, run_closed_loop
+    from hydrokit.simulate.closed_loop import fossen_dynamics
 
-    autopilot = mission.autopilot(kind)
     source = resolve_vehicle(mission.vehicle)
     raw = read_yaml(source)
     thrusters = parse_thrusters(raw, str(source))
@@ -350,7 +343,27 @@ def fly(
             f"thruster ({len(thrusters)})",
             mission.source,
         )
-    dynamics = fossen_dynamics(vehicle_params(raw, str(source)), mission.current)
+    return thrusters, fossen_dynamics(vehicle_params(raw, str(source)), mission.current)
+
+
+def fly(
+    mission: Mission,
+    kind: str | None = None,
+    duration: float | None = None,
+    progress: Any = None,
+    prepared: tuple[Any, Any] | None = None,
+) -> MissionRun:
+    """Fly ``mission`` with the ``kind`` controller ("pid" / "s-plane"; default the file's).
+
+    Loads the vehicle (model and ``thrusters:`` block) named by the mission — or uses
+    ``prepared`` from :func:`prepare_vehicle` — then runs
+    :func:`hydrokit.simulate.closed_loop.run_closed_loop`. ``duration`` (s) overrides the
+    file's; ``progress`` is called with the simulated time (s).
+    """
+    from hydrokit.simulate.closed_loop import run_closed_loop
+
+    autopilot = mission.autopilot(kind)
+    thrusters, dynamics = prepared if prepared is not None else prepare_vehicle(mission)
     result = run_closed_loop(
         dynamics, thrusters, autopilot, mission.path, mission.eta0, mission.nu0,
         duration=mission.duration if duration is None else float(duration),

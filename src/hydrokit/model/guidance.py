@@ -7,7 +7,10 @@ The path is a polyline through waypoints p_0 … p_N (NED, m). The vehicle start
   ψ_d = α_k + atan(−e / Δ), with α_k the leg's course in the horizontal plane, e the
   horizontal cross-track error (positive to starboard of the leg) and Δ the lookahead
   distance; a vertical leg keeps the last heading;
-- depth: the leg's depth at the along-track position s + Δ (linear between a_z and b_z);
+- depth: the leg's depth (linear between a_z and b_z) at the along-track position plus
+  Δ·|b_z − a_z|/L, i.e. the lookahead scaled by the leg's vertical share (full on a
+  vertical leg, which would otherwise never progress; small on a gentle slope, so the
+  reference does not lead the ramp);
 - speed: the leg's speed times the horizontal share of the leg (0 on a vertical leg), and,
   when the vehicle's heading is given, times max(0, cos(ψ_d − ψ)) (slow down in turns);
 - switching: to leg k+1 when |p − b| ≤ R (acceptance radius) or the along-track position
@@ -126,7 +129,9 @@ class Path:
         L = float(np.linalg.norm(d))
         s = float((p - a) @ d) / (L * L)
         horiz = math.hypot(d[0], d[1])
-        s_ahead = min(max(s + self.lookahead / L, 0.0), 1.0)
+        # Depth lookahead scaled by the leg's vertical share |dz|/L: a vertical leg needs the
+        # full lookahead to make progress, a gently sloping one should not lead its ramp.
+        s_ahead = min(max(s + self.lookahead * abs(d[2]) / (L * L), 0.0), 1.0)
         depth = float(a[2] + s_ahead * d[2])
         command = heading  # a vertical leg keeps the course of the last horizontal one
         if horiz >= _HORIZONTAL_EPS:

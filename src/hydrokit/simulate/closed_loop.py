@@ -13,9 +13,10 @@ Every step of length dt (s), with the state measured at its start:
    integrated with one classical RK4 step.
 
 The vehicle enters as a pure function ``dynamics(t, x, tau) -> xdot`` with
-x = [η; ν] (12 values) — see :func:`vehicle_dynamics` for the adapter from a
-:class:`hydrokit.model.vehicle.Vehicle`. Nothing is stored on the vehicle, the controllers
-or the guidance: their states are local to one run, so two runs give the same result.
+x = [η; ν] (12 values); :func:`fossen_dynamics` builds it from the frozen vehicle-file
+fields (a stand-in until the full vehicle model of issue #3 is wired in). Nothing is stored
+on the vehicle, the controllers or the guidance: their states are local to one run, so two
+runs give the same result.
 """
 
 from __future__ import annotations
@@ -272,17 +273,6 @@ def mission_metrics(res: ClosedLoopResult, thrusters: ThrusterSet | None = None)
         "saturation_time": sat_time,
         "saturation_fraction": sat_time / total if total > 0 else 0.0,
     }
-
-
-def vehicle_dynamics(vehicle: Any, current_ned: ArrayLike | None = None) -> Dynamics:
-    """Adapter: the vehicle model as ``f(t, x, tau) -> xdot`` with x = [η; ν] (12 values).
-
-    Parameters
-    ----------
-    vehicle : hydrokit.model.vehicle.Vehicle — the 6-DOF model
-    current_ned : 3 floats or None — constant current velocity in NED, m/s
-    """
-    raise NotImplementedError("waiting for the vehicle model (issue #3)")
 
 
 @dataclass(frozen=True)
