@@ -206,3 +206,38 @@ def test_mission_missing_controller_gains(run_cli, tmp_path: Path) -> None:
     p.write_text(yaml.safe_dump(doc))
     code, _, err = run_cli("mission", p, "--out", tmp_path / "o", "--controller", "s-plane")
     assert code == 2 and "no gains for the 's-plane' controller" in err
+
+
+def test_allocate_minerva_block_reproduces_published_matrix(run_cli, tmp_path: Path, published) -> None:
+    # The same thruster block as appended to the bundled minerva.yaml (azimuths in degrees,
+    # converted by the reader); the matrix must match SPEC §8 to its printed 3 decimals.
+    kt = {"kt_forward": [0.5, -0.66, -0.25, 0.24], "kt_reverse": [0.025, -0.28, 0.17, 0.15],
+          "max_rpm": 1500}
+    th = [
+        {"name": "TT", "position": [0.166, 0, 0], "direction": [0, 1, 0], "diameter": 0.19,
+         "thrust_loss": 1.04, "max_thrust": 208, "min_thrust": -130, **kt},
+        {"name": "V1", "position": [0, 0.2, 0], "direction": [0, 0, 1], "diameter": 0.22,
+         "thrust_loss": 0.58, "max_thrust": 208, "min_thrust": -130, **kt},
+        {"name": "V2", "position": [0, -0.2, 0], "direction": [0, 0, 1], "diameter": 0.22,
+         "thrust_loss": 0.58, "max_thrust": 208, "min_thrust": -130, **kt},
+        {"name": "A1", "position": [-0.2, -0.305, 0], "azimuth_deg": -10, "diameter": 0.22,
+         "thrust_loss": {"forward": 0.72, "reverse": 0.53}, "max_thrust": 259, "min_thrust": -119, **kt},
+        {"name": "A2", "position": [-0.2, 0.305, 0], "azimuth_deg": 10, "diameter": 0.22,
+         "thrust_loss": {"forward": 0.72, "reverse": 0.53}, "max_thrust": 259, "min_thrust": -119, **kt},
+    ]
+    veh = write_vehicle(tmp_path, th)
+    out = tmp_path / "m.json"
+    code, _, err = run_cli("allocate", veh, "--tau", "300,0,0,0,0,0", "--json", out)
+    assert code == 0, err
+    doc = json.loads(out.read_text())
+    printed = np.array(published["minerva_mo2015"]["configuration_matrix"], dtype=float)
+    np.testing.assert_allclose(doc["configuration_matrix"], printed, atol=5e-4)
+    assert doc["uncontrollable"] == ["pitch"]
+    # Surge 300 N: axial pair only (toe-out cancels in sway); A1 = A2 = 300 / (2 cos 10°),
+    # within the reverse/forward limits -> reachable, so achieved = demanded
+    f = np.array(doc["thrust"])
+    np.testing.assert_allclose(f[3:], 300 / (2 * math.cos(math.radians(10))), rtol=1e-6)
+    np.testing.assert_allclose(doc["achieved_tau"], [300, 0, 0, 0, 0, 0], atol=1e-6)
+    # speeds from the forward curve at J = 0 (rpm), SPEC §8 coefficients by hand
+    n = math.sqrt(f[3] / (0.72 * 0.24 * 1025 * 0.22**4)) * 60
+    assert doc["command"][3] == pytest.approx(n, rel=1e-9)
