@@ -143,7 +143,9 @@ def _print_allocation(doc: dict[str, Any]) -> None:
     at = Table(title="Demanded and achieved τ (N, N·m)")
     for col in ("DOF", "demanded", "achieved"):
         at.add_column(col, justify="right")
+    scale = max([abs(x) for x in doc["tau"] + doc["achieved_tau"]] + [1.0])
     for dof, a, b in zip(DOF, doc["tau"], doc["achieved_tau"]):
+        b = 0.0 if abs(b) < 1e-12 * scale else b  # show round-off as 0
         at.add_row(dof, f"{a:.4g}", f"{b:.4g}")
     console.print(at)
     unc = ", ".join(doc["uncontrollable"]) or "none"

@@ -356,3 +356,62 @@ def fossen_dynamics(params: DiagonalParams, current_ned: ArrayLike | None = None
         return np.concatenate([R @ nu[:3], Tm @ w, nu_dot])
 
     return f
+
+
+def control_callback(
+    thrusters: ThrusterSet,
+    autopilot: Autopilot,
+    path: Path,
+    period: float,
+    weights: ArrayLike | None = None,
+) -> Callable[[float, Array, Array], Array]:
+    """The autopilot as an input callback ``tau(t, eta, nu)`` for open-loop drivers.
+
+    For a simulator that asks for τ (N, N·m) at arbitrary times (e.g. inside RK4 stages),
+    the control law is sampled at t = k·``period`` and held in between (zero-order hold):
+    guidance, autopilot and allocation run on the η, ν given at the first call at or after
+    an instant, and the thrust (saturated, no rotor lag) is held until the next. A further
+    call at exactly that instant (a step's last RK4 stage and the next step's first stage
+    share the time) re-samples from the same controller state with the newer η, ν, so the
+    state at the step start decides. The callable keeps the controller state *for one
+    run*: build a new one for each simulation.
+
+    Parameters
+    ----------
+    thrusters, autopilot, path : as :func:`run_closed_loop`
+    period : float — control sampling period, s
+    weights : m floats or None — allocation weights, –
+    """
+    if not (math.isfinite(period) and period > 0):
+        raise InputError(f"control period = {period}: expected a positive time in s")
+    T = thrusters.configuration_matrix()
+    allocator = Allocator(T, thrusters.f_min, thrusters.f_max, weights)
+    tol = 1e-9 * period
+    # base: controller states before the current sample; state: after it
+    memo: dict[str, Any] = {"k": -1, "tau": np.zeros(6), "base": None, "state": None}
+
+    def sample(base: tuple[Any, Any], eta: Array, nu: Array) -> tuple[Any, Any]:
+        g, a = base
+        if g is None:
+            g = path.initial_state(heading=float(eta[5]))
+            a = autopilot.initial_state()
+        ref, g = path.update(g, eta[:3], vehicle_heading=float(eta[5]))
+        tau_d, a = autopilot.update(a, ref, eta, nu, period)
+        f, _ = allocator(tau_d)
+        memo["tau"] = T @ thrusters.thrust(thrusters.command_for_thrust(f))
+        return g, a
+
+    def tau(t: float, eta: ArrayLike, nu: ArrayLike) -> Array:
+        k = int(math.floor((t + tol) / period))  # the latest sampling instant k·period ≤ t
+        eta_a, nu_a = np.asarray(eta, dtype=float), np.asarray(nu, dtype=float)
+        if k > memo["k"]:
+            memo["base"] = memo["state"] if memo["state"] is not None else (None, None)
+            memo["k"] = k
+            memo["state"] = sample(memo["base"], eta_a, nu_a)
+        elif abs(t - k * period) <= tol:
+            # Called again exactly at the sampling instant (e.g. the first RK4 stage after
+            # the last stage of the previous step): the newest state at that instant wins.
+            memo["state"] = sample(memo["base"], eta_a, nu_a)
+        return memo["tau"]
+
+    return tau
