@@ -174,3 +174,31 @@ def test_allocator_fast_path_and_fallback() -> None:
 def test_bad_tau_rejected() -> None:
     with pytest.raises(InputError, match="expected 6 finite numbers"):
         allocate_pinv(lingyun_T(), [1, 2, 3])
+
+
+@given(st.lists(st.floats(-300, 300), min_size=6, max_size=6))
+@settings(max_examples=25, deadline=None)
+def test_constrained_least_norm_agrees_with_slsqp(tau: list[float]) -> None:
+    # Second method for stage 2: SLSQP on min |f|^2 s.t. T f = a*, limits. Our solution must
+    # be feasible, achieve the same T f, and be no larger than SLSQP's (to SLSQP's 1e-6
+    # tolerance on a thrust scale of ~100 N).
+    from scipy.optimize import minimize
+
+    # a redundant 8-thruster layout (BlueROV2-Heavy-like: 4 vectored horizontal, 4 vertical)
+    c = math.sqrt(0.5)
+    pos = [(0.156, 0.111, 0.085), (0.156, -0.111, 0.085), (-0.156, 0.111, 0.085),
+           (-0.156, -0.111, 0.085), (0.12, 0.218, 0), (0.12, -0.218, 0), (-0.12, 0.218, 0),
+           (-0.12, -0.218, 0)]
+    dirs = [(c, -c, 0), (c, c, 0), (c, c, 0), (c, -c, 0)] + [(0, 0, -1)] * 4
+    T = configuration_matrix(pos, dirs)
+    lo = np.full(8, -30.0)
+    hi = np.array([40, 40, 40, 40, 30, 30, 30, 30.0])
+    tau = list(np.array(tau) * np.array([0.2, 0.2, 0.2, 0.02, 0.02, 0.02]))  # this vehicle's scale
+    res = allocate_constrained(T, tau, lo, hi)
+    a_star = res.achieved_tau
+    sol = minimize(lambda f: f @ f, np.clip(res.thrust * 0.5, lo, hi), jac=lambda f: 2 * f,
+                   constraints=[{"type": "eq", "fun": lambda f: T @ f - a_star, "jac": lambda f: T}],
+                   bounds=list(zip(lo, hi)), method="SLSQP", options={"ftol": 1e-12, "maxiter": 500})
+    assert sol.success
+    np.testing.assert_allclose(T @ sol.x, a_star, atol=1e-6)
+    assert np.linalg.norm(res.thrust) <= np.linalg.norm(sol.x) + 1e-6 * 40

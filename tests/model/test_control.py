@@ -100,6 +100,15 @@ def test_autopilot_tau_layout() -> None:
     np.testing.assert_allclose(tau, [3.0, 0, 20.0, 0, 0, -2.5], rtol=1e-12)
 
 
+def test_autopilot_roll_and_pitch_hold() -> None:
+    ap = Autopilot(speed=PID(kp=1), depth=PID(kp=1), heading=PID(kp=1, angle=True),
+                   roll=PID(kp=50, angle=True), pitch=SPlane(k1=2, k2=0, scale=30, angle=True))
+    eta = [0, 0, 0, 0.1, -0.2, 0]
+    tau, _ = ap.update(ap.initial_state(), Reference(0, 0, 0), eta, np.zeros(6), 0.1)
+    assert tau[3] == pytest.approx(-5.0, rel=1e-12)  # -kp phi
+    assert tau[4] == pytest.approx(-30 * math.tanh(-0.2), rel=1e-12)  # S-plane, e = theta
+
+
 def test_euler_rates_level_flight() -> None:
     zdot, _, _, psidot = euler_rates([0, 0, 0, 0, 0, 0], [1, 0, 0.3, 0, 0, 0.2])
     assert zdot == pytest.approx(0.3) and psidot == pytest.approx(0.2)
