@@ -241,3 +241,21 @@ def test_allocate_minerva_block_reproduces_published_matrix(run_cli, tmp_path: P
     # speeds from the forward curve at J = 0 (rpm), SPEC §8 coefficients by hand
     n = math.sqrt(f[3] / (0.72 * 0.24 * 1025 * 0.22**4)) * 60
     assert doc["command"][3] == pytest.approx(n, rel=1e-9)
+
+
+@pytest.mark.parametrize(("name", "n", "unactuated"),
+                         [("minerva", 5, ["pitch"]), ("lingyun", 4, ["sway", "pitch"]),
+                          ("bluerov2-heavy", 8, [])])
+def test_allocate_bundled_names(run_cli, tmp_path: Path, published, name, n, unactuated) -> None:
+    out = tmp_path / "a.json"
+    code, _, err = run_cli("allocate", name, "--tau", "20,0,-10,0,0,2", "--json", out)
+    assert code == 0, err
+    doc = json.loads(out.read_text())
+    T = np.array(doc["configuration_matrix"])
+    assert T.shape == (6, n)
+    assert doc["uncontrollable"] == unactuated
+    np.testing.assert_allclose(doc["achieved_tau"], T @ np.array(doc["thrust"]), atol=1e-9)
+    np.testing.assert_allclose(doc["achieved_tau"], [20, 0, -10, 0, 0, 2], atol=1e-6)
+    if name == "minerva":  # SPEC §8 matrix, 3 printed decimals
+        printed = np.array(published["minerva_mo2015"]["configuration_matrix"], dtype=float)
+        np.testing.assert_allclose(T, printed, atol=5e-4)

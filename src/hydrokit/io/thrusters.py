@@ -59,8 +59,22 @@ def resolve_vehicle(name_or_path: str | os.PathLike[str]) -> Path:
     )
 
 
+#: Thruster-layout stand-ins shipped with the missions, used for a bundled vehicle name
+#: when data/vehicles/<name>.yaml is missing or has no ``thrusters:`` block yet.
+STANDIN_DIR = Path(__file__).resolve().parents[1] / "data" / "missions"
+
+
 def load_thrusters(name_or_path: str | os.PathLike[str]) -> ThrusterSet:
     """Read the ``thrusters:`` block of a vehicle file (path or bundled name)."""
+    standin = STANDIN_DIR / f"{name_or_path}_vehicle.yaml"
+    use_standin = "/" not in str(name_or_path) and not Path(name_or_path).is_file() and standin.is_file()
+    if use_standin:
+        bundled = VEHICLES_DIR / f"{name_or_path}.yaml"
+        if bundled.is_file():
+            data = read_yaml(bundled)
+            if "thrusters" in data:
+                return parse_thrusters(data, source=str(bundled))
+        return parse_thrusters(read_yaml(standin), source=str(standin))
     path = resolve_vehicle(name_or_path)
     return parse_thrusters(read_yaml(path), source=str(path))
 
