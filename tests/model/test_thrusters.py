@@ -146,3 +146,20 @@ def test_bad_fields_rejected(kw: dict, match: str) -> None:
 def test_propeller_needs_speed_limit() -> None:
     with pytest.raises(InputError, match="needs max_rpm"):
         axial(max_speed=None)
+
+
+from hypothesis import given, settings  # noqa: E402
+from hypothesis import strategies as st  # noqa: E402
+
+
+@given(st.floats(-100, 200), st.floats(-1.0, 2.0))
+@settings(max_examples=200, deadline=None)
+def test_inversion_round_trip_property(f: float, va: float) -> None:
+    ts = ThrusterSet((axial(),), density=RHO)
+    n = ts.command_for_thrust([f], [va])[0]
+    assert abs(n) <= 25.0
+    got = ts.thrust([n], [va])[0]
+    if abs(n) < 25.0 * (1 - 1e-9):  # not at the speed limit: the demand is met (1e-9 rel)
+        assert got == pytest.approx(f, rel=1e-9, abs=1e-9)
+    else:  # at the limit: the best the curve gives, never more than asked
+        assert abs(got) <= abs(f) + 1e-9
