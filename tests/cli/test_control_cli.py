@@ -259,3 +259,22 @@ def test_allocate_bundled_names(run_cli, tmp_path: Path, published, name, n, una
     if name == "minerva":  # SPEC §8 matrix, 3 printed decimals
         printed = np.array(published["minerva_mo2015"]["configuration_matrix"], dtype=float)
         np.testing.assert_allclose(T, printed, atol=5e-4)
+
+
+def test_minerva_mission_propeller_commands(run_cli, tmp_path: Path) -> None:
+    # Propeller thrusters in the loop: commands are rev/s within +-1500 rpm, thrust within the
+    # asymmetric forward/reverse limits of SPEC §8 at that speed (axial: +259 / -119 N).
+    out = tmp_path / "m"
+    code, _, err = run_cli("mission", "minerva_square", "--out", out, "--duration", 40, "--no-plots")
+    assert code == 0, err
+    doc = json.loads((out / "metrics.json").read_text())
+    assert doc["command_units"] == ["rev/s"] * 5
+    header = (out / "trajectory.csv").read_text().splitlines()[0].split(",")
+    rows = np.loadtxt(out / "trajectory.csv", delimiter=",", skiprows=1)
+    col = {h: i for i, h in enumerate(header)}
+    for name in ("TT", "V1", "V2", "A1", "A2"):
+        assert np.all(np.abs(rows[:, col[f"cmd_{name}"]]) <= 25.0 + 1e-9)
+    a1 = rows[:, col["thrust_A1"]]
+    assert a1.max() <= 259 + 1e-6 and a1.min() >= -119 - 1e-6
+    assert a1.max() > 100  # the axial thrusters do drive the vehicle
+    assert doc["controllers"]["PID"]["waypoint_times"][0] is not None  # first 12 m leg done
