@@ -5,7 +5,7 @@ pre-planned 3-D path better than PID; this reports what hydrokit measures) and t
 closed-loop simulation speed (steps/s with guidance, autopilot, allocation, thruster curves
 and rotor lag in the loop).
 
-    .venv/bin/python bench/closed_loop.py [MISSION]
+    .venv/bin/python bench/closed_loop.py [MISSION ...]   (default: both bundled missions)
 """
 
 from __future__ import annotations
@@ -67,4 +67,6 @@ def main(mission_name: str = "lingyun_path") -> None:
 
 
 if __name__ == "__main__":
-    main(*sys.argv[1:2])
+    for name in sys.argv[1:] or ["lingyun_path", "minerva_square"]:
+        main(name)
+        print()
