@@ -63,8 +63,6 @@ def allocate(vehicle: str, tau: str, method: str, weights: str | None, json_out:
     layout cannot actuate. Propeller thrusters also get the speed (rpm) that gives the
     thrust at zero advance speed.
     """
-    import numpy as np
-
     from hydrokit._atomic import write_text
     from hydrokit.io.thrusters import load_thrusters
     from hydrokit.model.allocation import allocate_constrained, allocate_pinv
@@ -114,7 +112,6 @@ def allocate(vehicle: str, tau: str, method: str, weights: str | None, json_out:
     _print_allocation(doc)
     if json_out:
         write_text(json_out, json.dumps(doc, indent=2) + "\n")
-    del np
 
 
 def _print_allocation(doc: dict[str, Any]) -> None:
@@ -182,9 +179,9 @@ def mission(mission_file: str, out_dir: str, controller: str, duration: float | 
     if duration is not None and not (math.isfinite(duration) and duration >= mis.dt):
         raise InputError(f"--duration {duration}: expected a time ≥ the step dt = {mis.dt} s")
     kinds = {"file": [mis.controller], "both": ["pid", "s-plane"]}.get(controller, [controller])
-    autopilots = {k: mis.autopilot(k) for k in kinds}  # validates gains before any work
+    for kind in kinds:
+        mis.autopilot(kind)  # validates the gains before any work
 
-    import numpy as np
     from rich.progress import BarColumn, Progress, TextColumn, TimeRemainingColumn
 
     from hydrokit.io.mission import fly, prepare_vehicle
@@ -244,7 +241,6 @@ def mission(mission_file: str, out_dir: str, controller: str, duration: float | 
         write_bytes(out / name, data)
     _print_metrics(metrics)
     click.echo(f"wrote {', '.join(sorted(files))} to {out}", err=True)
-    del np
 
 
 def _stderr_console():
