@@ -286,3 +286,35 @@ def test_control_callback_matches_closed_loop_driver() -> None:
     for k in range(600):
         x = rk4_step(f, k * dt, x, np.zeros(6), dt)
     np.testing.assert_allclose(x[:6], ref.eta[-1], atol=1e-3)
+
+
+def test_mission_metrics_closed_form() -> None:
+    # A hand-made run: the vehicle moves along y = 0.5 m beside a path on y = 0 with two
+    # thrusters at a constant 20 N; metrics by hand.
+    from hydrokit.simulate.closed_loop import ClosedLoopResult, mission_metrics
+
+    n, h = 101, 0.1
+    t = np.arange(n) * h
+    eta = np.zeros((n, 6))
+    eta[:, 0] = np.linspace(0, 5, n)
+    eta[:, 1] = 0.5
+    path = Path(points=[[0, 0, 0], [10, 0, 0]], speeds=[0.5])
+    ts = ThrusterSet((Thruster("A", (0, 0, 0), (1, 0, 0), 50, diameter=0.1),
+                      Thruster("B", (0, 0, 0), (1, 0, 0), 50, diameter=0.1)), density=1000.0)
+    thrust = np.full((n, 2), 20.0)
+    limited = np.zeros(n, dtype=bool)
+    limited[:10] = True
+    res = ClosedLoopResult(
+        time=t, eta=eta, nu=np.zeros((n, 6)), reference=np.zeros((n, 3)),
+        tau_demand=np.zeros((n, 6)), command_demand=thrust, command=thrust,
+        thrust_demand=thrust, thrust=thrust, limited=limited, leg=np.ones(n, dtype=int),
+        waypoint_times=[None], thruster_names=["A", "B"], dt=h, path=path)
+    m = mission_metrics(res, ts)
+    assert m["cross_track_rms"] == pytest.approx(0.5, rel=1e-12)
+    assert m["cross_track_max"] == pytest.approx(0.5, rel=1e-12)
+    assert not m["completed"]
+    assert m["saturation_time"] == pytest.approx(1.0, rel=1e-12)
+    # actuator disk: P = f^1.5 / sqrt(2 rho A), A = pi 0.05^2; 2 thrusters x 101 samples x h
+    P = 20.0**1.5 / math.sqrt(2 * 1000.0 * math.pi * 0.05**2)
+    assert m["thruster_energy"] == pytest.approx(2 * P * n * h, rel=1e-12)
+    assert m["thrust_impulse"] == pytest.approx(2 * 20.0 * n * h, rel=1e-12)
