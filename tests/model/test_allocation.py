@@ -145,9 +145,14 @@ def test_constrained_never_exceeds_limits(tau: list[float]) -> None:
     hi = np.array([50, 100, 100, 120, 120.0])
     res = allocate_constrained(T, tau, lo, hi)
     assert np.all(res.thrust <= hi) and np.all(res.thrust >= lo)
-    # no feasible point does better: compare with the pinv solution clipped to the box
+    # no feasible point does better: the pinv solution clipped to the box and 50 random
+    # points in the box (a convex problem: any better point would show up as a violation)
     clipped = np.clip(np.linalg.pinv(T) @ np.array(tau), lo, hi)
     assert res.residual <= np.linalg.norm(T @ clipped - np.array(tau)) + 1e-6
+    rng = np.random.default_rng(0)
+    samples = lo + (hi - lo) * rng.random((50, 5))
+    others = np.linalg.norm(samples @ T.T - np.array(tau), axis=1)
+    assert res.residual <= others.min() + 1e-6
 
 
 def test_uncontrollable_dof_is_warned_and_rest_allocated() -> None:
