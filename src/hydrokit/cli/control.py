@@ -107,7 +107,8 @@ def allocate(vehicle: str, tau: str, method: str, weights: str | None, json_out:
         "warnings": res.warnings,
         "units": {"thrust": "N", "tau": "N, N·m (X,Y,Z,K,M,N)", "configuration_matrix": "-, m"},
     }
-    for msg in res.warnings:
+    doc["warnings"] = list(ts.notes) + doc["warnings"]
+    for msg in doc["warnings"]:
         click.echo(f"warning: {msg}", err=True)
     _print_allocation(doc)
     if json_out:
@@ -187,6 +188,8 @@ def mission(mission_file: str, out_dir: str, controller: str, duration: float | 
     from hydrokit.io.mission import fly, prepare_vehicle
 
     prepared = prepare_vehicle(mis)  # all input validated before the run starts
+    for note in prepared[0].notes:
+        click.echo(f"warning: {note}", err=True)
     results = {}
     console_err = _stderr_console()
     with Progress(

@@ -100,15 +100,16 @@ def parse_thrusters(data: dict[str, Any], source: str) -> ThrusterSet:
         raise InputError(f"'thrusters' = {raw!r}: expected a non-empty list of thrusters", source)
     density = _density(data, source)
     items = []
+    notes: list[str] = []
     for i, entry in enumerate(raw):
         where = f"thrusters[{i}]"
         if not isinstance(entry, dict):
             raise InputError(f"{where} = {entry!r}: expected a mapping of fields", source)
         unknown = sorted(set(map(str, entry)) - ALLOWED)
-        if unknown:
-            raise InputError(
-                f"{where}: unknown field '{unknown[0]}' (allowed: {', '.join(sorted(ALLOWED))})",
-                source,
+        if unknown:  # other tools' fields are tolerated, but a typo should not pass silently
+            notes.append(
+                f"{source}: {where}: unknown field(s) {', '.join(repr(u) for u in unknown)} "
+                f"ignored (known: {', '.join(sorted(ALLOWED))})"
             )
         name = entry.get("name")
         if isinstance(name, (int, float)) and not isinstance(name, bool):
@@ -121,7 +122,9 @@ def parse_thrusters(data: dict[str, Any], source: str) -> ThrusterSet:
         except InputError as exc:
             raise InputError(exc.detail, source) from None
     try:
-        return ThrusterSet(tuple(items), density=density if density is not None else 1025.0)
+        return ThrusterSet(
+            tuple(items), density=density if density is not None else 1025.0, notes=tuple(notes)
+        )
     except InputError as exc:
         raise InputError(exc.detail, source) from None
 

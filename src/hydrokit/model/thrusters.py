@@ -209,10 +209,12 @@ class ThrusterSet:
     ----------
     thrusters : sequence of Thruster — in file order; names must be unique
     density : float — water density ρ, kg/m³ (used by the propeller model)
+    notes : tuple of str — warnings from reading the layout (e.g. ignored fields)
     """
 
     thrusters: tuple[Thruster, ...]
     density: float = 1025.0
+    notes: tuple[str, ...] = field(default=(), compare=False)
     # derived arrays (not arguments)
     positions: Array = field(init=False, repr=False, compare=False)
     directions: Array = field(init=False, repr=False, compare=False)
