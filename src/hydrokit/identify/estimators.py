@@ -1,0 +1,514 @@
+"""Free-decay estimators (scikit-learn conventions: ``fit`` returns self, learned attributes
+end in ``_``, ``predict(t)`` replays the fitted model).
+
+Each estimator works on the generalised rig equation of :mod:`hydrokit.identify.rig_model`
+
+    q̈ = −ω² ρ(q) − b q̇ − g |q̇| q̇,      ω² = S/A, b = c_L/A, g = c_Q/A,
+
+and converts (ω², b, g) to the reported added mass m_a, K_L and K_Q with the rig constants.
+
+Methods
+-------
+``log-decrement``   peaks → damped period and logarithmic decrement per cycle (SPEC S2, S3);
+                    ζ per cycle regressed on the cycle amplitude separates linear and
+                    quadratic damping; C_D per cycle against the cycle's Reynolds number.
+``equation-error``  CHIN2012 / ENG2009 eq. 5–7 least squares on [ρ(q), q̇, |q̇|q̇] with q̇, q̈
+                    from a Savitzky–Golay differentiator (never raw double differences).
+``morison``         CELY2019 eq. 11–16 made dimensionally consistent: equation error with
+                    K_L = 0 (their eq. 12–16 lose the factor r between force and angle and
+                    their eq. 16 omits m + m_a; we fit P1 with K_L = 0 instead).
+``output-error``    integrates the rig ODE (compiled RK4 with forward sensitivities) and fits the
+                    recorded signal with :func:`scipy.optimize.least_squares`; fits the initial
+                    displacement, rate and the sensor offset too; covariance σ̂² (JᵀJ)⁻¹. The
+                    most accurate method and the default.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import replace
+from typing import Any
+
+import numpy as np
+
+from hydrokit.errors import InputError
+from hydrokit.identify.preprocess import check_record, noise_floor
+from hydrokit.identify.rig_model import RigConstants, rig_constants, simulate_normalised
+from hydrokit.identify.types import METHODS, Launch, LaunchResult, Rig
+
+COEFFS = ("added_mass", "linear_damping", "quadratic_damping")
+#: gap ratio e / L_ref below which wall proximity is flagged (CELY2019 blames the tank floor for
+#: its z-axis scatter; wall effects on added mass become noticeable within about one body size)
+GAP_RATIO_WARNING = 1.0
+
+
+class _DecayEstimator:
+    """Common machinery: validation, conversion to reported units, prediction."""
+
+    method = ""
+
+    def __init__(self, rig: Rig):
+        self.rig = rig
+
+    # -- to be provided by subclasses: set self.p_ (ω², b, g), self.pcov_ (3×3 or None),
+    #    self.q0_, self.v0_, self.offset_
+    def _fit(self, t: np.ndarray, y: np.ndarray, facts: dict[str, float]) -> None:
+        raise NotImplementedError
+
+    def fit(self, t: Any, y: Any, file: str = "") -> "_DecayEstimator":
+        """Fit the launch (t in s from the release, y in m or rad). Returns self."""
+        t = np.asarray(t, float)
+        y = np.asarray(y, float)
+        if t.shape != y.shape or t.ndim != 1:
+            raise InputError(f"time and signal must be 1-D of equal length, got {t.shape} and {y.shape}", file)
+        if not (np.all(np.isfinite(t)) and np.all(np.isfinite(y))):
+            raise InputError("the record holds NaN or infinite values", file)
+        if np.any(np.diff(t) <= 0):
+            raise InputError("time must increase strictly", file)
+        self.constants_: RigConstants = rig_constants(self.rig)
+        facts = check_record(Launch(t=t, y=y, file=file))
+        self.period_ = facts["period"]
+        self.noise_ = facts["noise"]
+        self.warnings_: list[str] = []
+        self.t0_ = float(t[0])
+        self._fit(t - t[0], y, facts)
+        w2, b, g = self.p_
+        if not (w2 > 0 and math.isfinite(w2)):
+            raise InputError(f"fitted ω² = {w2:.4g} 1/s²: not a restoring oscillation; check the rig file", file)
+        c = self.constants_
+        m_a, K_L, K_Q = c.from_normalised(w2, b, g)
+        self.added_mass_ = m_a
+        self.linear_damping_ = K_L
+        self.quadratic_damping_ = K_Q
+        if self.pcov_ is not None:
+            Jt = c.jacobian_from_normalised(w2, b, g)
+            cov = Jt @ self.pcov_ @ Jt.T
+            self.covariance_ = cov
+            se = np.sqrt(np.clip(np.diag(cov), 0.0, None))
+            self.std_error_ = {k: float(v) for k, v in zip(COEFFS, se)}
+        else:
+            self.covariance_ = None
+            self.std_error_ = {k: None for k in COEFFS}
+        self.natural_frequency_ = math.sqrt(w2)
+        a0 = abs(float(y[0]) - self.offset_)
+        # equivalent linear damping ratio at the launch amplitude (Fossen-style linearisation
+        # of |q̇|q̇ over a cycle: c_eq = 8/(3π) c_Q ω a)
+        self.damping_ratio_ = b / (2.0 * math.sqrt(w2)) + 4.0 / (3.0 * math.pi) * g * a0
+        self.amplitude_ = a0
+        pred = self.predict(t)
+        self.rms_residual_ = float(np.sqrt(np.mean((pred - y) ** 2)))
+        if b < 0:
+            self.warnings_.append(f"negative linear damping fitted (K_L = {K_L:.4g}); K_L and K_Q trade off, compare force curves")
+        if g < 0:
+            self.warnings_.append(f"negative quadratic damping fitted (K_Q = {K_Q:.4g})")
+        if m_a < 0:
+            self.warnings_.append(f"negative added mass fitted ({m_a:.4g}); check mass, length or stiffness in the rig file")
+        return self
+
+    def _replay(self, t: Any) -> tuple[np.ndarray, np.ndarray]:
+        """(q, q̇) of the fitted model at times t; integrates backwards for t before t0_."""
+        tt = np.asarray(t, float) - self.t0_
+        w2, b, g = self.p_
+        sine = self.constants_.sine
+        q = np.empty(tt.size)
+        v = np.empty(tt.size)
+        fwd = tt >= 0
+        for mask, sign in ((fwd, 1.0), (~fwd, -1.0)):
+            if not np.any(mask):
+                continue
+            part = tt[mask]
+            order = np.argsort(sign * part)
+            grid = np.concatenate([[0.0], part[order]])
+            qq, vv, _ = simulate_normalised(grid, w2, b, g, self.q0_, self.v0_, sine, 4)
+            idx = np.nonzero(mask)[0][order]
+            q[idx] = qq[1:]
+            v[idx] = vv[1:]
+        return q, v
+
+    def predict(self, t: Any) -> np.ndarray:
+        """Replay the fitted model at times t (s, same clock as the fitted record)."""
+        return self._replay(t)[0] + self.offset_
+
+    def velocity(self, t: Any) -> np.ndarray:
+        """Fitted rate q̇ at times t (m/s or rad/s)."""
+        return self._replay(t)[1]
+
+
+def _rho(q: np.ndarray, sine: bool) -> np.ndarray:
+    return np.sin(q) if sine else q
+
+
+def _savgol_window(period: float, dt: float, n: int) -> int:
+    """Odd window spanning about a sixth of a period, at least 7 samples."""
+    w = int(round(period / dt / 6.0))
+    w = max(7, w)
+    w = min(w, n - 1 if (n - 1) % 2 == 1 else n - 2)
+    return w if w % 2 == 1 else w + 1
+
+
+class EquationErrorEstimator(_DecayEstimator):
+    """CHIN2012 / ENG2009 equation-error least squares with a smoothing differentiator.
+
+    Parameters
+    ----------
+    rig : Rig
+    window : int, optional — Savitzky–Golay window (samples, odd); default about a sixth of
+        the oscillation period
+    polyorder : int — Savitzky–Golay polynomial order (default 4: a cubic biases q̈ at the peaks by
+        about 2 % with a sixth-period window, a quartic by under 0.1 %)
+    """
+
+    method = "equation-error"
+    _linear = True
+
+    def __init__(self, rig: Rig, window: int | None = None, polyorder: int = 4):
+        super().__init__(rig)
+        self.window = window
+        self.polyorder = polyorder
+
+    def _fit(self, t: np.ndarray, y: np.ndarray, facts: dict[str, float]) -> None:
+        from scipy.signal import savgol_filter
+
+        dt = float(np.median(np.diff(t)))
+        if np.max(np.abs(np.diff(t) - dt)) > 0.05 * dt:
+            # uneven sampling: resample onto a uniform grid first
+            tu = np.arange(t[0], t[-1], dt)
+            y = np.interp(tu, t, y)
+            t = tu
+        window = self.window or _savgol_window(self.period_, dt, y.size)
+        if window <= self.polyorder or window >= y.size:
+            raise InputError(f"window = {window}: expected an odd number of samples between {self.polyorder + 1} and {y.size - 1}")
+        self.window_ = window
+        offset = facts["offset"]
+        q = savgol_filter(y, window, self.polyorder) - offset
+        qd = savgol_filter(y, window, self.polyorder, deriv=1, delta=dt)
+        qdd = savgol_filter(y, window, self.polyorder, deriv=2, delta=dt)
+        edge = window // 2
+        sl = slice(edge, y.size - edge)
+        q, qd, qdd = q[sl], qd[sl], qdd[sl]
+        sine = self.constants_.sine
+        cols = [-_rho(q, sine)]
+        if self._linear:
+            cols.append(-qd)
+        cols.append(-np.abs(qd) * qd)
+        # the rest value is fitted too: ρ(q − c) ≈ ρ(q) − c ρ'(q)
+        cols.append(np.cos(q) if sine else np.ones_like(q))
+        H = np.column_stack(cols)
+        coef, *_ = np.linalg.lstsq(H, qdd, rcond=None)
+        resid = qdd - H @ coef
+        dof = max(1, H.shape[0] - H.shape[1])
+        s2 = float(resid @ resid) / dof
+        cov_small = (s2 * np.linalg.inv(H.T @ H))[:-1, :-1]
+        shift = float(coef[-1]) / float(coef[0]) if coef[0] != 0 else 0.0
+        offset += shift
+        q = q - shift
+        coef = coef[:-1]
+        if self._linear:
+            self.p_ = (float(coef[0]), float(coef[1]), float(coef[2]))
+            self.pcov_ = cov_small
+        else:
+            self.p_ = (float(coef[0]), 0.0, float(coef[1]))
+            cov = np.zeros((3, 3))
+            cov[np.ix_([0, 2], [0, 2])] = cov_small
+            self.pcov_ = cov
+        self.offset_ = offset
+        self.q0_ = float(q[0])
+        self.v0_ = float(qd[0])
+        # the replay starts at the first sample kept after the filter's edge
+        self.t0_ = self.t0_ + float(t[edge])
+        self.equation_rms_ = math.sqrt(s2)
+
+
+class MorisonEstimator(EquationErrorEstimator):
+    """CELY2019 Morison variant: equation error with K_L = 0 (dimensionally corrected P1)."""
+
+    method = "morison"
+    _linear = False
+
+
+class LogDecrementEstimator(_DecayEstimator):
+    """Period and logarithmic decrement per cycle (CELY2019 graphical method, SPEC S2, S3).
+
+    For each pair of successive peaks of the same sign: damped period T_d, decrement
+    δ = ln(a_i/a_{i+1}), ζ = δ/√(4π² + δ²), ω_n = ω_d/√(1 − ζ²) (pendulum: corrected to small
+    amplitude by the factor 1 + a²/16). ω_n gives the inertia (S2); the cycle ζ regressed on the
+    cycle amplitude a, ζ = ζ_L + (4/(3π)) (c_Q/A) a (S3 generalised), gives linear and quadratic
+    damping. ``cycles_`` lists per cycle the amplitude, ζ, peak Reynolds number and C_D with the
+    fitted linear part taken as the structural ζ_s.
+    """
+
+    method = "log-decrement"
+
+    def __init__(self, rig: Rig, min_amplitude_noise: float = 10.0):
+        super().__init__(rig)
+        self.min_amplitude_noise = min_amplitude_noise
+
+    def _fit(self, t: np.ndarray, y: np.ndarray, facts: dict[str, float]) -> None:
+        offset = facts["offset"]
+        z = y - offset
+        peaks = _peaks(t, z, self.noise_ * self.min_amplitude_noise)
+        rows = []
+        for sign in (1.0, -1.0):
+            pk = [(tp, a) for tp, a in peaks if math.copysign(1.0, a) == sign]
+            for (t1, a1), (t2, a2) in zip(pk[:-1], pk[1:]):
+                a1, a2 = abs(a1), abs(a2)
+                if a2 <= 0 or a2 >= a1:
+                    continue
+                delta = math.log(a1 / a2)
+                zeta = delta / math.sqrt(4 * math.pi**2 + delta**2)
+                wd = 2 * math.pi / (t2 - t1)
+                wn = wd / math.sqrt(1 - zeta**2)
+                a_mean = math.sqrt(a1 * a2)
+                if self.constants_.sine:
+                    wn *= 1.0 + a_mean**2 / 16.0  # large-amplitude pendulum period correction
+                rows.append((t1, a_mean, zeta, wn))
+        if len(rows) < 2:
+            raise InputError("fewer than two cycles with peaks above the noise; expected at least two cycles of free decay")
+        rows.sort()
+        arr = np.array(rows)
+        a, zeta, wn = arr[:, 1], arr[:, 2], arr[:, 3]
+        w = float(np.mean(wn))
+        w2 = w * w
+        H = np.column_stack([np.ones_like(a), a])
+        if np.ptp(a) > 0.05 * np.max(a) and len(rows) >= 3:
+            coef, *_ = np.linalg.lstsq(H, zeta, rcond=None)
+            resid = zeta - H @ coef
+            s2 = float(resid @ resid) / max(1, len(rows) - 2)
+            cz = s2 * np.linalg.inv(H.T @ H)
+        else:  # all cycles alike: no separation possible, all damping linear
+            coef = np.array([float(np.mean(zeta)), 0.0])
+            cz = np.diag([float(np.var(zeta)) / len(rows), 0.0])
+            self.warnings_.append("cycle amplitudes too alike to separate linear and quadratic damping; all taken as linear")
+        zl, kappa = float(coef[0]), float(coef[1])
+        b = 2.0 * w * zl
+        g = 3.0 * math.pi / 4.0 * kappa
+        var_w = float(np.var(wn, ddof=1)) / len(wn) if len(wn) > 1 else 0.0
+        # ω² = w², b = 2 w ζ_L, g = 3π/4 κ
+        J = np.array([[2 * w, 0, 0], [2 * zl, 2 * w, 0], [0, 0, 3 * math.pi / 4]])
+        cin = np.zeros((3, 3))
+        cin[0, 0] = var_w
+        cin[1:, 1:] = cz
+        self.p_ = (w2, b, g)
+        self.pcov_ = J @ cin @ J.T
+        self.offset_ = offset
+        self.q0_ = float(z[0])
+        self.v0_ = 0.0
+        c = self.constants_
+        A = c.S / w2
+        rig = self.rig
+        self.cycles_ = []
+        for t1, am, ze, wni in rows:
+            u = wni * am * c.speed_factor
+            cq = (ze - zl) * 3.0 * math.pi * A / (4.0 * am)
+            K_Q = cq / c.quadratic_factor
+            cd = None if rig.rotational else 2.0 * K_Q / (rig.density * rig.reference_area)
+            self.cycles_.append({
+                "time": t1, "amplitude": am, "damping_ratio": ze, "natural_frequency": wni,
+                "reynolds": u * rig.reference_length / rig.kinematic_viscosity,
+                "drag_coefficient": cd,
+            })
+
+
+def _peaks(t: np.ndarray, z: np.ndarray, min_abs: float) -> list[tuple[float, float]]:
+    """One extreme per half-cycle (between hysteresis crossings), refined by a parabola."""
+    band = max(min_abs, 1e-15)
+    out: list[tuple[float, float]] = []
+    state = 0
+    start = 0
+    for i in range(z.size + 1):
+        s = 0 if i == z.size else (1 if z[i] > band else (-1 if z[i] < -band else 0))
+        if i == z.size or (s != 0 and s != state):
+            if state != 0:
+                seg = z[start:i] * state
+                k = start + int(np.argmax(seg))
+                tp, ap = t[k], z[k]
+                if 0 < k < z.size - 1:
+                    # vertex of the parabola through three samples (uniform spacing assumed)
+                    y0, y1, y2 = z[k - 1], z[k], z[k + 1]
+                    den = y0 - 2 * y1 + y2
+                    if den != 0:
+                        d = 0.5 * (y0 - y2) / den
+                        if abs(d) < 1:
+                            tp = t[k] + d * (t[k + 1] - t[k - 1]) / 2
+                            ap = y1 - 0.25 * (y0 - y2) * d
+                out.append((float(tp), float(ap)))
+            if i < z.size:
+                state, start = s, i
+    # the first half-cycle starts at the release: its peak is the release value
+    return out
+
+
+class OutputErrorEstimator(_DecayEstimator):
+    """Output-error fit of the simulated rig to the recorded signal (SPEC §1.5).
+
+    Parameters
+    ----------
+    rig : Rig
+    substeps : int — RK4 steps per sample interval in the fit (default 4)
+    restarts : int — extra starts tried when the first fit's RMS residual is above twice the
+        noise floor (default 3)
+    """
+
+    method = "output-error"
+
+    def __init__(self, rig: Rig, substeps: int = 4, restarts: int = 3):
+        super().__init__(rig)
+        self.substeps = substeps
+        self.restarts = restarts
+
+    def _starts(self, t: np.ndarray, y: np.ndarray, facts: dict[str, float]) -> list[np.ndarray]:
+        starts = []
+        for cls in (EquationErrorEstimator, LogDecrementEstimator):
+            try:
+                est = cls(self.rig)
+                est.constants_ = self.constants_
+                est.period_, est.noise_, est.warnings_, est.t0_ = self.period_, self.noise_, [], 0.0
+                est._fit(t, y, facts)
+                w2, b, g = est.p_
+                if w2 > 0:
+                    starts.append(np.array([w2, max(b, 0.0), max(g, 0.0), y[0] - facts["offset"], 0.0, facts["offset"]]))
+            except (InputError, np.linalg.LinAlgError, ValueError):
+                continue
+        w = 2 * math.pi / facts["period"]
+        starts.append(np.array([w * w, 0.1 * w, 0.0, y[0] - facts["offset"], 0.0, facts["offset"]]))
+        return starts
+
+    def _fit(self, t: np.ndarray, y: np.ndarray, facts: dict[str, float]) -> None:
+        from scipy.optimize import least_squares
+
+        sine = self.constants_.sine
+        sub = self.substeps
+
+        def resid(x: np.ndarray) -> np.ndarray:
+            q, _, _ = simulate_normalised(t, x[0], x[1], x[2], x[3], x[4], sine, sub)
+            return q + x[5] - y
+
+        def jac(x: np.ndarray) -> np.ndarray:
+            _, _, J = simulate_normalised(t, x[0], x[1], x[2], x[3], x[4], sine, sub, True)
+            return np.column_stack([J, np.ones(t.size)])
+
+        noise = max(self.noise_, 1e-12)
+        best = None
+        starts = self._starts(t, y, facts)
+        for k, x0 in enumerate(starts[: 1 + self.restarts]):
+            sol = least_squares(resid, x0, jac=jac, method="lm", x_scale="jac", xtol=1e-12, ftol=1e-12, max_nfev=400)
+            if best is None or sol.cost < best.cost:
+                best = sol
+            rms = math.sqrt(2 * best.cost / t.size)
+            if rms <= 2.0 * noise + 1e-12 and k >= 0:
+                break
+        assert best is not None
+        x = best.x
+        rms = math.sqrt(2 * best.cost / t.size)
+        if rms > 3.0 * noise and rms > 1e-9 * max(1.0, float(np.max(np.abs(y)))):
+            self.warnings_.append(
+                f"RMS residual {rms:.3g} is {rms / noise:.1f}× the sensor noise floor: the rig model does not "
+                "explain the record fully (unmodelled dynamics, sensor drift or a bad trim)"
+            )
+        J = best.jac
+        dof = max(1, t.size - x.size)
+        s2 = 2 * best.cost / dof
+        try:
+            cov = s2 * np.linalg.inv(J.T @ J)
+            self.pcov_ = cov[:3, :3]
+        except np.linalg.LinAlgError:
+            self.pcov_ = None
+            self.warnings_.append("parameter covariance singular: coefficients not separately identifiable")
+        self.p_ = (float(x[0]), float(x[1]), float(x[2]))
+        self.q0_, self.v0_, self.offset_ = float(x[3]), float(x[4]), float(x[5])
+        self.nfev_ = int(best.nfev)
+
+
+ESTIMATORS: dict[str, type[_DecayEstimator]] = {
+    "output-error": OutputErrorEstimator,
+    "equation-error": EquationErrorEstimator,
+    "morison": MorisonEstimator,
+    "log-decrement": LogDecrementEstimator,
+}
+assert tuple(ESTIMATORS) == METHODS
+
+
+def make_estimator(method: str, rig: Rig, **settings: Any) -> _DecayEstimator:
+    """The estimator for ``method`` (one of :data:`hydrokit.identify.types.METHODS`)."""
+    try:
+        cls = ESTIMATORS[method]
+    except KeyError:
+        raise InputError(f"method = {method!r}: expected one of {', '.join(METHODS)}") from None
+    return cls(rig, **settings)
+
+
+def identify_launch(
+    rig: Rig,
+    launch: Launch,
+    method: str = "output-error",
+    return_estimator: bool = False,
+    **settings: Any,
+) -> LaunchResult | tuple[LaunchResult, _DecayEstimator]:
+    """Identify one trimmed launch: coefficients, diagnostics and warnings.
+
+    Parameters
+    ----------
+    rig : Rig
+    launch : Launch — trimmed (release at t = 0), t in s, y in m or rad
+    method : str — estimator name (default output-error, the most accurate)
+    return_estimator : bool — also return the fitted estimator (for plots)
+
+    Returns
+    -------
+    LaunchResult (and the estimator). K_L, K_Q are net of the rig's tare damping.
+    """
+    est = make_estimator(method, rig, **settings).fit(launch.t, launch.y, file=launch.file)
+    c = est.constants_
+    K_L = est.linear_damping_ - rig.tare_linear_damping
+    K_Q = est.quadratic_damping_ - rig.tare_quadratic_damping
+    warnings = list(est.warnings_)
+    if rig.tare_linear_damping or rig.tare_quadratic_damping:
+        warnings.append(
+            f"tare subtracted: K_L − {rig.tare_linear_damping:g}, K_Q − {rig.tare_quadratic_damping:g}"
+        )
+    m_a = est.added_mass_
+    t = np.asarray(launch.t, float)
+    tf = np.linspace(t[0], t[-1], max(2000, 4 * t.size))
+    u_max = float(np.max(np.abs(est.velocity(tf)))) * c.speed_factor
+    re = u_max * rig.reference_length / rig.kinematic_viscosity
+    kc = u_max * est.period_ / rig.reference_length
+    gap = None
+    if rig.wall_distance is not None:
+        gap = rig.wall_distance / rig.reference_length
+        if gap < GAP_RATIO_WARNING:
+            warnings.append(
+                f"gap ratio e/L = {gap:.2f} < {GAP_RATIO_WARNING:g}: the nearest wall is closer than one body "
+                "size; added mass and damping are likely raised by wall proximity"
+            )
+    if c.sine and est.amplitude_ > math.radians(20):
+        warnings.append(f"launch angle {math.degrees(est.amplitude_):.1f}° is large; the rod and body rotation matter more")
+    rv = rig.density * rig.volume
+    result = LaunchResult(
+        file=launch.file,
+        method=est.method,
+        added_mass=m_a,
+        added_mass_coefficient=None if rig.rotational else m_a / rv,
+        linear_damping=K_L,
+        quadratic_damping=K_Q,
+        drag_coefficient=None if rig.rotational else 2.0 * K_Q / (rig.density * rig.reference_area),
+        natural_frequency=est.natural_frequency_,
+        damping_ratio=est.damping_ratio_,
+        reynolds_max=re,
+        kc=kc,
+        rms_residual=est.rms_residual_,
+        std_error=dict(est.std_error_),
+        warnings=warnings,
+        amplitude=est.amplitude_,
+        gap_ratio=gap,
+        extra={"period": est.period_, "noise": est.noise_, "speed_max": u_max},
+    )
+    if method == "log-decrement":
+        result.extra["cycles"] = est.cycles_
+    return (result, est) if return_estimator else result
+
+
+def with_notes(result: LaunchResult, notes: tuple[str, ...] | list[str]) -> LaunchResult:
+    """A copy of ``result`` carrying the reader's/trimmer's notes in ``extra['notes']``."""
+    extra = dict(result.extra)
+    extra["notes"] = list(notes)
+    return replace(result, extra=extra)
