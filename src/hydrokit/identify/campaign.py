@@ -1,0 +1,131 @@
+"""Campaign statistics over many launches (SPEC §1.5).
+
+Per coefficient: mean, standard deviation, a Student-t confidence interval of the mean, n,
+and the launches rejected as outliers. Outlier rule (stated in every summary): a launch is
+rejected when its value lies more than 3 scaled median absolute deviations (1.4826·MAD, a
+robust σ) from the median of its group, and only when at least 4 launches remain.
+Amplitude groups are compared pairwise with the two-sided Mann–Whitney rank-sum test in its
+normal approximation, which is what CELY2019 Tables 6, 8 and 9 report (z = −1.286 ↔
+p = 0.198).
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Sequence
+from typing import Any
+
+import numpy as np
+
+from hydrokit.identify.types import LaunchResult
+
+SUMMARY_FIELDS = (
+    "added_mass", "added_mass_coefficient", "linear_damping", "quadratic_damping",
+    "drag_coefficient", "natural_frequency", "damping_ratio", "reynolds_max", "kc",
+)
+OUTLIER_RULE = "|x − median| > 3 × 1.4826 × MAD (robust 3σ), applied when ≥ 4 launches remain"
+
+
+def describe(values: Sequence[float], files: Sequence[str] | None = None, confidence: float = 0.95) -> dict[str, Any]:
+    """Mean, std, t-interval and outliers of one coefficient over launches.
+
+    Parameters
+    ----------
+    values : sequence of float — one value per launch (None/NaN ignored)
+    files : sequence of str — launch names, for the rejected list
+    confidence : float — confidence level of the interval (0–1)
+    """
+    from scipy import stats
+
+    files = list(files) if files is not None else [str(i) for i in range(len(values))]
+    pairs = [(f, float(v)) for f, v in zip(files, values) if v is not None and math.isfinite(float(v))]
+    x = np.array([v for _, v in pairs])
+    rejected: list[str] = []
+    if x.size >= 5:
+        med = float(np.median(x))
+        mad = 1.4826 * float(np.median(np.abs(x - med)))
+        if mad > 0:
+            bad = np.abs(x - med) > 3.0 * mad
+            if x.size - int(bad.sum()) >= 4:
+                rejected = [pairs[i][0] for i in np.nonzero(bad)[0]]
+                x = x[~bad]
+    n = int(x.size)
+    if n == 0:
+        return {"mean": None, "std": None, "ci": [None, None], "n": 0, "rejected": rejected, "rule": OUTLIER_RULE}
+    mean = float(np.mean(x))
+    std = float(np.std(x, ddof=1)) if n > 1 else 0.0
+    if n > 1:
+        half = float(stats.t.ppf(0.5 + confidence / 2, n - 1)) * std / math.sqrt(n)
+        ci = [mean - half, mean + half]
+    else:
+        ci = [None, None]
+    return {"mean": mean, "std": std, "ci": ci, "n": n, "rejected": rejected, "rule": OUTLIER_RULE,
+            "confidence": confidence}
+
+
+def summarize(results: Sequence[LaunchResult], confidence: float = 0.95) -> dict[str, Any]:
+    """Per-coefficient statistics over ``results`` (see :func:`describe`)."""
+    files = [r.file for r in results]
+    out: dict[str, Any] = {}
+    for name in SUMMARY_FIELDS:
+        out[name] = describe([getattr(r, name) for r in results], files, confidence)
+    out["outlier_rule"] = OUTLIER_RULE
+    return out
+
+
+def amplitude_label(amplitude: float, rotational_units: bool) -> str:
+    """A readable group label: mm for positions, degrees for angles."""
+    return f"{math.degrees(amplitude):.3g}°" if rotational_units else f"{amplitude * 1e3:.3g} mm"
+
+
+def group_by_amplitude(results: Sequence[LaunchResult], angles: bool, rel_tol: float = 0.15) -> dict[str, list[LaunchResult]]:
+    """Group launches whose initial amplitudes agree within ``rel_tol`` (nominal launch levels)."""
+    order = sorted(results, key=lambda r: r.amplitude)
+    groups: list[list[LaunchResult]] = []
+    for r in order:
+        if groups and abs(r.amplitude - groups[-1][0].amplitude) <= rel_tol * max(abs(groups[-1][0].amplitude), 1e-12):
+            groups[-1].append(r)
+        else:
+            groups.append([r])
+    return {f"L{i + 1} ({amplitude_label(float(np.mean([r.amplitude for r in g])), angles)})": g for i, g in enumerate(groups)}
+
+
+def rank_sum(x: Sequence[float], y: Sequence[float]) -> dict[str, float]:
+    """Two-sided Mann–Whitney rank-sum test, normal approximation without continuity correction.
+
+    Returns U, z and p. z is (U − n₁n₂/2)/σ_U with the tie-corrected σ_U (scipy's statistic).
+    """
+    from scipy import stats
+
+    x = np.asarray(x, float)
+    y = np.asarray(y, float)
+    res = stats.mannwhitneyu(x, y, alternative="two-sided", method="asymptotic", use_continuity=False)
+    n1, n2 = x.size, y.size
+    ranks = stats.rankdata(np.concatenate([x, y]))
+    _, counts = np.unique(ranks, return_counts=True)
+    n = n1 + n2
+    tie = float(np.sum(counts**3 - counts)) / (n * (n - 1))
+    sigma = math.sqrt(n1 * n2 / 12.0 * ((n + 1) - tie))
+    u1 = float(res.statistic)
+    z = (u1 - n1 * n2 / 2.0) / sigma if sigma > 0 else 0.0
+    return {"u": u1, "z": z, "p": float(res.pvalue)}
+
+
+def z_to_p(z: float) -> float:
+    """Two-sided p of a standard-normal z (as CELY2019 tabulates z next to p)."""
+    from scipy import stats
+
+    return float(2.0 * stats.norm.sf(abs(z)))
+
+
+def rank_sum_pairs(groups: dict[str, Sequence[float]]) -> list[dict[str, Any]]:
+    """Pairwise rank-sum tests between all groups (CELY2019 Tables 6, 8, 9)."""
+    names = list(groups)
+    out = []
+    for i in range(len(names)):
+        for j in range(i + 1, len(names)):
+            a, b = groups[names[i]], groups[names[j]]
+            if len(a) < 2 or len(b) < 2:
+                continue
+            out.append({"pair": [names[i], names[j]], **rank_sum(a, b)})
+    return out
