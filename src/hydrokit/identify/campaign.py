@@ -2,7 +2,7 @@
 
 Per coefficient: mean, standard deviation, a Student-t confidence interval of the mean, n,
 and the launches rejected as outliers. Outlier rule (stated in every summary): a launch is
-rejected when its value lies more than 3 scaled median absolute deviations (1.4826·MAD, a
+rejected when its value lies more than 3.5 scaled median absolute deviations (1.4826·MAD, a
 robust σ) from the median of its group, and only when at least 4 launches remain.
 Amplitude groups are compared pairwise with the two-sided Mann–Whitney rank-sum test in its
 normal approximation, which is what CELY2019 Tables 6, 8 and 9 report (z = −1.286 ↔
@@ -23,7 +23,7 @@ SUMMARY_FIELDS = (
     "added_mass", "added_mass_coefficient", "linear_damping", "quadratic_damping",
     "drag_coefficient", "natural_frequency", "damping_ratio", "reynolds_max", "kc",
 )
-OUTLIER_RULE = "|x − median| > 3 × 1.4826 × MAD (robust 3σ), applied when ≥ 4 launches remain"
+OUTLIER_RULE = "modified z-score |x − median| / (1.4826 MAD) > 3.5 (Iglewicz–Hoaglin), applied when ≥ 5 launches and ≥ 4 remain"
 
 
 def describe(values: Sequence[float], files: Sequence[str] | None = None, confidence: float = 0.95) -> dict[str, Any]:
@@ -45,7 +45,7 @@ def describe(values: Sequence[float], files: Sequence[str] | None = None, confid
         med = float(np.median(x))
         mad = 1.4826 * float(np.median(np.abs(x - med)))
         if mad > 0:
-            bad = np.abs(x - med) > 3.0 * mad
+            bad = np.abs(x - med) > 3.5 * mad
             if x.size - int(bad.sum()) >= 4:
                 rejected = [pairs[i][0] for i in np.nonzero(bad)[0]]
                 x = x[~bad]

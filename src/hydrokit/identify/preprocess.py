@@ -30,7 +30,13 @@ def noise_floor(y: np.ndarray) -> float:
         return 0.0
     d2 = np.diff(y, 2)
     mad = float(np.median(np.abs(d2 - np.median(d2))))
-    return 1.4826 * mad / math.sqrt(6.0)
+    sigma = 1.4826 * mad / math.sqrt(6.0)
+    d1 = np.abs(np.diff(y))
+    if np.mean(d1 == 0) > 0.2 and np.any(d1 > 0):
+        # a quantised sensor (encoder): many repeated values; its noise is step/√12
+        step = float(np.min(d1[d1 > 0]))
+        sigma = max(sigma, step / math.sqrt(12.0))
+    return sigma
 
 
 def equilibrium(y: np.ndarray) -> float:

@@ -1,0 +1,115 @@
+"""Self-contained HTML report of identification runs (issue #2, item 7).
+
+A *run* is one rig (one axis) identified with one or more methods. The report shows, per run,
+coefficients per method with their uncertainty, full-scale values when the rig has a scale,
+the pairwise rank-sum table between amplitude groups, a per-launch table, fit figures and the
+warnings; at the end coefficients against Reynolds number for all runs.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from dataclasses import dataclass, field
+from typing import Any
+
+from hydrokit.report.html import esc, figure, fmt, page, table, warnings_block
+
+COEFS = (("added_mass", "m_a"), ("added_mass_coefficient", "C_m"), ("linear_damping", "K_L"),
+         ("quadratic_damping", "K_Q"), ("drag_coefficient", "C_D"), ("natural_frequency", "ω_n (rad/s)"),
+         ("damping_ratio", "ζ"))
+
+
+@dataclass
+class Run:
+    """One rig identified by one or more methods.
+
+    title : str — e.g. "spring rig, surge"
+    rig : Rig
+    documents : dict method → JSON result document (hydrokit.io.results.results_document)
+    figures : list of (png bytes, caption)
+    """
+
+    title: str
+    rig: Any
+    documents: dict[str, dict[str, Any]]
+    figures: list[tuple[bytes, str]] = field(default_factory=list)
+
+
+def _pm(s: dict[str, Any]) -> str:
+    if s.get("mean") is None:
+        return "–"
+    ci = s.get("ci") or [None, None]
+    ci_txt = f" [{fmt(ci[0])}, {fmt(ci[1])}]" if ci[0] is not None else ""
+    return f"{fmt(s['mean'])} ± {fmt(s['std'])}{ci_txt}"
+
+
+def _units(rig: Any) -> dict[str, str]:
+    if rig.rotational:
+        return {"added_mass": "kg·m²", "linear_damping": "N·m·s/rad", "quadratic_damping": "N·m·s²/rad²"}
+    return {"added_mass": "kg", "linear_damping": "N·s/m", "quadratic_damping": "N·s²/m²"}
+
+
+def run_section(run: Run) -> str:
+    """HTML of one run."""
+    from hydrokit.identify.scaling import scale_coefficients
+
+    units = _units(run.rig)
+    parts = [f"<h2>{esc(run.title)}</h2>"]
+    parts.append(f"<p>rig file: <code>{esc(run.rig.source)}</code>; test {esc(run.rig.test)}, axis {esc(run.rig.axis)}; "
+                 "values are mean ± standard deviation over launches [95 % confidence interval of the mean].</p>")
+    header = ["method", "n"] + [f"{lab} ({units[k]})" if k in units else lab for k, lab in COEFS]
+    rows = []
+    warn: list[str] = []
+    for method, doc in run.documents.items():
+        s = doc["summary"]
+        rows.append([method, s["added_mass"]["n"]] + [_pm(s[k]) for k, _ in COEFS])
+        for L in doc["launches"]:
+            warn.extend(f"{method}: {L['file']}: {w}" for w in L["warnings"])
+        rej = {f for k, _ in COEFS for f in s[k]["rejected"]}
+        if rej:
+            warn.append(f"{method}: outliers rejected ({s['outlier_rule']}): {', '.join(sorted(rej))}")
+    parts.append(table(header, rows, left_cols=1))
+    if run.rig.scale:
+        lam = 1.0 / run.rig.scale
+        srows = []
+        for method, doc in run.documents.items():
+            s = doc["summary"]
+            vals = {k: s[k]["mean"] for k in ("added_mass", "linear_damping", "quadratic_damping") if s[k]["mean"] is not None}
+            full = scale_coefficients(vals, lam, run.rig.rotational)
+            srows.append([method] + [fmt(full.get(k)) for k in ("added_mass", "linear_damping", "quadratic_damping")])
+        parts.append(f"<h3>Full scale (λ = {fmt(lam)}; equal C_D at equal speed, not Reynolds similarity)</h3>")
+        parts.append(table(["method", f"m_a ({units['added_mass']})", f"K_L ({units['linear_damping']})",
+                            f"K_Q ({units['quadratic_damping']})"], srows))
+    first = next(iter(run.documents.values()))
+    pw = first.get("pairwise", {}).get("added_mass", [])
+    if pw:
+        parts.append(f"<h3>Amplitude groups compared (added mass, {esc(next(iter(run.documents)))}; two-sided rank-sum, normal approximation)</h3>")
+        parts.append(table(["groups", "U", "z", "p"], [[" vs ".join(p["pair"]), fmt(p["u"]), fmt(p["z"], 3), fmt(p["p"], 3)] for p in pw]))
+    launches = first["launches"]
+    parts.append("<details><summary>Per-launch results (" + esc(next(iter(run.documents))) + f", {len(launches)} launches)</summary>")
+    parts.append(table(["file", "amplitude", "m_a", "K_L", "K_Q", "C_D", "Re_max", "KC", "RMS residual"],
+                       [[L["file"].split("/")[-1], fmt(L["amplitude"]), fmt(L["added_mass"]), fmt(L["linear_damping"]),
+                         fmt(L["quadratic_damping"]), fmt(L["drag_coefficient"]), fmt(L["reynolds_max"], 3), fmt(L["kc"], 3),
+                         fmt(L["rms_residual"], 3)] for L in launches]))
+    parts.append("</details>")
+    for png, cap in run.figures:
+        parts.append(figure(png, cap))
+    if warn:
+        parts.append("<h3>Warnings</h3>")
+        parts.append(warnings_block(warn[:40]))
+        if len(warn) > 40:
+            parts.append(f"<p>… and {len(warn) - 40} more (see the JSON results).</p>")
+    return "\n".join(parts)
+
+
+def identify_report(title: str, runs: Sequence[Run], intro: str = "", closing_figures: Sequence[tuple[bytes, str]] = ()) -> str:
+    """The whole HTML document."""
+    parts = []
+    if intro:
+        parts.append(f"<p>{esc(intro)}</p>")
+    for run in runs:
+        parts.append(run_section(run))
+    if closing_figures:
+        parts.append("<h2>Coefficients against Reynolds number</h2>")
+        parts.extend(figure(png, cap) for png, cap in closing_figures)
+    return page(title, parts)
