@@ -97,9 +97,13 @@ class _DecayEstimator:
         self.amplitude_ = a0
         pred = self.predict(t)
         self.rms_residual_ = float(np.sqrt(np.mean((pred - y) ** 2)))
-        if b < 0:
+        def significant(value: float, key: str) -> bool:
+            se = self.std_error_[key]
+            return value < 0 and (se is None or -value > 2.0 * se)
+
+        if significant(K_L, "linear_damping"):
             self.warnings_.append(f"negative linear damping fitted (K_L = {K_L:.4g}); K_L and K_Q trade off, compare force curves")
-        if g < 0:
+        if significant(K_Q, "quadratic_damping"):
             self.warnings_.append(f"negative quadratic damping fitted (K_Q = {K_Q:.4g})")
         if m_a < 0:
             self.warnings_.append(f"negative added mass fitted ({m_a:.4g}); check mass, length or stiffness in the rig file")
@@ -247,6 +251,18 @@ class LogDecrementEstimator(_DecayEstimator):
         offset = facts["offset"]
         z = y - offset
         peaks = _peaks(t, z, self.noise_ * self.min_amplitude_noise)
+        if len(peaks) >= 3:
+            # rest value from alternating extremes: geometric decay gives (p1 − c)(p3 − c) = (p2 − c)²
+            cs = []
+            for (_, p1), (_, p2), (_, p3) in zip(peaks, peaks[1:], peaks[2:]):
+                den = p1 + p3 - 2 * p2
+                if den != 0:
+                    cs.append((p1 * p3 - p2 * p2) / den)
+            if cs:
+                shift = float(np.median(cs))
+                offset += shift
+                z = z - shift
+                peaks = [(tp, a - shift) for tp, a in peaks]
         rows = []
         for sign in (1.0, -1.0):
             pk = [(tp, a) for tp, a in peaks if math.copysign(1.0, a) == sign]
@@ -318,7 +334,8 @@ def _peaks(t: np.ndarray, z: np.ndarray, min_abs: float) -> list[tuple[float, fl
     for i in range(z.size + 1):
         s = 0 if i == z.size else (1 if z[i] > band else (-1 if z[i] < -band else 0))
         if i == z.size or (s != 0 and s != state):
-            if state != 0:
+            # the half-cycle cut off by the end of the record has no true extreme: skip it
+            if state != 0 and i < z.size:
                 seg = z[start:i] * state
                 k = start + int(np.argmax(seg))
                 tp, ap = t[k], z[k]

@@ -1,0 +1,196 @@
+"""``hydrokit identify``/``scale``/``rig`` end to end, and the bad-input table of docs/identify.md."""
+
+from __future__ import annotations
+
+import json
+import math
+from pathlib import Path
+
+import numpy as np
+import pytest
+import yaml
+
+RIG = {
+    "test": "pendulum", "axis": "surge", "gravity": 9.79,
+    "fluid": {"density": 998.2, "kinematic_viscosity": 1.0e-6},
+    "body": {"mass": 0.146, "volume": 1.07597e-4, "reference_area": 0.004, "reference_length": 0.087},
+    "pendulum": {"length": 0.39},
+}
+
+
+def write_rig(path: Path, **changes) -> Path:
+    doc = json.loads(json.dumps(RIG))
+    for key, value in changes.items():
+        node = doc
+        parts = key.split(".")
+        for p in parts[:-1]:
+            node = node[p]
+        if value is None:
+            node.pop(parts[-1], None)
+        else:
+            node[parts[-1]] = value
+    path.write_text(yaml.safe_dump(doc))
+    return path
+
+
+def write_launch(path: Path, t, y, column: str = "angle") -> Path:
+    lines = ["# test launch", f"time,{column}"] + [f"{a:.4f},{b:.7g}" for a, b in zip(t, y)]
+    path.write_text("\n".join(lines) + "\n")
+    return path
+
+
+@pytest.fixture
+def good(tmp_path):
+    from hydrokit.identify.virtual_rig import SensorModel, simulate_launch
+    from hydrokit.io.rig import load_rig
+
+    rig_path = write_rig(tmp_path / "rig.yaml")
+    rig = load_rig(rig_path)
+    files = []
+    for k, amp in enumerate((5, 10, 15)):
+        L = simulate_launch(rig, 0.05, 0.02, 0.3, math.radians(amp), 12.0, SensorModel.imu(), rng=k)
+        files.append(write_launch(tmp_path / f"l{k}.csv", L.t, L.y))
+    return rig_path, files
+
+
+def test_identify_writes_frozen_json(run_cli, good, tmp_path):
+    rig_path, files = good
+    out = tmp_path / "out.json"
+    code, stdout, err = run_cli("identify", rig_path, *files, "--json", out, "--plots", tmp_path / "plots",
+                                "--report", tmp_path / "r.html")
+    assert code == 0, err
+    doc = json.loads(out.read_text())
+    assert set(doc) >= {"launches", "summary"}
+    L = doc["launches"][0]
+    for key in ("file", "method", "added_mass", "added_mass_coefficient", "linear_damping", "quadratic_damping",
+                "drag_coefficient", "natural_frequency", "damping_ratio", "reynolds_max", "kc", "rms_residual",
+                "std_error", "warnings"):
+        assert key in L
+    assert L["method"] == "output-error"  # the default
+    assert set(L["std_error"]) == {"added_mass", "linear_damping", "quadratic_damping"}
+    # m_a/(ρV) and 2K_Q/(ρA) as defined by the issue
+    assert L["added_mass_coefficient"] == pytest.approx(L["added_mass"] / (998.2 * 1.07597e-4))
+    assert L["drag_coefficient"] == pytest.approx(2 * L["quadratic_damping"] / (998.2 * 0.004))
+    s = doc["summary"]["added_mass"]
+    assert s["n"] == 3 and s["ci"][0] < s["mean"] < s["ci"][1] and "rule" in s
+    assert s["mean"] == pytest.approx(0.05, rel=0.01)
+    assert len(list((tmp_path / "plots").glob("*_fit.png"))) == 3
+    html = (tmp_path / "r.html").read_text()
+    assert "<img" in html and "output-error" in html
+
+
+@pytest.mark.parametrize("method", ["equation-error", "morison", "log-decrement"])
+def test_identify_other_methods(run_cli, good, tmp_path, method):
+    rig_path, files = good
+    out = tmp_path / "o.json"
+    code, _, err = run_cli("identify", rig_path, *files, "--json", out, "--method", method)
+    assert code == 0, err
+    doc = json.loads(out.read_text())
+    assert {L["method"] for L in doc["launches"]} == {method}
+    assert doc["summary"]["added_mass"]["mean"] == pytest.approx(0.05, rel=0.1)
+
+
+def test_angle_deg_column_is_converted(run_cli, good, tmp_path):
+    rig_path, files = good
+    text = files[0].read_text().replace("time,angle", "time,angle_deg")
+    rows = [ln.split(",") for ln in text.splitlines()[2:]]
+    deg = "\n".join(f"{a},{math.degrees(float(b)):.6g}" for a, b in rows)
+    p = tmp_path / "deg.csv"
+    p.write_text("time,angle_deg\n" + deg + "\n")
+    code, _, err = run_cli("identify", rig_path, p, files[0], "--json", tmp_path / "d.json")
+    assert code == 0, err
+    a, b = json.loads((tmp_path / "d.json").read_text())["launches"]
+    assert a["added_mass"] == pytest.approx(b["added_mass"], rel=1e-3)
+
+
+def _bad_cases(tmp_path, good):
+    rig_path, files = good
+    t = np.arange(0, 10, 0.01)
+    y = 0.1 * np.exp(-0.1 * t) * np.cos(2.2 * t)
+    cases = {
+        "missing column": (rig_path, write_launch(tmp_path / "c1.csv", t, y, column="theta"), "missing column 'angle'"),
+        "NaN": (rig_path, Path(str(write_launch(tmp_path / "c2.csv", t, y))), "NaN"),
+        "non-monotonic time": (rig_path, write_launch(tmp_path / "c3.csv", np.r_[t[:50], t[48:40:-1], t[60:]], np.r_[y[:50], y[48:40:-1], y[60:]]), "time goes back"),
+        "duplicate time": (rig_path, write_launch(tmp_path / "c4.csv", np.r_[t[:50], t[49:]], np.r_[y[:50], y[49:]]), "duplicate time"),
+        "fewer than two cycles": (rig_path, write_launch(tmp_path / "c5.csv", t, 0.1 * np.exp(-0.1 * t) * np.cos(0.8 * t)), "two cycles"),
+        "growing": (rig_path, write_launch(tmp_path / "c6.csv", t, 0.01 * np.exp(0.3 * t) * np.cos(2.2 * t) / np.exp(3)), "grows"),
+        "non-oscillating": (rig_path, write_launch(tmp_path / "c7.csv", t, 0.1 * np.exp(-t)), "does not oscillate"),
+        "degrees in angle": (rig_path, write_launch(tmp_path / "c8.csv", t, np.degrees(y)), "looks like degrees"),
+        "unknown test": (write_rig(tmp_path / "r1.yaml", test="catapult"), files[0], "field 'test' = 'catapult'"),
+        "negative mass": (write_rig(tmp_path / "r2.yaml", **{"body.mass": -1.0}), files[0], "body.mass"),
+        "negative volume": (write_rig(tmp_path / "r3.yaml", **{"body.volume": -1e-4}), files[0], "body.volume"),
+        "pendulum without length": (write_rig(tmp_path / "r4.yaml", pendulum=None), files[0], "pendulum.length"),
+        "buoyancy equals weight": (write_rig(tmp_path / "r5.yaml", **{"body.volume": 0.146 / 998.2}), files[0], "no restoring force"),
+        "missing file": (rig_path, tmp_path / "nope.csv", "no such file"),
+    }
+    nan_file = cases["NaN"][1]
+    lines = nan_file.read_text().splitlines()
+    lines[10] = lines[10].split(",")[0] + ",nan"
+    nan_file.write_text("\n".join(lines) + "\n")
+    return cases
+
+
+def test_bad_input_table(run_cli, good, tmp_path):
+    for name, (rig, launch, expected) in _bad_cases(tmp_path, good).items():
+        out = tmp_path / f"{name.replace(' ', '_')}.json"
+        code, stdout, err = run_cli("identify", rig, launch, "--json", out)
+        assert code == 2, (name, err)
+        lines = [ln for ln in err.strip().splitlines() if ln.strip()]
+        assert len(lines) == 1, (name, err)
+        assert expected in lines[0], (name, lines[0])
+        assert "Traceback" not in err
+        assert not out.exists(), name  # no partial JSON
+
+
+def test_buoyant_pendulum_is_identified(run_cli, tmp_path):
+    from hydrokit.identify.virtual_rig import SensorModel, simulate_launch
+    from hydrokit.io.rig import load_rig
+
+    rig_path = write_rig(tmp_path / "b.yaml", **{"body.volume": 3.0e-4})  # B = 2.9 N > W = 1.43 N
+    rig = load_rig(rig_path)
+    L = simulate_launch(rig, 0.15, 0.02, 0.3, 0.2, 12.0, SensorModel.imu(), rng=0)
+    f = write_launch(tmp_path / "b.csv", L.t, L.y)
+    code, _, err = run_cli("identify", rig_path, f, "--json", tmp_path / "b.json")
+    assert code == 0, err
+    assert json.loads((tmp_path / "b.json").read_text())["launches"][0]["added_mass"] == pytest.approx(0.15, rel=0.01)
+
+
+def test_scale_command_eng2009(run_cli):
+    code, out, _ = run_cli("scale", "--ratio", "0.3", "--added-mass", "0.58", "--quadratic-damping", "9.5439")
+    assert code == 0
+    assert "21.48" in out and "106.04" in out  # ENG2009 Tables III/IV
+    assert "Reynolds" in out
+
+
+def test_rig_simulate_then_identify_round_trip(run_cli, good, tmp_path):
+    rig_path, _ = good
+    out_dir = tmp_path / "virtual"
+    code, _, err = run_cli("rig", "simulate", rig_path, "--added-mass", "0.05", "--linear-damping", "0.02",
+                           "--quadratic-damping", "0.3", "--amplitudes", "5,15", "--launches", "2", "--out", out_dir)
+    assert code == 0, err
+    files = sorted(out_dir.glob("*.csv"))
+    assert len(files) == 4
+    assert files[0].read_text().startswith("#")
+    code, _, err = run_cli("identify", rig_path, *files, "--json", tmp_path / "v.json")
+    assert code == 0, err
+    doc = json.loads((tmp_path / "v.json").read_text())
+    assert doc["summary"]["added_mass"]["mean"] == pytest.approx(0.05, rel=0.01)
+
+
+def test_rig_plan_prints_bounds(run_cli, good):
+    rig_path, _ = good
+    code, out, err = run_cli("rig", "plan", rig_path, "--added-mass", "0.05", "--linear-damping", "0.02",
+                             "--quadratic-damping", "0.3", "--amplitudes", "2.5,15")
+    assert code == 0, err
+    assert "σ(m_a)" in out and "quadratic damping" in out
+
+
+def test_demo_writes_report(run_cli, tmp_path):
+    code, out, err = run_cli("demo", "--out", tmp_path / "demo", "--campaign", "rov2")
+    assert code == 0, err
+    html = (tmp_path / "demo" / "report.html").read_text()
+    assert html.count("<img") >= 2 and "output-error" in html
+    doc = json.loads((tmp_path / "demo" / "results.json").read_text())
+    oe = doc["pendulum rig, surge"]["output-error"]["summary"]
+    # ENG2009 Table II means used as truth for the bundled ROV II campaign
+    assert oe["added_mass"]["mean"] == pytest.approx(0.58, rel=0.01)

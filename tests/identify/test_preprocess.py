@@ -1,0 +1,44 @@
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+from hydrokit.errors import InputError
+from hydrokit.identify.preprocess import check_record, trim_launch
+from hydrokit.identify.types import Launch
+from hydrokit.identify.virtual_rig import SensorModel, simulate_launch
+
+
+def test_release_and_end_are_detected(pendulum_rig):
+    # K_L = 0.1 N s/m: decays as e^{-t/4}, into the 0.05° noise after about 25 s
+    launch = simulate_launch(pendulum_rig, 0.05, 0.1, 0.3, math.radians(10), 40.0, SensorModel.imu(hold_time=1.0), rng=0)
+    trimmed = trim_launch(launch)
+    # the still hold lasts 1.0 s (100 samples); the release is found within 3 samples
+    dropped = launch.t.size - trimmed.t.size
+    assert any("release detected" in n for n in trimmed.notes)
+    start = next(n for n in trimmed.notes if "release" in n)
+    t_rel = float(start.split("t = ")[1].split(" s")[0])
+    assert abs(t_rel - 1.0) <= 0.03
+    assert trimmed.t[0] == 0.0
+    assert dropped > 100  # the noisy tail was cut too
+    assert any("end detected" in n for n in trimmed.notes)
+
+
+def test_override_release_and_end(pendulum_rig):
+    launch = simulate_launch(pendulum_rig, 0.05, 0.02, 0.3, 0.2, 10.0, SensorModel.imu(hold_time=0.5), rng=0)
+    tr = trim_launch(launch, release=0.5, end=8.0)
+    assert tr.t[-1] == pytest.approx(7.5, abs=0.011)
+    with pytest.raises(InputError, match="release = 99"):
+        trim_launch(launch, release=99.0)
+
+
+def test_records_that_cannot_be_fitted():
+    t = np.linspace(0, 10, 500)
+    with pytest.raises(InputError, match="does not oscillate"):
+        check_record(Launch(t, np.exp(-t), file="mono.csv"))
+    with pytest.raises(InputError, match="fewer than two cycles|only 1.5 cycles|only 1 cycles"):
+        check_record(Launch(t, np.cos(2 * np.pi * 0.15 * t) * np.exp(-0.05 * t), file="short.csv"))
+    with pytest.raises(InputError, match="grows"):
+        check_record(Launch(t, np.exp(0.3 * t) * np.cos(2 * np.pi * t), file="grow.csv"))

@@ -1,0 +1,54 @@
+"""The sources' arithmetic (issue #2 acceptance), numbers from SPEC tables as cited."""
+
+from __future__ import annotations
+
+import pytest
+
+from hydrokit.identify.campaign import rank_sum, z_to_p
+from hydrokit.identify.rig_model import rig_constants
+from hydrokit.identify.scaling import SCALING_ASSUMPTIONS, scale_coefficients, scale_factor
+from hydrokit.identify.tare import air_tare
+from hydrokit.identify.types import Rig
+
+
+def test_eng2009_air_test_effective_length(published):
+    air = published["eng2009"]["air_test"]
+    # ENG2009 §IV.A: α = −25.128 → r = −g/α = 0.3904 m (against 0.39 m measured)
+    tare = air_tare(air["alpha"], air["beta"], air["gamma"], mass=1.0, gravity=9.81)
+    assert tare.effective_length == pytest.approx(air["r_fit"], abs=5e-5)
+
+
+def test_cely2019_table7_added_mass_via_S2(published):
+    spring = published["cely2019"]["spring_rig"]
+    wn = published["cely2019"]["table7_spring"]["omega_n"]
+    rig = Rig(test="spring", axis="surge", gravity=9.81, density=998.2, kinematic_viscosity=1e-6,
+              mass=spring["mass"], volume=spring["volume_mm3"] * 1e-9, reference_area=0.01, reference_length=0.1,
+              stiffness=spring["stiffness"])
+    c = rig_constants(rig)
+    m_a = [c.from_normalised(w * w, 0.0, 0.0)[0] for w in wn]
+    # SPEC §1.1: k/ω_n² − m = 0.287, 0.068, 0.398 kg
+    assert m_a == pytest.approx([0.287, 0.068, 0.398], abs=6e-4)
+
+
+def test_eng2009_scaling(published):
+    lam = scale_factor(published["eng2009"]["scale"])
+    full = scale_coefficients({"added_mass": 0.58, "quadratic_damping": 9.5439, "linear_damping": 1.5515}, lam)
+    assert full["added_mass"] == pytest.approx(21.48, abs=0.005)     # ENG2009 Table III
+    assert full["quadratic_damping"] == pytest.approx(106.04, abs=0.005)  # Table IV
+    assert full["linear_damping"] == pytest.approx(17.24, abs=0.005)
+    assert lam**5 == pytest.approx(published["eng2009"]["scaling"]["rotational_drag"], abs=0.01)
+    assert any("Reynolds" in a for a in SCALING_ASSUMPTIONS)
+
+
+def test_rank_sum_z_to_p_cely2019(published):
+    p, z = published["cely2019"]["table6_spring_added_mass_pairs"]["1-2"][0]
+    # CELY2019 Table 6, pair L1–L2, x axis: z = −1.286 ↔ p = 0.198 (two-sided normal)
+    assert z_to_p(z) == pytest.approx(p, abs=5e-4)
+
+
+def test_rank_sum_against_hand_count():
+    # x all below y: U = 0 (scipy reports U of x); n1 = n2 = 6: z = (0 − 18)/√(36·13/12) = −2.882
+    r = rank_sum([1, 2, 3, 4, 5, 6], [7, 8, 9, 10, 11, 12])
+    assert r["u"] == 0
+    assert r["z"] == pytest.approx(-18 / (36 * 13 / 12) ** 0.5, rel=1e-12)
+    assert r["p"] == pytest.approx(z_to_p(r["z"]), rel=1e-9)
