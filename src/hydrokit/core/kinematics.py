@@ -1,0 +1,92 @@
+"""Kinematics: Euler angles (zyx) and unit quaternions (Fossen 2011 §2.2).
+
+η = [x, y, z, φ, θ, ψ] in north-east-down (NED); ν = [u, v, w, p, q, r] in body axes.
+Euler: η̇ = J(η) ν with J = diag(R(Θ), T(Θ)) (Fossen eq. 2.40; LI2021 eq. 2), singular at
+θ = ±90°. Quaternions q = [η, ε1, ε2, ε3] (scalar first) have no singularity:
+q̇ = ½ Ω(ω) q (Fossen eq. 2.82).
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+#: |θ| beyond which Euler-angle integration is flagged (T(Θ) has 1/cos θ)
+PITCH_WARNING = math.radians(85.0)
+
+
+def rotation_zyx(phi: float, theta: float, psi: float) -> np.ndarray:
+    """R_b^n(Θ): body → NED rotation for roll φ, pitch θ, yaw ψ (rad). Fossen eq. 2.18."""
+    cf, sf = math.cos(phi), math.sin(phi)
+    ct, st = math.cos(theta), math.sin(theta)
+    cp, sp = math.cos(psi), math.sin(psi)
+    return np.array([
+        [cp * ct, -sp * cf + cp * st * sf, sp * sf + cp * cf * st],
+        [sp * ct, cp * cf + sf * st * sp, -cp * sf + st * sp * cf],
+        [-st, ct * sf, ct * cf],
+    ])
+
+
+def euler_rate_matrix(phi: float, theta: float) -> np.ndarray:
+    """T(Θ): body rates → Euler-angle rates (Fossen eq. 2.29); singular at θ = ±90°."""
+    cf, sf = math.cos(phi), math.sin(phi)
+    ct, tt = math.cos(theta), math.tan(theta)
+    return np.array([[1.0, sf * tt, cf * tt], [0.0, cf, -sf], [0.0, sf / ct, cf / ct]])
+
+
+def J_euler(eta: np.ndarray) -> np.ndarray:
+    """The 6×6 J(η) = diag(R, T) of η̇ = J(η) ν."""
+    J = np.zeros((6, 6))
+    J[:3, :3] = rotation_zyx(eta[3], eta[4], eta[5])
+    J[3:, 3:] = euler_rate_matrix(eta[3], eta[4])
+    return J
+
+
+def euler_to_quaternion(phi: float, theta: float, psi: float) -> np.ndarray:
+    """Unit quaternion [η, ε1, ε2, ε3] of the zyx Euler angles (rad)."""
+    c1, s1 = math.cos(psi / 2), math.sin(psi / 2)
+    c2, s2 = math.cos(theta / 2), math.sin(theta / 2)
+    c3, s3 = math.cos(phi / 2), math.sin(phi / 2)
+    return np.array([
+        c1 * c2 * c3 + s1 * s2 * s3,
+        c1 * c2 * s3 - s1 * s2 * c3,
+        c1 * s2 * c3 + s1 * c2 * s3,
+        s1 * c2 * c3 - c1 * s2 * s3,
+    ])
+
+
+def quaternion_to_rotation(q: np.ndarray) -> np.ndarray:
+    """R(q) for a unit quaternion [η, ε1, ε2, ε3] (Fossen eq. 2.72)."""
+    n, e1, e2, e3 = q
+    return np.array([
+        [1 - 2 * (e2 * e2 + e3 * e3), 2 * (e1 * e2 - e3 * n), 2 * (e1 * e3 + e2 * n)],
+        [2 * (e1 * e2 + e3 * n), 1 - 2 * (e1 * e1 + e3 * e3), 2 * (e2 * e3 - e1 * n)],
+        [2 * (e1 * e3 - e2 * n), 2 * (e2 * e3 + e1 * n), 1 - 2 * (e1 * e1 + e2 * e2)],
+    ])
+
+
+def quaternion_to_euler(q: np.ndarray) -> np.ndarray:
+    """(φ, θ, ψ) in rad of a unit quaternion (Fossen eq. 2.77)."""
+    R = quaternion_to_rotation(np.asarray(q, float) / np.linalg.norm(q))
+    phi = math.atan2(R[2, 1], R[2, 2])
+    theta = -math.asin(max(-1.0, min(1.0, R[2, 0])))
+    psi = math.atan2(R[1, 0], R[0, 0])
+    return np.array([phi, theta, psi])
+
+
+def quaternion_rate(q: np.ndarray, w: np.ndarray) -> np.ndarray:
+    """q̇ = ½ Ω(ω) q for body rates ω = [p, q, r] (rad/s)."""
+    n, e1, e2, e3 = q
+    p, qq, r = w
+    return 0.5 * np.array([
+        -e1 * p - e2 * qq - e3 * r,
+        n * p + e2 * r - e3 * qq,
+        n * qq + e3 * p - e1 * r,
+        n * r + e1 * qq - e2 * p,
+    ])
+
+
+def wrap_angle(a: float) -> float:
+    """a wrapped to [−π, π), rad."""
+    return (a + math.pi) % (2 * math.pi) - math.pi

@@ -1,0 +1,167 @@
+"""Vehicle files (YAML), frozen fields of issue #3 (see docs/model.md).
+
+```yaml
+name: bluerov2-heavy
+gravity: 9.82                 # m/s^2
+fluid: {density: 1000.0}      # kg/m^3
+mass: 13.5                    # kg
+volume: 0.0134                # m^3
+inertia: [0.26, 0.23, 0.37]   # kg m^2: diagonal, or a 3x3 tensor about the centre of gravity
+center_of_gravity: [0, 0, 0]  # m, from the body origin
+center_of_buoyancy: [0, 0, -0.01]
+added_mass: [6.36, 7.12, 18.68, 0.189, 0.135, 0.222]   # diag of M_A (positive), or 6x6
+linear_damping: [13.7, 0, 33.0, 0, 0.8, 0]              # diag of D_L (positive), or 6x6
+quadratic_damping: [141, 217, 190, 1.19, 0.47, 1.5]     # force_i = -d_i |nu_i| nu_i
+```
+
+Optional: ``reference_length`` (m) and ``reference_speed`` (m/s) for non-dimensional terms;
+``terms:`` a mapping of SNAME term names (:mod:`hydrokit.model.terms`) to a number or to
+``{value: …, nondimensional: true|false}``; ``terms_nondimensional`` (default false) sets the
+default; ``thrusters:`` (issue #4, read by :mod:`hydrokit.io.thrusters`).
+"""
+
+from __future__ import annotations
+
+import math
+import os
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from hydrokit.errors import InputError
+from hydrokit.io.yamlfile import read_yaml
+from hydrokit.model.terms import TermSet, parse_term
+from hydrokit.model.vehicle import Vehicle, make_vehicle
+
+VEHICLES_DIR = Path(__file__).resolve().parents[1] / "data" / "vehicles"
+REQUIRED = ("mass", "volume", "inertia", "center_of_gravity", "center_of_buoyancy", "added_mass",
+            "linear_damping", "quadratic_damping")
+KNOWN = set(REQUIRED) | {"name", "gravity", "fluid", "reference_length", "reference_speed", "terms",
+                         "terms_nondimensional", "thrusters", "description", "source", "sources", "notes",
+                         "warnings", "geometry", "allocation", "volume_printed",
+                         "added_mass_coriolis"}
+TERM_KEYS = {"value", "nondimensional", "printed", "note", "suspect", "factors", "source"}
+
+
+def bundled_vehicles() -> list[str]:
+    """Names of the bundled vehicles."""
+    return sorted(p.stem for p in VEHICLES_DIR.glob("*.yaml"))
+
+
+def resolve_vehicle(name_or_path: str | os.PathLike[str]) -> Path:
+    """A path from a file path or a bundled vehicle name."""
+    p = Path(name_or_path)
+    if p.is_file():
+        return p
+    bundled = VEHICLES_DIR / f"{name_or_path}.yaml"
+    if "/" not in str(name_or_path) and bundled.is_file():
+        return bundled
+    raise InputError(f"no such file or bundled vehicle '{name_or_path}' (bundled: {', '.join(bundled_vehicles())})")
+
+
+def load_vehicle(name_or_path: str | os.PathLike[str]) -> Vehicle:
+    """Read and validate a vehicle file or bundled vehicle (see module docstring)."""
+    path = resolve_vehicle(name_or_path)
+    return parse_vehicle(read_yaml(path), str(path))
+
+
+def _number(value: Any, field: str, source: str, positive: bool = False) -> float:
+    if isinstance(value, bool) or not isinstance(value, (int, float)):
+        raise InputError(f"field '{field}' = {value!r}: expected a number", source)
+    v = float(value)
+    if not math.isfinite(v):
+        raise InputError(f"field '{field}' = {value}: expected a finite number", source)
+    if positive and v <= 0:
+        raise InputError(f"field '{field}' = {value}: expected a positive number", source)
+    return v
+
+
+def _matrix(value: Any, n: int, field: str, source: str, allow_diag: bool = True) -> np.ndarray:
+    """n values (diagonal) or an n×n nested list."""
+    if not isinstance(value, list):
+        raise InputError(f"field '{field}' = {value!r}: expected a list of {n} numbers or an {n}x{n} matrix", source)
+    if value and all(isinstance(r, list) for r in value):
+        if len(value) != n or any(len(r) != n for r in value):
+            raise InputError(f"field '{field}': expected an {n}x{n} matrix, got {len(value)} rows of lengths "
+                             f"{[len(r) for r in value]}", source)
+        return np.array([[_number(x, f"{field}[{i}][{j}]", source) for j, x in enumerate(r)] for i, r in enumerate(value)])
+    if len(value) != n or not allow_diag:
+        raise InputError(f"field '{field}' has {len(value)} values; expected {n} (or an {n}x{n} matrix)", source)
+    return np.diag([_number(x, f"{field}[{i}]", source) for i, x in enumerate(value)])
+
+
+def _vector(value: Any, n: int, field: str, source: str) -> np.ndarray:
+    if not isinstance(value, list) or len(value) != n:
+        got = len(value) if isinstance(value, list) else repr(value)
+        raise InputError(f"field '{field}' = {got if not isinstance(value, list) else value}: expected {n} numbers", source)
+    return np.array([_number(x, f"{field}[{i}]", source) for i, x in enumerate(value)])
+
+
+def parse_vehicle(data: dict[str, Any], source: str) -> Vehicle:
+    """Validate a vehicle mapping (errors name the file and field)."""
+    for key in REQUIRED:
+        if key not in data:
+            raise InputError(f"missing field '{key}' (see docs/model.md for the vehicle file)", source)
+    warnings = [f"unknown field '{k}' ignored" for k in data if k not in KNOWN]
+    flagged = data.get("warnings") or []
+    if isinstance(flagged, list):
+        warnings.extend(str(w) for w in flagged)
+    gravity = _number(data.get("gravity", 9.81), "gravity", source, positive=True)
+    fluid = data.get("fluid", {"density": 1025.0})
+    if not isinstance(fluid, dict) or "density" not in fluid:
+        raise InputError(f"field 'fluid' = {fluid!r}: expected a mapping with density (kg/m^3)", source)
+    rho = _number(fluid["density"], "fluid.density", source, positive=True)
+    mass = _number(data["mass"], "mass", source, positive=True)
+    volume = _number(data["volume"], "volume", source, positive=True)
+    inertia = _matrix(data["inertia"], 3, "inertia", source)
+    r_g = _vector(data["center_of_gravity"], 3, "center_of_gravity", source)
+    r_b = _vector(data["center_of_buoyancy"], 3, "center_of_buoyancy", source)
+    M_A = _matrix(data["added_mass"], 6, "added_mass", source)
+    D_L = _matrix(data["linear_damping"], 6, "linear_damping", source)
+    dq = data["quadratic_damping"]
+    D_Q = _vector(dq, 6, "quadratic_damping", source)
+    L = data.get("reference_length")
+    L = None if L is None else _number(L, "reference_length", source, positive=True)
+    U = data.get("reference_speed")
+    U = None if U is None else _number(U, "reference_speed", source, positive=True)
+    default_nd = data.get("terms_nondimensional", False)
+    if not isinstance(default_nd, bool):
+        raise InputError(f"field 'terms_nondimensional' = {default_nd!r}: expected true or false", source)
+    terms_raw = data.get("terms") or {}
+    if not isinstance(terms_raw, dict):
+        raise InputError(f"field 'terms' = {terms_raw!r}: expected a mapping of term names to values", source)
+    velocity_terms = []
+    for name, spec in terms_raw.items():
+        where = f"terms.{name}"
+        nd = default_nd
+        if isinstance(spec, dict):
+            extra = set(spec) - TERM_KEYS
+            if extra:
+                raise InputError(f"field '{where}': unknown key(s) {sorted(extra)}; expected value, nondimensional", source)
+            if "value" not in spec:
+                raise InputError(f"field '{where}': missing 'value'", source)
+            nd = spec.get("nondimensional", default_nd)
+            if not isinstance(nd, bool):
+                raise InputError(f"field '{where}.nondimensional' = {nd!r}: expected true or false", source)
+            value = _number(spec["value"], where + ".value", source)
+        else:
+            value = _number(spec, where, source)
+        term = parse_term(str(name), source)
+        if nd:
+            if L is None:
+                raise InputError(f"field '{where}' is non-dimensional: the vehicle needs 'reference_length' (m)", source)
+            coef = term.dimensional(value, rho, L, U, source)
+        else:
+            coef = value
+        if term.acceleration is not None:
+            # SNAME: X_udot < 0 is an added mass of −X_udot in M_A[dof, accel]
+            M_A[term.dof, term.acceleration] += -coef
+        else:
+            velocity_terms.append((term, coef))
+    name = str(data.get("name", Path(source).stem))
+    cor = data.get("added_mass_coriolis", True)
+    if not isinstance(cor, bool):
+        raise InputError(f"field 'added_mass_coriolis' = {cor!r}: expected true or false", source)
+    return make_vehicle(name, mass, volume, gravity, rho, inertia, r_g, r_b, M_A, D_L, D_Q,
+                        TermSet.build(velocity_terms), L, source, warnings, cor)

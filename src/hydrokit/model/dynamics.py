@@ -1,0 +1,146 @@
+"""Vehicle dynamics as pure functions f(t, x, τ) → ẋ (SPEC M1, M2; Fossen 2011 eq. 10.1 with an
+irrotational current).
+
+State (Euler):      x = [x, y, z, φ, θ, ψ, u, v, w, p, q, r]                       (12)
+State (quaternion): x = [x, y, z, η, ε1, ε2, ε3, u, v, w, p, q, r]                 (13)
+
+ν_r = ν − [Rᵀ v_c; 0] with v_c the current in NED (constant, or a table over time);
+M ν̇_r = τ − C(ν_r) ν_r − D_L ν_r − D_Q|ν_r|ν_r + τ_terms(ν_r) − g(η), with C from M_RB + M_A
+(Fossen Theorem 3.2), and ν̇ = ν̇_r + d/dt [Rᵀ v_c; 0] = ν̇_r − [ω × Rᵀv_c − Rᵀ v̇_c; 0].
+
+:func:`pack` flattens a vehicle into arrays for the compiled integrators in
+:mod:`hydrokit.simulate.compiled`; :func:`vehicle_dynamics` is the plain numpy version (the
+reference the compiled path is tested against, and the closed-loop model).
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable
+from dataclasses import dataclass
+
+import numpy as np
+
+from hydrokit.core.kinematics import euler_rate_matrix, quaternion_rate, quaternion_to_rotation, rotation_zyx
+from hydrokit.errors import InputError
+from hydrokit.model.vehicle import Vehicle
+
+Dynamics = Callable[[float, np.ndarray, np.ndarray], np.ndarray]
+
+
+@dataclass(frozen=True)
+class Packed:
+    """A vehicle as flat arrays (SI). scal = [W, B, r_g (3), r_b (3)]."""
+
+    Minv: np.ndarray
+    Mc: np.ndarray
+    DL: np.ndarray
+    DQ: np.ndarray
+    scal: np.ndarray
+    t_dof: np.ndarray
+    t_coef: np.ndarray
+    t_kind: np.ndarray
+    t_idx: np.ndarray
+
+
+def pack(v: Vehicle) -> Packed:
+    """Flatten ``v`` for the compiled integrators."""
+    M = v.M
+    Mc = v.M_coriolis
+    return Packed(
+        Minv=np.ascontiguousarray(np.linalg.inv(M)), Mc=np.ascontiguousarray(0.5 * (Mc + Mc.T)),
+        DL=np.ascontiguousarray(v.D_L, dtype=float), DQ=np.ascontiguousarray(v.D_Q, dtype=float),
+        scal=np.concatenate([[v.weight, v.buoyancy], v.r_g, v.r_b]).astype(float),
+        t_dof=v.terms.dof, t_coef=np.ascontiguousarray(v.terms.coef, dtype=float),
+        t_kind=v.terms.kinds, t_idx=v.terms.idx,
+    )
+
+
+def current_table(current_ned: object) -> np.ndarray:
+    """A current given as None, 3 numbers (m/s, NED) or rows [t, v_N, v_E, v_D] → (n, 4) table."""
+    if current_ned is None:
+        return np.zeros((1, 4))
+    a = np.asarray(current_ned, dtype=float)
+    if a.shape == (3,):
+        return np.concatenate([[0.0], a])[None, :]
+    if a.ndim == 2 and a.shape[1] == 4 and a.shape[0] >= 1:
+        if np.any(np.diff(a[:, 0]) <= 0):
+            raise InputError("current table: times must increase strictly (s)")
+        return a
+    raise InputError(f"current of shape {a.shape}: expected 3 values (m/s, NED) or rows [t, vN, vE, vD]")
+
+
+def interp_table(tab: np.ndarray, t: float) -> tuple[np.ndarray, np.ndarray]:
+    """Value and slope of a piecewise-linear table (rows [t, values…]) at t; held beyond the ends."""
+    n = tab.shape[0]
+    if n == 1 or t <= tab[0, 0]:
+        return tab[0, 1:].copy(), np.zeros(tab.shape[1] - 1)
+    if t >= tab[-1, 0]:
+        return tab[-1, 1:].copy(), np.zeros(tab.shape[1] - 1)
+    k = int(np.searchsorted(tab[:, 0], t, side="right")) - 1
+    h = tab[k + 1, 0] - tab[k, 0]
+    slope = (tab[k + 1, 1:] - tab[k, 1:]) / h
+    return tab[k, 1:] + slope * (t - tab[k, 0]), slope
+
+
+def hydro_force(p: Packed, terms_force: Callable[[np.ndarray], np.ndarray], nr: np.ndarray, R: np.ndarray) -> np.ndarray:
+    """τ-independent right-hand side −C ν_r − D ν_r + τ_terms − g (N, N·m) at ν_r with rotation R."""
+    mv = p.Mc @ nr
+    a, b = mv[:3], mv[3:]
+    v, w = nr[:3], nr[3:]
+    cor = np.concatenate([np.cross(w, a), np.cross(v, a) + np.cross(w, b)])
+    damp = p.DL @ nr + p.DQ * np.abs(nr) * nr
+    W, B = p.scal[0], p.scal[1]
+    rg, rb = p.scal[2:5], p.scal[5:8]
+    down = R[2]  # Rᵀ e_z: NED "down" in body axes
+    fg, fb = W * down, -B * down
+    g = -np.concatenate([fg + fb, np.cross(rg, fg) + np.cross(rb, fb)])
+    return -cor - damp + terms_force(nr) - g
+
+
+def vehicle_dynamics(vehicle: Vehicle, current_ned: object = None, attitude: str = "euler") -> Dynamics:
+    """f(t, x, τ) → ẋ for ``vehicle`` (numpy; see module docstring for the state layout).
+
+    Parameters
+    ----------
+    vehicle : Vehicle
+    current_ned : None, 3 floats (m/s, NED) or (n, 4) rows [t s, v_N, v_E, v_D m/s]
+    attitude : "euler" or "quaternion"
+    """
+    if attitude not in ("euler", "quaternion"):
+        raise InputError(f"attitude = {attitude!r}: expected euler or quaternion")
+    p = pack(vehicle)
+    ctab = current_table(current_ned)
+    terms_force = vehicle.terms.force
+    quat = attitude == "quaternion"
+
+    def f(t: float, x: np.ndarray, tau: np.ndarray) -> np.ndarray:
+        if quat:
+            q = x[3:7]
+            R = quaternion_to_rotation(q / math.sqrt(q @ q))
+            nu = x[7:13]
+        else:
+            R = rotation_zyx(x[3], x[4], x[5])
+            nu = x[6:12]
+        vc, vc_dot = interp_table(ctab, t)
+        vcb = R.T @ vc
+        nr = nu.copy()
+        nr[:3] -= vcb
+        nr_dot = p.Minv @ (np.asarray(tau, float) + hydro_force(p, terms_force, nr, R))
+        nu_dot = nr_dot
+        nu_dot[:3] += -np.cross(nu[3:], vcb) + R.T @ vc_dot
+        pos_dot = R @ nu[:3]
+        if quat:
+            qd = quaternion_rate(x[3:7], nu[3:])
+            # gentle constraint stabilisation keeps |q| = 1 under integration error
+            qd += 0.5 * (1.0 - float(x[3:7] @ x[3:7])) * x[3:7]
+            return np.concatenate([pos_dot, qd, nu_dot])
+        return np.concatenate([pos_dot, euler_rate_matrix(x[3], x[4]) @ nu[3:], nu_dot])
+
+    return f
+
+
+def kinetic_energy(vehicle: Vehicle, nu: np.ndarray) -> float:
+    """½ νᵀ (M_RB + M_A) ν, J."""
+    nu = np.asarray(nu, float)
+    return 0.5 * float(nu @ vehicle.M @ nu)

@@ -1,0 +1,268 @@
+"""General hydrodynamic derivative terms as data (SPEC §3, LI2021 eq. 10–21, SNAME names).
+
+A term is a force/moment letter, an underscore and a product of factors, parsed by a small
+grammar — never ``eval``:
+
+    name    := DOF "_" factor ("*"? factor)*        DOF ∈ X Y Z K M N
+    factor  := VEL                                   u v w (m/s) or p q r (rad/s)
+             | "|" VEL "|"                           magnitude
+             | "(" VEL "/|" VEL "|)"                 sign of a velocity (0 at rest)
+             | "sqrt(" VEL "^2" ("+" VEL "^2")+ ")"  magnitude of several velocities
+             | VEL "dot"                             acceleration (alone: an added-mass entry)
+
+Examples: ``X_uu``, ``Y_v|v|``, ``Y_vq``, ``Z_|w|``, ``N_p|p|``, ``X_udot``,
+``Z_w*sqrt(v^2+w^2)``, ``N_(v/|v|)*sqrt(v^2+w^2)*|r|``.
+
+Dimensional value (``nondimensional: false``) is used as is: the force is value × product (SI).
+Non-dimensional values are scaled by ½ρL^k (SPEC §3): with n_a the number of angular-rate
+factors and n the number of velocity factors of the product (a sqrt counts as one velocity,
+linear if all its parts are linear; a sign factor counts for nothing), a force term has
+k = 2 + n_a and a moment term one more; terms with n ≠ 2 use the reference speed U:
+factor U^(2 − n). Acceleration terms: k = 3 (force / linear), 4 (mixed), 5 (moment / angular).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from hydrokit.errors import InputError
+
+DOFS = "XYZKMN"
+VELS = "uvwpqr"
+# factor kinds (codes used by the compiled evaluator)
+VEL, ABS, SIGN, NORM = 1, 2, 3, 4
+MAX_FACTORS = 4
+
+
+@dataclass(frozen=True)
+class Factor:
+    """One factor: kind (VEL, ABS, SIGN, NORM) and velocity indices (0–5, u…r)."""
+
+    kind: int
+    indices: tuple[int, ...]
+
+    @property
+    def angular(self) -> bool:
+        return all(i >= 3 for i in self.indices)
+
+    def text(self) -> str:
+        n = [VELS[i] for i in self.indices]
+        if self.kind == VEL:
+            return n[0]
+        if self.kind == ABS:
+            return f"|{n[0]}|"
+        if self.kind == SIGN:
+            return f"({n[0]}/|{n[0]}|)"
+        return "sqrt(" + "+".join(f"{x}^2" for x in n) + ")"
+
+
+@dataclass(frozen=True)
+class Term:
+    """A parsed derivative term.
+
+    dof : int — 0–5 (X … N); factors : tuple of Factor; acceleration : int or None — the
+    velocity index of an acceleration term (X_udot → 0).
+    """
+
+    name: str
+    dof: int
+    factors: tuple[Factor, ...] = ()
+    acceleration: int | None = None
+
+    def scale_power(self) -> int:
+        """k of ½ρL^k (see module docstring)."""
+        moment = self.dof >= 3
+        if self.acceleration is not None:
+            return 3 + moment + (self.acceleration >= 3)
+        n_a = sum(1 for f in self.factors if f.kind != SIGN and f.angular)
+        return 2 + n_a + moment
+
+    def order(self) -> int:
+        """Number of velocity factors (signs excluded)."""
+        return sum(1 for f in self.factors if f.kind != SIGN)
+
+    def dimensional(self, value: float, density: float, length: float, speed: float | None, source: str = "") -> float:
+        """The SI coefficient of a non-dimensional ``value``."""
+        k = self.scale_power()
+        out = 0.5 * density * length**k * value
+        if self.acceleration is None:
+            n = self.order()
+            if n != 2:
+                if speed is None or speed <= 0:
+                    raise InputError(
+                        f"term {self.name!r} has {n} velocity factor(s): a non-dimensional value needs "
+                        "'reference_speed' (m/s) in the vehicle file, or give it with nondimensional: false",
+                        source,
+                    )
+                out *= speed ** (2 - n)
+        return out
+
+    def evaluate(self, nu: np.ndarray) -> float:
+        """Product of the factors at ν (for tests and the numpy model)."""
+        out = 1.0
+        for f in self.factors:
+            out *= _factor_value(f, nu)
+        return out
+
+
+def _factor_value(f: Factor, nu: np.ndarray) -> float:
+    if f.kind == VEL:
+        return float(nu[f.indices[0]])
+    if f.kind == ABS:
+        return abs(float(nu[f.indices[0]]))
+    if f.kind == SIGN:
+        return float(np.sign(nu[f.indices[0]]))
+    return math.sqrt(sum(float(nu[i]) ** 2 for i in f.indices))
+
+
+class _Parser:
+    def __init__(self, name: str, source: str):
+        self.name = name
+        self.s = name.replace(" ", "")
+        self.i = 0
+        self.source = source
+
+    def fail(self, what: str) -> InputError:
+        return InputError(
+            f"term {self.name!r}: {what} at position {self.i + 1}; expected SNAME form like X_uu, Y_v|v|, "
+            "Z_w*sqrt(v^2+w^2), N_(v/|v|)*|r|, X_udot", self.source,
+        )
+
+    def peek(self, text: str) -> bool:
+        return self.s.startswith(text, self.i)
+
+    def eat(self, text: str) -> None:
+        if not self.peek(text):
+            raise self.fail(f"'{text}' missing")
+        self.i += len(text)
+
+    def vel(self) -> int:
+        if self.i < len(self.s) and self.s[self.i] in VELS:
+            self.i += 1
+            return VELS.index(self.s[self.i - 1])
+        raise self.fail("a velocity u, v, w, p, q or r")
+
+    def parse(self) -> Term:
+        s = self.s
+        if len(s) < 3 or s[0] not in DOFS or s[1] != "_":
+            raise self.fail("unknown force/moment letter (X Y Z K M N followed by '_')")
+        dof = DOFS.index(s[0])
+        self.i = 2
+        factors: list[Factor] = []
+        accel = None
+        while self.i < len(s):
+            if self.peek("*"):
+                self.i += 1
+                continue
+            if self.peek("sqrt("):
+                self.i += 5
+                idx = [self.vel()]
+                self.eat("^2")
+                while self.peek("+"):
+                    self.i += 1
+                    idx.append(self.vel())
+                    self.eat("^2")
+                self.eat(")")
+                if len(idx) < 2:
+                    raise self.fail("sqrt of a single velocity (write |v|)")
+                if len(idx) > 3:
+                    raise self.fail("sqrt of more than three velocities")
+                factors.append(Factor(NORM, tuple(idx)))
+            elif self.peek("("):
+                self.i += 1
+                a = self.vel()
+                self.eat("/|")
+                b = self.vel()
+                self.eat("|)")
+                if a != b:
+                    raise self.fail("a sign factor must divide a velocity by its own magnitude")
+                factors.append(Factor(SIGN, (a,)))
+            elif self.peek("|"):
+                self.i += 1
+                a = self.vel()
+                self.eat("|")
+                factors.append(Factor(ABS, (a,)))
+            else:
+                a = self.vel()
+                if self.peek("dot"):
+                    self.i += 3
+                    if factors or self.i != len(s):
+                        raise self.fail("an acceleration term has no other factor")
+                    accel = a
+                else:
+                    factors.append(Factor(VEL, (a,)))
+        if accel is None and not factors:
+            raise self.fail("no factor")
+        if len(factors) > MAX_FACTORS:
+            raise self.fail(f"more than {MAX_FACTORS} factors")
+        return Term(self.name, dof, tuple(factors), accel)
+
+
+def parse_term(name: str, source: str = "") -> Term:
+    """Parse an SNAME term name (see module docstring); InputError names a bad term."""
+    if not isinstance(name, str) or not name.strip():
+        raise InputError(f"term name {name!r}: expected text like X_uu", source)
+    return _Parser(name.strip(), source).parse()
+
+
+@dataclass(frozen=True)
+class TermSet:
+    """Velocity-dependent terms in array form (for the compiled evaluator).
+
+    dof : (n,) int; coef : (n,) float, SI; kinds : (n, 4) int; idx : (n, 4, 3) int (−1 unused)
+    """
+
+    names: tuple[str, ...]
+    dof: np.ndarray
+    coef: np.ndarray
+    kinds: np.ndarray
+    idx: np.ndarray
+
+    @staticmethod
+    def empty() -> "TermSet":
+        return TermSet((), np.zeros(0, np.int64), np.zeros(0), np.zeros((0, MAX_FACTORS), np.int64),
+                       -np.ones((0, MAX_FACTORS, 3), np.int64))
+
+    @staticmethod
+    def build(terms: list[tuple[Term, float]]) -> "TermSet":
+        n = len(terms)
+        dof = np.zeros(n, np.int64)
+        coef = np.zeros(n)
+        kinds = np.zeros((n, MAX_FACTORS), np.int64)
+        idx = -np.ones((n, MAX_FACTORS, 3), np.int64)
+        for k, (t, c) in enumerate(terms):
+            dof[k] = t.dof
+            coef[k] = c
+            for j, f in enumerate(t.factors):
+                kinds[k, j] = f.kind
+                for m, i in enumerate(f.indices[:3]):
+                    idx[k, j, m] = i
+        return TermSet(tuple(t.name for t, _ in terms), dof, coef, kinds, idx)
+
+    def force(self, nu: np.ndarray) -> np.ndarray:
+        """Σ coef · product, per DOF (N, N·m) at ν_r."""
+        out = np.zeros(6)
+        for k in range(self.dof.size):
+            prod = self.coef[k]
+            for j in range(MAX_FACTORS):
+                kind = self.kinds[k, j]
+                if kind == 0:
+                    break
+                i0 = self.idx[k, j, 0]
+                if kind == VEL:
+                    prod *= nu[i0]
+                elif kind == ABS:
+                    prod *= abs(nu[i0])
+                elif kind == SIGN:
+                    prod *= np.sign(nu[i0])
+                else:
+                    ss = 0.0
+                    for m in range(3):
+                        if self.idx[k, j, m] >= 0:
+                            ss += nu[self.idx[k, j, m]] ** 2
+                    prod *= math.sqrt(ss)
+            out[self.dof[k]] += prod
+        return out

@@ -1,0 +1,166 @@
+"""The 6-DOF vehicle (SPEC §3): parameters only, no simulation state.
+
+(M_RB + M_A) ν̇_r + C_RB(ν_r) ν_r + C_A(ν_r) ν_r + D_L ν_r + D_Q(ν_r) ν_r − τ_terms(ν_r) + g(η) = τ
+
+M_RB from mass, inertia tensor about the centre of gravity and r_G (Fossen eq. 3.44); M_A a full
+6×6 matrix (positive: −X_udot …) plus the acceleration derivative terms; D_L 6×6 (positive);
+D_Q the diagonal quadratic damping d_i (force −d_i |ν_i| ν_i); τ_terms the general derivative
+terms (SNAME signs: X_uu < 0 is drag); g(η) from W at r_G and B at r_B.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from hydrokit.core.rigid_body import rigid_body_mass_matrix
+from hydrokit.errors import InputError
+from hydrokit.model.terms import TermSet
+
+#: relative asymmetry of M_RB + M_A tolerated (and symmetrised with a warning); larger is an error
+SYMMETRY_TOLERANCE = 1e-3
+
+
+@dataclass(frozen=True)
+class Vehicle:
+    """Vehicle parameters (SI, NED body axes). Build with :func:`make_vehicle`.
+
+    Attributes
+    ----------
+    name : str
+    mass : float — kg
+    volume : float — displaced volume, m³
+    gravity : float — m/s²
+    density : float — fluid density, kg/m³
+    inertia : (3, 3) — inertia tensor about the centre of gravity, kg·m²
+    r_g, r_b : (3,) — centres of gravity and buoyancy from the body origin, m
+    M_A : (6, 6) — added mass incl. acceleration terms (positive convention), kg, kg·m, kg·m²
+    D_L : (6, 6) — linear damping (positive), N·s/m, N·s, N·m·s/rad
+    D_Q : (6,) — quadratic damping d_i (positive), N·s²/m², N·m·s²/rad²
+    terms : TermSet — general derivative terms, SI coefficients
+    reference_length : float or None — L, m
+    warnings : tuple of str — oddities found while building (symmetrised matrices …)
+    added_mass_coriolis : bool — include C_A(ν_r) (default). Derivative sets whose cross terms
+        already hold the added-mass Coriolis/Munk terms (LI2021 Table 4) set it false.
+    """
+
+    name: str
+    mass: float
+    volume: float
+    gravity: float
+    density: float
+    inertia: np.ndarray
+    r_g: np.ndarray
+    r_b: np.ndarray
+    M_A: np.ndarray
+    D_L: np.ndarray
+    D_Q: np.ndarray
+    terms: TermSet = field(default_factory=TermSet.empty)
+    reference_length: float | None = None
+    warnings: tuple[str, ...] = ()
+    added_mass_coriolis: bool = True
+
+    @property
+    def M_RB(self) -> np.ndarray:
+        """Rigid-body mass matrix about the body origin (Fossen eq. 3.44)."""
+        return rigid_body_mass_matrix(self.mass, self.inertia, self.r_g)
+
+    @property
+    def M_coriolis(self) -> np.ndarray:
+        """The mass matrix whose Coriolis matrix enters the model: M_RB + M_A, or M_RB."""
+        return self.M_RB + self.M_A if self.added_mass_coriolis else self.M_RB
+
+    @property
+    def M(self) -> np.ndarray:
+        """M_RB + M_A (symmetric positive definite)."""
+        return self.M_RB + self.M_A
+
+    @property
+    def weight(self) -> float:
+        """W = m g, N."""
+        return self.mass * self.gravity
+
+    @property
+    def buoyancy(self) -> float:
+        """B = ρ g V, N."""
+        return self.density * self.gravity * self.volume
+
+
+def _check_finite(a: np.ndarray, field_name: str, source: str) -> None:
+    if not np.all(np.isfinite(a)):
+        raise InputError(f"field '{field_name}' holds NaN or infinite values; expected finite numbers", source)
+
+
+def make_vehicle(
+    name: str,
+    mass: float,
+    volume: float,
+    gravity: float,
+    density: float,
+    inertia: np.ndarray,
+    r_g: np.ndarray,
+    r_b: np.ndarray,
+    M_A: np.ndarray,
+    D_L: np.ndarray,
+    D_Q: np.ndarray,
+    terms: TermSet | None = None,
+    reference_length: float | None = None,
+    source: str = "",
+    warnings: list[str] | None = None,
+    added_mass_coriolis: bool = True,
+) -> Vehicle:
+    """Validate and build a :class:`Vehicle`.
+
+    Checks: positive mass, volume, gravity, density; finite arrays; M_RB + M_A symmetric
+    (an asymmetry below 0.1 % of the largest entry — e.g. RexROV's 10.774 vs 10.775 — is
+    symmetrised with a warning) and positive definite.
+
+    Raises
+    ------
+    InputError
+        One line naming the field and the problem.
+    """
+    warn = list(warnings or [])
+    for fname, v in (("mass", mass), ("volume", volume), ("gravity", gravity), ("fluid.density", density)):
+        if not (isinstance(v, (int, float)) and math.isfinite(v) and v > 0):
+            raise InputError(f"field '{fname}' = {v}: expected a positive number", source)
+    arrays = {"inertia": inertia, "center_of_gravity": r_g, "center_of_buoyancy": r_b, "added_mass": M_A,
+              "linear_damping": D_L, "quadratic_damping": D_Q}
+    for fname, a in arrays.items():
+        _check_finite(np.asarray(a, float), fname, source)
+    inertia = np.asarray(inertia, float)
+    M_A = np.asarray(M_A, float)
+    D_L = np.asarray(D_L, float)
+    if not np.allclose(inertia, inertia.T, rtol=0, atol=1e-9 * max(1.0, np.abs(inertia).max())):
+        raise InputError(f"field 'inertia' = {inertia.tolist()}: expected a symmetric tensor", source)
+    if np.any(np.linalg.eigvalsh(inertia) <= 0):
+        raise InputError(f"field 'inertia' = {inertia.tolist()}: expected a positive definite tensor (kg m^2)", source)
+    M_RB = rigid_body_mass_matrix(mass, inertia, np.asarray(r_g, float))
+    M = M_RB + M_A
+    asym = float(np.max(np.abs(M - M.T)))
+    scale = float(np.max(np.abs(M)))
+    if asym > 0:
+        if asym > SYMMETRY_TOLERANCE * scale:
+            i, j = np.unravel_index(int(np.argmax(np.abs(M - M.T))), M.shape)
+            raise InputError(
+                f"field 'added_mass': M_RB + M_A is not symmetric (entry [{i}][{j}] = {M[i, j]:.6g} vs "
+                f"[{j}][{i}] = {M[j, i]:.6g}); expected a symmetric matrix", source,
+            )
+        M_A = 0.5 * (M_A + M_A.T)
+        warn.append(f"added_mass: M_RB + M_A asymmetric by {asym:.3g} (≤ {SYMMETRY_TOLERANCE:g} of the largest entry); symmetrised")
+        M = M_RB + M_A
+    eig = np.linalg.eigvalsh(M)
+    if eig.min() <= 0:
+        raise InputError(
+            f"field 'added_mass': M_RB + M_A is not positive definite (smallest eigenvalue {eig.min():.4g}); "
+            "expected added-mass magnitudes (−X_udot > 0 …)", source,
+        )
+    D_Q = np.asarray(D_Q, float)
+    if np.any(D_Q < 0):
+        warn.append(f"quadratic_damping has negative entries {D_Q.tolist()}: energy is fed in at speed")
+    return Vehicle(name, float(mass), float(volume), float(gravity), float(density), inertia,
+                   np.asarray(r_g, float), np.asarray(r_b, float), M_A, D_L, D_Q,
+                   terms if terms is not None else TermSet.empty(), reference_length, tuple(warn),
+                   bool(added_mass_coriolis))

@@ -1,0 +1,232 @@
+"""Compiled (numba) fixed-step RK4 of the vehicle model, single and batch.
+
+The same equations as :func:`hydrokit.model.dynamics.vehicle_dynamics`, written with scalar
+loops and preallocated buffers so that one RK4 step costs a few hundred flops and no
+allocation. Inputs: a force table (rows [t, X, Y, Z, K, M, N], linear interpolation, held
+beyond its ends; one row = constant) and a current table (rows [t, v_N, v_E, v_D]).
+Outputs are preallocated and the run stops at the first non-finite state (its step index is
+returned), so cost grows linearly with the duration.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numba
+import numpy as np
+
+
+@numba.njit(cache=True, inline="always")
+def _interp(tab, t, val, slope):  # noqa: ANN001, ANN202
+    n = tab.shape[0]
+    m = tab.shape[1] - 1
+    if n == 1 or t <= tab[0, 0]:
+        for j in range(m):
+            val[j] = tab[0, j + 1]
+            slope[j] = 0.0
+        return
+    if t >= tab[n - 1, 0]:
+        for j in range(m):
+            val[j] = tab[n - 1, j + 1]
+            slope[j] = 0.0
+        return
+    lo, hi = 0, n - 1
+    while hi - lo > 1:
+        mid = (lo + hi) // 2
+        if tab[mid, 0] <= t:
+            lo = mid
+        else:
+            hi = mid
+    h = tab[hi, 0] - tab[lo, 0]
+    for j in range(m):
+        s = (tab[hi, j + 1] - tab[lo, j + 1]) / h
+        slope[j] = s
+        val[j] = tab[lo, j + 1] + s * (t - tab[lo, 0])
+
+
+@numba.njit(cache=True)
+def deriv(t, x, quat, tau_tab, cur_tab, Minv, Mc, DL, DQ, scal, t_dof, t_coef, t_kind, t_idx, buf, out):  # noqa: ANN001, ANN201
+    """ẋ into ``out``; ``buf`` is scratch of length ≥ 40."""
+    if quat:
+        q0, q1, q2, q3 = x[3], x[4], x[5], x[6]
+        nq = math.sqrt(q0 * q0 + q1 * q1 + q2 * q2 + q3 * q3)
+        a0, a1, a2, a3 = q0 / nq, q1 / nq, q2 / nq, q3 / nq
+        R00 = 1 - 2 * (a2 * a2 + a3 * a3)
+        R01 = 2 * (a1 * a2 - a3 * a0)
+        R02 = 2 * (a1 * a3 + a2 * a0)
+        R10 = 2 * (a1 * a2 + a3 * a0)
+        R11 = 1 - 2 * (a1 * a1 + a3 * a3)
+        R12 = 2 * (a2 * a3 - a1 * a0)
+        R20 = 2 * (a1 * a3 - a2 * a0)
+        R21 = 2 * (a2 * a3 + a1 * a0)
+        R22 = 1 - 2 * (a1 * a1 + a2 * a2)
+        o = 7
+    else:
+        cf, sf = math.cos(x[3]), math.sin(x[3])
+        ct, st = math.cos(x[4]), math.sin(x[4])
+        cp, sp = math.cos(x[5]), math.sin(x[5])
+        R00 = cp * ct
+        R01 = -sp * cf + cp * st * sf
+        R02 = sp * sf + cp * cf * st
+        R10 = sp * ct
+        R11 = cp * cf + sf * st * sp
+        R12 = -cp * sf + st * sp * cf
+        R20 = -st
+        R21 = ct * sf
+        R22 = ct * cf
+        o = 6
+    u, v, w, p, q, r = x[o], x[o + 1], x[o + 2], x[o + 3], x[o + 4], x[o + 5]
+    tau = buf[0:6]
+    tslope = buf[6:12]
+    _interp(tau_tab, t, tau, tslope)
+    vc = buf[12:15]
+    vcd = buf[15:18]
+    _interp(cur_tab, t, vc, vcd)
+    # current in body axes: Rᵀ v_c and Rᵀ v̇_c
+    cb0 = R00 * vc[0] + R10 * vc[1] + R20 * vc[2]
+    cb1 = R01 * vc[0] + R11 * vc[1] + R21 * vc[2]
+    cb2 = R02 * vc[0] + R12 * vc[1] + R22 * vc[2]
+    cd0 = R00 * vcd[0] + R10 * vcd[1] + R20 * vcd[2]
+    cd1 = R01 * vcd[0] + R11 * vcd[1] + R21 * vcd[2]
+    cd2 = R02 * vcd[0] + R12 * vcd[1] + R22 * vcd[2]
+    nr = buf[18:24]
+    nr[0] = u - cb0
+    nr[1] = v - cb1
+    nr[2] = w - cb2
+    nr[3] = p
+    nr[4] = q
+    nr[5] = r
+    mv = buf[24:30]
+    for i in range(6):
+        s = 0.0
+        for j in range(6):
+            s += Mc[i, j] * nr[j]
+        mv[i] = s
+    a0_, a1_, a2_, b0, b1, b2 = mv[0], mv[1], mv[2], mv[3], mv[4], mv[5]
+    f = buf[30:36]
+    # −C(ν_r) ν_r = −[ω × a; v × a + ω × b]
+    f[0] = -(q * a2_ - r * a1_)
+    f[1] = -(r * a0_ - p * a2_)
+    f[2] = -(p * a1_ - q * a0_)
+    f[3] = -(nr[1] * a2_ - nr[2] * a1_ + q * b2 - r * b1)
+    f[4] = -(nr[2] * a0_ - nr[0] * a2_ + r * b0 - p * b2)
+    f[5] = -(nr[0] * a1_ - nr[1] * a0_ + p * b1 - q * b0)
+    for i in range(6):
+        s = DQ[i] * abs(nr[i]) * nr[i]
+        for j in range(6):
+            s += DL[i, j] * nr[j]
+        f[i] += tau[i] - s
+    # general derivative terms
+    for k in range(t_dof.shape[0]):
+        prod = t_coef[k]
+        for jf in range(t_kind.shape[1]):
+            kind = t_kind[k, jf]
+            if kind == 0:
+                break
+            i0 = t_idx[k, jf, 0]
+            if kind == 1:
+                prod *= nr[i0]
+            elif kind == 2:
+                prod *= abs(nr[i0])
+            elif kind == 3:
+                val = nr[i0]
+                prod *= 1.0 if val > 0 else (-1.0 if val < 0 else 0.0)
+            else:
+                ss = 0.0
+                for mm in range(3):
+                    ii = t_idx[k, jf, mm]
+                    if ii >= 0:
+                        ss += nr[ii] * nr[ii]
+                prod *= math.sqrt(ss)
+        f[t_dof[k]] += prod
+    # restoring: −g(η); down = Rᵀ e_z = third row of R
+    W, B = scal[0], scal[1]
+    d0, d1, d2 = R20, R21, R22
+    net = W - B
+    f[0] += net * d0
+    f[1] += net * d1
+    f[2] += net * d2
+    # moments r_g × (W d) + r_b × (−B d)
+    g0, g1, g2 = scal[2], scal[3], scal[4]
+    h0, h1, h2 = scal[5], scal[6], scal[7]
+    f[3] += W * (g1 * d2 - g2 * d1) - B * (h1 * d2 - h2 * d1)
+    f[4] += W * (g2 * d0 - g0 * d2) - B * (h2 * d0 - h0 * d2)
+    f[5] += W * (g0 * d1 - g1 * d0) - B * (h0 * d1 - h1 * d0)
+    # ν̇ = M⁻¹ f − [ω × Rᵀv_c − Rᵀv̇_c; 0]
+    for i in range(6):
+        s = 0.0
+        for j in range(6):
+            s += Minv[i, j] * f[j]
+        out[o + i] = s
+    out[o] += -(q * cb2 - r * cb1) + cd0
+    out[o + 1] += -(r * cb0 - p * cb2) + cd1
+    out[o + 2] += -(p * cb1 - q * cb0) + cd2
+    # kinematics
+    out[0] = R00 * u + R01 * v + R02 * w
+    out[1] = R10 * u + R11 * v + R12 * w
+    out[2] = R20 * u + R21 * v + R22 * w
+    if quat:
+        q0, q1, q2, q3 = x[3], x[4], x[5], x[6]
+        corr = 0.5 * (1.0 - (q0 * q0 + q1 * q1 + q2 * q2 + q3 * q3))
+        out[3] = 0.5 * (-q1 * p - q2 * q - q3 * r) + corr * q0
+        out[4] = 0.5 * (q0 * p + q2 * r - q3 * q) + corr * q1
+        out[5] = 0.5 * (q0 * q + q3 * p - q1 * r) + corr * q2
+        out[6] = 0.5 * (q0 * r + q1 * q - q2 * p) + corr * q3
+    else:
+        tt = st / ct
+        out[3] = p + (sf * q + cf * r) * tt
+        out[4] = cf * q - sf * r
+        out[5] = (sf * q + cf * r) / ct
+
+
+@numba.njit(cache=True)
+def rk4_run(x0, t0, dt, n_steps, every, quat, tau_tab, cur_tab, Minv, Mc, DL, DQ, scal, t_dof, t_coef, t_kind, t_idx, out):  # noqa: ANN001, ANN201
+    """Integrate n_steps RK4 steps from x0; store every ``every``-th state in ``out`` (rows).
+
+    Returns the number of steps taken (< n_steps if the state became non-finite).
+    """
+    n = x0.shape[0]
+    x = x0.copy()
+    k1 = np.empty(n)
+    k2 = np.empty(n)
+    k3 = np.empty(n)
+    k4 = np.empty(n)
+    tmp = np.empty(n)
+    buf = np.empty(40)
+    for i in range(n):
+        out[0, i] = x[i]
+    j = 1
+    for step in range(n_steps):
+        t = t0 + step * dt
+        deriv(t, x, quat, tau_tab, cur_tab, Minv, Mc, DL, DQ, scal, t_dof, t_coef, t_kind, t_idx, buf, k1)
+        for i in range(n):
+            tmp[i] = x[i] + 0.5 * dt * k1[i]
+        deriv(t + 0.5 * dt, tmp, quat, tau_tab, cur_tab, Minv, Mc, DL, DQ, scal, t_dof, t_coef, t_kind, t_idx, buf, k2)
+        for i in range(n):
+            tmp[i] = x[i] + 0.5 * dt * k2[i]
+        deriv(t + 0.5 * dt, tmp, quat, tau_tab, cur_tab, Minv, Mc, DL, DQ, scal, t_dof, t_coef, t_kind, t_idx, buf, k3)
+        for i in range(n):
+            tmp[i] = x[i] + dt * k3[i]
+        deriv(t + dt, tmp, quat, tau_tab, cur_tab, Minv, Mc, DL, DQ, scal, t_dof, t_coef, t_kind, t_idx, buf, k4)
+        finite = True
+        for i in range(n):
+            x[i] += dt / 6.0 * (k1[i] + 2.0 * k2[i] + 2.0 * k3[i] + k4[i])
+            if not math.isfinite(x[i]):
+                finite = False
+        if not finite:
+            return step
+        if (step + 1) % every == 0:
+            for i in range(n):
+                out[j, i] = x[i]
+            j += 1
+    return n_steps
+
+
+@numba.njit(cache=True, parallel=True)
+def rk4_batch(x0, dt, n_steps, every, quat, tau_tab, cur_tab, Minv, Mc, DL, DQ, scal, t_dof, t_coef, t_kind, t_idx, out, done):  # noqa: ANN001, ANN201
+    """Many vehicles at once: leading axis of x0, tau_tab, Minv, Mc, DL, DQ, scal, t_coef and
+    out is the vehicle; ``done`` receives each vehicle's number of steps taken."""
+    nv = x0.shape[0]
+    for k in numba.prange(nv):
+        done[k] = rk4_run(x0[k], 0.0, dt, n_steps, every, quat, tau_tab[k], cur_tab, Minv[k], Mc[k], DL[k], DQ[k],
+                          scal[k], t_dof, t_coef[k], t_kind, t_idx, out[k])

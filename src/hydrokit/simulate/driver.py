@@ -1,0 +1,163 @@
+"""Open-loop simulation of a vehicle: constant τ, τ(t) from a table, or a callable.
+
+:func:`simulate` returns a :class:`Trajectory` with the twelve states (Euler angles even when
+the quaternion form was integrated) sampled every ``output_every`` steps.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable
+from dataclasses import dataclass, field
+from typing import Any
+
+import numpy as np
+
+from hydrokit.core.kinematics import PITCH_WARNING, euler_to_quaternion, quaternion_to_euler
+from hydrokit.errors import InputError, SimulationError
+from hydrokit.model.dynamics import current_table, pack, vehicle_dynamics
+from hydrokit.model.vehicle import Vehicle
+
+COLUMNS = ("time", "x", "y", "z", "phi", "theta", "psi", "u", "v", "w", "p", "q", "r")
+INTEGRATORS = ("rk4", "rk4-numpy", "dop853", "rk45")
+
+
+@dataclass
+class Trajectory:
+    """time (n,) s; eta (n, 6) m and rad; nu (n, 6) m/s and rad/s; warnings."""
+
+    time: np.ndarray
+    eta: np.ndarray
+    nu: np.ndarray
+    warnings: list[str] = field(default_factory=list)
+
+    def table(self) -> np.ndarray:
+        """(n, 13) array in :data:`COLUMNS` order."""
+        return np.column_stack([self.time, self.eta, self.nu])
+
+    def plot(self, title: str = "") -> Any:
+        """Figures of the path and the twelve states (hands off to :mod:`hydrokit.plot.vehicle`)."""
+        from hydrokit.plot.vehicle import states_figure
+
+        return states_figure(self, title)
+
+
+def _tau_table(tau: Any) -> np.ndarray | None:
+    if callable(tau):
+        return None
+    a = np.asarray(tau, dtype=float)
+    if a.shape == (6,):
+        return np.concatenate([[0.0], a])[None, :]
+    if a.ndim == 2 and a.shape[1] == 7 and a.shape[0] >= 1:
+        if np.any(np.diff(a[:, 0]) <= 0):
+            raise InputError("force table: times must increase strictly (s)")
+        return np.ascontiguousarray(a)
+    raise InputError(f"force of shape {a.shape}: expected 6 values (N, N·m), rows [t, X, Y, Z, K, M, N] or a callable")
+
+
+def simulate(
+    vehicle: Vehicle,
+    duration: float,
+    dt: float,
+    tau: Any = (0, 0, 0, 0, 0, 0),
+    eta0: Any = (0, 0, 0, 0, 0, 0),
+    nu0: Any = (0, 0, 0, 0, 0, 0),
+    current_ned: Any = None,
+    integrator: str = "rk4",
+    attitude: str = "euler",
+    output_every: int = 1,
+    progress: Callable[[float], None] | None = None,
+) -> Trajectory:
+    """Simulate ``vehicle`` for ``duration`` s.
+
+    Parameters
+    ----------
+    vehicle : Vehicle
+    duration : float — s
+    dt : float — step, s (fixed-step integrators; output spacing of the adaptive ones × every)
+    tau : 6 floats (N, N·m), rows [t, X, Y, Z, K, M, N] (interpolated, held at the ends), or a
+        callable ``tau(t, eta, nu) -> 6 floats`` (controllers)
+    eta0, nu0 : 6 floats each — initial pose (m, rad) and velocity (m/s, rad/s)
+    current_ned : None, 3 floats (m/s) or rows [t, v_N, v_E, v_D]
+    integrator : "rk4" (compiled), "rk4-numpy", "dop853" or "rk45"
+    attitude : "euler" or "quaternion"
+    output_every : int — keep every n-th step
+
+    Raises
+    ------
+    SimulationError
+        At the first non-finite state, with its time.
+    """
+    if not (isinstance(duration, (int, float)) and math.isfinite(duration) and duration > 0):
+        raise InputError(f"duration = {duration}: expected a positive time (s)")
+    if not (isinstance(dt, (int, float)) and math.isfinite(dt) and 0 < dt <= duration):
+        raise InputError(f"dt = {dt}: expected 0 < dt ≤ duration (s)")
+    if integrator not in INTEGRATORS:
+        raise InputError(f"integrator = {integrator!r}: expected one of {', '.join(INTEGRATORS)}")
+    if attitude not in ("euler", "quaternion"):
+        raise InputError(f"attitude = {attitude!r}: expected euler or quaternion")
+    if not (isinstance(output_every, int) and output_every >= 1):
+        raise InputError(f"output_every = {output_every}: expected a whole number ≥ 1")
+    eta0 = np.asarray(eta0, float)
+    nu0 = np.asarray(nu0, float)
+    for name, a in (("initial pose", eta0), ("initial velocity", nu0)):
+        if a.shape != (6,) or not np.all(np.isfinite(a)):
+            raise InputError(f"{name} = {a.tolist()}: expected 6 finite numbers")
+    n_steps = int(math.floor(duration / dt + 1e-9))
+    quat = attitude == "quaternion"
+    x0 = np.concatenate([eta0[:3], euler_to_quaternion(*eta0[3:]), nu0]) if quat else np.concatenate([eta0, nu0])
+    warnings = list(vehicle.warnings)
+    ttab = _tau_table(tau)
+    ctab = current_table(current_ned)
+    if integrator == "rk4" and ttab is not None:
+        from hydrokit.simulate.compiled import rk4_run
+
+        p = pack(vehicle)
+        out = np.empty((n_steps // output_every + 1, x0.size))
+        done = rk4_run(x0, 0.0, float(dt), n_steps, output_every, quat, ttab, ctab, p.Minv, p.Mc, p.DL, p.DQ, p.scal,
+                       p.t_dof, p.t_coef, p.t_kind, p.t_idx, out)
+        if done < n_steps:
+            raise SimulationError(f"the state became non-finite at t = {(done + 1) * dt:.6g} s (step {done + 1}); "
+                                  "check the coefficients' signs and the step size")
+        states = out
+        times = np.arange(states.shape[0]) * dt * output_every
+        if progress is not None:
+            progress(duration)
+    else:
+        f = vehicle_dynamics(vehicle, current_ned, attitude)
+        if ttab is None:
+            def rhs(t: float, x: np.ndarray) -> np.ndarray:
+                eta = _eta(x, quat)
+                nu = x[-6:]
+                return f(t, x, np.asarray(tau(t, eta, nu), float))
+        else:
+            from hydrokit.model.dynamics import interp_table
+
+            def rhs(t: float, x: np.ndarray) -> np.ndarray:
+                return f(t, x, interp_table(ttab, t)[0])
+        if integrator in ("rk4", "rk4-numpy"):
+            prog = None if progress is None else (lambda k: progress(k * dt))
+            times, states = _rk4(rhs, x0, dt, n_steps, output_every, prog)
+        else:
+            from hydrokit.simulate.integrators import adaptive
+
+            t_eval = np.arange(n_steps // output_every + 1) * dt * output_every
+            times, states = adaptive(rhs, x0, t_eval[-1], t_eval, method=integrator.upper())
+    eta = np.array([_eta(s, quat) for s in states]) if quat else states[:, :6]
+    nu = states[:, -6:]
+    if not quat and np.any(np.abs(eta[:, 4]) > PITCH_WARNING):
+        warnings.append(f"pitch reached {math.degrees(float(np.max(np.abs(eta[:, 4])))):.1f}°: Euler angles are near their "
+                        "singularity at ±90°; use --attitude quaternion")
+    return Trajectory(times, eta, nu, warnings)
+
+
+def _rk4(rhs: Any, x0: np.ndarray, dt: float, n: int, every: int, progress: Any) -> tuple[np.ndarray, np.ndarray]:
+    from hydrokit.simulate.integrators import rk4
+
+    return rk4(rhs, x0, dt, n, every, progress)
+
+
+def _eta(x: np.ndarray, quat: bool) -> np.ndarray:
+    if quat:
+        return np.concatenate([x[:3], quaternion_to_euler(x[3:7])])
+    return x[:6]
