@@ -35,12 +35,6 @@ class Trajectory:
         """(n, 13) array in :data:`COLUMNS` order."""
         return np.column_stack([self.time, self.eta, self.nu])
 
-    def plot(self, title: str = "") -> Any:
-        """Figures of the path and the twelve states (hands off to :mod:`hydrokit.plot.vehicle`)."""
-        from hydrokit.plot.vehicle import states_figure
-
-        return states_figure(self, title)
-
 
 def _tau_table(tau: Any) -> np.ndarray | None:
     if callable(tau):
