@@ -1,0 +1,67 @@
+"""Trajectory CSV (issue #3 columns) and force-table CSV.
+
+TRAJ.csv columns, in this order: ``time,x,y,z,phi,theta,psi,u,v,w,p,q,r`` (s, m, rad, m/s,
+rad/s; x, y, z north-east-down). A force CSV has columns ``time,X,Y,Z,K,M,N`` (s, N, N·m).
+"""
+
+from __future__ import annotations
+
+import csv
+import io
+import math
+import os
+from pathlib import Path
+
+import numpy as np
+
+from hydrokit.errors import InputError
+
+COLUMNS = ("time", "x", "y", "z", "phi", "theta", "psi", "u", "v", "w", "p", "q", "r")
+FORCE_COLUMNS = ("time", "X", "Y", "Z", "K", "M", "N")
+
+
+def trajectory_csv(table: np.ndarray) -> str:
+    """CSV text of an (n, 13) table in :data:`COLUMNS` order."""
+    out = io.StringIO()
+    out.write(",".join(COLUMNS) + "\n")
+    for row in table:
+        out.write(",".join(f"{v:.9g}" for v in row) + "\n")
+    return out.getvalue()
+
+
+def read_trajectory(path: str | os.PathLike[str]) -> np.ndarray:
+    """Read a trajectory CSV back as an (n, 13) array."""
+    data = np.genfromtxt(path, delimiter=",", names=True)
+    return np.column_stack([data[c] for c in COLUMNS])
+
+
+def read_force_table(path: str | os.PathLike[str]) -> np.ndarray:
+    """Rows [t, X, Y, Z, K, M, N] from a force CSV (``#`` comments allowed)."""
+    p = Path(path)
+    src = str(p)
+    try:
+        text = p.read_text(encoding="utf-8-sig")
+    except FileNotFoundError:
+        raise InputError("no such file", src) from None
+    lines = [ln for ln in text.splitlines() if ln.strip() and not ln.lstrip().startswith("#")]
+    if len(lines) < 2:
+        raise InputError("expected a header time,X,Y,Z,K,M,N and at least one row", src)
+    rows = list(csv.reader(io.StringIO("\n".join(lines))))
+    header = [h.strip() for h in rows[0]]
+    missing = [c for c in FORCE_COLUMNS if c not in header]
+    if missing:
+        raise InputError(f"missing column(s) {', '.join(missing)} (header: {', '.join(header)}); expected time,X,Y,Z,K,M,N", src)
+    idx = [header.index(c) for c in FORCE_COLUMNS]
+    out = np.empty((len(rows) - 1, 7))
+    for k, row in enumerate(rows[1:]):
+        for j, (i, c) in enumerate(zip(idx, FORCE_COLUMNS)):
+            try:
+                v = float(row[i])
+            except (ValueError, IndexError):
+                raise InputError(f"row {k + 2}, column '{c}': expected a number", src) from None
+            if not math.isfinite(v):
+                raise InputError(f"row {k + 2}, column '{c}' = {row[i]}: expected a finite number", src)
+            out[k, j] = v
+    if np.any(np.diff(out[:, 0]) <= 0):
+        raise InputError("column 'time' must increase strictly (s)", src)
+    return out
