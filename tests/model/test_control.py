@@ -199,25 +199,25 @@ def test_closed_loop_reaches_waypoints_within_limits() -> None:
     np.testing.assert_array_equal(res.eta, res2.eta)
 
 
-# ---------------------------------------------------------------- fallback vehicle dynamics
-from hydrokit.core.rigid_body import rigid_body_mass_matrix  # noqa: E402
-from hydrokit.simulate.closed_loop import DiagonalParams, fossen_dynamics, rk4_step  # noqa: E402
+# ------------------------------------------------- the vehicle model as the closed loop sees it
+from hydrokit.io.vehicle import parse_vehicle  # noqa: E402
+from hydrokit.simulate.closed_loop import rk4_step  # noqa: E402
+from hydrokit.simulate.compiled import make_dynamics  # noqa: E402
 
 
-def lingyun_params(z_g: float = 0.10) -> DiagonalParams:
-    m, g = 519.798, 9.81
-    I = np.diag([30.717279, 47.148837, 65.763013])  # LI2021 Table 1
-    r_g = np.array([0.0, 0.0, z_g])
-    return DiagonalParams(
-        M_RB=rigid_body_mass_matrix(m, I, r_g), M_A=np.array([58.7, 381.5, 117.4, 10, 20.9, 8.9]),
-        D_L=np.array([20.0, 40, 40, 20, 20, 20]), D_Q=np.array([108.8, 629.5, 1110, 4385, 209, 300]),
-        mass=m, r_g=r_g, r_b=np.zeros(3), weight=m * g, buoyancy=m * g,
-    )
+def lingyun_like(z_g: float = 0.10, damped: bool = True):
+    """LI2021 Table 1 mass and inertia with diagonal added mass and damping (W = B)."""
+    m = 519.798
+    doc = {"gravity": 9.81, "fluid": {"density": 1000.0}, "mass": m, "volume": m / 1000.0,
+           "inertia": [30.717279, 47.148837, 65.763013], "center_of_gravity": [0, 0, z_g],
+           "center_of_buoyancy": [0, 0, 0], "added_mass": [58.7, 381.5, 117.4, 10, 20.9, 8.9],
+           "linear_damping": [20.0, 40, 40, 20, 20, 20] if damped else [0] * 6,
+           "quadratic_damping": [108.8, 629.5, 1110, 4385, 209, 300] if damped else [0] * 6}
+    return parse_vehicle(doc, "lingyun-like")
 
 
-def test_fallback_dynamics_steady_surge_closed_form() -> None:
-    p = lingyun_params()
-    f = fossen_dynamics(p)
+def test_loop_dynamics_steady_surge_closed_form() -> None:
+    f = make_dynamics(lingyun_like())
     x = np.zeros(12)
     tau = np.array([30.0, 0, 0, 0, 0, 0])  # LI2021 open-loop surge force
     for _ in range(2000):  # 200 s at 0.1 s; the time constant near 0.5 m/s is ~5 s
@@ -228,33 +228,31 @@ def test_fallback_dynamics_steady_surge_closed_form() -> None:
     assert x[0] == pytest.approx(x[6] * 200, rel=0.05)  # travelled ~u t (start-up lag)
 
 
-def test_fallback_dynamics_restoring_moment() -> None:
-    p = lingyun_params()
-    f = fossen_dynamics(p)
+def test_loop_dynamics_restoring_moment() -> None:
+    v = lingyun_like()
+    f = make_dynamics(v)
     phi = 0.2
     x = np.zeros(12)
     x[3] = phi
     xdot = f(0.0, x, np.zeros(6))
     # Fossen 2011 eq. 4.6 with W = B, r_b = 0: g(eta) = [0, 0, 0, W z_g cos(theta) sin(phi), 0, 0]
-    g = np.array([0, 0, 0, p.weight * 0.10 * math.sin(phi), 0, 0])
-    expected = np.linalg.solve(p.M_RB + np.diag(p.M_A), -g)
+    g = np.array([0, 0, 0, v.weight * 0.10 * math.sin(phi), 0, 0])
+    expected = np.linalg.solve(v.M, -g)
     np.testing.assert_allclose(xdot[6:], expected, rtol=1e-12, atol=1e-15)
 
 
-def test_fallback_dynamics_conserves_energy_without_damping() -> None:
-    # Property of the Fossen form: C(nu) is skew-symmetric, so with no damping, no forces and
-    # W = B at the same point, kinetic energy 1/2 nu^T M nu is conserved.
-    p = lingyun_params(z_g=0.0)
-    p = DiagonalParams(**{**p.__dict__, "D_L": np.zeros(6), "D_Q": np.zeros(6)})
-    f = fossen_dynamics(p)
+def test_loop_dynamics_conserves_energy_without_damping() -> None:
+    # C(nu) is skew-symmetric: with no damping, no forces and W = B at the same point, kinetic
+    # energy 1/2 nu^T M nu is conserved.
+    v = lingyun_like(z_g=0.0, damped=False)
+    f = make_dynamics(v)
     x = np.zeros(12)
     x[6:] = [0.4, 0.1, -0.2, 0.05, -0.03, 0.1]
-    M = p.M_RB + np.diag(p.M_A)
-    e0 = 0.5 * x[6:] @ M @ x[6:]
+    e0 = 0.5 * x[6:] @ v.M @ x[6:]
     for _ in range(500):
         x = rk4_step(f, 0.0, x, np.zeros(6), 0.01)
     # RK4 at h = 0.01 s over 5 s: energy drift far below 1e-6 relative
-    assert 0.5 * x[6:] @ M @ x[6:] == pytest.approx(e0, rel=1e-6)
+    assert 0.5 * x[6:] @ v.M @ x[6:] == pytest.approx(e0, rel=1e-6)
 
 
 def test_control_callback_matches_closed_loop_driver() -> None:

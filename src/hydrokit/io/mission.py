@@ -328,11 +328,14 @@ class MissionRun:
 def prepare_vehicle(mission: Mission) -> tuple[Any, Any]:
     """Load and validate the mission's vehicle: (ThrusterSet, dynamics f(t, x, τ)).
 
+    The vehicle model is the issue-#3 model of the vehicle file (:func:`hydrokit.io.vehicle.
+    load_vehicle`), run through the compiled right-hand side, with the mission's current.
     Raises :class:`InputError` for a missing vehicle, a bad ``thrusters:`` block or
     allocation weights that do not match the thrusters.
     """
-    from hydrokit.io.thrusters import parse_thrusters, resolve_vehicle
-    from hydrokit.simulate.closed_loop import fossen_dynamics
+    from hydrokit.io.thrusters import parse_thrusters
+    from hydrokit.io.vehicle import parse_vehicle, resolve_vehicle
+    from hydrokit.simulate.compiled import make_dynamics
 
     source = resolve_vehicle(mission.vehicle)
     raw = read_yaml(source)
@@ -343,7 +346,8 @@ def prepare_vehicle(mission: Mission) -> tuple[Any, Any]:
             f"thruster ({len(thrusters)})",
             mission.source,
         )
-    return thrusters, fossen_dynamics(vehicle_params(raw, str(source)), mission.current)
+    vehicle = parse_vehicle(raw, str(source))
+    return thrusters, make_dynamics(vehicle, mission.current)
 
 
 def fly(
@@ -371,46 +375,3 @@ def fly(
         output_every=mission.output_every, progress=progress,
     )
     return MissionRun(result=result, thrusters=thrusters)
-
-
-def vehicle_params(raw: dict[str, Any], source: str) -> Any:
-    """The frozen vehicle-file fields as :class:`hydrokit.simulate.closed_loop.DiagonalParams`.
-
-    Fields (SI): ``mass`` kg, ``volume`` m³, ``gravity`` m/s², ``fluid.density`` kg/m³,
-    ``inertia`` (3 principal values or 3×3, kg·m², about the CG), ``center_of_gravity`` and
-    ``center_of_buoyancy`` (m, body axes), ``added_mass``, ``linear_damping``,
-    ``quadratic_damping`` (6 positive values each, surge … yaw).
-    """
-    from hydrokit.core.rigid_body import rigid_body_mass_matrix
-    from hydrokit.simulate.closed_loop import DiagonalParams
-
-    def get(key: str) -> Any:
-        node: Any = raw
-        for part in key.split("."):
-            if not isinstance(node, dict) or part not in node:
-                raise InputError(f"missing field '{key}' (needed to simulate the vehicle)", source)
-            node = node[part]
-        return node
-
-    mass = _num(get("mass"), "mass", source, positive=True)
-    volume = _num(get("volume"), "volume", source, positive=True)
-    gravity = _num(get("gravity"), "gravity", source, positive=True)
-    rho = _num(get("fluid.density"), "fluid.density", source, positive=True)
-    inertia = get("inertia")
-    if isinstance(inertia, list) and len(inertia) == 3 and all(isinstance(r, list) for r in inertia):
-        I = np.array([_vector(r, 3, f"inertia[{i}]", source) for i, r in enumerate(inertia)])
-    else:
-        I = np.diag(_vector(inertia, 3, "inertia", source))
-    r_g = _vector(get("center_of_gravity"), 3, "center_of_gravity", source)
-    r_b = _vector(get("center_of_buoyancy"), 3, "center_of_buoyancy", source)
-    six = {}
-    for key in ("added_mass", "linear_damping", "quadratic_damping"):
-        v = _vector(get(key), 6, key, source)
-        if np.any(v < 0):
-            raise InputError(f"field '{key}' = {v.tolist()}: expected values ≥ 0 (magnitudes)", source)
-        six[key] = v
-    return DiagonalParams(
-        M_RB=rigid_body_mass_matrix(mass, I, r_g), M_A=six["added_mass"],
-        D_L=six["linear_damping"], D_Q=six["quadratic_damping"], mass=mass, r_g=r_g, r_b=r_b,
-        weight=mass * gravity, buoyancy=rho * gravity * volume,
-    )

@@ -36,7 +36,6 @@ from hydrokit.errors import InputError
 from hydrokit.io.yamlfile import read_yaml
 from hydrokit.model.thrusters import DEFAULT_ADVANCE_RATIO_RANGE, Thruster, ThrusterSet
 
-VEHICLES_DIR = Path(__file__).resolve().parents[1] / "data" / "vehicles"
 
 ALLOWED = {
     "name", "position", "direction", "azimuth_deg", "elevation_deg", "max_thrust",
@@ -45,36 +44,10 @@ ALLOWED = {
 }
 
 
-def resolve_vehicle(name_or_path: str | os.PathLike[str]) -> Path:
-    """A vehicle file path from a path or a bundled vehicle name (e.g. ``minerva``)."""
-    p = Path(name_or_path)
-    if p.is_file():
-        return p
-    bundled = VEHICLES_DIR / f"{name_or_path}.yaml"
-    if "/" not in str(name_or_path) and bundled.is_file():
-        return bundled
-    names = sorted(q.stem for q in VEHICLES_DIR.glob("*.yaml"))
-    raise InputError(
-        f"no such file or bundled vehicle '{name_or_path}' (bundled: {', '.join(names) or 'none'})"
-    )
-
-
-#: Thruster-layout stand-ins shipped with the missions, used for a bundled vehicle name
-#: when data/vehicles/<name>.yaml is missing or has no ``thrusters:`` block yet.
-STANDIN_DIR = Path(__file__).resolve().parents[1] / "data" / "missions"
-
-
 def load_thrusters(name_or_path: str | os.PathLike[str]) -> ThrusterSet:
     """Read the ``thrusters:`` block of a vehicle file (path or bundled name)."""
-    standin = STANDIN_DIR / f"{name_or_path}_vehicle.yaml"
-    use_standin = "/" not in str(name_or_path) and not Path(name_or_path).is_file() and standin.is_file()
-    if use_standin:
-        bundled = VEHICLES_DIR / f"{name_or_path}.yaml"
-        if bundled.is_file():
-            data = read_yaml(bundled)
-            if "thrusters" in data:
-                return parse_thrusters(data, source=str(bundled))
-        return parse_thrusters(read_yaml(standin), source=str(standin))
+    from hydrokit.io.vehicle import resolve_vehicle
+
     path = resolve_vehicle(name_or_path)
     return parse_thrusters(read_yaml(path), source=str(path))
 

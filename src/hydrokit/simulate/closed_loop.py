@@ -13,8 +13,8 @@ Every step of length dt (s), with the state measured at its start:
    integrated with one classical RK4 step.
 
 The vehicle enters as a pure function ``dynamics(t, x, tau) -> xdot`` with
-x = [η; ν] (12 values); :func:`fossen_dynamics` builds it from the frozen vehicle-file
-fields (a stand-in until the full vehicle model of issue #3 is wired in). Nothing is stored
+x = [η; ν] (12 values); :func:`hydrokit.simulate.compiled.make_dynamics` builds it from a
+:class:`hydrokit.model.vehicle.Vehicle` (the vehicle file's full 6-DOF model). Nothing is stored
 on the vehicle, the controllers or the guidance: their states are local to one run, so two
 runs give the same result.
 """
@@ -273,89 +273,6 @@ def mission_metrics(res: ClosedLoopResult, thrusters: ThrusterSet | None = None)
         "saturation_time": sat_time,
         "saturation_fraction": sat_time / total if total > 0 else 0.0,
     }
-
-
-@dataclass(frozen=True)
-class DiagonalParams:
-    """Parameters of the fallback Fossen-form model used by :func:`fossen_dynamics`.
-
-    Attributes
-    ----------
-    M_RB : (6, 6) — rigid-body mass matrix about the body origin, kg and kg·m²
-    M_A : (6,) — added mass / inertia magnitudes (−X_udot … −N_rdot), kg and kg·m²
-    D_L : (6,) — linear damping (positive), N·s/m and N·m·s/rad
-    D_Q : (6,) — quadratic damping (positive), N·s²/m² and N·m·s²/rad²
-    mass : float — kg
-    r_g, r_b : (3,) — centres of gravity and buoyancy from the body origin, m
-    weight, buoyancy : float — W = m g and B = ρ g V, N
-    """
-
-    M_RB: Array
-    M_A: Array
-    D_L: Array
-    D_Q: Array
-    mass: float
-    r_g: Array
-    r_b: Array
-    weight: float
-    buoyancy: float
-
-
-def fossen_dynamics(params: DiagonalParams, current_ned: ArrayLike | None = None) -> Dynamics:
-    """The 6-DOF model (SPEC §3, Fossen 2011 eq. 7.190 with an irrotational current).
-
-    (M_RB + M_A) ν̇_r + C_RB(ν_r) ν_r + C_A(ν_r) ν_r + (D_L + D_Q|ν_r|) ν_r + g(η) = τ,
-    ν_r = ν − [Rᵀ v_c; 0], η̇ = J(η) ν. Diagonal added mass and damping. This is a thin
-    stand-in used by missions until the full vehicle model (issue #3) is available.
-    """
-    vc = np.zeros(3) if current_ned is None else np.asarray(current_ned, dtype=float)
-    MA = np.diag(params.M_A)
-    Minv = np.linalg.inv(params.M_RB + MA)
-    m = params.mass
-    I_o = params.M_RB[3:6, 3:6]
-    rg, rb = params.r_g, params.r_b
-    W, B = params.weight, params.buoyancy
-    DL, DQ = params.D_L, params.D_Q
-    a_lin, a_rot = params.M_A[:3], params.M_A[3:]
-
-    def cross(a: Array, b: Array) -> Array:  # np.cross is slow for single 3-vectors
-        a0, a1, a2 = a
-        b0, b1, b2 = b
-        return np.array([a1 * b2 - a2 * b1, a2 * b0 - a0 * b2, a0 * b1 - a1 * b0])
-
-    def f(t: float, x: Array, tau: Array) -> Array:
-        phi, theta, psi = x[3], x[4], x[5]
-        R = _rotation_zyx(phi, theta, psi)
-        cf, sf, ct, st = math.cos(phi), math.sin(phi), math.cos(theta), math.sin(theta)
-        Tm = np.array([[1.0, sf * st / ct, cf * st / ct], [0.0, cf, -sf], [0.0, sf / ct, cf / ct]])
-        nu = x[6:]
-        w = nu[3:]
-        vcb = R.T @ vc
-        nr = nu.copy()
-        nr[:3] -= vcb
-        v1, v2 = nr[:3], nr[3:]
-        # C_RB(ν_r) ν_r (Fossen 2011 eq. 3.57, origin form) and C_A(ν_r) ν_r (eq. 6.43)
-        wv = cross(v2, v1)
-        crb = np.concatenate([
-            m * wv + m * cross(v2, cross(v2, rg)),
-            m * cross(rg, wv) + cross(v2, I_o @ v2),
-        ])
-        ca = np.concatenate([
-            cross(v2, a_lin * v1),
-            cross(v1, a_lin * v1) + cross(v2, a_rot * v2),
-        ])
-        damp = (DL + DQ * np.abs(nr)) * nr
-        # restoring forces: weight at r_g and buoyancy at r_b, down and up in NED
-        down = R[2]  # Rᵀ [0, 0, 1]
-        fg = W * down
-        fb = -B * down
-        g = -np.concatenate([fg + fb, cross(rg, fg) + cross(rb, fb)])
-        nr_dot = Minv @ (tau - crb - ca - damp - g)
-        nu_dot = nr_dot.copy()
-        nu_dot[:3] -= cross(w, vcb)  # d/dt (Rᵀ v_c) = −ω × Rᵀ v_c
-        return np.concatenate([R @ nu[:3], Tm @ w, nu_dot])
-
-    return f
 
 
 def control_callback(

@@ -230,3 +230,26 @@ def rk4_batch(x0, dt, n_steps, every, quat, tau_tab, cur_tab, Minv, Mc, DL, DQ, 
     for k in numba.prange(nv):
         done[k] = rk4_run(x0[k], 0.0, dt, n_steps, every, quat, tau_tab[k], cur_tab, Minv[k], Mc[k], DL[k], DQ[k],
                           scal[k], t_dof, t_coef[k], t_kind, t_idx, out[k])
+
+
+def make_dynamics(vehicle, current_ned=None, attitude: str = "euler"):  # noqa: ANN001, ANN201
+    """f(t, x, τ) → ẋ calling the compiled right-hand side (same equations as
+    :func:`hydrokit.model.dynamics.vehicle_dynamics`, about 50× faster per call). Used by the
+    closed loop, where τ changes every step."""
+    from hydrokit.model.dynamics import current_table, pack
+
+    p = pack(vehicle)
+    ctab = current_table(current_ned)
+    quat = attitude == "quaternion"
+    n = 13 if quat else 12
+    tau_tab = np.zeros((1, 7))
+    buf = np.empty(40)
+    args = (p.Minv, p.Mc, p.DL, p.DQ, p.scal, p.t_dof, p.t_coef, p.t_kind, p.t_idx)
+
+    def f(t: float, x: np.ndarray, tau: np.ndarray) -> np.ndarray:
+        tau_tab[0, 1:] = tau
+        out = np.empty(n)
+        deriv(float(t), np.asarray(x, dtype=float), quat, tau_tab, ctab, *args, buf, out)
+        return out
+
+    return f
