@@ -1,0 +1,115 @@
+"""``hydrokit estimate`` and ``hydrokit fit-forces``: coefficients from geometry and force curves."""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+import click
+
+DOF = ("surge", "sway", "heave", "roll", "pitch", "yaw")
+
+
+@click.command()
+@click.argument("geometry", metavar="GEOMETRY.yaml", type=click.Path(dir_okay=False))
+@click.option("--out", "out_file", required=True, type=click.Path(dir_okay=False),
+              help="Vehicle-file fragment to write (YAML, SI: kg, kg·m², m, N·s/m, N·s²/m²).")
+@click.option("--bem", is_flag=True, help="Added mass of shape and mesh parts by the boundary-element solver "
+              "(Capytaine; pip install 'hydrokit[bem]').")
+@click.option("--resolution", type=int, default=None, help="BEM panels around the circumference (count; default 48).")
+def estimate(geometry: str, out_file: str, bem: bool, resolution: int | None) -> None:
+    """Estimate added mass, damping and mass properties of GEOMETRY (one shape or a composite)
+    and write them as a vehicle-file fragment; print the coefficients with their source."""
+    import numpy as np
+    import yaml
+    from rich.console import Console
+    from rich.table import Table
+
+    from hydrokit.estimate.composite import combine
+    from hydrokit.io.geometry import load_geometry, vehicle_fragment
+
+    geo = load_geometry(geometry)
+    if bem:
+        from hydrokit.estimate.bem import added_mass_bem, shape_mesh
+
+        for gp in geo.parts:
+            if gp.mesh is None and (gp.shape not in ("sphere", "spheroid", "cylinder") or not gp.bem):
+                continue
+            res = resolution or gp.resolution
+            mesh = gp.mesh or shape_mesh(gp.shape, res, **gp.dims)
+            from dataclasses import replace
+
+            gp.part = replace(gp.part, added_mass=added_mass_bem(mesh, geo.density))
+            gp.sources["added_mass"] = f"BEM (Capytaine, direct, {len(mesh.faces)} panels)"
+    elif any(gp.mesh is not None for gp in geo.parts):
+        from hydrokit.errors import InputError
+
+        raise InputError("a mesh part needs --bem (its added mass comes from the BEM solver)", geometry)
+    comp = combine([gp.part for gp in geo.parts])
+    frag = vehicle_fragment(geo, comp)
+    console = Console()
+    tab = Table(title=f"{geo.name}: parts (added-mass diagonal about each part's origin; quadratic damping)")
+    for c in ("part", "mass (kg)", "A11..A33 (kg)", "A44..A66 (kg·m²)", "d_Q x,y,z (N·s²/m²)"):
+        tab.add_column(c)
+    for gp in geo.parts:
+        p = gp.part
+        a = np.diag(p.added_mass)
+        tab.add_row(p.name, f"{p.mass:.4g}", ", ".join(f"{x:.4g}" for x in a[:3]), ", ".join(f"{x:.4g}" for x in a[3:]),
+                    ", ".join(f"{x:.4g}" for x in np.diag(p.quadratic_damping)[:3]))
+    console.print(tab)
+    console.print("sources:")
+    for gp in geo.parts:
+        for k, v in gp.sources.items():
+            console.print(f"  {gp.part.name} {k}: {v}", highlight=False)
+    comp_tab = Table(title="combined about the common origin: full 6×6 transform vs diagonal only (REHMAN)")
+    for c in ("DOF", "added mass, full (diag)", "diagonal only", "largest off-diagonal in row"):
+        comp_tab.add_column(c, justify="right")
+    full, dg = comp.added_mass, comp.added_mass_diagonal_only
+    for i, name in enumerate(DOF):
+        off = np.abs(full[i]).copy()
+        off[i] = 0
+        off[off < 1e-9 * np.abs(full).max()] = 0  # symmetry zeros, not rounding noise
+        j = int(np.argmax(off))
+        comp_tab.add_row(name, f"{full[i, i]:.4g}", f"{dg[i, i]:.4g}", f"{full[i, j]:.4g} ({DOF[j]})" if off[j] > 0 else "0")
+    console.print(comp_tab)
+    console.print(f"mass {comp.mass:.4g} kg, weight {comp.weight(geo.gravity):.4g} N, buoyancy "
+                  f"{comp.buoyancy(geo.density, geo.gravity):.4g} N, CG {np.round(comp.r_g, 4).tolist()} m, "
+                  f"CB {np.round(comp.r_b, 4).tolist()} m")
+    from hydrokit._atomic import write_text
+
+    text = "# vehicle-file fragment written by hydrokit estimate (SI units; matrices about the common origin)\n"
+    write_text(out_file, text + yaml.safe_dump(frag, sort_keys=False))
+    click.echo(f"wrote {out_file}", err=True)
+
+
+@click.command("fit-forces")
+@click.argument("forces", metavar="FORCES.csv", type=click.Path(dir_okay=False))
+@click.option("--area", type=float, required=True, help="Reference area A_ref for C_D, m².")
+@click.option("--density", type=float, required=True, help="Fluid density ρ, kg/m³.")
+@click.option("--json", "json_out", type=click.Path(dir_okay=False), default=None, help="Write the fits to this JSON file.")
+@click.option("--plot", "plot_out", type=click.Path(dir_okay=False), default=None, help="Write data and fits to this PNG.")
+def fit_forces(forces: str, area: float, density: float, json_out: str | None, plot_out: str | None) -> None:
+    """Fit F = K_L U + K_Q|U|U (Chin) and F = K_D|U|U (Morison) to FORCES.csv (columns speed m/s, force N)."""
+    from dataclasses import asdict
+
+    from hydrokit.estimate.forces import fit_forces as fit
+    from hydrokit.io.forces import read_forces
+
+    U, F = read_forces(forces)
+    res = fit(U, F, area, density)
+    click.echo(f"Chin:    K_L = {res.K_L:.6g} ± {res.K_L_se:.3g} N·s/m, K_Q = {res.K_Q:.6g} ± {res.K_Q_se:.3g} N·s²/m², "
+               f"R² = {res.r2_chin:.4f}")
+    click.echo(f"Morison: K_D = {res.K_D:.6g} ± {res.K_D_se:.3g} N·s²/m², C_D = {res.C_D:.6g} (A_ref = {area:g} m², "
+               f"ρ = {density:g} kg/m³), R² = {res.r2_morison:.4f}")
+    files = {}
+    if json_out:
+        files[json_out] = (json.dumps({**asdict(res), "area": area, "density": density}, indent=2) + "\n").encode()
+    if plot_out:
+        from hydrokit.plot._mpl import to_png
+        from hydrokit.plot.forces import force_fit_figure
+
+        files[plot_out] = to_png(force_fit_figure(U, F, res, Path(forces).stem))
+    from hydrokit._atomic import write_bytes
+
+    for path, data in files.items():
+        write_bytes(path, data)

@@ -1,0 +1,78 @@
+"""Force–speed regression (SPEC §1.4, CELY2019 §4.1, CHIN2012).
+
+Chin model F = K_L U + K_Q |U| U and Morison model F = K_D |U| U (C_D = 2 K_D / (ρ A_ref)),
+both linear least squares with standard errors σ̂ √diag((XᵀX)⁻¹) and R² = 1 − SS_res/SS_tot.
+CELY2019 Table 5 (UDrobot CFD, 0.2–10 m/s) implies ½ρA_ref = K_D/C_D = 24.69 (x) and 45.20 (y, z)
+N·s²/m², i.e. A_ref ≈ 0.0495 and 0.0906 m² at ρ = 998.2.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from hydrokit.errors import InputError
+
+
+@dataclass(frozen=True)
+class ForceFit:
+    """Both fits (SI): K_L N·s/m, K_Q and K_D N·s²/m², C_D –, standard errors alike."""
+
+    K_L: float
+    K_Q: float
+    K_L_se: float
+    K_Q_se: float
+    r2_chin: float
+    K_D: float
+    K_D_se: float
+    C_D: float
+    r2_morison: float
+    n: int
+
+    def chin(self, U: np.ndarray) -> np.ndarray:
+        return self.K_L * U + self.K_Q * np.abs(U) * U
+
+    def morison(self, U: np.ndarray) -> np.ndarray:
+        return self.K_D * np.abs(U) * U
+
+
+def _r2(y: np.ndarray, fit: np.ndarray) -> float:
+    ss_tot = float(np.sum((y - y.mean()) ** 2))
+    return 1.0 - float(np.sum((y - fit) ** 2)) / ss_tot if ss_tot > 0 else float("nan")
+
+
+def fit_forces(speed: np.ndarray, force: np.ndarray, area: float, density: float) -> ForceFit:
+    """Fit the Chin and Morison models to speed (m/s) / force (N) pairs.
+
+    Parameters
+    ----------
+    speed, force : arrays — U (m/s) and the resisting force F (N), same sign convention
+    area : float — A_ref, m²
+    density : float — ρ, kg/m³
+    """
+    U = np.asarray(speed, float)
+    F = np.asarray(force, float)
+    if U.shape != F.shape or U.ndim != 1:
+        raise InputError("speed and force must be 1-D of equal length")
+    if U.size < 3:
+        raise InputError(f"only {U.size} point(s); expected at least 3 speed–force pairs to fit two coefficients")
+    if not (np.all(np.isfinite(U)) and np.all(np.isfinite(F))):
+        raise InputError("speed or force holds NaN or infinite values")
+    if np.unique(np.abs(U)).size < 2:
+        raise InputError("all speeds are equal in magnitude; expected at least two different speeds")
+    for k, v in (("area", area), ("density", density)):
+        if not (math.isfinite(v) and v > 0):
+            raise InputError(f"{k} = {v}: expected a positive number")
+    X = np.column_stack([U, np.abs(U) * U])
+    coef, *_ = np.linalg.lstsq(X, F, rcond=None)
+    res = F - X @ coef
+    s2 = float(res @ res) / max(1, U.size - 2)
+    cov = s2 * np.linalg.inv(X.T @ X)
+    x1 = np.abs(U) * U
+    kd = float(x1 @ F / (x1 @ x1))
+    r1 = F - kd * x1
+    kd_se = math.sqrt(float(r1 @ r1) / max(1, U.size - 1) / float(x1 @ x1))
+    return ForceFit(float(coef[0]), float(coef[1]), math.sqrt(cov[0, 0]), math.sqrt(cov[1, 1]), _r2(F, X @ coef),
+                    kd, kd_se, 2 * kd / (density * area), _r2(F, kd * x1), int(U.size))

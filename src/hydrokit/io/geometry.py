@@ -1,0 +1,213 @@
+"""Geometry files (YAML) for ``hydrokit estimate`` (see docs/estimate.md).
+
+```yaml
+name: rehman-assembly
+gravity: 9.81                  # m/s^2
+fluid: {density: 1025, kinematic_viscosity: 1.05e-6}   # kg/m^3, m^2/s
+speed: 1.0                     # m/s, operating speed for Reynolds-dependent drag
+parts:
+  - name: payload
+    shape: sphere              # sphere | spheroid | cylinder | block | flat_plate
+    diameter: 0.5              # m (dimensions: diameter, length, width, height, thickness)
+    mass: 130                  # kg (or weight: N)
+    buoyancy: 658              # N, optional (default ρ g × shape volume)
+    position: [0, 0, 0]        # m, part centre in the common frame
+    rotation_deg: [0, 0, 0]    # roll, pitch, yaw of the part axes (shape axis = part x)
+    drag_coefficient: 0.46     # optional override
+  - name: minerva-1
+    vehicle: minerva           # a vehicle file or bundled name: its mass, inertia, CG, CB, M_A, D
+    position: [0, -1.85, 0]
+  - name: hull
+    mesh: hull.stl             # STL/OBJ (m): added mass by BEM (needs --bem)
+    mass: 12.0
+```
+"""
+
+from __future__ import annotations
+
+import math
+import os
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from hydrokit.errors import InputError
+from hydrokit.io.yamlfile import read_yaml
+
+DIMENSIONS = ("diameter", "length", "width", "height", "thickness")
+PART_KEYS = {"name", "shape", "vehicle", "mesh", "mass", "weight", "buoyancy", "position", "rotation_deg",
+             "drag_coefficient", "axial_model", "inertia", "center_of_gravity", "bem", "resolution", *DIMENSIONS}
+
+
+@dataclass
+class GeometryPart:
+    """A parsed part: the composite Part, its coefficients' sources and the shape (for BEM)."""
+
+    part: Any
+    sources: dict[str, str]
+    shape: str | None
+    dims: dict[str, float]
+    mesh: Any = None
+    bem: bool = True
+    resolution: int = 48
+
+
+@dataclass
+class Geometry:
+    name: str
+    gravity: float
+    density: float
+    parts: list[GeometryPart]
+    source: str
+
+
+def _num(v: Any, where: str, src: str, positive: bool = True) -> float:
+    if isinstance(v, bool) or not isinstance(v, (int, float)) or not math.isfinite(float(v)):
+        raise InputError(f"field '{where}' = {v!r}: expected a number", src)
+    if positive and v <= 0:
+        raise InputError(f"field '{where}' = {v}: expected a positive number", src)
+    return float(v)
+
+
+def _vec(v: Any, where: str, src: str) -> np.ndarray:
+    if not isinstance(v, list) or len(v) != 3:
+        raise InputError(f"field '{where}' = {v!r}: expected 3 numbers", src)
+    return np.array([_num(x, f"{where}[{i}]", src, positive=False) for i, x in enumerate(v)])
+
+
+def solid_inertia(shape: str, mass: float, dims: dict[str, float]) -> np.ndarray:
+    """Inertia tensor (kg·m²) of a uniform solid about its centre, axis x.
+
+    Cylinder: I_x = ½ m a², I_y = I_z = m (3a² + L²)/12 (REHMAN prints 1/12 m a² for I_x, which is
+    wrong for a solid cylinder; SPEC §2.3). Sphere 2/5 m a²; spheroid I_x = 2/5 m b²,
+    I_y = I_z = m (a² + b²)/5; block and plate m (b² + c²)/12 about each axis.
+    """
+    if shape == "sphere":
+        a = dims["diameter"] / 2
+        return np.eye(3) * 0.4 * mass * a * a
+    if shape == "spheroid":
+        a, b = dims["length"] / 2, dims["diameter"] / 2
+        return np.diag([0.4 * mass * b * b, mass * (a * a + b * b) / 5, mass * (a * a + b * b) / 5])
+    if shape == "cylinder":
+        a, L = dims["diameter"] / 2, dims["length"]
+        t = mass * (3 * a * a + L * L) / 12
+        return np.diag([0.5 * mass * a * a, t, t])
+    if shape in ("block", "flat_plate"):
+        lx = dims.get("thickness", 0.0) if shape == "flat_plate" else dims["length"]
+        ly = dims["width"]
+        lz = dims["height"] if shape == "block" else dims["length"]
+        return np.diag([mass * (ly**2 + lz**2) / 12, mass * (lx**2 + lz**2) / 12, mass * (lx**2 + ly**2) / 12])
+    raise InputError(f"no inertia formula for shape {shape!r}")
+
+
+def load_geometry(path: str | os.PathLike[str]) -> Geometry:
+    """Read a geometry file; every part becomes an :class:`hydrokit.estimate.composite.Part`."""
+    from hydrokit.estimate.composite import Part, rotation_from_degrees
+    from hydrokit.estimate.shapes import SHAPES
+
+    p = Path(path)
+    src = str(p)
+    data = read_yaml(p)
+    g = _num(data.get("gravity", 9.81), "gravity", src)
+    fluid = data.get("fluid", {"density": 1025.0})
+    if not isinstance(fluid, dict):
+        raise InputError(f"field 'fluid' = {fluid!r}: expected a mapping with density", src)
+    rho = _num(fluid.get("density", 1025.0), "fluid.density", src)
+    nu = _num(fluid.get("kinematic_viscosity", 1.05e-6), "fluid.kinematic_viscosity", src)
+    speed = _num(data.get("speed", 1.0), "speed", src)
+    parts_raw = data.get("parts")
+    if not isinstance(parts_raw, list) or not parts_raw:
+        raise InputError("field 'parts': expected a non-empty list of parts", src)
+    parts: list[GeometryPart] = []
+    for k, raw in enumerate(parts_raw):
+        where = f"parts[{k}]"
+        if not isinstance(raw, dict):
+            raise InputError(f"field '{where}': expected a mapping", src)
+        unknown = set(raw) - PART_KEYS
+        if unknown:
+            raise InputError(f"field '{where}': unknown key(s) {sorted(unknown)}", src)
+        name = str(raw.get("name", f"part{k + 1}"))
+        pos = _vec(raw.get("position", [0, 0, 0]), f"{where}.position", src)
+        rot_deg = _vec(raw.get("rotation_deg", [0, 0, 0]), f"{where}.rotation_deg", src)
+        R = rotation_from_degrees(*rot_deg)
+        kinds = [x for x in ("shape", "vehicle", "mesh") if x in raw]
+        if len(kinds) != 1:
+            raise InputError(f"field '{where}': give exactly one of shape, vehicle, mesh (got {kinds or 'none'})", src)
+        if "vehicle" in raw:
+            from hydrokit.io.vehicle import load_vehicle
+
+            v = load_vehicle(raw["vehicle"])
+            part = Part(name, v.mass, v.volume, v.inertia, v.M_A, v.D_L, np.diag(v.D_Q), v.r_g, v.r_b, pos, R, str(raw["vehicle"]))
+            parts.append(GeometryPart(part, {"all": f"vehicle {raw['vehicle']}"}, None, {}))
+            continue
+        if "mass" in raw:
+            mass = _num(raw["mass"], f"{where}.mass", src)
+        elif "weight" in raw:
+            mass = _num(raw["weight"], f"{where}.weight", src) / g
+        else:
+            raise InputError(f"field '{where}': missing 'mass' (kg) or 'weight' (N)", src)
+        dims = {d: _num(raw[d], f"{where}.{d}", src) for d in DIMENSIONS if d in raw}
+        if "mesh" in raw:
+            from hydrokit.estimate.mesh import read_mesh
+
+            mpath = Path(raw["mesh"])
+            mesh = read_mesh(mpath if mpath.is_absolute() else p.parent / mpath)
+            vol = abs(mesh.volume())
+            if "buoyancy" in raw:
+                vol = _num(raw["buoyancy"], f"{where}.buoyancy", src) / (rho * g)
+            I = np.array(raw["inertia"], float) if "inertia" in raw else np.eye(3) * 1e-6
+            part = Part(name, mass, vol, I if I.shape == (3, 3) else np.diag(I), np.zeros((6, 6)), position=pos, rotation=R)
+            parts.append(GeometryPart(part, {"added_mass": "BEM (mesh)"}, None, dims, mesh, True,
+                                      int(raw.get("resolution", 48))))
+            continue
+        shape = raw["shape"]
+        if shape not in SHAPES:
+            raise InputError(f"field '{where}.shape' = {shape!r}: expected one of {', '.join(SHAPES)}", src)
+        kw: dict[str, Any] = {"density": rho}
+        try:
+            if shape == "sphere":
+                kw.update(diameter=dims["diameter"], speed=speed, kinematic_viscosity=nu)
+            elif shape == "spheroid":
+                kw.update(length=dims["length"], diameter=dims["diameter"])
+            elif shape == "cylinder":
+                kw.update(length=dims["length"], diameter=dims["diameter"], axial_model=raw.get("axial_model", "spheroid"))
+            elif shape == "block":
+                kw.update(length=dims["length"], width=dims["width"], height=dims["height"])
+            else:
+                kw.update(length=dims["length"], width=dims["width"], thickness=dims.get("thickness", 0.0))
+        except KeyError as exc:
+            raise InputError(f"field '{where}': shape {shape} needs '{exc.args[0]}' (m)", src) from None
+        if "drag_coefficient" in raw:
+            kw["drag_coefficient" if shape in ("sphere", "block", "flat_plate") else "drag_axial"] = _num(
+                raw["drag_coefficient"], f"{where}.drag_coefficient", src)
+        sc = SHAPES[shape](**kw)
+        vol = sc.volume
+        if "buoyancy" in raw:
+            vol = _num(raw["buoyancy"], f"{where}.buoyancy", src) / (rho * g)
+        I = solid_inertia(shape, mass, dims)
+        DQ = np.diag(sc.quadratic_damping(rho))
+        part = Part(name, mass, vol, I, sc.added_mass, np.zeros((6, 6)), DQ, position=pos, rotation=R, source=shape)
+        parts.append(GeometryPart(part, dict(sc.sources), shape, dims, None, bool(raw.get("bem", True)),
+                                  int(raw.get("resolution", 48))))
+    return Geometry(str(data.get("name", p.stem)), g, rho, parts, src)
+
+
+def vehicle_fragment(geo: Geometry, comp: Any) -> dict[str, Any]:
+    """The combined body as vehicle-file fields (issue #3 format; full 6×6 matrices)."""
+    r = lambda a: np.round(np.asarray(a, float), 9).tolist()  # noqa: E731
+    return {
+        "name": geo.name,
+        "gravity": geo.gravity,
+        "fluid": {"density": geo.density},
+        "mass": round(float(comp.mass), 9),
+        "volume": round(float(comp.volume), 9),
+        "inertia": r(comp.inertia_cg),
+        "center_of_gravity": r(comp.r_g),
+        "center_of_buoyancy": r(comp.r_b),
+        "added_mass": r(comp.added_mass),
+        "linear_damping": r(comp.linear_damping),
+        "quadratic_damping": r(np.diag(comp.quadratic_damping)),
+        "sources": [f"{gp.part.name}: {k}: {v}" for gp in geo.parts for k, v in gp.sources.items()],
+    }

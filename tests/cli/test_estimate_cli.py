@@ -1,0 +1,69 @@
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+import pytest
+import yaml
+
+GEOMETRY = Path(__file__).resolve().parents[2] / "src" / "hydrokit" / "data" / "geometry"
+
+
+def test_estimate_rehman_assembly_writes_loadable_vehicle(run_cli, tmp_path):
+    out = tmp_path / "frag.yaml"
+    code, stdout, err = run_cli("estimate", GEOMETRY / "rehman_assembly.yaml", "--out", out)
+    assert code == 0, err
+    assert "diagonal only" in stdout and "DNV-RP-H103" in stdout
+    from hydrokit.io.vehicle import load_vehicle
+
+    v = load_vehicle(out)
+    assert v.mass == pytest.approx(130 + 2 * 450 / 9.81 + 2 * 460)
+    frag = yaml.safe_load(out.read_text())
+    MA = np.array(frag["added_mass"])
+    assert MA.shape == (6, 6)
+    # yaw added inertia gains the vehicles' surge added mass at 1.85 m (parallel-axis): far above
+    # the diagonal-only sum REHMAN uses
+    assert MA[5, 5] > 2 * 293 * 1.85**2
+
+
+def test_fit_forces_cli(run_cli, tmp_path):
+    f = tmp_path / "f.csv"
+    U = np.linspace(0.2, 10, 12)
+    F = 1.0503 * U + 43.2322 * U * U  # CELY2019 Table 5 x-axis Chin coefficients, noise-free
+    f.write_text("speed,force\n" + "\n".join(f"{u},{x}" for u, x in zip(U, F)) + "\n")
+    code, stdout, err = run_cli("fit-forces", f, "--area", "0.0495", "--density", "998.2", "--json", tmp_path / "o.json",
+                                "--plot", tmp_path / "o.png")
+    assert code == 0, err
+    assert "K_L = 1.0503" in stdout and "K_Q = 43.2322" in stdout
+    assert (tmp_path / "o.png").stat().st_size > 1000
+
+
+@pytest.mark.parametrize("doc,match", [
+    ({"parts": [{"shape": "sphere", "diameter": -0.5, "mass": 1}]}, "diameter"),
+    ({"parts": [{"shape": "torus", "diameter": 0.5, "mass": 1}]}, "'parts\\[0\\].shape' = 'torus'"),
+])
+def test_estimate_bad_geometry(run_cli, tmp_path, doc, match):
+    import re
+
+    g = tmp_path / "g.yaml"
+    g.write_text(yaml.safe_dump(doc))
+    out = tmp_path / "o.yaml"
+    code, _, err = run_cli("estimate", g, "--out", out)
+    assert code == 2 and re.search(match, err), err
+    assert len(err.strip().splitlines()) == 1 and not out.exists()
+
+
+def test_fit_forces_one_point(run_cli, tmp_path):
+    f = tmp_path / "f.csv"
+    f.write_text("speed,force\n1.0,40\n")
+    code, _, err = run_cli("fit-forces", f, "--area", "0.05", "--density", "998.2")
+    assert code == 2 and "only 1 point" in err
+
+
+def test_mesh_errors_are_one_line(run_cli, tmp_path):
+    stl = tmp_path / "open.stl"
+    stl.write_text("solid x\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\nvertex 1 0 0\nvertex 0 1 0\nendloop\nendfacet\nendsolid x\n")
+    g = tmp_path / "g.yaml"
+    g.write_text(yaml.safe_dump({"parts": [{"mesh": "open.stl", "mass": 1.0}]}))
+    code, _, err = run_cli("estimate", g, "--bem", "--out", tmp_path / "o.yaml")
+    assert code == 2 and ("not closed" in err or "hydrokit[bem]" in err)

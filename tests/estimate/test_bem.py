@@ -1,0 +1,77 @@
+"""BEM added mass against closed forms (runs when the `bem` extra is installed)."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+from hydrokit.errors import InputError
+from hydrokit.estimate.mesh import SurfaceMesh, check_mesh
+
+pytestmark = pytest.mark.bem
+
+
+def test_open_and_inward_meshes_are_rejected():
+    from hydrokit.estimate.bem import shape_mesh
+
+    m = shape_mesh("sphere", 12, diameter=1.0)
+    check_mesh(m)
+    with pytest.raises(InputError, match="inwards"):
+        check_mesh(SurfaceMesh(m.vertices, m.faces[:, ::-1], "in.stl"))
+    with pytest.raises(InputError, match="not closed"):
+        check_mesh(SurfaceMesh(m.vertices, m.faces[:-3], "open.stl"))
+
+
+def test_sphere_and_spheroid_within_tolerance(tmp_path, monkeypatch):
+    pytest.importorskip("capytaine")
+    monkeypatch.setenv("HYDROKIT_CACHE", str(tmp_path))
+    from hydrokit.estimate.bem import added_mass_bem, shape_mesh
+    from hydrokit.estimate.shapes import lamb_coefficients
+
+    A = added_mass_bem(shape_mesh("sphere", 56, diameter=2.0), 1000.0)
+    exact = 0.5 * 1000 * 4 / 3 * math.pi
+    np.testing.assert_allclose(np.diag(A)[:3], exact, rtol=0.005)  # issue: within 0.5 %
+    k1, k2, kp = lamb_coefficients(4.0, 1.0)
+    V = 4 / 3 * math.pi * 4.0
+    B = added_mass_bem(shape_mesh("spheroid", 48, length=8.0, diameter=2.0), 1000.0)
+    lamb = [k1 * 1000 * V, k2 * 1000 * V, k2 * 1000 * V, kp * 1000 * V / 5 * 17, kp * 1000 * V / 5 * 17]
+    np.testing.assert_allclose([B[0, 0], B[1, 1], B[2, 2], B[4, 4], B[5, 5]], lamb, rtol=0.015)  # within 1.5 %
+    # cached: a second call reads the JSON cache
+    assert list(tmp_path.glob("*.json"))
+    np.testing.assert_allclose(added_mass_bem(shape_mesh("sphere", 56, diameter=2.0), 1000.0), A)
+
+
+def test_off_origin_body_matches_analytic_shift(tmp_path, monkeypatch):
+    pytest.importorskip("capytaine")
+    monkeypatch.setenv("HYDROKIT_CACHE", str(tmp_path))
+    from hydrokit.core.rigid_body import move_matrix
+    from hydrokit.estimate.bem import added_mass_bem, shape_mesh
+
+    m = shape_mesh("spheroid", 40, length=4.0, diameter=1.0)
+    A0 = added_mass_bem(m, 1000.0)
+    r = np.array([0.0, 1.5, 0.5])
+    shifted = SurfaceMesh(m.vertices + r, m.faces)
+    A1 = added_mass_bem(shifted, 1000.0)  # about the common origin
+    expected = move_matrix(A0, r)  # body centre at r from the common origin
+    scale = np.abs(expected).max()
+    np.testing.assert_allclose(A1, expected, atol=2e-3 * scale)
+
+
+def test_missing_extra_message(monkeypatch):
+    import builtins
+
+    from hydrokit.errors import MissingExtraError
+    from hydrokit.estimate import bem
+
+    real = builtins.__import__
+
+    def fake(name, *a, **k):
+        if name == "capytaine":
+            raise ImportError("no")
+        return real(name, *a, **k)
+
+    monkeypatch.setattr(builtins, "__import__", fake)
+    with pytest.raises(MissingExtraError, match=r"pip install 'hydrokit\[bem\]'"):
+        bem._capytaine()
