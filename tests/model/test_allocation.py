@@ -6,7 +6,7 @@ import math
 
 import numpy as np
 import pytest
-from hypothesis import given, settings
+from hypothesis import assume, given, settings
 from hypothesis import strategies as st
 
 from hydrokit.errors import InputError
@@ -201,9 +201,15 @@ def test_constrained_least_norm_agrees_with_slsqp(tau: list[float]) -> None:
     tau = list(np.array(tau) * np.array([0.2, 0.2, 0.2, 0.02, 0.02, 0.02]))  # this vehicle's scale
     res = allocate_constrained(T, tau, lo, hi)
     a_star = res.achieved_tau
-    sol = minimize(lambda f: f @ f, np.clip(res.thrust * 0.5, lo, hi), jac=lambda f: 2 * f,
-                   constraints=[{"type": "eq", "fun": lambda f: T @ f - a_star, "jac": lambda f: T}],
-                   bounds=list(zip(lo, hi)), method="SLSQP", options={"ftol": 1e-12, "maxiter": 500})
-    assert sol.success
+    sol = None
+    for start in (np.clip(res.thrust * 0.5, lo, hi), res.thrust, np.zeros(8)):
+        sol = minimize(lambda f: f @ f, start, jac=lambda f: 2 * f,
+                       constraints=[{"type": "eq", "fun": lambda f: T @ f - a_star, "jac": lambda f: T}],
+                       bounds=list(zip(lo, hi)), method="SLSQP", options={"ftol": 1e-12, "maxiter": 500})
+        if sol.success:
+            break
+    # the reference itself can fail ("positive directional derivative"); such an example proves
+    # nothing either way
+    assume(sol.success)
     np.testing.assert_allclose(T @ sol.x, a_star, atol=1e-6)
     assert np.linalg.norm(res.thrust) <= np.linalg.norm(sol.x) + 1e-6 * 40
