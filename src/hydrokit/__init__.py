@@ -1,12 +1,82 @@
 """hydrokit: free-decay identification, coefficient estimation, 6-DOF models and control
 for underwater vehicles.
 
+The top-level names below are imported lazily (on first use), so ``import hydrokit`` is quick
+and loads neither numpy's heavy friends nor matplotlib, scipy or numba:
+
+>>> import hydrokit
+>>> sorted(hydrokit.__all__)[:4]
+['HydrokitError', 'InputError', '__version__', 'allocate']
+
 Layers (see docs/architecture.md): core -> identify / estimate / model -> simulate ->
-io / plot -> report -> cli. Units are SI and radians everywhere inside the package.
+io -> plot -> api -> report -> cli. Units are SI and radians everywhere inside the package.
+A walk-through of the whole chain is in docs/api.md.
 """
 
-__version__ = "0.1.0"
+from __future__ import annotations
+
+from typing import TYPE_CHECKING, Any
 
 from hydrokit.errors import HydrokitError, InputError
 
-__all__ = ["HydrokitError", "InputError", "__version__"]
+__version__ = "0.1.0"
+
+#: public name -> module that defines it (imported on first attribute access)
+_LAZY = {
+    "load_vehicle": "hydrokit.api",
+    "load_rig": "hydrokit.api",
+    "load_mission": "hydrokit.api",
+    "load_geometry": "hydrokit.api",
+    "read_launch": "hydrokit.api",
+    "simulate": "hydrokit.api",
+    "simulate_batch": "hydrokit.api",
+    "fly": "hydrokit.api",
+    "identify_campaign": "hydrokit.api",
+    "estimate_geometry": "hydrokit.api",
+    "fit_forces": "hydrokit.api",
+    "allocate": "hydrokit.api",
+    "Vehicle": "hydrokit.model.vehicle",
+    "Rig": "hydrokit.identify.types",
+    "Launch": "hydrokit.identify.types",
+    "Mission": "hydrokit.model.mission",
+    "Trajectory": "hydrokit.simulate.driver",
+    "BatchTrajectory": "hydrokit.simulate.batch",
+    "MissionResult": "hydrokit.simulate.mission",
+    "CampaignResult": "hydrokit.identify.result",
+    "Estimate": "hydrokit.estimate.geometry",
+    "ForceFit": "hydrokit.estimate.forces",
+    "Allocation": "hydrokit.model.allocation",
+}
+
+__all__ = ["HydrokitError", "InputError", "__version__", *_LAZY]
+
+if TYPE_CHECKING:  # pragma: no cover - for type checkers and IDEs only
+    from hydrokit.api import (
+        allocate,
+        estimate_geometry,
+        fit_forces,
+        fly,
+        identify_campaign,
+        load_geometry,
+        load_mission,
+        load_rig,
+        load_vehicle,
+        read_launch,
+        simulate,
+        simulate_batch,
+    )
+
+
+def __getattr__(name: str) -> Any:
+    module = _LAZY.get(name)
+    if module is None:
+        raise AttributeError(f"module 'hydrokit' has no attribute {name!r}")
+    import importlib
+
+    value = getattr(importlib.import_module(module), name)
+    globals()[name] = value  # later look-ups skip this function
+    return value
+
+
+def __dir__() -> list[str]:
+    return sorted(set(globals()) | set(_LAZY))

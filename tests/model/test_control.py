@@ -221,7 +221,7 @@ def test_loop_dynamics_steady_surge_closed_form() -> None:
     x = np.zeros(12)
     tau = np.array([30.0, 0, 0, 0, 0, 0])  # LI2021 open-loop surge force
     for _ in range(2000):  # 200 s at 0.1 s; the time constant near 0.5 m/s is ~5 s
-        x = rk4_step(f, 0.0, x, tau, 0.1)
+        x = rk4_step(f, 0.0, x, 0.1, u=tau)
     # D_L u + D_Q u^2 = X  ->  u = (-D_L + sqrt(D_L^2 + 4 D_Q X)) / (2 D_Q)
     u = (-20 + math.sqrt(20**2 + 4 * 108.8 * 30)) / (2 * 108.8)
     assert x[6] == pytest.approx(u, rel=1e-6)  # converged to 1e-6 (transient ~e^-40)
@@ -250,7 +250,7 @@ def test_loop_dynamics_conserves_energy_without_damping() -> None:
     x[6:] = [0.4, 0.1, -0.2, 0.05, -0.03, 0.1]
     e0 = 0.5 * x[6:] @ v.M @ x[6:]
     for _ in range(500):
-        x = rk4_step(f, 0.0, x, np.zeros(6), 0.01)
+        x = rk4_step(f, 0.0, x, 0.01, u=np.zeros(6))
     # RK4 at h = 0.01 s over 5 s: energy drift far below 1e-6 relative
     assert 0.5 * x[6:] @ v.M @ x[6:] == pytest.approx(e0, rel=1e-6)
 
@@ -272,7 +272,7 @@ def test_control_callback_matches_closed_loop_driver() -> None:
     cb = control_callback(ts, ap, path, period=dt)
     x = x0.copy()
     for k in range(600):
-        x = rk4_step(plant, k * dt, x, cb(k * dt, x[:6], x[6:]), dt)
+        x = rk4_step(plant, k * dt, x, dt, u=cb(k * dt, x[:6], x[6:]))
     np.testing.assert_allclose(x[:6], ref.eta[-1], atol=1e-9)
 
     # (b) a driver that calls tau inside every RK4 stage: the last stage of a step falls on
@@ -282,7 +282,7 @@ def test_control_callback_matches_closed_loop_driver() -> None:
     f = lambda t, x, _u: plant(t, x, cb(t, x[:6], x[6:]))  # noqa: E731
     x = x0.copy()
     for k in range(600):
-        x = rk4_step(f, k * dt, x, np.zeros(6), dt)
+        x = rk4_step(f, k * dt, x, dt, u=np.zeros(6))
     np.testing.assert_allclose(x[:6], ref.eta[-1], atol=1e-3)
 
 

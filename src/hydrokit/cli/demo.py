@@ -7,7 +7,6 @@ from pathlib import Path
 
 import click
 
-CAMPAIGNS = Path(__file__).resolve().parents[1] / "data" / "campaigns"
 METHODS = {"spring": ("output-error", "equation-error", "log-decrement"),
            "pendulum": ("output-error", "equation-error", "morison"),
            "torsion": ("output-error", "equation-error", "log-decrement")}
@@ -21,25 +20,18 @@ METHODS = {"spring": ("output-error", "equation-error", "log-decrement"),
                    "6 launches) or rov2 (ENG2009-like surge pendulum).")
 def demo(out_dir: str, campaign: str) -> None:
     """Identify the bundled campaign with every method and write a self-contained HTML report."""
-    import json
-
-    from hydrokit._atomic import write_bytes, write_text
-    from hydrokit.cli.identify import _figures, progress_bar
-    from hydrokit.io.results import identify_files, results_document
-    from hydrokit.io.rig import load_rig
-    from hydrokit.plot._mpl import pyplot, to_png
-    from hydrokit.plot.identify import coefficients_vs_reynolds
+    from hydrokit.api import identify_campaign, load_rig
+    from hydrokit.cli._common import json_text, progress_bar, write_all
+    from hydrokit.data import campaign_files, campaign_rigs
+    from hydrokit.plot._mpl import to_png
+    from hydrokit.plot.identify import campaign_figures, coefficients_vs_reynolds
     from hydrokit.report.identify import Run, identify_report
 
     start = time.perf_counter()
-    folder = CAMPAIGNS / campaign
-    rigs = sorted(folder.glob("*.yaml"))
     jobs = []
-    for rig_file in rigs:
-        rig = load_rig(rig_file)
-        launches = sorted((folder / rig_file.stem).glob("*.csv")) if (folder / rig_file.stem).is_dir() else \
-            sorted(next(p for p in folder.iterdir() if p.is_dir()).glob("*.csv"))
-        jobs.append((rig, [str(p) for p in launches]))
+    for name in campaign_rigs(campaign):
+        rig_file, launches = campaign_files(campaign, name)
+        jobs.append((load_rig(rig_file), launches))
     total = sum(len(files) * len(METHODS[rig.test]) for rig, files in jobs)
     runs = []
     all_docs = {}
@@ -47,22 +39,14 @@ def demo(out_dir: str, campaign: str) -> None:
     with progress_bar() as bar:
         task = bar.add_task(f"identifying {campaign}", total=total)
         for rig, files in jobs:
-            docs = {}
-            items_oe = None
-            for method in METHODS[rig.test]:
-                items = identify_files(rig, files, method, progress=lambda f: bar.advance(task))
-                docs[method] = results_document(rig, items, method)
-                if method == "output-error":
-                    items_oe = items
+            results = {m: identify_campaign(rig, files, m, progress=lambda f: bar.advance(task)) for m in METHODS[rig.test]}
             title = f"{rig.test} rig, {rig.axis}"
-            figs = _figures(rig, items_oe, "output-error", per_launch=False)
-            runs.append(Run(title, rig, docs, list(figs.values())))
-            all_docs[title] = docs
-            re_groups[title] = [it.result for it in items_oe]
-    plt = pyplot()
+            figs = campaign_figures(results["output-error"], per_launch=False)
+            runs.append(Run(title, rig, {m: r.to_dict() for m, r in results.items()}, list(figs.values())))
+            all_docs[title] = runs[-1].documents
+            re_groups[title] = results["output-error"].results
     fig = coefficients_vs_reynolds(re_groups, "output-error, all rigs and axes")
     closing = [(to_png(fig), "C_m, C_D, K_L and K_Q per launch against the launch's peak Reynolds number (output-error)")]
-    plt.close(fig)
     elapsed = time.perf_counter() - start
     intro = (f"Bundled {campaign} campaign (virtual-rig launches; true values and choices in "
              f"src/hydrokit/data/campaigns/{campaign}/README.md), {total} fits in {elapsed:.1f} s. "
@@ -70,11 +54,11 @@ def demo(out_dir: str, campaign: str) -> None:
              "and log-decrement (CELY2019 graphical).")
     html = identify_report(f"hydrokit identification: {campaign} campaign", runs, intro, closing)
     out = Path(out_dir)
-    write_text(out / "results.json", json.dumps(all_docs, indent=2, allow_nan=False) + "\n")
-    write_text(out / "report.html", html)
+    files = {out / "results.json": json_text(all_docs), out / "report.html": html}
     for r in runs:
         for i, (png, _) in enumerate(r.figures):
-            write_bytes(out / "figures" / f"{r.rig.test}_{r.rig.axis}_{i + 1}.png", png)
+            files[out / "figures" / f"{r.rig.test}_{r.rig.axis}_{i + 1}.png"] = png
+    write_all(files)
     _print_overview(all_docs)
     click.echo(f"wrote {out / 'report.html'} and {out / 'results.json'} ({elapsed:.1f} s)", err=True)
 

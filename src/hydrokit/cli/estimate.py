@@ -2,12 +2,13 @@
 
 from __future__ import annotations
 
-import json
 from pathlib import Path
+from typing import Any
 
 import click
 
-DOF = ("surge", "sway", "heave", "roll", "pitch", "yaw")
+from hydrokit.cli._common import json_text, write_all
+from hydrokit.core.names import DOF_NAMES as DOF
 
 
 @click.command()
@@ -25,28 +26,10 @@ def estimate(geometry: str, out_file: str, bem: bool, resolution: int | None) ->
     from rich.console import Console
     from rich.table import Table
 
-    from hydrokit.estimate.composite import combine
-    from hydrokit.io.geometry import load_geometry, vehicle_fragment
+    from hydrokit.api import estimate_geometry
 
-    geo = load_geometry(geometry)
-    if bem:
-        from hydrokit.estimate.bem import added_mass_bem, shape_mesh
-
-        for gp in geo.parts:
-            if gp.mesh is None and (gp.shape not in ("sphere", "spheroid", "cylinder") or not gp.bem):
-                continue
-            res = resolution or gp.resolution
-            mesh = gp.mesh or shape_mesh(gp.shape, res, **gp.dims)
-            from dataclasses import replace
-
-            gp.part = replace(gp.part, added_mass=added_mass_bem(mesh, geo.density))
-            gp.sources["added_mass"] = f"BEM (Capytaine, direct, {len(mesh.faces)} panels)"
-    elif any(gp.mesh is not None for gp in geo.parts):
-        from hydrokit.errors import InputError
-
-        raise InputError("a mesh part needs --bem (its added mass comes from the BEM solver)", geometry)
-    comp = combine([gp.part for gp in geo.parts])
-    frag = vehicle_fragment(geo, comp)
+    est = estimate_geometry(geometry, bem=bem, resolution=resolution)
+    geo, comp, frag = est.geometry, est.composite, est.to_dict()
     console = Console()
     tab = Table(title=f"{geo.name}: parts (added-mass diagonal about each part's origin; quadratic damping)")
     for c in ("part", "mass (kg)", "A11..A33 (kg)", "A44..A66 (kg·m²)", "d_Q x,y,z (N·s²/m²)"):
@@ -75,10 +58,8 @@ def estimate(geometry: str, out_file: str, bem: bool, resolution: int | None) ->
     console.print(f"mass {comp.mass:.4g} kg, weight {comp.weight(geo.gravity):.4g} N, buoyancy "
                   f"{comp.buoyancy(geo.density, geo.gravity):.4g} N, CG {np.round(comp.r_g, 4).tolist()} m, "
                   f"CB {np.round(comp.r_b, 4).tolist()} m")
-    from hydrokit._atomic import write_text
-
     text = "# vehicle-file fragment written by hydrokit estimate (SI units; matrices about the common origin)\n"
-    write_text(out_file, text + yaml.safe_dump(frag, sort_keys=False))
+    write_all({out_file: text + yaml.safe_dump(frag, sort_keys=False)})
     click.echo(f"wrote {out_file}", err=True)
 
 
@@ -90,9 +71,7 @@ def estimate(geometry: str, out_file: str, bem: bool, resolution: int | None) ->
 @click.option("--plot", "plot_out", type=click.Path(dir_okay=False), default=None, help="Write data and fits to this PNG.")
 def fit_forces(forces: str, area: float, density: float, json_out: str | None, plot_out: str | None) -> None:
     """Fit F = K_L U + K_Q|U|U (Chin) and F = K_D|U|U (Morison) to FORCES.csv (columns speed m/s, force N)."""
-    from dataclasses import asdict
-
-    from hydrokit.estimate.forces import fit_forces as fit
+    from hydrokit.api import fit_forces as fit
     from hydrokit.io.forces import read_forces
 
     U, F = read_forces(forces)
@@ -101,15 +80,12 @@ def fit_forces(forces: str, area: float, density: float, json_out: str | None, p
                f"R² = {res.r2_chin:.4f}")
     click.echo(f"Morison: K_D = {res.K_D:.6g} ± {res.K_D_se:.3g} N·s²/m², C_D = {res.C_D:.6g} (A_ref = {area:g} m², "
                f"ρ = {density:g} kg/m³), R² = {res.r2_morison:.4f}")
-    files = {}
+    files: dict[str, Any] = {}
     if json_out:
-        files[json_out] = (json.dumps({**asdict(res), "area": area, "density": density}, indent=2) + "\n").encode()
+        files[json_out] = json_text(res.to_dict())
     if plot_out:
         from hydrokit.plot._mpl import to_png
         from hydrokit.plot.forces import force_fit_figure
 
         files[plot_out] = to_png(force_fit_figure(U, F, res, Path(forces).stem))
-    from hydrokit._atomic import write_bytes
-
-    for path, data in files.items():
-        write_bytes(path, data)
+    write_all(files)

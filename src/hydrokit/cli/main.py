@@ -22,10 +22,10 @@ COMMANDS: dict[str, tuple[str, str]] = {
     "demo": ("hydrokit.cli.demo:demo", "Identify the bundled UDrobot campaign and write an HTML report."),
     "identify": ("hydrokit.cli.identify:identify", "Identify coefficients from free-decay launches."),
     "scale": ("hydrokit.cli.identify:scale", "Scale model-test coefficients to full size (similitude)."),
-    "rig": ("hydrokit.cli.identify:rig", "Virtual rig: simulate launches, plan an experiment."),
+    "rig": ("hydrokit.cli.rig:rig", "Virtual rig: simulate launches, plan an experiment."),
     "simulate": ("hydrokit.cli.simulate:simulate", "Simulate a vehicle under a constant or tabulated force."),
     "allocate": ("hydrokit.cli.control:allocate", "Allocate a demanded force/moment to thrusters."),
-    "mission": ("hydrokit.cli.control:mission", "Run a closed-loop waypoint mission."),
+    "mission": ("hydrokit.cli.mission:mission", "Run a closed-loop waypoint mission."),
     "estimate": ("hydrokit.cli.estimate:estimate", "Estimate coefficients from geometry."),
     "fit-forces": ("hydrokit.cli.estimate:fit_forces", "Fit damping models to a force-speed curve."),
 }

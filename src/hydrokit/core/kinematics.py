@@ -17,7 +17,25 @@ PITCH_WARNING = math.radians(85.0)
 
 
 def rotation_zyx(phi: float, theta: float, psi: float) -> np.ndarray:
-    """R_b^n(Θ): body → NED rotation for roll φ, pitch θ, yaw ψ (rad). Fossen eq. 2.18."""
+    """R_b^n(Θ): the body → NED rotation matrix of zyx Euler angles (Fossen 2011 eq. 2.18).
+
+    Parameters
+    ----------
+    phi, theta, psi : float
+        Roll φ, pitch θ and yaw ψ, rad.
+
+    Returns
+    -------
+    ndarray, shape (3, 3)
+        R with v_NED = R v_body; its third row is the NED "down" axis in body axes.
+
+    Notes
+    -----
+    Called at every step of the closed loop and every stage of the numpy model, so it is
+    written with scalar ``math`` functions and one array construction (a few µs), not as
+    a product of three elementary rotations. :func:`hydrokit.simulate.compiled.deriv`
+    holds a compiled copy of the same nine expressions, tested against this one.
+    """
     cf, sf = math.cos(phi), math.sin(phi)
     ct, st = math.cos(theta), math.sin(theta)
     cp, sp = math.cos(psi), math.sin(psi)
@@ -88,5 +106,16 @@ def quaternion_rate(q: np.ndarray, w: np.ndarray) -> np.ndarray:
 
 
 def wrap_angle(a: float) -> float:
-    """a wrapped to [−π, π), rad."""
-    return (a + math.pi) % (2 * math.pi) - math.pi
+    """Wrap an angle to [−π, π).
+
+    Parameters
+    ----------
+    a : float
+        Angle, rad (any value).
+
+    Returns
+    -------
+    float
+        a + 2πk in [−π, π), rad.
+    """
+    return (a + math.pi) % (2.0 * math.pi) - math.pi

@@ -9,16 +9,22 @@ N·s²/m², i.e. A_ref ≈ 0.0495 and 0.0906 m² at ρ = 998.2.
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, field
+from typing import Any
 
 import numpy as np
 
+from hydrokit._result import Result, jsonable
 from hydrokit.errors import InputError
 
 
 @dataclass(frozen=True)
-class ForceFit:
-    """Both fits (SI): K_L N·s/m, K_Q and K_D N·s²/m², C_D –, standard errors alike."""
+class ForceFit(Result):
+    """Both fits (SI): K_L N·s/m, K_Q and K_D N·s²/m², C_D –, standard errors alike.
+
+    ``speed`` (m/s) and ``force`` (N) keep the fitted data for plots and tables; ``area`` (m²)
+    and ``density`` (kg/m³) are the reference area and fluid density of C_D.
+    """
 
     K_L: float
     K_Q: float
@@ -30,6 +36,28 @@ class ForceFit:
     C_D: float
     r2_morison: float
     n: int
+
+    speed: np.ndarray = field(default_factory=lambda: np.zeros(0), repr=False, compare=False)
+    force: np.ndarray = field(default_factory=lambda: np.zeros(0), repr=False, compare=False)
+    area: float = math.nan
+    density: float = math.nan
+
+    def to_dict(self) -> dict[str, Any]:
+        """Both fits with area and density (what ``hydrokit fit-forces --json`` writes)."""
+        keys = ("K_L", "K_Q", "K_L_se", "K_Q_se", "r2_chin", "K_D", "K_D_se", "C_D", "r2_morison", "n", "area", "density")
+        return jsonable({k: getattr(self, k) for k in keys})
+
+    def table(self) -> tuple[list[str], list[list[Any]]]:
+        """Rows of speed (m/s), measured force, Chin and Morison fits (N)."""
+        U = np.asarray(self.speed, float)
+        return (["speed", "force", "chin", "morison"],
+                np.column_stack([U, self.force, self.chin(U), self.morison(U)]).tolist())
+
+    def plot(self, ax: Any = None) -> Any:
+        """Data and both fitted curves on ``ax`` (or new axes); returns the axes."""
+        from hydrokit.plot.forces import force_fit_axes
+
+        return force_fit_axes(np.asarray(self.speed, float), np.asarray(self.force, float), self, ax)
 
     def chin(self, U: np.ndarray) -> np.ndarray:
         return self.K_L * U + self.K_Q * np.abs(U) * U
@@ -75,4 +103,5 @@ def fit_forces(speed: np.ndarray, force: np.ndarray, area: float, density: float
     r1 = F - kd * x1
     kd_se = math.sqrt(float(r1 @ r1) / max(1, U.size - 1) / float(x1 @ x1))
     return ForceFit(float(coef[0]), float(coef[1]), math.sqrt(cov[0, 0]), math.sqrt(cov[1, 1]), _r2(F, X @ coef),
-                    kd, kd_se, 2 * kd / (density * area), _r2(F, kd * x1), int(U.size))
+                    kd, kd_se, 2 * kd / (density * area), _r2(F, kd * x1), int(U.size), U, F,
+                    float(area), float(density))

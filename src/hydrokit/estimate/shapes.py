@@ -237,3 +237,28 @@ def block(length: float, width: float, height: float, density: float = 1025.0,
 
 
 SHAPES = {"sphere": sphere, "spheroid": spheroid, "cylinder": cylinder, "flat_plate": flat_plate, "block": block}
+
+
+def solid_inertia(shape: str, mass: float, dims: dict[str, float]) -> np.ndarray:
+    """Inertia tensor (kg·m²) of a uniform solid about its centre, axis x.
+
+    Cylinder: I_x = ½ m a², I_y = I_z = m (3a² + L²)/12 (REHMAN prints 1/12 m a² for I_x, which is
+    wrong for a solid cylinder; SPEC §2.3). Sphere 2/5 m a²; spheroid I_x = 2/5 m b²,
+    I_y = I_z = m (a² + b²)/5; block and plate m (b² + c²)/12 about each axis.
+    """
+    if shape == "sphere":
+        a = dims["diameter"] / 2
+        return np.eye(3) * 0.4 * mass * a * a
+    if shape == "spheroid":
+        a, b = dims["length"] / 2, dims["diameter"] / 2
+        return np.diag([0.4 * mass * b * b, mass * (a * a + b * b) / 5, mass * (a * a + b * b) / 5])
+    if shape == "cylinder":
+        a, L = dims["diameter"] / 2, dims["length"]
+        t = mass * (3 * a * a + L * L) / 12
+        return np.diag([0.5 * mass * a * a, t, t])
+    if shape in ("block", "flat_plate"):
+        lx = dims.get("thickness", 0.0) if shape == "flat_plate" else dims["length"]
+        ly = dims["width"]
+        lz = dims["height"] if shape == "block" else dims["length"]
+        return np.diag([mass * (ly**2 + lz**2) / 12, mass * (lx**2 + lz**2) / 12, mass * (lx**2 + ly**2) / 12])
+    raise InputError(f"no inertia formula for shape {shape!r}")

@@ -13,6 +13,8 @@ import math
 from dataclasses import asdict, dataclass, field
 from typing import Any, Literal
 
+from hydrokit._result import jsonable
+
 TestKind = Literal["spring", "pendulum", "torsion"]
 AXES = ("surge", "sway", "heave", "roll", "pitch", "yaw")
 METHODS = ("output-error", "equation-error", "morison", "log-decrement")
@@ -125,16 +127,27 @@ class LaunchResult:
 
     def to_dict(self) -> dict[str, Any]:
         """JSON-ready dict (NaN and inf become None)."""
-        return _jsonable(asdict(self))
+        return jsonable(asdict(self))
 
 
-def _jsonable(obj: Any) -> Any:
-    if isinstance(obj, dict):
-        return {str(k): _jsonable(v) for k, v in obj.items()}
-    if isinstance(obj, (list, tuple)):
-        return [_jsonable(v) for v in obj]
-    if hasattr(obj, "tolist"):
-        return _jsonable(obj.tolist())
-    if isinstance(obj, float) and not math.isfinite(obj):
-        return None
-    return obj
+def rig_document(rig: Rig) -> dict[str, Any]:
+    """The rig in the rig-file layout (SI), for JSON results and virtual-rig output."""
+    out: dict[str, Any] = {
+        "test": rig.test, "axis": rig.axis, "gravity": rig.gravity,
+        "fluid": {"density": rig.density, "kinematic_viscosity": rig.kinematic_viscosity},
+        "body": {"mass": rig.mass, "volume": rig.volume, "reference_area": rig.reference_area,
+                 "reference_length": rig.reference_length, "inertia": rig.inertia},
+    }
+    if rig.test == "pendulum":
+        out["pendulum"] = {"length": rig.pendulum_length, "rod_mass": rig.rod_mass, "rod_volume": rig.rod_volume}
+    elif rig.test == "spring":
+        out["spring"] = {"stiffness": rig.stiffness}
+    else:
+        out["torsion"] = {"stiffness": rig.stiffness}
+    if rig.tare_linear_damping or rig.tare_quadratic_damping:
+        out["tare"] = {"linear_damping": rig.tare_linear_damping, "quadratic_damping": rig.tare_quadratic_damping}
+    if rig.wall_distance is not None:
+        out["wall_distance"] = rig.wall_distance
+    if rig.scale is not None:
+        out["scale"] = rig.scale
+    return out

@@ -27,40 +27,19 @@ from __future__ import annotations
 
 import math
 import os
-from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
 import numpy as np
 
 from hydrokit.errors import InputError
+from hydrokit.estimate.geometry import Geometry, GeometryPart
+from hydrokit.estimate.shapes import solid_inertia
 from hydrokit.io.yamlfile import read_yaml
 
 DIMENSIONS = ("diameter", "length", "width", "height", "thickness")
 PART_KEYS = {"name", "shape", "vehicle", "mesh", "mass", "weight", "buoyancy", "position", "rotation_deg",
              "drag_coefficient", "axial_model", "inertia", "center_of_gravity", "bem", "resolution", *DIMENSIONS}
-
-
-@dataclass
-class GeometryPart:
-    """A parsed part: the composite Part, its coefficients' sources and the shape (for BEM)."""
-
-    part: Any
-    sources: dict[str, str]
-    shape: str | None
-    dims: dict[str, float]
-    mesh: Any = None
-    bem: bool = True
-    resolution: int = 48
-
-
-@dataclass
-class Geometry:
-    name: str
-    gravity: float
-    density: float
-    parts: list[GeometryPart]
-    source: str
 
 
 def _num(v: Any, where: str, src: str, positive: bool = True) -> float:
@@ -75,31 +54,6 @@ def _vec(v: Any, where: str, src: str) -> np.ndarray:
     if not isinstance(v, list) or len(v) != 3:
         raise InputError(f"field '{where}' = {v!r}: expected 3 numbers", src)
     return np.array([_num(x, f"{where}[{i}]", src, positive=False) for i, x in enumerate(v)])
-
-
-def solid_inertia(shape: str, mass: float, dims: dict[str, float]) -> np.ndarray:
-    """Inertia tensor (kg·m²) of a uniform solid about its centre, axis x.
-
-    Cylinder: I_x = ½ m a², I_y = I_z = m (3a² + L²)/12 (REHMAN prints 1/12 m a² for I_x, which is
-    wrong for a solid cylinder; SPEC §2.3). Sphere 2/5 m a²; spheroid I_x = 2/5 m b²,
-    I_y = I_z = m (a² + b²)/5; block and plate m (b² + c²)/12 about each axis.
-    """
-    if shape == "sphere":
-        a = dims["diameter"] / 2
-        return np.eye(3) * 0.4 * mass * a * a
-    if shape == "spheroid":
-        a, b = dims["length"] / 2, dims["diameter"] / 2
-        return np.diag([0.4 * mass * b * b, mass * (a * a + b * b) / 5, mass * (a * a + b * b) / 5])
-    if shape == "cylinder":
-        a, L = dims["diameter"] / 2, dims["length"]
-        t = mass * (3 * a * a + L * L) / 12
-        return np.diag([0.5 * mass * a * a, t, t])
-    if shape in ("block", "flat_plate"):
-        lx = dims.get("thickness", 0.0) if shape == "flat_plate" else dims["length"]
-        ly = dims["width"]
-        lz = dims["height"] if shape == "block" else dims["length"]
-        return np.diag([mass * (ly**2 + lz**2) / 12, mass * (lx**2 + lz**2) / 12, mass * (lx**2 + ly**2) / 12])
-    raise InputError(f"no inertia formula for shape {shape!r}")
 
 
 def load_geometry(path: str | os.PathLike[str]) -> Geometry:
@@ -192,22 +146,3 @@ def load_geometry(path: str | os.PathLike[str]) -> Geometry:
         parts.append(GeometryPart(part, dict(sc.sources), shape, dims, None, bool(raw.get("bem", True)),
                                   int(raw.get("resolution", 48))))
     return Geometry(str(data.get("name", p.stem)), g, rho, parts, src)
-
-
-def vehicle_fragment(geo: Geometry, comp: Any) -> dict[str, Any]:
-    """The combined body as vehicle-file fields (issue #3 format; full 6×6 matrices)."""
-    r = lambda a: np.round(np.asarray(a, float), 9).tolist()  # noqa: E731
-    return {
-        "name": geo.name,
-        "gravity": geo.gravity,
-        "fluid": {"density": geo.density},
-        "mass": round(float(comp.mass), 9),
-        "volume": round(float(comp.volume), 9),
-        "inertia": r(comp.inertia_cg),
-        "center_of_gravity": r(comp.r_g),
-        "center_of_buoyancy": r(comp.r_b),
-        "added_mass": r(comp.added_mass),
-        "linear_damping": r(comp.linear_damping),
-        "quadratic_damping": r(np.diag(comp.quadratic_damping)),
-        "sources": [f"{gp.part.name}: {k}: {v}" for gp in geo.parts for k, v in gp.sources.items()],
-    }

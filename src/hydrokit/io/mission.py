@@ -41,7 +41,6 @@ from __future__ import annotations
 
 import math
 import os
-from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
@@ -49,75 +48,15 @@ import numpy as np
 
 from hydrokit.errors import InputError
 from hydrokit.io.yamlfile import read_yaml
-from hydrokit.model.control import PID, Autopilot, SPlane
+from hydrokit.model.mission import CONTROLLER_KINDS, LOOPS, Mission
 from hydrokit.model.guidance import Path as WaypointPath
 
 MISSIONS_DIR = Path(__file__).resolve().parents[1] / "data" / "missions"
-CONTROLLER_KINDS = ("pid", "s-plane")
-LOOPS = ("speed", "depth", "heading", "roll", "pitch")
 TOP_KEYS = {
     "name", "vehicle", "duration", "dt", "output_every", "controller", "controllers",
     "guidance", "initial", "current", "allocation", "description",
 }
 GAIN_KEYS = {"pid": {"kp", "ki", "kd", "limit"}, "s-plane": {"k1", "k2", "scale"}}
-
-
-@dataclass(frozen=True)
-class Mission:
-    """A parsed mission (SI units, radians).
-
-    Attributes
-    ----------
-    name : str
-    source : str — the mission file
-    vehicle : str — vehicle file path or bundled name
-    duration : float — s
-    dt : float — integration/control step, s
-    output_every : int — keep every n-th step
-    controller : str — default controller kind ("pid" or "s-plane")
-    gains : dict — kind → loop → gains (as in the file, validated numbers)
-    path : hydrokit.model.guidance.Path — waypoints, leg speeds, radius, lookahead
-    eta0 : (6,) array — initial position (m) and attitude (rad)
-    nu0 : (6,) array — initial body velocity, m/s and rad/s
-    current : (3,) array — current velocity in NED, m/s
-    weights : tuple of float or None — allocation weights, –
-    """
-
-    name: str
-    source: str
-    vehicle: str
-    duration: float
-    dt: float
-    output_every: int
-    controller: str
-    gains: dict[str, dict[str, dict[str, float]]]
-    path: WaypointPath
-    eta0: np.ndarray
-    nu0: np.ndarray
-    current: np.ndarray
-    weights: tuple[float, ...] | None = None
-
-    def autopilot(self, kind: str | None = None) -> Autopilot:
-        """Build the autopilot for ``kind`` ("pid" or "s-plane"; default: the file's)."""
-        kind = kind or self.controller
-        if kind not in self.gains:
-            have = ", ".join(sorted(self.gains)) or "none"
-            raise InputError(
-                f"controllers.{kind}: no gains for the '{kind}' controller (file has: {have})",
-                self.source,
-            )
-        loops: dict[str, Any] = {}
-        for loop, g in self.gains[kind].items():
-            angle = loop in ("heading", "roll", "pitch")
-            if kind == "pid":
-                lim = g.get("limit", math.inf)
-                loops[loop] = PID(
-                    kp=g.get("kp", 0.0), ki=g.get("ki", 0.0), kd=g.get("kd", 0.0),
-                    output_min=-lim, output_max=lim, angle=angle,
-                )
-            else:
-                loops[loop] = SPlane(k1=g["k1"], k2=g.get("k2", 0.0), scale=g["scale"], angle=angle)
-        return Autopilot(**loops)
 
 
 def resolve_mission(name_or_path: str | os.PathLike[str]) -> Path:
@@ -315,63 +254,3 @@ def _parse_guidance(value: Any, source: str) -> WaypointPath:
     else:
         leg_speeds = [default_speed if s is None else s for s in speeds[1:]]
     return WaypointPath(points=P, speeds=np.array(leg_speeds), acceptance_radius=radius, lookahead=lookahead)
-
-
-@dataclass(frozen=True)
-class MissionRun:
-    """One flown mission: the closed-loop result and the vehicle's thrusters."""
-
-    result: Any
-    thrusters: Any
-
-
-def prepare_vehicle(mission: Mission) -> tuple[Any, Any]:
-    """Load and validate the mission's vehicle: (ThrusterSet, dynamics f(t, x, τ)).
-
-    The vehicle model is the issue-#3 model of the vehicle file (:func:`hydrokit.io.vehicle.
-    load_vehicle`), run through the compiled right-hand side, with the mission's current.
-    Raises :class:`InputError` for a missing vehicle, a bad ``thrusters:`` block or
-    allocation weights that do not match the thrusters.
-    """
-    from hydrokit.io.thrusters import parse_thrusters
-    from hydrokit.io.vehicle import parse_vehicle, resolve_vehicle
-    from hydrokit.simulate.compiled import make_dynamics
-
-    source = resolve_vehicle(mission.vehicle)
-    raw = read_yaml(source)
-    thrusters = parse_thrusters(raw, str(source))
-    if mission.weights is not None and len(mission.weights) != len(thrusters):
-        raise InputError(
-            f"field 'allocation.weights': {len(mission.weights)} given; expected one per "
-            f"thruster ({len(thrusters)})",
-            mission.source,
-        )
-    vehicle = parse_vehicle(raw, str(source))
-    return thrusters, make_dynamics(vehicle, mission.current)
-
-
-def fly(
-    mission: Mission,
-    kind: str | None = None,
-    duration: float | None = None,
-    progress: Any = None,
-    prepared: tuple[Any, Any] | None = None,
-) -> MissionRun:
-    """Fly ``mission`` with the ``kind`` controller ("pid" / "s-plane"; default the file's).
-
-    Loads the vehicle (model and ``thrusters:`` block) named by the mission — or uses
-    ``prepared`` from :func:`prepare_vehicle` — then runs
-    :func:`hydrokit.simulate.closed_loop.run_closed_loop`. ``duration`` (s) overrides the
-    file's; ``progress`` is called with the simulated time (s).
-    """
-    from hydrokit.simulate.closed_loop import run_closed_loop
-
-    autopilot = mission.autopilot(kind)
-    thrusters, dynamics = prepared if prepared is not None else prepare_vehicle(mission)
-    result = run_closed_loop(
-        dynamics, thrusters, autopilot, mission.path, mission.eta0, mission.nu0,
-        duration=mission.duration if duration is None else float(duration),
-        dt=mission.dt, current_ned=mission.current, weights=mission.weights,
-        output_every=mission.output_every, progress=progress,
-    )
-    return MissionRun(result=result, thrusters=thrusters)

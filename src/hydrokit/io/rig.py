@@ -25,7 +25,7 @@ from typing import Any, Literal
 from pydantic import BaseModel, ConfigDict, Field, ValidationError, field_validator
 
 from hydrokit.errors import InputError
-from hydrokit.identify.types import AXES, Rig
+from hydrokit.identify.types import AXES, Rig, rig_document
 from hydrokit.io.yamlfile import pydantic_error_line, read_yaml
 
 
@@ -137,24 +137,5 @@ def load_rig(path: str | os.PathLike[str]) -> Rig:
     return parse_rig(read_yaml(path), str(path))
 
 
-def rig_to_dict(rig: Rig) -> dict[str, Any]:
-    """The rig in the rig-file layout (for JSON results and virtual-rig output)."""
-    out: dict[str, Any] = {
-        "test": rig.test, "axis": rig.axis, "gravity": rig.gravity,
-        "fluid": {"density": rig.density, "kinematic_viscosity": rig.kinematic_viscosity},
-        "body": {"mass": rig.mass, "volume": rig.volume, "reference_area": rig.reference_area,
-                 "reference_length": rig.reference_length, "inertia": rig.inertia},
-    }
-    if rig.test == "pendulum":
-        out["pendulum"] = {"length": rig.pendulum_length, "rod_mass": rig.rod_mass, "rod_volume": rig.rod_volume}
-    elif rig.test == "spring":
-        out["spring"] = {"stiffness": rig.stiffness}
-    else:
-        out["torsion"] = {"stiffness": rig.stiffness}
-    if rig.tare_linear_damping or rig.tare_quadratic_damping:
-        out["tare"] = {"linear_damping": rig.tare_linear_damping, "quadratic_damping": rig.tare_quadratic_damping}
-    if rig.wall_distance is not None:
-        out["wall_distance"] = rig.wall_distance
-    if rig.scale is not None:
-        out["scale"] = rig.scale
-    return out
+#: the rig in the rig-file layout (kept under its old name)
+rig_to_dict = rig_document

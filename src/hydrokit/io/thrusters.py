@@ -29,9 +29,9 @@ from __future__ import annotations
 
 import math
 import os
-from pathlib import Path
 from typing import Any
 
+from hydrokit.core.validate import mapping, number, vector
 from hydrokit.errors import InputError
 from hydrokit.io.yamlfile import read_yaml
 from hydrokit.model.thrusters import DEFAULT_ADVANCE_RATIO_RANGE, Thruster, ThrusterSet
@@ -76,8 +76,7 @@ def parse_thrusters(data: dict[str, Any], source: str) -> ThrusterSet:
     notes: list[str] = []
     for i, entry in enumerate(raw):
         where = f"thrusters[{i}]"
-        if not isinstance(entry, dict):
-            raise InputError(f"{where} = {entry!r}: expected a mapping of fields", source)
+        mapping(entry, where, source)
         unknown = sorted(set(map(str, entry)) - ALLOWED)
         if unknown:  # other tools' fields are tolerated, but a typo should not pass silently
             notes.append(
@@ -106,10 +105,7 @@ def _density(data: dict[str, Any], source: str) -> float | None:
     fluid = data.get("fluid")
     if not isinstance(fluid, dict) or "density" not in fluid:
         return None
-    rho = fluid["density"]
-    if isinstance(rho, bool) or not isinstance(rho, (int, float)) or not rho > 0:
-        raise InputError(f"fluid.density = {rho!r}: expected a positive number in kg/m³", source)
-    return float(rho)
+    return number(fluid["density"], "fluid.density", source, positive=True)  # kg/m³
 
 
 def _one(entry: dict[str, Any], name: str, where: str, density: float | None) -> Thruster:
@@ -126,8 +122,8 @@ def _one(entry: dict[str, Any], name: str, where: str, density: float | None) ->
     if has_dir:
         direction = entry["direction"]
     else:
-        az = math.radians(_number(entry.get("azimuth_deg", 0.0), f"{where}.azimuth_deg"))
-        el = math.radians(_number(entry.get("elevation_deg", 0.0), f"{where}.elevation_deg"))
+        az = math.radians(number(entry.get("azimuth_deg", 0.0), f"{where}.azimuth_deg"))
+        el = math.radians(number(entry.get("elevation_deg", 0.0), f"{where}.elevation_deg"))
         direction = (math.cos(el) * math.cos(az), math.cos(el) * math.sin(az), math.sin(el))
     kw: dict[str, Any] = {
         "name": name,
@@ -148,22 +144,27 @@ def _one(entry: dict[str, Any], name: str, where: str, density: float | None) ->
                 raise InputError(f"{where}: the propeller model needs '{key}'")
         kw["kt_forward"] = entry["kt_forward"]
         kw["kt_reverse"] = entry.get("kt_reverse")
-        kw["max_speed"] = _number(entry["max_rpm"], f"{where}.max_rpm") / 60.0  # rpm -> rev/s
+        rpm = number(entry["max_rpm"], f"{where}.max_rpm", positive=True)
+        kw["max_speed"] = rpm / 60.0  # rpm -> rev/s
         kw["advance_ratio_range"] = tuple(
-            entry.get("advance_ratio_range", DEFAULT_ADVANCE_RATIO_RANGE)
+            vector(entry.get("advance_ratio_range", DEFAULT_ADVANCE_RATIO_RANGE), 2, f"{where}.advance_ratio_range")
         )
         loss = entry.get("thrust_loss", 1.0)
         if isinstance(loss, dict):
             extra = set(loss) - {"forward", "reverse"}
             if extra:
                 raise InputError(f"{where}.thrust_loss: unknown key '{sorted(extra)[0]}'")
-            kw["thrust_loss_forward"] = loss.get("forward", 1.0)
-            kw["thrust_loss_reverse"] = loss.get("reverse", loss.get("forward", 1.0))
+            fwd = number(loss.get("forward", 1.0), f"{where}.thrust_loss.forward", positive=True)
+            kw["thrust_loss_forward"] = fwd
+            # reverse defaults to the forward factor
+            kw["thrust_loss_reverse"] = number(loss.get("reverse", fwd), f"{where}.thrust_loss.reverse", positive=True)
         else:
-            kw["thrust_loss_forward"] = kw["thrust_loss_reverse"] = loss
+            kw["thrust_loss_forward"] = kw["thrust_loss_reverse"] = number(
+                loss, f"{where}.thrust_loss", positive=True
+            )
     if "thrust_table" in entry:
-        table = entry["thrust_table"]
-        if not isinstance(table, dict) or set(table) != {"command", "thrust"}:
+        table = mapping(entry["thrust_table"], f"{where}.thrust_table")
+        if set(table) != {"command", "thrust"}:
             raise InputError(f"{where}.thrust_table: expected a mapping with 'command' and 'thrust'")
         kw["table_command"] = table["command"]
         kw["table_thrust"] = table["thrust"]
@@ -174,8 +175,3 @@ def _one(entry: dict[str, Any], name: str, where: str, density: float | None) ->
     except (TypeError, ValueError) as exc:
         raise InputError(f"{where}: {exc}") from None
 
-
-def _number(value: Any, what: str) -> float:
-    if isinstance(value, bool) or not isinstance(value, (int, float)) or not math.isfinite(value):
-        raise InputError(f"{what} = {value!r}: expected a finite number")
-    return float(value)

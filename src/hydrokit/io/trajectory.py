@@ -14,10 +14,11 @@ from pathlib import Path
 
 import numpy as np
 
+from hydrokit.core.names import FORCE_COLUMNS, STATE_COLUMNS
 from hydrokit.errors import InputError
 
-COLUMNS = ("time", "x", "y", "z", "phi", "theta", "psi", "u", "v", "w", "p", "q", "r")
-FORCE_COLUMNS = ("time", "X", "Y", "Z", "K", "M", "N")
+COLUMNS = STATE_COLUMNS
+
 
 
 def trajectory_csv(table: np.ndarray) -> str:
@@ -65,3 +66,12 @@ def read_force_table(path: str | os.PathLike[str]) -> np.ndarray:
     if np.any(np.diff(out[:, 0]) <= 0):
         raise InputError("column 'time' must increase strictly (s)", src)
     return out
+
+
+def table_csv(columns: list[str], data: np.ndarray, int_columns: tuple[str, ...] = ("saturated", "leg")) -> str:
+    """CSV text of a table: floats with 9 significant digits, ``int_columns`` as integers."""
+    ints = {i for i, c in enumerate(columns) if c in int_columns}
+    lines = [",".join(columns)]
+    for row in data:
+        lines.append(",".join(str(int(v)) if i in ints else f"{v:.9g}" for i, v in enumerate(row)))
+    return "\n".join(lines) + "\n"

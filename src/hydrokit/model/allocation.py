@@ -7,16 +7,19 @@ forces f (N) with τ = T f, where column i of the 6×m configuration matrix T is
 
 from __future__ import annotations
 
+from typing import Any
+
 from dataclasses import dataclass, field
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from hydrokit._result import Result, jsonable
 from hydrokit.errors import InputError
 
 Array = NDArray[np.float64]
 
-DOF_NAMES = ("surge", "sway", "heave", "roll", "pitch", "yaw")
+from hydrokit.core.names import DOF_NAMES
 
 #: A row of T whose largest entry is below this (N per N, m) counts as all-zero: poses are
 #: given to ~1e-3 m, so anything smaller is round-off, not a lever arm.
@@ -75,7 +78,7 @@ def weighted_pinv(T: ArrayLike, weights: ArrayLike | None = None) -> Array:
 
 
 @dataclass(frozen=True)
-class AllocationResult:
+class Allocation(Result):
     """Outcome of one allocation.
 
     Attributes
@@ -87,6 +90,14 @@ class AllocationResult:
     uncontrollable : list of str — DOF the layout cannot actuate
     warnings : list of str — recoverable oddities (e.g. τ asked in an uncontrollable DOF)
     method : str — "pinv", "weighted-pinv" or "constrained"
+    tau : (6,) array or None — the demanded τ, N and N·m
+    names : list of str — thruster names (file order)
+    configuration_matrix : (6, m) array or None — T (–, m)
+    f_min, f_max : (m,) arrays or None — thrust limits, N
+    command : (m,) array or None — thruster commands giving ``thrust`` at zero advance speed
+        (rev/s for propellers, table units, N for ideal thrusters)
+    command_unit : list of str — the unit of each command
+    vehicle : str — the vehicle name or file, for the record
     """
 
     thrust: Array
@@ -96,6 +107,69 @@ class AllocationResult:
     uncontrollable: list[str]
     warnings: list[str] = field(default_factory=list)
     method: str = "constrained"
+    tau: Array | None = None
+    names: list[str] = field(default_factory=list)
+    configuration_matrix: Array | None = None
+    f_min: Array | None = None
+    f_max: Array | None = None
+    command: Array | None = None
+    command_unit: list[str] = field(default_factory=list)
+    vehicle: str = ""
+
+    def to_dict(self) -> dict[str, Any]:
+        """The ``hydrokit allocate --json`` document (forces N, moments N·m, propeller speeds rpm)."""
+        shown = None
+        if self.command is not None:
+            # rev/s → rpm at the edge: the JSON contract states propeller speeds in rpm
+            shown = [float(c) * 60.0 if u == "rev/s" else float(c) for c, u in zip(self.command, self.command_unit)]
+        T = self.configuration_matrix
+        return jsonable({
+            "vehicle": self.vehicle,
+            "method": self.method,
+            "thrusters": list(self.names),
+            "tau": None if self.tau is None else [float(x) for x in self.tau],
+            "configuration_matrix": None if T is None else [[float(x) for x in row] for row in T],
+            "thrust": [float(x) for x in self.thrust],
+            "thrust_limits": None if self.f_min is None or self.f_max is None else
+            [[float(a), float(b)] for a, b in zip(self.f_min, self.f_max)],
+            "command": shown,
+            "command_unit": ["rpm" if u == "rev/s" else u for u in self.command_unit],
+            "achieved_tau": [float(x) for x in self.achieved_tau],
+            "residual": float(self.residual),
+            "uncontrollable": list(self.uncontrollable),
+            "saturated": list(self.saturated),
+            "warnings": list(self.warnings),
+            "units": {"thrust": "N", "tau": "N, N·m (X,Y,Z,K,M,N)", "configuration_matrix": "-, m"},
+        })
+
+    def table(self) -> tuple[list[str], list[list[Any]]]:
+        """One row per thruster: name, thrust (N), limits (N), command and its unit."""
+        n = len(self.thrust)
+        names = self.names or [f"thruster {i + 1}" for i in range(n)]
+        lo = self.f_min if self.f_min is not None else [None] * n
+        hi = self.f_max if self.f_max is not None else [None] * n
+        cmd = self.command if self.command is not None else [None] * n
+        units = self.command_unit or [""] * n
+        return (["thruster", "thrust", "f_min", "f_max", "command", "command_unit", "saturated"],
+                [[names[i], float(self.thrust[i]), lo[i], hi[i], cmd[i], units[i], names[i] in self.saturated]
+                 for i in range(n)])
+
+    def summary_rows(self) -> list[tuple[str, Any]]:
+        return [("method", self.method), ("thrust (N)", [round(float(x), 3) for x in self.thrust]),
+                ("residual", self.residual), ("saturated", ", ".join(self.saturated) or "none"),
+                ("not actuated", ", ".join(self.uncontrollable) or "none")]
+
+    def plot(self, ax: Any = None) -> Any:
+        """Thrust per thruster with its limits on ``ax`` (or new axes); returns the axes."""
+        from hydrokit.plot.allocation import allocation_axes
+
+        n = len(self.thrust)
+        names = self.names or [f"thruster {i + 1}" for i in range(n)]
+        return allocation_axes(names, np.asarray(self.thrust), self.f_min, self.f_max, ax)
+
+
+#: the earlier name of :class:`Allocation`
+AllocationResult = Allocation
 
 
 def _check_tau(tau: ArrayLike) -> Array:

@@ -24,27 +24,12 @@ from typing import Protocol
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+# wrap_angle is defined once, in core; it stays importable from here (plot/ and simulate/ use it)
+from hydrokit.core.kinematics import wrap_angle
+from hydrokit.core.validate import quantity
 from hydrokit.errors import InputError
 
 Array = NDArray[np.float64]
-
-
-def wrap_angle(a: float) -> float:
-    """Wrap an angle to [−π, π), rad."""
-    return (a + math.pi) % (2.0 * math.pi) - math.pi
-
-
-def _num(value: object, what: str, *, positive: bool = False, nonneg: bool = False) -> float:
-    if isinstance(value, bool) or not isinstance(value, (int, float, np.integer, np.floating)):
-        raise InputError(f"{what} = {value!r}: expected a number")
-    v = float(value)
-    if math.isnan(v):
-        raise InputError(f"{what} = nan: expected a number")
-    if positive and not v > 0:
-        raise InputError(f"{what} = {v}: expected a positive number")
-    if nonneg and not v >= 0:
-        raise InputError(f"{what} = {v}: expected a number ≥ 0")
-    return v
 
 
 @dataclass(frozen=True)
@@ -121,9 +106,10 @@ class PID:
 
     def __post_init__(self) -> None:
         for name in ("kp", "ki", "kd"):
-            object.__setattr__(self, name, _num(getattr(self, name), f"PID {name}", nonneg=True))
-        lo = _num(self.output_min, "PID output_min")
-        hi = _num(self.output_max, "PID output_max")
+            object.__setattr__(self, name, quantity(getattr(self, name), f"PID {name}", nonneg=True))
+        # ±∞ = no limit (the defaults)
+        lo = quantity(self.output_min, "PID output_min", allow_inf=True)
+        hi = quantity(self.output_max, "PID output_max", allow_inf=True)
         if not lo < hi:
             raise InputError(f"PID output limits [{lo}, {hi}]: expected output_min < output_max")
         object.__setattr__(self, "output_min", lo)
@@ -200,9 +186,9 @@ class SPlane:
     angle: bool = False
 
     def __post_init__(self) -> None:
-        object.__setattr__(self, "k1", _num(self.k1, "S-plane k1", nonneg=True))
-        object.__setattr__(self, "k2", _num(self.k2, "S-plane k2", nonneg=True))
-        object.__setattr__(self, "scale", _num(self.scale, "S-plane scale", positive=True))
+        object.__setattr__(self, "k1", quantity(self.k1, "S-plane k1", nonneg=True))
+        object.__setattr__(self, "k2", quantity(self.k2, "S-plane k2", nonneg=True))
+        object.__setattr__(self, "scale", quantity(self.scale, "S-plane scale", positive=True))
 
     @staticmethod
     def surface(e: ArrayLike, e_rate: ArrayLike, k1: float, k2: float) -> Array:

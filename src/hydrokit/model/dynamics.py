@@ -21,6 +21,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from hydrokit.core.coriolis import coriolis_force
 from hydrokit.core.kinematics import euler_rate_matrix, quaternion_rate, quaternion_to_rotation, rotation_zyx
 from hydrokit.errors import InputError
 from hydrokit.model.vehicle import Vehicle
@@ -85,10 +86,7 @@ def interp_table(tab: np.ndarray, t: float) -> tuple[np.ndarray, np.ndarray]:
 
 def hydro_force(p: Packed, terms_force: Callable[[np.ndarray], np.ndarray], nr: np.ndarray, R: np.ndarray) -> np.ndarray:
     """τ-independent right-hand side −C ν_r − D ν_r + τ_terms − g (N, N·m) at ν_r with rotation R."""
-    mv = p.Mc @ nr
-    a, b = mv[:3], mv[3:]
-    v, w = nr[:3], nr[3:]
-    cor = np.concatenate([np.cross(w, a), np.cross(v, a) + np.cross(w, b)])
+    cor = coriolis_force(p.Mc, nr, symmetric=True)  # p.Mc was symmetrised once in pack()
     damp = p.DL @ nr + p.DQ * np.abs(nr) * nr
     W, B = p.scal[0], p.scal[1]
     rg, rb = p.scal[2:5], p.scal[5:8]

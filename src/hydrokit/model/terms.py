@@ -28,10 +28,12 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from hydrokit.core.names import FORCE_SYMBOLS, VELOCITY_SYMBOLS
 from hydrokit.errors import InputError
 
-DOFS = "XYZKMN"
-VELS = "uvwpqr"
+# the grammar works on single characters: "XYZKMN" and "uvwpqr", in core.names' DOF order
+DOFS = "".join(FORCE_SYMBOLS)
+VELS = "".join(VELOCITY_SYMBOLS)
 # factor kinds (codes used by the compiled evaluator)
 VEL, ABS, SIGN, NORM = 1, 2, 3, 4
 MAX_FACTORS = 4

@@ -1,31 +1,38 @@
 """Thruster models: pose, thrust curve, rotor dynamics and saturation.
 
-Three thrust models, chosen per thruster by the fields it has:
+A thruster's thrust curve is an object with one interface (:class:`ThrustCurve`):
+``thrust(command, advance_speed)``, its inverse ``command(thrust, advance_speed)``,
+``limits()`` (thrust, N) and ``command_limits()``. Three curves exist:
 
-``propeller``
+:class:`PropellerCurve` (``model == "propeller"``)
     Open-water curve (REHMAN eq. 1.12, SPEC §4 and §8):
     ``f = loss · K_T(J) · ρ D⁴ |n| n`` with ``J = V_a / (n D)`` and ``K_T`` a polynomial of
     ``J``; forward (n > 0) and reverse (n < 0) rotation have their own polynomial and
     thrust-loss factor. The command is the propeller speed ``n`` in rev/s.
-``table``
+:class:`TableCurve` (``model == "table"``)
     Thrust interpolated in a strictly increasing table of thrust vs command (e.g. the
     BlueROV2 T200 curve F(V) tabulated against the normalised input V). The command has
     the table's unit.
-``ideal``
+:class:`IdealCurve` (``model == "ideal"``)
     The command *is* the thrust in N (only limits and rotor lag apply).
 
-All arrays are in file order. SI units: m, N, rev/s, s, kg/m³.
+A :class:`Thruster` holds one curve (built from its fields, or given as ``curve=``);
+:class:`ThrusterSet` calls the curves without knowing which kind each is, so a new kind of
+curve needs no change here. All arrays are in file order. SI units: m, N, rev/s, s, kg/m³.
 """
 
 from __future__ import annotations
 
+import abc
+import dataclasses
 import math
-from dataclasses import dataclass, field
-from typing import Literal
+from dataclasses import InitVar, dataclass, field
+from typing import ClassVar, Literal
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from hydrokit.core.validate import quantities, quantity
 from hydrokit.errors import InputError
 
 Array = NDArray[np.float64]
@@ -35,25 +42,295 @@ ThrustModel = Literal["propeller", "table", "ideal"]
 #: at its end value (cubic fits diverge for large |J|, which happens as n → 0 with inflow).
 DEFAULT_ADVANCE_RATIO_RANGE = (-0.5, 1.0)
 
+#: Sea water, kg/m³ (SPEC §8): the density a curve has until a ThrusterSet binds its own.
+DEFAULT_DENSITY = 1025.0
+
 #: Iteration cap for inverting a propeller curve: up to 20 regula-falsi (Illinois) steps,
 #: then bisection; 2⁻⁶⁰ of the speed range is far below any meaningful rev/s resolution.
 #: It usually stops within a few steps, at a thrust error of 1e-12 relative.
 _BISECTION_STEPS = 80
 
 
-def _vec3(value: ArrayLike, what: str) -> tuple[float, float, float]:
-    try:
-        a = np.asarray(value, dtype=float).reshape(-1)
-    except (TypeError, ValueError):
-        raise InputError(f"{what} = {value!r}: expected 3 numbers") from None
-    if a.shape != (3,) or not np.all(np.isfinite(a)):
-        raise InputError(f"{what} = {value!r}: expected 3 finite numbers")
-    return (float(a[0]), float(a[1]), float(a[2]))
+def _horner(coeffs: tuple[float, ...], x: float) -> float:
+    """Polynomial value, highest power first (the same operation order as np.polyval)."""
+    y = 0.0
+    for c in coeffs:
+        y = y * x + c
+    return y
+
+
+# =========================================================================== thrust curves
+class ThrustCurve(abc.ABC):
+    """Command ↔ thrust of one thruster (steady state, no rotor lag).
+
+    Subclasses set ``kind`` (the thruster's ``model`` string) and ``unit`` (the command's
+    unit) and implement :meth:`thrust`, :meth:`command` and :meth:`limits`.
+    """
+
+    kind: ClassVar[str]
+    unit: ClassVar[str]
+
+    @abc.abstractmethod
+    def thrust(self, command: float, advance_speed: float = 0.0) -> float:
+        """Thrust for a command, N (not clipped to any rated limit).
+
+        Parameters
+        ----------
+        command : float
+            The command, in :attr:`unit` (rev/s, table unit or N).
+        advance_speed : float, optional
+            V_a, the axial inflow speed at the propeller, m/s.
+        """
+
+    @abc.abstractmethod
+    def command(self, thrust: float, advance_speed: float = 0.0) -> float:
+        """The command giving ``thrust`` (N) at ``advance_speed`` (m/s); the inverse of
+        :meth:`thrust` within :meth:`limits`, held at the command limit beyond them."""
+
+    @abc.abstractmethod
+    def limits(self) -> tuple[float, float]:
+        """(min, max) thrust the curve can give at V_a = 0, N (±∞: no own limit)."""
+
+    def command_limits(self) -> tuple[float, float]:
+        """(min, max) command, in :attr:`unit`; ±∞ when the curve has no own range."""
+        return (-math.inf, math.inf)
+
+    def in_fluid(self, density: float) -> ThrustCurve:
+        """The same curve in water of ``density`` (kg/m³); unchanged if it does not depend
+        on the density."""
+        return self
+
+
+@dataclass(frozen=True)
+class IdealCurve(ThrustCurve):
+    """The command is the thrust, N: ``thrust(c) = c``. Only rated limits and lag apply."""
+
+    kind: ClassVar[str] = "ideal"
+    unit: ClassVar[str] = "N"
+
+    def thrust(self, command: float, advance_speed: float = 0.0) -> float:
+        """``command`` itself, N."""
+        return float(command)
+
+    def command(self, thrust: float, advance_speed: float = 0.0) -> float:
+        """``thrust`` itself, N."""
+        return float(thrust)
+
+    def limits(self) -> tuple[float, float]:
+        """(−∞, ∞): the thruster's rated limits are the only ones."""
+        return (-math.inf, math.inf)
+
+
+@dataclass(frozen=True)
+class TableCurve(ThrustCurve):
+    """Thrust interpolated linearly in a table, held at its end values.
+
+    Parameters
+    ----------
+    commands : sequence of float
+        Command points, in the table's own unit (e.g. normalised input or PWM µs); strictly
+        increasing, at least two.
+    thrusts : sequence of float
+        Thrust at each command point, N; strictly increasing (so the curve can be inverted).
+    label : str, optional, init-only
+        What error messages call the curve (e.g. ``thruster 'T1'``).
+    """
+
+    commands: tuple[float, ...]
+    thrusts: tuple[float, ...]
+    label: InitVar[str] = "table curve"
+    kind: ClassVar[str] = "table"
+    unit: ClassVar[str] = "table command"
+
+    def __post_init__(self, label: str) -> None:
+        c = quantities(self.commands, f"{label} thrust_table command")
+        f = quantities(self.thrusts, f"{label} thrust_table thrust")
+        if len(c) != len(f) or len(c) < 2:
+            raise InputError(
+                f"{label} thrust_table: command and thrust need the same length ≥ 2, "
+                f"got {len(c)} and {len(f)}"
+            )
+        if np.any(np.diff(c) <= 0) or np.any(np.diff(f) <= 0):
+            raise InputError(
+                f"{label} thrust_table: command and thrust must both be strictly increasing"
+            )
+        object.__setattr__(self, "commands", c)
+        object.__setattr__(self, "thrusts", f)
+
+    def thrust(self, command: float, advance_speed: float = 0.0) -> float:
+        """Interpolated thrust, N (the table holds for any advance speed)."""
+        return float(np.interp(command, self.commands, self.thrusts))
+
+    def command(self, thrust: float, advance_speed: float = 0.0) -> float:
+        """Interpolated command (table unit) for ``thrust`` (N)."""
+        return float(np.interp(thrust, self.thrusts, self.commands))
+
+    def limits(self) -> tuple[float, float]:
+        """First and last thrust of the table, N."""
+        return (self.thrusts[0], self.thrusts[-1])
+
+    def command_limits(self) -> tuple[float, float]:
+        """First and last command of the table (table unit)."""
+        return (self.commands[0], self.commands[-1])
+
+
+@dataclass(frozen=True)
+class PropellerCurve(ThrustCurve):
+    """Open-water propeller curve ``f = loss · K_T(J) ρ D⁴ |n| n`` (REHMAN eq. 1.12).
+
+    Parameters
+    ----------
+    diameter : float
+        Propeller diameter D, m (> 0).
+    kt_forward : sequence of float
+        K_T(J) polynomial for n > 0, highest power first (c3, c2, c1, c0 for a cubic), –.
+    max_speed : float
+        Propeller speed limit n_max, rev/s (> 0): commands lie in [−n_max, n_max].
+    kt_reverse : sequence of float or None, optional
+        K_T(J) for n < 0, –; None = the forward polynomial.
+    thrust_loss_forward, thrust_loss_reverse : float, optional
+        Thrust-loss factors (installation, duct), – (> 0; 1 = none).
+    advance_ratio_range : (float, float), optional
+        J range where the polynomials hold, –; J is clamped to it (low ≤ 0 < high).
+    density : float, optional
+        Water density ρ, kg/m³. A :class:`ThrusterSet` rebinds it to the set's density.
+    label : str, optional, init-only
+        What error messages call the curve (e.g. ``thruster 'T1'``).
+
+    Notes
+    -----
+    ``J = V_a / (n D)``; K_T is clamped at ≥ 0 (inflow may cancel thrust, never reverse
+    it), and K_T(0) must be positive in both senses so the curve is invertible.
+    """
+
+    diameter: float
+    kt_forward: tuple[float, ...]
+    max_speed: float
+    kt_reverse: tuple[float, ...] | None = None
+    thrust_loss_forward: float = 1.0
+    thrust_loss_reverse: float = 1.0
+    advance_ratio_range: tuple[float, float] = DEFAULT_ADVANCE_RATIO_RANGE
+    density: float = DEFAULT_DENSITY
+    label: InitVar[str] = "propeller curve"
+    kind: ClassVar[str] = "propeller"
+    unit: ClassVar[str] = "rev/s"
+
+    def __post_init__(self, label: str) -> None:
+        put = lambda k, v: object.__setattr__(self, k, v)  # noqa: E731
+        put("diameter", quantity(self.diameter, f"{label} diameter", positive=True, unit="m"))
+        put("max_speed", quantity(self.max_speed, f"{label} max_speed", positive=True, unit="rev/s"))
+        kf = quantities(self.kt_forward, f"{label} kt_forward")
+        kr = self.kt_reverse
+        # None or an empty list: the reverse sense uses the forward polynomial
+        kr = kf if kr is None or (isinstance(kr, (list, tuple)) and not kr) else quantities(kr, f"{label} kt_reverse")
+        put("kt_forward", kf)
+        put("kt_reverse", kr)
+        if _horner(kf, 0.0) <= 0 or _horner(kr, 0.0) <= 0:
+            raise InputError(f"{label}: K_T(0) must be positive for both rotation senses")
+        for attr in ("thrust_loss_forward", "thrust_loss_reverse"):
+            put(attr, quantity(getattr(self, attr), f"{label} {attr}", positive=True))
+        rng = quantities(self.advance_ratio_range, f"{label} advance_ratio_range", 2)
+        if not rng[0] <= 0 < rng[1]:
+            raise InputError(
+                f"{label} advance_ratio_range = {list(self.advance_ratio_range)}: "
+                "expected [low ≤ 0, high > 0]"
+            )
+        put("advance_ratio_range", rng)
+        put("density", quantity(self.density, f"{label} density", positive=True, unit="kg/m³"))
+
+    def in_fluid(self, density: float) -> PropellerCurve:
+        """This curve with ρ = ``density`` (kg/m³)."""
+        return self if density == self.density else dataclasses.replace(self, density=density)
+
+    def thrust(self, command: float, advance_speed: float = 0.0) -> float:
+        """Thrust at propeller speed ``command`` (n, rev/s) and V_a (m/s), N.
+
+        Plain floats, no arrays: it runs inside the root search of :meth:`command`.
+        """
+        n, va = float(command), float(advance_speed)
+        if n == 0.0:
+            return 0.0
+        D = self.diameter
+        lo, hi = self.advance_ratio_range
+        nD = n * D
+        if abs(nD) * 1e6 > abs(va):
+            J = min(max(va / nD, lo), hi)
+        else:  # |J| > 1e6: far outside any curve's range, only its sign matters
+            J = hi if (va > 0) == (n > 0) else lo
+        kt = _horner(self.kt_forward if n > 0 else self.kt_reverse, J)  # type: ignore[arg-type]
+        loss = self.thrust_loss_forward if n > 0 else self.thrust_loss_reverse
+        return loss * max(kt, 0.0) * self.density * D**4 * abs(n) * n
+
+    def command(self, thrust: float, advance_speed: float = 0.0) -> float:
+        """Propeller speed n (rev/s, within ±max_speed) giving ``thrust`` (N) at V_a (m/s).
+
+        Closed form ``n = sign(f) √(|f| / (loss K_T(0) ρ D⁴))`` at V_a = 0; otherwise a
+        bracketed root search (regula falsi, Illinois) on [0, n_max] or [−n_max, 0] (the
+        sense follows the sign of f). A demand beyond what the curve gives at the speed
+        limit returns the speed limit.
+        """
+        f, va = float(thrust), float(advance_speed)
+        if f == 0.0:
+            return 0.0
+        n_max = self.max_speed
+        D = self.diameter
+        fwd = f > 0
+        if va == 0.0:
+            kt0 = _horner(self.kt_forward if fwd else self.kt_reverse, 0.0)  # type: ignore[arg-type]
+            loss = self.thrust_loss_forward if fwd else self.thrust_loss_reverse
+            n = math.sqrt(abs(f) / (loss * kt0 * self.density * D**4))
+            return min(n, n_max) if fwd else -min(n, n_max)
+        lo, hi = (0.0, n_max) if fwd else (-n_max, 0.0)
+        g_lo = self.thrust(lo, va) - f
+        g_hi = self.thrust(hi, va) - f
+        if g_hi <= 0.0:  # even the speed limit does not give f (forward)
+            return hi
+        if g_lo >= 0.0:  # (reverse)
+            return lo
+        # Regula falsi with the Illinois modification on the bracket [lo, hi] where
+        # thrust − f changes sign (thrust(0) = 0 and grows with n in both senses);
+        # converges superlinearly and never leaves the bracket.
+        side = 0
+        n = 0.5 * (lo + hi)
+        for it in range(_BISECTION_STEPS):
+            # after 20 false-position steps (flat stretches of the clamped curve slow it
+            # down) plain bisection guarantees the bracket halves every step
+            n = (lo * g_hi - hi * g_lo) / (g_hi - g_lo) if it < 20 else 0.5 * (lo + hi)
+            g = self.thrust(n, va) - f
+            if abs(g) <= 1e-12 * abs(f) or hi - lo <= 1e-12 * n_max:
+                break
+            if g < 0.0:
+                lo, g_lo = n, g
+                if side == -1:
+                    g_hi *= 0.5
+                side = -1
+            else:
+                hi, g_hi = n, g
+                if side == 1:
+                    g_lo *= 0.5
+                side = 1
+        return n
+
+    def limits(self) -> tuple[float, float]:
+        """Static (V_a = 0) thrust at −n_max and +n_max, N."""
+        return (self.thrust(-self.max_speed), self.thrust(self.max_speed))
+
+    def command_limits(self) -> tuple[float, float]:
+        """(−n_max, n_max), rev/s."""
+        return (-self.max_speed, self.max_speed)
+
+
+# =============================================================================== thruster
+#: the Thruster fields that describe a curve (the alternative to giving ``curve``)
+_PROPELLER_FIELDS = (
+    "kt_forward", "kt_reverse", "thrust_loss_forward", "thrust_loss_reverse",
+    "advance_ratio_range", "max_speed",
+)
 
 
 @dataclass(frozen=True)
 class Thruster:
-    """One thruster: pose, limits and (optionally) a propeller or tabulated thrust curve.
+    """One thruster: pose, limits, rotor lag and a thrust curve.
 
     Parameters
     ----------
@@ -74,6 +351,11 @@ class Thruster:
     time_constant : float — first-order rotor lag τ, s (0 = instantaneous)
     table_command, table_thrust : tuple of float or None — thrust table: command (its own
         unit) and thrust, N; thrust strictly increasing
+    curve : ThrustCurve or None — the thrust curve itself. None: built from the fields
+        above (table fields → :class:`TableCurve`, ``kt_forward`` → :class:`PropellerCurve`
+        with ρ = 1025 kg/m³ until a ThrusterSet binds its density, neither →
+        :class:`IdealCurve`). Given: the curve fields above must be left unset (they stay
+        None) or describe the same curve.
     """
 
     name: str
@@ -92,115 +374,87 @@ class Thruster:
     time_constant: float = 0.0
     table_command: tuple[float, ...] | None = None
     table_thrust: tuple[float, ...] | None = None
+    curve: ThrustCurve | None = None
 
     def __post_init__(self) -> None:
         where = f"thruster '{self.name}'"
+        put = lambda k, v: object.__setattr__(self, k, v)  # noqa: E731
         if not isinstance(self.name, str) or not self.name.strip():
             raise InputError(f"thruster name {self.name!r}: expected a non-empty string")
-        pos = _vec3(self.position, f"{where} position")
-        d = np.asarray(_vec3(self.direction, f"{where} direction"))
+        pos = quantities(self.position, f"{where} position", 3)
+        d = np.asarray(quantities(self.direction, f"{where} direction", 3))
         norm = float(np.linalg.norm(d))
         if norm < 1e-12:
             raise InputError(
                 f"{where} direction {list(self.direction)} has zero length; "
                 "expected a non-zero 3-vector"
             )
-        object.__setattr__(self, "position", pos)
-        object.__setattr__(self, "direction", tuple(float(x) for x in d / norm))
-        fmax = _finite(self.max_thrust, f"{where} max_thrust")
-        if fmax <= 0:
-            raise InputError(f"{where} max_thrust = {fmax}: expected a positive force in N")
-        fmin = -fmax if self.min_thrust is None else _finite(self.min_thrust, f"{where} min_thrust")
+        put("position", pos)
+        put("direction", tuple(float(x) for x in d / norm))
+        fmax = quantity(self.max_thrust, f"{where} max_thrust", positive=True, unit="N")
+        fmin = -fmax if self.min_thrust is None else quantity(self.min_thrust, f"{where} min_thrust")
         if fmin > 0:
             raise InputError(
                 f"{where} min_thrust = {fmin}: expected a reverse thrust ≤ 0 N (negative)"
             )
-        object.__setattr__(self, "max_thrust", fmax)
-        object.__setattr__(self, "min_thrust", fmin)
-        tc = _finite(self.time_constant, f"{where} time_constant")
-        if tc < 0:
-            raise InputError(f"{where} time_constant = {tc}: expected ≥ 0 s")
-        object.__setattr__(self, "time_constant", tc)
-        for attr in ("thrust_loss_forward", "thrust_loss_reverse"):
-            v = _finite(getattr(self, attr), f"{where} {attr}")
-            if v <= 0:
-                raise InputError(f"{where} {attr} = {v}: expected a positive factor")
-            object.__setattr__(self, attr, v)
-        w = _finite(self.wake_fraction, f"{where} wake_fraction")
+        put("max_thrust", fmax)
+        put("min_thrust", fmin)
+        put("time_constant", quantity(self.time_constant, f"{where} time_constant", nonneg=True, unit="s"))
+        w = quantity(self.wake_fraction, f"{where} wake_fraction")
         if not 0 <= w < 1:
             raise InputError(f"{where} wake_fraction = {w}: expected 0 ≤ w < 1")
-        object.__setattr__(self, "wake_fraction", w)
+        put("wake_fraction", w)
         if self.diameter is not None:
-            D = _finite(self.diameter, f"{where} diameter")
-            if D <= 0:
-                raise InputError(f"{where} diameter = {D}: expected a positive length in m")
-            object.__setattr__(self, "diameter", D)
-        model = self.model
-        if model == "propeller":
-            if self.diameter is None:
-                raise InputError(f"{where}: a propeller thruster needs its diameter (m)")
-            if self.max_speed is None:
-                raise InputError(f"{where}: a propeller thruster needs max_rpm (speed limit)")
-            ns = _finite(self.max_speed, f"{where} max_speed")
-            if ns <= 0:
-                raise InputError(f"{where} max_speed = {ns}: expected a positive speed")
-            object.__setattr__(self, "max_speed", ns)
-            kf = _coeffs(self.kt_forward, f"{where} kt_forward")
-            kr = _coeffs(self.kt_reverse, f"{where} kt_reverse") if self.kt_reverse else kf
-            object.__setattr__(self, "kt_forward", kf)
-            object.__setattr__(self, "kt_reverse", kr)
-            if np.polyval(kf, 0.0) <= 0 or np.polyval(kr, 0.0) <= 0:
-                raise InputError(f"{where}: K_T(0) must be positive for both rotation senses")
-            lo, hi = (float(x) for x in self.advance_ratio_range)
-            if not lo <= 0 < hi:
-                raise InputError(
-                    f"{where} advance_ratio_range = {list(self.advance_ratio_range)}: "
-                    "expected [low ≤ 0, high > 0]"
-                )
-            object.__setattr__(self, "advance_ratio_range", (lo, hi))
-        elif model == "table":
-            c = _coeffs(self.table_command, f"{where} thrust_table command")
-            f = _coeffs(self.table_thrust, f"{where} thrust_table thrust")
-            if len(c) != len(f) or len(c) < 2:
-                raise InputError(
-                    f"{where} thrust_table: command and thrust need the same length ≥ 2, "
-                    f"got {len(c)} and {len(f)}"
-                )
-            if np.any(np.diff(c) <= 0) or np.any(np.diff(f) <= 0):
-                raise InputError(
-                    f"{where} thrust_table: command and thrust must both be strictly increasing"
-                )
-            object.__setattr__(self, "table_command", c)
-            object.__setattr__(self, "table_thrust", f)
+            put("diameter", quantity(self.diameter, f"{where} diameter", positive=True, unit="m"))
+        built = self._curve_from_fields(where)
+        curve = self.curve
+        if curve is None:
+            curve = built if built is not None else IdealCurve()
+        elif not isinstance(curve, ThrustCurve):
+            raise InputError(f"{where} curve = {curve!r}: expected a PropellerCurve, TableCurve or IdealCurve")
+        elif built is not None and built != curve:
+            raise InputError(
+                f"{where}: give either 'curve' or the kt_forward/thrust_table fields, not both"
+            )
+        put("curve", curve)
+        curve_d = getattr(curve, "diameter", None)
+        if self.diameter is None:
+            put("diameter", curve_d)
+        elif curve_d is not None and curve_d != self.diameter:
+            raise InputError(f"{where} diameter = {self.diameter}: its curve has diameter {curve_d} m")
+        if built is not None:
+            # the fields read back as the curve holds them (kt_reverse filled in, tuples)
+            if isinstance(built, PropellerCurve):
+                for k in _PROPELLER_FIELDS:
+                    put(k, getattr(built, k))
+            elif isinstance(built, TableCurve):
+                put("table_command", built.commands)
+                put("table_thrust", built.thrusts)
+
+    def _curve_from_fields(self, where: str) -> ThrustCurve | None:
+        """The curve the kt_/table fields describe, or None if they describe none."""
+        if self.table_command is not None or self.table_thrust is not None:
+            return TableCurve(self.table_command, self.table_thrust, label=where)  # type: ignore[arg-type]
+        if self.kt_forward is None:
+            return None
+        if self.diameter is None:
+            raise InputError(f"{where}: a propeller thruster needs its diameter (m)")
+        if self.max_speed is None:
+            raise InputError(f"{where}: a propeller thruster needs max_rpm (speed limit)")
+        return PropellerCurve(
+            diameter=self.diameter, kt_forward=self.kt_forward, max_speed=self.max_speed,
+            kt_reverse=self.kt_reverse, thrust_loss_forward=self.thrust_loss_forward,
+            thrust_loss_reverse=self.thrust_loss_reverse,
+            advance_ratio_range=self.advance_ratio_range, label=where,
+        )
 
     @property
     def model(self) -> ThrustModel:
-        """Which thrust model applies: ``propeller``, ``table`` or ``ideal``."""
-        if self.table_command is not None or self.table_thrust is not None:
-            return "table"
-        if self.kt_forward is not None:
-            return "propeller"
-        return "ideal"
+        """Which thrust model applies: ``propeller``, ``table`` or ``ideal`` (the curve's kind)."""
+        return self.curve.kind  # type: ignore[union-attr, return-value]
 
 
-def _finite(value: object, what: str) -> float:
-    if isinstance(value, bool) or not isinstance(value, (int, float, np.floating, np.integer)):
-        raise InputError(f"{what} = {value!r}: expected a number")
-    v = float(value)
-    if not math.isfinite(v):
-        raise InputError(f"{what} = {v}: expected a finite number")
-    return v
-
-
-def _coeffs(value: object, what: str) -> tuple[float, ...]:
-    if value is None or isinstance(value, (str, bytes)) or not hasattr(value, "__iter__"):
-        raise InputError(f"{what} = {value!r}: expected a list of numbers")
-    out = tuple(_finite(v, what) for v in value)  # type: ignore[union-attr]
-    if not out:
-        raise InputError(f"{what} is empty: expected a list of numbers")
-    return out
-
-
+# ============================================================================ thruster set
 @dataclass(frozen=True)
 class ThrusterSet:
     """All thrusters of a vehicle, with vectorised thrust, inversion and rotor dynamics.
@@ -208,14 +462,15 @@ class ThrusterSet:
     Parameters
     ----------
     thrusters : sequence of Thruster — in file order; names must be unique
-    density : float — water density ρ, kg/m³ (used by the propeller model)
+    density : float — water density ρ, kg/m³ (bound into every curve that depends on it)
     notes : tuple of str — warnings from reading the layout (e.g. ignored fields)
     """
 
     thrusters: tuple[Thruster, ...]
-    density: float = 1025.0
+    density: float = DEFAULT_DENSITY
     notes: tuple[str, ...] = field(default=(), compare=False)
     # derived arrays (not arguments)
+    curves: tuple[ThrustCurve, ...] = field(init=False, repr=False, compare=False)
     positions: Array = field(init=False, repr=False, compare=False)
     directions: Array = field(init=False, repr=False, compare=False)
     f_max: Array = field(init=False, repr=False, compare=False)
@@ -235,44 +490,32 @@ class ThrusterSet:
             if th.name in seen:
                 raise InputError(f"thrusters: duplicate name '{th.name}'; names must be unique")
             seen.add(th.name)
-        rho = _finite(self.density, "fluid density")
-        if rho <= 0:
-            raise InputError(f"fluid density = {rho}: expected a positive value in kg/m³")
+        rho = quantity(self.density, "fluid density", positive=True, unit="kg/m³")
         object.__setattr__(self, "thrusters", ths)
         object.__setattr__(self, "density", rho)
         put = lambda k, v: object.__setattr__(self, k, v)  # noqa: E731
+        # the fluid is the vehicle's: every curve works in the set's water
+        curves = tuple(t.curve.in_fluid(rho) for t in ths)  # type: ignore[union-attr]
+        put("curves", curves)
         put("positions", np.array([t.position for t in ths], dtype=float))
         put("directions", np.array([t.direction for t in ths], dtype=float))
         put("time_constants", np.array([t.time_constant for t in ths], dtype=float))
         put("_wake_factor", np.array([1.0 - t.wake_fraction for t in ths]))
         put("_moment_arms", np.cross(self.positions, self.directions))
         cmax, cmin, fmax, fmin = [], [], [], []
-        for t in ths:
-            if t.model == "propeller":
-                ns = float(t.max_speed)  # type: ignore[arg-type]
-                cmax.append(ns)
-                cmin.append(-ns)
-                # thrust limits: the tighter of the rated force and the static thrust at n_max
-                f_up = float(self._single_thrust(t, ns, 0.0))
-                f_dn = float(self._single_thrust(t, -ns, 0.0))
-                fmax.append(min(t.max_thrust, f_up))
-                fmin.append(max(float(t.min_thrust), f_dn))  # type: ignore[arg-type]
-            elif t.model == "table":
-                c, f = t.table_command, t.table_thrust
-                assert c is not None and f is not None
-                cmax.append(c[-1])
-                cmin.append(c[0])
-                fmax.append(min(t.max_thrust, f[-1]))
-                fmin.append(max(float(t.min_thrust), f[0]))  # type: ignore[arg-type]
-            else:
-                cmax.append(t.max_thrust)
-                cmin.append(float(t.min_thrust))  # type: ignore[arg-type]
-                fmax.append(t.max_thrust)
-                fmin.append(float(t.min_thrust))  # type: ignore[arg-type]
-        put("command_max", np.array(cmax))
-        put("command_min", np.array(cmin))
-        put("f_max", np.array(fmax))
-        put("f_min", np.array(fmin))
+        for t, cv in zip(ths, curves):
+            # thrust limits: the tighter of the rated force and what the curve can give
+            lo, hi = cv.limits()
+            fmax.append(min(t.max_thrust, hi))
+            fmin.append(max(float(t.min_thrust), lo))  # type: ignore[arg-type]
+            # a curve without its own command range (ideal) is limited by the thrust limits
+            c_lo, c_hi = cv.command_limits()
+            cmin.append(c_lo if math.isfinite(c_lo) else cv.command(fmin[-1]))
+            cmax.append(c_hi if math.isfinite(c_hi) else cv.command(fmax[-1]))
+        put("command_max", np.array(cmax, dtype=float))
+        put("command_min", np.array(cmin, dtype=float))
+        put("f_max", np.array(fmax, dtype=float))
+        put("f_min", np.array(fmin, dtype=float))
 
     # ------------------------------------------------------------------ description
     @property
@@ -302,21 +545,6 @@ class ThrusterSet:
         return self._wake_factor * (self.directions @ v + self._moment_arms @ w)
 
     # ------------------------------------------------------------------ thrust curves
-    def _single_thrust(self, t: Thruster, n: float, va: float) -> float:
-        return float(self._propeller_thrust(t, np.array([n]), np.array([va]))[0])
-
-    def _propeller_thrust(self, t: Thruster, n: Array, va: Array) -> Array:
-        D = float(t.diameter)  # type: ignore[arg-type]
-        lo, hi = t.advance_ratio_range
-        with np.errstate(divide="ignore", invalid="ignore"):
-            J = np.where(n != 0.0, va / (n * D), 0.0)
-        J = np.clip(J, lo, hi)
-        fwd = n >= 0
-        kt = np.where(fwd, np.polyval(t.kt_forward, J), np.polyval(t.kt_reverse, J))
-        kt = np.maximum(kt, 0.0)  # inflow may cancel thrust, never reverse it
-        loss = np.where(fwd, t.thrust_loss_forward, t.thrust_loss_reverse)
-        return loss * kt * self.density * D**4 * np.abs(n) * n
-
     def thrust(self, command: ArrayLike, advance_speed: ArrayLike | None = None) -> Array:
         """Thrust of every thruster for a command vector, N (saturated to the thrust limits).
 
@@ -328,19 +556,13 @@ class ThrusterSet:
 
         Notes
         -----
-        Propeller: ``f = loss · K_T(J) ρ D⁴ |n| n``, ``J = V_a/(n D)`` (REHMAN eq. 1.12),
-        with K_T clamped at ≥ 0 and J to the curve's validity range.
+        Each thruster's :class:`ThrustCurve` gives its thrust; for a propeller
+        ``f = loss · K_T(J) ρ D⁴ |n| n``, ``J = V_a/(n D)`` (REHMAN eq. 1.12), with K_T
+        clamped at ≥ 0 and J to the curve's validity range.
         """
         c = np.clip(np.asarray(command, dtype=float), self.command_min, self.command_max)
         va = np.zeros(len(self)) if advance_speed is None else np.asarray(advance_speed, float)
-        out = np.empty(len(self))
-        for i, t in enumerate(self.thrusters):
-            if t.model == "propeller":
-                out[i] = self._propeller_thrust(t, c[i : i + 1], va[i : i + 1])[0]
-            elif t.model == "table":
-                out[i] = np.interp(c[i], t.table_command, t.table_thrust)  # type: ignore[arg-type]
-            else:
-                out[i] = c[i]
+        out = np.array([cv.thrust(c[i], va[i]) for i, cv in enumerate(self.curves)], dtype=float)
         return np.clip(out, self.f_min, self.f_max)
 
     def command_for_thrust(self, thrust: ArrayLike, advance_speed: ArrayLike | None = None) -> Array:
@@ -358,81 +580,12 @@ class ThrusterSet:
 
         Notes
         -----
-        Propeller: closed form ``n = sign(f) √(|f| / (loss K_T(0) ρ D⁴))`` at V_a = 0;
-        otherwise a bracketed root search (regula falsi, Illinois) on [0, n_max] or
-        [−n_max, 0] (the sense follows the sign of f).
+        See :meth:`PropellerCurve.command`: closed form at V_a = 0, a bracketed root search
+        otherwise.
         """
         f = np.clip(np.asarray(thrust, dtype=float), self.f_min, self.f_max)
         va = np.zeros(len(self)) if advance_speed is None else np.asarray(advance_speed, float)
-        out = np.empty(len(self))
-        for i, t in enumerate(self.thrusters):
-            if t.model == "ideal":
-                out[i] = f[i]
-            elif t.model == "table":
-                out[i] = np.interp(f[i], t.table_thrust, t.table_command)  # type: ignore[arg-type]
-            else:
-                out[i] = self._invert_propeller(t, f[i], va[i], self.command_max[i])
-        return out
-
-    def _scalar_thrust(self, t: Thruster, n: float, va: float) -> float:
-        """Propeller thrust for one thruster with plain floats (fast inside root finding)."""
-        if n == 0.0:
-            return 0.0
-        D = t.diameter  # type: ignore[assignment]
-        lo, hi = t.advance_ratio_range
-        nD = n * D
-        if abs(nD) * 1e6 > abs(va):
-            J = min(max(va / nD, lo), hi)
-        else:  # |J| > 1e6: far outside any curve's range, only its sign matters
-            J = hi if (va > 0) == (n > 0) else lo
-        coeffs = t.kt_forward if n > 0 else t.kt_reverse
-        kt = 0.0
-        for c in coeffs:  # type: ignore[union-attr]
-            kt = kt * J + c
-        loss = t.thrust_loss_forward if n > 0 else t.thrust_loss_reverse
-        return loss * max(kt, 0.0) * self.density * D**4 * abs(n) * n  # type: ignore[operator]
-
-    def _invert_propeller(self, t: Thruster, f: float, va: float, n_max: float) -> float:
-        if f == 0.0:
-            return 0.0
-        D = float(t.diameter)  # type: ignore[arg-type]
-        fwd = f > 0
-        if va == 0.0:
-            kt0 = np.polyval(t.kt_forward if fwd else t.kt_reverse, 0.0)
-            loss = t.thrust_loss_forward if fwd else t.thrust_loss_reverse
-            n = math.sqrt(abs(f) / (loss * kt0 * self.density * D**4))
-            return min(n, n_max) if fwd else -min(n, n_max)
-        f, va = float(f), float(va)
-        lo, hi = (0.0, n_max) if fwd else (-n_max, 0.0)
-        g_lo = self._scalar_thrust(t, lo, va) - f
-        g_hi = self._scalar_thrust(t, hi, va) - f
-        if g_hi <= 0.0:  # even the speed limit does not give f (forward)
-            return hi
-        if g_lo >= 0.0:  # (reverse)
-            return lo
-        # Regula falsi with the Illinois modification on the bracket [lo, hi] where
-        # thrust − f changes sign (thrust(0) = 0 and grows with n in both senses);
-        # converges superlinearly and never leaves the bracket.
-        side = 0
-        n = 0.5 * (lo + hi)
-        for it in range(_BISECTION_STEPS):
-            # after 20 false-position steps (flat stretches of the clamped curve slow it
-            # down) plain bisection guarantees the bracket halves every step
-            n = (lo * g_hi - hi * g_lo) / (g_hi - g_lo) if it < 20 else 0.5 * (lo + hi)
-            g = self._scalar_thrust(t, n, va) - f
-            if abs(g) <= 1e-12 * abs(f) or hi - lo <= 1e-12 * n_max:
-                break
-            if g < 0.0:
-                lo, g_lo = n, g
-                if side == -1:
-                    g_hi *= 0.5
-                side = -1
-            else:
-                hi, g_hi = n, g
-                if side == 1:
-                    g_lo *= 0.5
-                side = 1
-        return n
+        return np.array([cv.command(f[i], va[i]) for i, cv in enumerate(self.curves)], dtype=float)
 
     def rotor_step(self, command: ArrayLike, target: ArrayLike, dt: float) -> Array:
         """Advance the first-order rotor dynamics τ ċ = c_target − c by ``dt`` (s), exactly.

@@ -10,6 +10,8 @@ terms (SNAME signs: X_uu < 0 is drag); g(η) from W at r_G and B at r_B.
 
 from __future__ import annotations
 
+from typing import Any
+
 import math
 from dataclasses import dataclass, field
 
@@ -44,6 +46,8 @@ class Vehicle:
     warnings : tuple of str — oddities found while building (symmetrised matrices …)
     added_mass_coriolis : bool — include C_A(ν_r) (default). Derivative sets whose cross terms
         already hold the added-mass Coriolis/Munk terms (LI2021 Table 4) set it false.
+    thrusters : ThrusterSet or None — the vehicle file's ``thrusters:`` block, when loaded with
+        it (:func:`hydrokit.load_vehicle` does); the open-loop model does not use it
     """
 
     name: str
@@ -61,6 +65,7 @@ class Vehicle:
     reference_length: float | None = None
     warnings: tuple[str, ...] = ()
     added_mass_coriolis: bool = True
+    thrusters: Any = field(default=None, repr=False, compare=False)
 
     @property
     def M_RB(self) -> np.ndarray:

@@ -1,4 +1,10 @@
-"""Matplotlib set-up shared by the plot modules: Agg backend, PNG bytes out."""
+"""Matplotlib set-up shared by the plot modules: object-oriented figures, PNG bytes out.
+
+Figures are built as :class:`matplotlib.figure.Figure` objects, never through pyplot's
+global state, and this package never selects a backend: a notebook keeps its inline backend
+and a caller's figures are never closed or switched. PNG rendering uses the Agg canvas
+explicitly, which works under any backend (and with none chosen).
+"""
 
 from __future__ import annotations
 
@@ -6,27 +12,30 @@ import io
 from typing import Any
 
 
-def pyplot() -> Any:
-    """Import pyplot with the non-interactive Agg backend (headless, CI-safe)."""
-    import matplotlib
+def new_figure(figsize: tuple[float, float] = (6.4, 4.8), **kwargs: Any) -> Any:
+    """A new :class:`matplotlib.figure.Figure` not registered with pyplot (no backend needed)."""
+    from matplotlib.figure import Figure
 
-    matplotlib.use("Agg", force=True)
-    import matplotlib.pyplot as plt
+    return Figure(figsize=figsize, **kwargs)
 
-    return plt
+
+def axes_or_new(ax: Any = None, figsize: tuple[float, float] = (6.4, 4.8), **kwargs: Any) -> Any:
+    """``ax`` itself, or the single axes of a new figure (``kwargs`` go to ``add_subplot``)."""
+    if ax is not None:
+        return ax
+    return new_figure(figsize).add_subplot(1, 1, 1, **kwargs)
 
 
 def to_png(fig: Any, dpi: int = 110) -> bytes:
-    """Render a figure to PNG bytes and close it."""
-    plt = pyplot()
+    """Render a figure to PNG bytes with the Agg canvas (the figure is left as it was)."""
     buf = io.BytesIO()
+    # savefig picks a PNG-capable canvas for the call only; no backend is switched
     fig.savefig(buf, format="png", dpi=dpi, bbox_inches="tight")
-    plt.close(fig)
     return buf.getvalue()
 
 
 def save_png(fig: Any, path: Any, dpi: int = 110) -> None:
-    """Write a figure to ``path`` as PNG, whole or not at all, and close it."""
+    """Write a figure to ``path`` as PNG, whole or not at all."""
     from hydrokit._atomic import write_bytes
 
     write_bytes(path, to_png(fig, dpi=dpi))

@@ -6,13 +6,22 @@ from typing import Any
 
 import numpy as np
 
-from hydrokit.plot._mpl import pyplot
+from hydrokit.plot._mpl import axes_or_new, new_figure
 
 
 def force_fit_figure(U: np.ndarray, F: np.ndarray, fit: Any, title: str = "") -> Any:
     """Data points and both fitted curves; ``fit`` is an estimate.forces.ForceFit."""
-    plt = pyplot()
-    fig, ax = plt.subplots(figsize=(6, 4))
+    fig = new_figure((6, 4))
+    ax = force_fit_axes(U, F, fit, fig.subplots())
+    if title:
+        ax.set_title(title, fontsize=10)
+    fig.tight_layout()
+    return fig
+
+
+def force_fit_axes(U: np.ndarray, F: np.ndarray, fit: Any, ax: Any = None) -> Any:
+    """Data (speed m/s, force N) and both fitted curves on ``ax`` (or new axes); returns it."""
+    ax = axes_or_new(ax)
     ax.plot(U, F, "o", ms=4, color="0.3", label="data")
     u = np.linspace(min(0.0, U.min()), U.max(), 200)
     ax.plot(u, fit.chin(u), "-", label=f"Chin: K_L = {fit.K_L:.4g}, K_Q = {fit.K_Q:.4g} (R² = {fit.r2_chin:.4f})")
@@ -21,7 +30,4 @@ def force_fit_figure(U: np.ndarray, F: np.ndarray, fit: Any, title: str = "") ->
     ax.set_ylabel("force (N)")
     ax.grid(alpha=0.3)
     ax.legend(fontsize=8)
-    if title:
-        ax.set_title(title, fontsize=10)
-    fig.tight_layout()
-    return fig
+    return ax

@@ -8,7 +8,7 @@ from typing import Any
 
 import numpy as np
 
-from hydrokit.plot._mpl import pyplot
+from hydrokit.plot._mpl import axes_or_new, new_figure
 
 
 def launch_fit(t: np.ndarray, y: np.ndarray, fitted: np.ndarray, title: str, unit: str, ax: Any = None) -> Any:
@@ -18,9 +18,9 @@ def launch_fit(t: np.ndarray, y: np.ndarray, fitted: np.ndarray, title: str, uni
     ----------
     t : s; y, fitted : signal in ``unit`` (m or rad — shown in mm or degrees)
     """
-    plt = pyplot()
     scale, label = (1e3, "position (mm)") if unit == "m" else (180 / np.pi, "angle (°)")
-    fig, (a1, a2) = plt.subplots(2, 1, figsize=(7, 4.2), sharex=True, gridspec_kw={"height_ratios": [3, 1.3]})
+    fig = new_figure((7, 4.2))
+    (a1, a2) = fig.subplots(2, 1, sharex=True, gridspec_kw={"height_ratios": [3, 1.3]})
     a1.plot(t, y * scale, ".", ms=2.5, color="0.35", label="measured")
     a1.plot(t, fitted * scale, "-", lw=1.2, color="C0", label="fitted")
     a1.set_ylabel(label)
@@ -37,8 +37,8 @@ def launch_fit(t: np.ndarray, y: np.ndarray, fitted: np.ndarray, title: str, uni
 def coefficients_vs_reynolds(groups: dict[str, Sequence[Any]], title: str = "") -> Any:
     """C_m, C_D, K_L and K_Q per launch against the peak Reynolds number, one colour per group
     (axis or method). ``groups`` maps a label to LaunchResults."""
-    plt = pyplot()
-    fig, axes = plt.subplots(2, 2, figsize=(8, 5.5))
+    fig = new_figure((8, 5.5))
+    axes = fig.subplots(2, 2)
     panels = (("added_mass_coefficient", "C_m = m_a/(ρV)"), ("drag_coefficient", "C_D"),
               ("linear_damping", "K_L"), ("quadratic_damping", "K_Q"))
     for ax, (field, label) in zip(axes.flat, panels):
@@ -60,8 +60,8 @@ def coefficients_vs_reynolds(groups: dict[str, Sequence[Any]], title: str = "") 
 
 def drag_per_cycle(cycles: Sequence[dict[str, Any]], title: str = "") -> Any:
     """C_D of each cycle against the cycle's Reynolds number (log-decrement; CELY2019 Fig. 18)."""
-    plt = pyplot()
-    fig, ax = plt.subplots(figsize=(5.5, 3.6))
+    fig = new_figure((5.5, 3.6))
+    ax = fig.subplots()
     re = [c["reynolds"] for c in cycles if c.get("drag_coefficient") is not None]
     cd = [c["drag_coefficient"] for c in cycles if c.get("drag_coefficient") is not None]
     ax.plot(re, cd, "o", ms=4)
@@ -72,3 +72,67 @@ def drag_per_cycle(cycles: Sequence[dict[str, Any]], title: str = "") -> Any:
     ax.grid(alpha=0.3)
     fig.tight_layout()
     return fig
+
+
+def campaign_axes(results: Sequence[Any], coefficient: str, summary: dict[str, Any], unit: str,
+                  ax: Any = None, title: str = "") -> Any:
+    """One coefficient per launch against the launch amplitude, with the campaign mean and its
+    confidence interval as a band; rejected launches (outliers) drawn hollow. Returns the axes.
+
+    Parameters
+    ----------
+    results : LaunchResults (``amplitude`` in m or rad, ``file``, the coefficient)
+    coefficient : field name, e.g. "added_mass"
+    summary : the campaign summary entry of that coefficient (``mean``, ``ci``, ``rejected``)
+    unit : the coefficient's unit, for the axis label
+    """
+    ax = axes_or_new(ax)
+    rejected = set(summary.get("rejected") or [])
+    keep = [(r.amplitude, getattr(r, coefficient)) for r in results
+            if getattr(r, coefficient) is not None and r.file not in rejected]
+    out = [(r.amplitude, getattr(r, coefficient)) for r in results
+           if getattr(r, coefficient) is not None and r.file in rejected]
+    if keep:
+        ax.plot(*zip(*keep), "o", ms=4, color="C0", label="launch")
+    if out:
+        ax.plot(*zip(*out), "o", ms=5, mfc="none", color="C3", label="rejected (outlier rule)")
+    mean, ci = summary.get("mean"), summary.get("ci") or [None, None]
+    if mean is not None:
+        ax.axhline(mean, color="C1", lw=1.2, label="mean")
+        if ci[0] is not None:
+            ax.axhspan(ci[0], ci[1], color="C1", alpha=0.15, label="95 % CI of the mean")
+    ax.set_xlabel("launch amplitude")
+    ax.set_ylabel(f"{coefficient} ({unit})")
+    ax.grid(alpha=0.3)
+    ax.legend(fontsize=7)
+    if title:
+        ax.set_title(title, fontsize=9)
+    return ax
+
+
+def campaign_figures(campaign: Any, per_launch: bool = True) -> dict[str, tuple[bytes, str]]:
+    """PNG figures of a CampaignResult: name → (png bytes, caption).
+
+    One fit/residual figure per launch (or four spread over the campaign when ``per_launch`` is
+    false), coefficients against Reynolds number, and C_D per cycle when the method gives it.
+    """
+    from pathlib import Path
+
+    from hydrokit.identify.result import predict
+    from hydrokit.plot._mpl import to_png
+
+    rig, method, items = campaign.rig, campaign.method, campaign.launches
+    unit = "m" if rig.test == "spring" else "rad"
+    out: dict[str, tuple[bytes, str]] = {}
+    chosen = items if per_launch else items[:: max(1, len(items) // 4)][:4]
+    for it in chosen:
+        stem = Path(it.result.file).stem
+        fig = launch_fit(np.asarray(it.launch.t), np.asarray(it.launch.y), predict(it), f"{stem} ({method})", unit)
+        out[f"{stem}_fit.png"] = (to_png(fig), f"{stem}: measured and fitted signal, residual")
+    fig = coefficients_vs_reynolds({f"{rig.axis} ({method})": campaign.results})
+    out["coefficients_vs_reynolds.png"] = (to_png(fig), "coefficients against peak Reynolds number")
+    cycles = [c for r in campaign.results for c in r.extra.get("cycles", [])]
+    if cycles:
+        fig = drag_per_cycle(cycles, f"{rig.axis}: C_D per cycle")
+        out["drag_per_cycle.png"] = (to_png(fig), "C_D per cycle against the cycle's Reynolds number")
+    return out

@@ -14,7 +14,7 @@ import numpy as np
 
 from hydrokit.model.control import wrap_angle
 from hydrokit.model.guidance import path_distance
-from hydrokit.plot._mpl import pyplot
+from hydrokit.plot._mpl import axes_or_new, new_figure
 from hydrokit.simulate.closed_loop import ClosedLoopResult
 
 
@@ -23,10 +23,9 @@ def path_figure(runs: Mapping[str, ClosedLoopResult], title: str = "") -> Any:
 
     ``runs`` maps a label (e.g. "PID", "S-plane") to a result; all share the planned path.
     """
-    plt = pyplot()
     first = next(iter(runs.values()))
     wp = first.path.points
-    fig = plt.figure(figsize=(11, 8.5))
+    fig = new_figure((11, 8.5))
     ax3 = fig.add_subplot(2, 2, 1, projection="3d")
     ax3.plot(wp[:, 0], wp[:, 1], wp[:, 2], "k--", lw=1.2, label="planned")
     ax3.scatter(wp[:, 0], wp[:, 1], wp[:, 2], c="k", s=14)
@@ -60,8 +59,8 @@ def path_figure(runs: Mapping[str, ClosedLoopResult], title: str = "") -> Any:
 
 def tracking_figure(runs: Mapping[str, ClosedLoopResult], title: str = "") -> Any:
     """Distance to the path (m), depth error (m) and heading error (deg) against time (s)."""
-    plt = pyplot()
-    fig, axes = plt.subplots(3, 1, figsize=(10, 7.5), sharex=True)
+    fig = new_figure((10, 7.5))
+    axes = fig.subplots(3, 1, sharex=True)
     for label, res in runs.items():
         d = path_distance(res.eta[:, :3], res.path.points)
         axes[0].plot(res.time, d, label=label)
@@ -82,9 +81,9 @@ def tracking_figure(runs: Mapping[str, ClosedLoopResult], title: str = "") -> An
 
 def thruster_figure(res: ClosedLoopResult, f_min: Any, f_max: Any, title: str = "") -> Any:
     """Actual (solid) and allocated (dotted) thrust of each thruster (N) with its limits."""
-    plt = pyplot()
     m = len(res.thruster_names)
-    fig, axes = plt.subplots(m, 1, figsize=(10, 1.9 * m + 1), sharex=True, squeeze=False)
+    fig = new_figure((10, 1.9 * m + 1))
+    axes = fig.subplots(m, 1, sharex=True, squeeze=False)
     for i, name in enumerate(res.thruster_names):
         ax = axes[i, 0]
         ax.plot(res.time, res.thrust[:, i], lw=1.2, label="actual")
@@ -98,3 +97,18 @@ def thruster_figure(res: ClosedLoopResult, f_min: Any, f_max: Any, title: str = 
     fig.suptitle(title or "Thruster usage (limits dashed)")
     fig.tight_layout()
     return fig
+
+
+def mission_axes(res: ClosedLoopResult, ax: Any = None, label: str = "flown") -> Any:
+    """Planned (dashed, waypoints marked) and flown horizontal path on ``ax``; returns it."""
+    ax = axes_or_new(ax)
+    wp = res.path.points
+    ax.plot(wp[:, 1], wp[:, 0], "k--", lw=1.0, label="planned")
+    ax.plot(wp[:, 1], wp[:, 0], "ko", ms=3)
+    ax.plot(res.eta[:, 1], res.eta[:, 0], lw=1.3, label=label)
+    ax.set_xlabel("east y (m)")
+    ax.set_ylabel("north x (m)")
+    ax.set_aspect("equal", adjustable="datalim")
+    ax.grid(alpha=0.3)
+    ax.legend(fontsize=8)
+    return ax

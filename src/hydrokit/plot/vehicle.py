@@ -6,7 +6,7 @@ from typing import Any
 
 import numpy as np
 
-from hydrokit.plot._mpl import pyplot
+from hydrokit.plot._mpl import axes_or_new, new_figure
 
 LABELS = (("x (m)", "y (m)", "z (m)", "φ (°)", "θ (°)", "ψ (°)"),
           ("u (m/s)", "v (m/s)", "w (m/s)", "p (°/s)", "q (°/s)", "r (°/s)"))
@@ -14,8 +14,8 @@ LABELS = (("x (m)", "y (m)", "z (m)", "φ (°)", "θ (°)", "ψ (°)"),
 
 def states_figure(traj: Any, title: str = "") -> Any:
     """Twelve panels: position and attitude (top two rows), velocities (bottom two rows)."""
-    plt = pyplot()
-    fig, axes = plt.subplots(4, 3, figsize=(10, 8.5), sharex=True)
+    fig = new_figure((10, 8.5))
+    axes = fig.subplots(4, 3, sharex=True)
     t = traj.time
     for k in range(6):
         ax = axes.flat[k]
@@ -38,8 +38,7 @@ def states_figure(traj: Any, title: str = "") -> Any:
 
 def path_figure(traj: Any, title: str = "") -> Any:
     """3-D path in NED (z drawn downwards)."""
-    plt = pyplot()
-    fig = plt.figure(figsize=(6.5, 5.5))
+    fig = new_figure((6.5, 5.5))
     ax = fig.add_subplot(projection="3d")
     x, y, z = traj.eta[:, 0], traj.eta[:, 1], traj.eta[:, 2]
     ax.plot(y, x, z, lw=1.2)
@@ -54,3 +53,31 @@ def path_figure(traj: Any, title: str = "") -> Any:
         ax.set_title(title, fontsize=10)
     fig.tight_layout()
     return fig
+
+
+def path_axes(traj: Any, ax: Any = None, label: str | None = None) -> Any:
+    """Horizontal path (east y across, north x up) of a trajectory on ``ax`` (or new axes).
+
+    ``traj`` has ``eta`` (n, 6) in m and rad. Returns the axes.
+    """
+    ax = axes_or_new(ax)
+    x, y = traj.eta[:, 0], traj.eta[:, 1]
+    line = ax.plot(y, x, lw=1.2, label=label)[0]
+    ax.plot([y[0]], [x[0]], "o", ms=4, color=line.get_color())
+    ax.set_xlabel("east y (m)")
+    ax.set_ylabel("north x (m)")
+    ax.set_aspect("equal", adjustable="datalim")
+    ax.grid(alpha=0.3)
+    return ax
+
+
+def batch_axes(time: np.ndarray, states: np.ndarray, ax: Any = None) -> Any:
+    """Horizontal paths of a batch (states (n_vehicles, n_out, ≥ 2): x, y in m) on ``ax``."""
+    ax = axes_or_new(ax)
+    for k in range(states.shape[0]):
+        ax.plot(states[k, :, 1], states[k, :, 0], lw=0.8, alpha=0.6)
+    ax.set_xlabel("east y (m)")
+    ax.set_ylabel("north x (m)")
+    ax.set_title(f"{states.shape[0]} vehicles, {time[-1]:.4g} s", fontsize=9)
+    ax.grid(alpha=0.3)
+    return ax

@@ -4,14 +4,72 @@ uncertainty). Each vehicle is integrated by the compiled RK4 on its own core thr
 from __future__ import annotations
 
 import math
+from dataclasses import dataclass
 from collections.abc import Sequence
 from typing import Any
 
 import numpy as np
 
+from hydrokit._result import Result, jsonable
+from hydrokit.core.names import STATE_COLUMNS
 from hydrokit.errors import InputError
 from hydrokit.model.dynamics import current_table, pack
 from hydrokit.model.vehicle import Vehicle
+
+
+@dataclass(frozen=True)
+class BatchTrajectory(Result):
+    """Many vehicles integrated side by side.
+
+    Attributes
+    ----------
+    time : (n_out,) — s
+    states : (n_vehicles, n_out, 12) — η (m, rad) then ν (m/s, rad/s); 13 columns with the
+        quaternion attitude (x, y, z, q0..q3, ν)
+    steps : (n_vehicles,) — steps taken (fewer when a vehicle's state became non-finite)
+    attitude : str — "euler" or "quaternion"
+    """
+
+    time: np.ndarray
+    states: np.ndarray
+    steps: np.ndarray
+    attitude: str = "euler"
+
+    def __len__(self) -> int:
+        return int(self.states.shape[0])
+
+    def __getitem__(self, key: str) -> np.ndarray:
+        """Mapping access by field name ("time", "states", "steps") for older callers."""
+        if key not in ("time", "states", "steps"):
+            raise KeyError(key)
+        return getattr(self, key)
+
+    @property
+    def failed(self) -> np.ndarray:
+        """Indices of vehicles whose state became non-finite before the end."""
+        full = int(round(self.time[-1] / (self.time[1] - self.time[0]))) if self.time.size > 1 else 0
+        return np.nonzero(self.steps < np.max(self.steps, initial=full))[0]
+
+    def to_dict(self) -> dict[str, Any]:
+        """Times, final states and steps of every vehicle (JSON-ready; SI)."""
+        return jsonable({"attitude": self.attitude, "time": self.time, "final_states": self.states[:, -1, :],
+                         "steps": self.steps, "vehicles": len(self)})
+
+    def table(self) -> tuple[list[str], list[list[Any]]]:
+        """One row per vehicle: its index and final state (Euler attitude only)."""
+        cols = ["vehicle", *(STATE_COLUMNS[1:] if self.attitude == "euler" else
+                             ("x", "y", "z", "q0", "q1", "q2", "q3", "u", "v", "w", "p", "q", "r"))]
+        return cols, [[k, *map(float, self.states[k, -1, :])] for k in range(len(self))]
+
+    def summary_rows(self) -> list[tuple[str, Any]]:
+        return [("vehicles", len(self)), ("duration (s)", float(self.time[-1])), ("samples", self.time.size),
+                ("failed", len(self.failed))]
+
+    def plot(self, ax: Any = None) -> Any:
+        """Horizontal paths of every vehicle on ``ax`` (or new axes); returns the axes."""
+        from hydrokit.plot.vehicle import batch_axes
+
+        return batch_axes(self.time, self.states, ax)
 
 
 def simulate_batch(
@@ -24,7 +82,7 @@ def simulate_batch(
     current_ned: Any = None,
     output_every: int | None = None,
     attitude: str = "euler",
-) -> dict[str, np.ndarray]:
+) -> BatchTrajectory:
     """Simulate every vehicle of ``vehicles`` (same derivative-term structure) in parallel.
 
     Parameters
@@ -37,8 +95,8 @@ def simulate_batch(
 
     Returns
     -------
-    dict with ``time`` (n_out,), ``states`` (n_vehicles, n_out, 12 or 13), ``steps`` (n_vehicles,)
-    — steps taken (fewer when a vehicle's state became non-finite).
+    BatchTrajectory — ``time`` (n_out,), ``states`` (n_vehicles, n_out, 12 or 13), ``steps``
+    (n_vehicles,): steps taken (fewer when a vehicle's state became non-finite).
     """
     from hydrokit.simulate.compiled import rk4_batch
 
@@ -76,4 +134,4 @@ def simulate_batch(
     rk4_batch(x0, float(dt), n_steps, every, quat, tau_tab, current_table(current_ned), stack("Minv"), stack("Mc"),
               stack("DL"), stack("DQ"), stack("scal"), packs[0].t_dof, stack("t_coef"), packs[0].t_kind,
               packs[0].t_idx, out, done)
-    return {"time": np.arange(n_out) * dt * every, "states": out, "steps": done}
+    return BatchTrajectory(np.arange(n_out) * dt * every, out, done, attitude)

@@ -10,7 +10,8 @@ Every step of length dt (s), with the state measured at its start:
    speed; the rotor follows with its first-order lag (exact update over the step, using the
    step-mean command for the force);
 5. the actual thrust acts on the vehicle through T, held over the step, and the vehicle is
-   integrated with one classical RK4 step.
+   integrated with one classical RK4 step
+   (:func:`hydrokit.simulate.integrators.rk4_step`).
 
 The vehicle enters as a pure function ``dynamics(t, x, tau) -> xdot`` with
 x = [η; ν] (12 values); :func:`hydrokit.simulate.compiled.make_dynamics` builds it from a
@@ -29,11 +30,13 @@ from typing import Any
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from hydrokit.core.kinematics import rotation_zyx, wrap_angle
 from hydrokit.errors import InputError, SimulationError
 from hydrokit.model.allocation import Allocator
 from hydrokit.model.control import Autopilot
 from hydrokit.model.guidance import Path, path_distance
 from hydrokit.model.thrusters import ThrusterSet
+from hydrokit.simulate.integrators import rk4_step
 
 Array = NDArray[np.float64]
 Dynamics = Callable[[float, Array, Array], Array]
@@ -79,26 +82,6 @@ class ClosedLoopResult:
     def metrics(self, thrusters: ThrusterSet | None = None) -> dict[str, Any]:
         """Tracking and effort figures; see :func:`mission_metrics`."""
         return mission_metrics(self, thrusters)
-
-
-def rk4_step(f: Dynamics, t: float, x: Array, u: Array, h: float) -> Array:
-    """One classical Runge–Kutta step of ẋ = f(t, x, u) with u held over the step."""
-    k1 = f(t, x, u)
-    k2 = f(t + 0.5 * h, x + 0.5 * h * k1, u)
-    k3 = f(t + 0.5 * h, x + 0.5 * h * k2, u)
-    k4 = f(t + h, x + h * k3, u)
-    return x + (h / 6.0) * (k1 + 2.0 * k2 + 2.0 * k3 + k4)
-
-
-def _rotation_zyx(phi: float, theta: float, psi: float) -> Array:
-    cf, sf = math.cos(phi), math.sin(phi)
-    ct, st = math.cos(theta), math.sin(theta)
-    cp, sp = math.cos(psi), math.sin(psi)
-    return np.array([
-        [cp * ct, -sp * cf + cp * st * sf, sp * sf + cp * cf * st],
-        [sp * ct, cp * cf + sf * st * sp, -cp * sf + st * sp * cf],
-        [-st, ct * sf, ct * cf],
-    ])
 
 
 def run_closed_loop(
@@ -183,7 +166,7 @@ def run_closed_loop(
         tau_d, astate = autopilot.update(astate, ref, eta, nu, dt)
         f_cmd, limited = allocator(tau_d)
         # advance speed from the velocity relative to the water
-        R = _rotation_zyx(eta[3], eta[4], eta[5])
+        R = rotation_zyx(eta[3], eta[4], eta[5])
         nu_r = nu.copy()
         nu_r[:3] -= R.T @ vc
         va = thrusters.advance_speed(nu_r)
@@ -213,7 +196,7 @@ def run_closed_loop(
             limited_any = limited_any or sat
         if k == n_steps or (stop_when_done and gstate.leg > path.n_legs):
             break
-        x = rk4_step(dynamics, t, x, T @ f_act, dt)
+        x = rk4_step(dynamics, t, x, dt, u=T @ f_act)
         c = c_cmd + (c - c_cmd) * decay
         if not np.all(np.isfinite(x)):
             raise SimulationError(f"the state became non-finite at t = {t + dt:.6g} s")
@@ -249,8 +232,6 @@ def mission_metrics(res: ClosedLoopResult, thrusters: ThrusterSet | None = None)
         following = np.ones_like(following)
     d = path_distance(res.eta[following, :3], res.path.points)
     z_err = res.eta[following, 2] - res.reference[following, 1]
-    from hydrokit.model.control import wrap_angle
-
     psi_err = np.array([wrap_angle(a - b) for a, b in zip(res.eta[following, 5], res.reference[following, 2])])
     absf = np.abs(res.thrust)
     energy = None

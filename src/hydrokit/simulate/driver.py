@@ -14,26 +14,57 @@ from typing import Any
 import numpy as np
 
 from hydrokit.core.kinematics import PITCH_WARNING, euler_to_quaternion, quaternion_to_euler
+from hydrokit._result import Result, jsonable
+from hydrokit.core.names import STATE_COLUMNS
 from hydrokit.errors import InputError, SimulationError
 from hydrokit.model.dynamics import current_table, pack, vehicle_dynamics
 from hydrokit.model.vehicle import Vehicle
 
-COLUMNS = ("time", "x", "y", "z", "phi", "theta", "psi", "u", "v", "w", "p", "q", "r")
+COLUMNS = STATE_COLUMNS
 INTEGRATORS = ("rk4", "rk4-numpy", "dop853", "rk45")
 
 
 @dataclass
-class Trajectory:
-    """time (n,) s; eta (n, 6) m and rad; nu (n, 6) m/s and rad/s; warnings."""
+class Trajectory(Result):
+    """An open-loop run.
+
+    Attributes
+    ----------
+    time : (n,) — s
+    eta : (n, 6) — x, y, z (m, NED) and φ, θ, ψ (rad)
+    nu : (n, 6) — u, v, w (m/s) and p, q, r (rad/s), body axes
+    warnings : list of str — oddities met during the run (near-singular pitch …)
+    """
 
     time: np.ndarray
     eta: np.ndarray
     nu: np.ndarray
     warnings: list[str] = field(default_factory=list)
 
-    def table(self) -> np.ndarray:
-        """(n, 13) array in :data:`COLUMNS` order."""
+    def array(self) -> np.ndarray:
+        """(n, 13) array in :data:`COLUMNS` order (what the trajectory CSV holds)."""
         return np.column_stack([self.time, self.eta, self.nu])
+
+    def table(self) -> tuple[list[str], list[list[Any]]]:
+        """Columns :data:`COLUMNS` and one row per sample (SI)."""
+        return list(COLUMNS), self.array().tolist()
+
+    def to_dict(self) -> dict[str, Any]:
+        """Columns and values (SI) and the warnings, JSON-ready."""
+        return jsonable({"columns": list(COLUMNS), "time": self.time, "eta": self.eta, "nu": self.nu,
+                         "warnings": self.warnings})
+
+    def summary_rows(self) -> list[tuple[str, Any]]:
+        return [("duration (s)", float(self.time[-1])), ("samples", int(self.time.size)),
+                ("final position (m)", [round(float(v), 4) for v in self.eta[-1, :3]]),
+                ("final velocity (m/s, rad/s)", [round(float(v), 4) for v in self.nu[-1]]),
+                ("warnings", len(self.warnings))]
+
+    def plot(self, ax: Any = None) -> Any:
+        """Horizontal path (east across, north up) on ``ax`` (or new axes); returns the axes."""
+        from hydrokit.plot.vehicle import path_axes
+
+        return path_axes(self, ax)
 
 
 def _tau_table(tau: Any) -> np.ndarray | None:

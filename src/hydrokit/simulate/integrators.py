@@ -13,8 +13,37 @@ from hydrokit.errors import SimulationError
 Rhs = Callable[[float, np.ndarray], np.ndarray]
 
 
-def rk4_step(f: Rhs, t: float, x: np.ndarray, h: float) -> np.ndarray:
-    """One classical Runge–Kutta step of ẋ = f(t, x)."""
+def rk4_step(f: Callable[..., np.ndarray], t: float, x: np.ndarray, h: float, *,
+             u: np.ndarray | None = None) -> np.ndarray:
+    """One classical Runge–Kutta step of ẋ = f(t, x), or of ẋ = f(t, x, u) with u held.
+
+    The one RK4 step of the package: the open-loop driver calls it without ``u``, the
+    closed loop with the thrust τ it holds over the step (zero-order hold).
+
+    Parameters
+    ----------
+    f : callable
+        ``f(t, x) -> ẋ``, or ``f(t, x, u) -> ẋ`` when ``u`` is given; t in s, x and ẋ in the
+        state's units (e.g. m, rad, m/s, rad/s and their rates).
+    t : float
+        Time at the start of the step, s.
+    x : ndarray
+        State at t.
+    h : float
+        Step length, s.
+    u : ndarray or None, keyword-only
+        Input held constant over the step (e.g. τ in N and N·m); None: f takes (t, x).
+        Keyword-only so that a call written for the old ``(f, t, x, u, h)`` order fails
+        loudly instead of swapping the step and the input.
+
+    Returns
+    -------
+    ndarray
+        State at t + h.
+    """
+    if u is not None:
+        g = f
+        f = lambda s, y: g(s, y, u)  # noqa: E731 - u held over the step
     k1 = f(t, x)
     k2 = f(t + 0.5 * h, x + 0.5 * h * k1)
     k3 = f(t + 0.5 * h, x + 0.5 * h * k2)

@@ -1,0 +1,399 @@
+"""The curated top-level API: the whole chain with a dozen names.
+
+Everything here is re-exported lazily by ``hydrokit`` (``hydrokit.load_vehicle`` …), so
+``import hydrokit`` stays light. These functions are glue: they read files through ``io``
+when given paths and call the library layers (``identify``, ``estimate``, ``model``,
+``simulate``); each returns a result object with ``to_dict()``, ``plot(ax=None)`` and a
+notebook view. Units are SI and radians throughout.
+"""
+
+from __future__ import annotations
+
+import os
+from collections.abc import Callable, Sequence
+from dataclasses import replace
+from typing import TYPE_CHECKING, Any
+
+from hydrokit.errors import InputError
+
+if TYPE_CHECKING:  # pragma: no cover - imports for annotations only
+    from hydrokit.estimate.forces import ForceFit
+    from hydrokit.estimate.geometry import Estimate, Geometry
+    from hydrokit.identify.result import CampaignResult
+    from hydrokit.identify.types import Launch, Rig
+    from hydrokit.model.allocation import Allocation
+    from hydrokit.model.mission import Mission
+    from hydrokit.model.thrusters import ThrusterSet
+    from hydrokit.model.vehicle import Vehicle
+    from hydrokit.simulate.batch import BatchTrajectory
+    from hydrokit.simulate.driver import Trajectory
+    from hydrokit.simulate.mission import MissionResult
+
+PathLike = str | os.PathLike[str]
+
+
+def load_vehicle(name_or_path: PathLike) -> Vehicle:
+    """Read a vehicle file or bundled vehicle, with its ``thrusters:`` block when it has one.
+
+    Parameters
+    ----------
+    name_or_path : str or path — a vehicle YAML file, or a bundled name (``bluerov2-heavy``,
+        ``minerva``, ``lingyun``, ``lingyun-diagonal``, ``udrobot``)
+
+    Returns
+    -------
+    Vehicle — SI parameters; ``vehicle.thrusters`` is a ThrusterSet or None
+
+    Examples
+    --------
+    >>> import hydrokit
+    >>> v = hydrokit.load_vehicle("bluerov2-heavy")
+    >>> v.mass, len(v.thrusters)
+    (13.5, 8)
+    """
+    from hydrokit.io.thrusters import parse_thrusters
+    from hydrokit.io.vehicle import parse_vehicle, resolve_vehicle
+    from hydrokit.io.yamlfile import read_yaml
+
+    path = resolve_vehicle(name_or_path)
+    data = read_yaml(path)
+    vehicle = parse_vehicle(data, str(path))
+    if data.get("thrusters"):
+        vehicle = replace(vehicle, thrusters=parse_thrusters(data, str(path)))
+    return vehicle
+
+
+def load_rig(path: PathLike) -> Rig:
+    """Read a rig file (spring, pendulum or torsion test; SI units; see docs/identify.md)."""
+    from hydrokit.io.rig import load_rig as _load
+
+    return _load(path)
+
+
+def load_mission(name_or_path: PathLike) -> Mission:
+    """Read a mission file or bundled mission (``lingyun_path``, ``minerva_square``).
+
+    Examples
+    --------
+    >>> import hydrokit
+    >>> m = hydrokit.load_mission("minerva_square")
+    >>> m.vehicle, m.controller
+    ('minerva', 'pid')
+    """
+    from hydrokit.io.mission import load_mission as _load
+
+    return _load(name_or_path)
+
+
+def load_geometry(path: PathLike) -> Geometry:
+    """Read a geometry file (shapes, vehicles and meshes placed in a common frame; m, kg)."""
+    from hydrokit.io.geometry import load_geometry as _load
+
+    return _load(path)
+
+
+def read_launch(path: PathLike, rig: Rig | PathLike, *, release: float | None = None,
+                end: float | None = None, trim: bool = True) -> Launch:
+    """Read one launch CSV of ``rig`` and (by default) trim it to the free decay.
+
+    Parameters
+    ----------
+    path : launch CSV (time s; position m, or angle rad / angle_deg)
+    rig : Rig or rig-file path
+    release, end : float, optional — release and last useful time, s (default: detected)
+    trim : bool — cut the record at the release (t = 0 there) and the end
+
+    Returns
+    -------
+    Launch — t in s, y in m or rad, with notes of what reading and trimming did
+    """
+    from hydrokit.identify.preprocess import trim_launch
+    from hydrokit.io.launch import read_launch as _read
+
+    rig_obj = _as_rig(rig)
+    raw = _read(path, rig_obj)
+    return trim_launch(raw, release=release, end=end) if trim else raw
+
+
+def identify_campaign(
+    rig: Rig | PathLike,
+    launches_or_paths: Sequence[Launch | PathLike],
+    method: str = "output-error",
+    *,
+    release: float | None = None,
+    end: float | None = None,
+    progress: Callable[[str], None] | None = None,
+) -> CampaignResult:
+    """Identify added mass, linear and quadratic damping from many launches of one rig.
+
+    Parameters
+    ----------
+    rig : Rig or rig-file path
+    launches_or_paths : Launch objects (already trimmed) or launch CSV paths
+    method : str — "output-error" (default), "equation-error", "morison" or "log-decrement"
+    release, end : float, optional — release and last useful time of path launches, s
+    progress : callable, optional — called with each launch's file name when it is done
+
+    Returns
+    -------
+    CampaignResult — launches, per-coefficient mean with 95 % CI, amplitude-group tests,
+    full-scale values when the rig has a scale
+
+    Examples
+    --------
+    >>> import hydrokit
+    >>> from hydrokit.data import campaign_files
+    >>> rig, files = campaign_files("udrobot", "spring_x")
+    >>> res = hydrokit.identify_campaign(rig, files[:6])
+    >>> 0.2 < res.mean("added_mass") < 0.4     # kg (CELY2019 Table 7: 0.287 kg)
+    True
+    """
+    from hydrokit.identify.result import identify_launches
+    from hydrokit.identify.types import Launch
+
+    rig_obj = _as_rig(rig)
+    launches = [x if isinstance(x, Launch) else read_launch(x, rig_obj, release=release, end=end)
+                for x in launches_or_paths]
+    return identify_launches(rig_obj, launches, method, progress=progress)
+
+
+def simulate(vehicle: Vehicle | PathLike, duration: float, dt: float, tau: Any = (0, 0, 0, 0, 0, 0),
+             **options: Any) -> Trajectory:
+    """Simulate ``vehicle`` open loop under a constant τ, a τ(t) table or a callable.
+
+    Parameters
+    ----------
+    vehicle : Vehicle or vehicle name/path
+    duration, dt : float — s
+    tau : 6 floats (N, N·m), rows [t, X, Y, Z, K, M, N] or a callable ``tau(t, x)``
+    **options : eta0 (m, rad), nu0 (m/s, rad/s), current_ned (m/s), integrator ("rk4",
+        "rk4-numpy", "dop853", "rk45"), attitude ("euler", "quaternion"), output_every
+
+    Returns
+    -------
+    Trajectory
+
+    Examples
+    --------
+    >>> import hydrokit
+    >>> tr = hydrokit.simulate("bluerov2-heavy", duration=2.0, dt=0.01, tau=[10, 0, 0, 0, 0, 0])
+    >>> tr.nu[-1, 0] > 0      # surging forward (m/s)
+    True
+    """
+    from hydrokit.simulate.driver import simulate as _simulate
+
+    return _simulate(_as_vehicle(vehicle), duration, dt, tau, **options)
+
+
+def simulate_batch(vehicles: Sequence[Vehicle | PathLike], duration: float, dt: float,
+                   tau: Any = (0, 0, 0, 0, 0, 0), **options: Any) -> BatchTrajectory:
+    """Simulate many vehicles (e.g. Monte Carlo coefficient samples) in parallel, compiled.
+
+    Parameters
+    ----------
+    vehicles : Vehicles or names/paths sharing one derivative-term structure
+    duration, dt : float — s
+    tau : 6 floats (N, N·m) for all, or one row per vehicle
+    **options : eta0, nu0, current_ned, output_every, attitude (see :func:`simulate`)
+
+    Returns
+    -------
+    BatchTrajectory
+    """
+    from hydrokit.simulate.batch import simulate_batch as _batch
+
+    return _batch([_as_vehicle(v) for v in vehicles], duration, dt, tau, **options)
+
+
+def fly(mission_or_vehicle: Mission | Vehicle | PathLike, controller: str | None = None, *,
+        vehicle: Vehicle | PathLike | None = None, waypoints: Any = None,
+        gains: dict[str, dict[str, dict[str, float]]] | None = None, duration: float | None = None,
+        progress: Callable[[float], None] | None = None, **mission_options: Any) -> MissionResult:
+    """Fly a closed-loop waypoint mission (guidance, PID or S-plane autopilot, allocation,
+    thrusters) and return its trajectory and tracking metrics.
+
+    Parameters
+    ----------
+    mission_or_vehicle : Mission, mission name/path, or a Vehicle (then give ``waypoints``
+        and ``gains``; other mission fields via ``mission_options``: speed m/s, dt s,
+        acceptance_radius m, lookahead m, current (3,) m/s)
+    controller : str, optional — "pid" or "s-plane" (default: the mission's)
+    vehicle : Vehicle or name/path, optional — fly the mission with this vehicle instead of
+        the one it names (e.g. an identified one)
+    waypoints : (k, 3) — NED waypoints, m (with a Vehicle)
+    gains : dict — controller → loop → gains, as in a mission file (with a Vehicle)
+    duration : float, optional — s
+    progress : callable, optional — called with the simulated time, s
+
+    Returns
+    -------
+    MissionResult
+
+    Examples
+    --------
+    >>> import hydrokit
+    >>> run = hydrokit.fly("minerva_square", duration=5.0)
+    >>> run.label, run.time[-1] <= 5.0
+    ('PID', True)
+    """
+    from hydrokit.model.mission import Mission, create_mission
+    from hydrokit.model.vehicle import Vehicle
+    from hydrokit.simulate.mission import fly_mission
+
+    if isinstance(mission_or_vehicle, Vehicle):
+        if waypoints is None or gains is None:
+            raise InputError("fly(vehicle, …): give waypoints (m, NED) and gains, or pass a Mission")
+        kind = controller or next(iter(gains))
+        mission = create_mission(waypoints, gains, vehicle=mission_or_vehicle.name, controller=kind,
+                                 duration=duration if duration is not None else mission_options.pop("duration", 300.0),
+                                 **mission_options)
+        veh = mission_or_vehicle
+    else:
+        if mission_options:
+            raise InputError(f"unexpected option(s) {sorted(mission_options)} for a mission file; "
+                             "they apply only when flying a Vehicle with waypoints")
+        mission = mission_or_vehicle if isinstance(mission_or_vehicle, Mission) else load_mission(mission_or_vehicle)
+        veh = _as_vehicle(vehicle) if vehicle is not None else load_vehicle(mission.vehicle)
+    return fly_mission(mission, veh, controller, duration=duration, progress=progress)
+
+
+def estimate_geometry(geometry: Geometry | PathLike, bem: bool = False, resolution: int | None = None) -> Estimate:
+    """Added mass, damping and mass properties of a geometry (shapes, vehicles, meshes).
+
+    Parameters
+    ----------
+    geometry : Geometry or geometry-file path
+    bem : bool — added mass of eligible parts from the boundary-element solver (hydrokit[bem])
+    resolution : int, optional — BEM panels around the circumference
+
+    Returns
+    -------
+    Estimate
+
+    Examples
+    --------
+    >>> import hydrokit
+    >>> from hydrokit.data import geometry_file
+    >>> est = hydrokit.estimate_geometry(geometry_file("sphere"))
+    >>> round(est.composite.added_mass[0, 0], 1)   # ½ρV of a 0.5 m sphere in sea water, kg
+    33.5
+    """
+    from hydrokit.estimate.geometry import Geometry, estimate_geometry as _estimate
+
+    geo = geometry if isinstance(geometry, Geometry) else load_geometry(geometry)
+    return _estimate(geo, bem=bem, resolution=resolution)
+
+
+def fit_forces(speed: Any, force: Any, area: float, density: float) -> ForceFit:
+    """Fit F = K_L U + K_Q|U|U (Chin) and F = K_D|U|U (Morison) to a force–speed curve.
+
+    Parameters
+    ----------
+    speed : array — U, m/s
+    force : array — resisting force F, N
+    area : float — reference area A_ref for C_D, m²
+    density : float — fluid density ρ, kg/m³
+
+    Returns
+    -------
+    ForceFit
+
+    Examples
+    --------
+    >>> import hydrokit
+    >>> fit = hydrokit.fit_forces([0.5, 1.0, 1.5, 2.0], [2.5, 10.0, 22.5, 40.0], area=0.1, density=1000.0)
+    >>> round(fit.K_D, 6), round(fit.C_D, 6)     # F = 10 U², C_D = 2·10/(1000·0.1)
+    (10.0, 0.2)
+    """
+    from hydrokit.estimate.forces import fit_forces as _fit
+
+    return _fit(speed, force, area, density)
+
+
+def allocate(vehicle: Vehicle | ThrusterSet | PathLike, tau: Any, method: str = "constrained",
+             weights: Sequence[float] | None = None) -> Allocation:
+    """Allocate a demanded force/moment τ to the vehicle's thrusters.
+
+    Parameters
+    ----------
+    vehicle : Vehicle with thrusters, a ThrusterSet, or a vehicle name/path (only its
+        ``thrusters:`` block is read)
+    tau : 6 floats — X, Y, Z (N), K, M, N (N·m), body axes
+    method : str — "constrained" (least residual within the thrust limits, then least
+        thrust) or "pinv" (weighted pseudo-inverse)
+    weights : m floats, optional — pinv weights (larger = used less)
+
+    Returns
+    -------
+    Allocation — thrust per thruster (N), achieved τ, commands (rev/s, table unit or N)
+
+    Examples
+    --------
+    >>> import hydrokit
+    >>> a = hydrokit.allocate("minerva", [100, 0, 0, 0, 0, 0])
+    >>> round(float(a.achieved_tau[0]), 6)
+    100.0
+    """
+    from hydrokit.model.allocation import allocate_constrained, allocate_pinv
+
+    from hydrokit.model.thrusters import ThrusterSet
+    from hydrokit.model.vehicle import Vehicle
+
+    if isinstance(vehicle, ThrusterSet):
+        ts = vehicle
+    elif isinstance(vehicle, Vehicle):
+        ts = vehicle.thrusters
+    else:
+        from hydrokit.io.thrusters import load_thrusters
+
+        ts = load_thrusters(vehicle)
+    if ts is None or len(ts) == 0:
+        raise InputError(f"vehicle '{getattr(vehicle, 'name', vehicle)}' has no thrusters: allocation needs a "
+                         "'thrusters:' block")
+    tau_v = _six(tau, "tau")
+    if method not in ("constrained", "pinv"):
+        raise InputError(f"method = {method!r}: expected constrained or pinv")
+    if weights is not None:
+        if method != "pinv":
+            raise InputError("weights apply only to method 'pinv'")
+        if len(weights) != len(ts):
+            raise InputError(f"weights: {len(weights)} given; expected one per thruster ({len(ts)})")
+    T = ts.configuration_matrix()
+    if method == "pinv":
+        res = allocate_pinv(T, tau_v, weights=weights, f_min=ts.f_min, f_max=ts.f_max, names=ts.names)
+    else:
+        res = allocate_constrained(T, tau_v, ts.f_min, ts.f_max, names=ts.names)
+    from hydrokit.simulate.mission import COMMAND_UNITS
+
+    return replace(res, tau=tau_v, names=list(ts.names), configuration_matrix=T, f_min=ts.f_min, f_max=ts.f_max,
+                   command=ts.command_for_thrust(res.thrust),
+                   command_unit=[COMMAND_UNITS[t.model] for t in ts.thrusters],
+                   warnings=list(ts.notes) + list(res.warnings),
+                   vehicle=str(getattr(vehicle, "name", vehicle)))
+
+
+# -- helpers -----------------------------------------------------------------------------------
+
+
+def _as_rig(rig: Any) -> Rig:
+    from hydrokit.identify.types import Rig
+
+    return rig if isinstance(rig, Rig) else load_rig(rig)
+
+
+def _as_vehicle(vehicle: Any) -> Vehicle:
+    from hydrokit.model.vehicle import Vehicle
+
+    return vehicle if isinstance(vehicle, Vehicle) else load_vehicle(vehicle)
+
+
+def _six(values: Any, what: str) -> Any:
+    import numpy as np
+
+    try:
+        a = np.asarray(values, dtype=float)
+    except (TypeError, ValueError):
+        raise InputError(f"{what} = {values!r}: expected 6 numbers (N, N·m)") from None
+    if a.shape != (6,) or not np.all(np.isfinite(a)):
+        raise InputError(f"{what} = {values!r}: expected 6 finite numbers X, Y, Z (N), K, M, N (N·m)")
+    return a

@@ -1,0 +1,217 @@
+"""Checks of user-given numbers, lists and mappings, with one-line error messages.
+
+One implementation for every layer, so a number is accepted or refused by the same rules
+whether it comes from a file (:func:`number`, :func:`vector`, :func:`mapping`: the message
+names the *field*, ``field 'dt' = -1: expected a positive number``) or from a model
+constructor (:func:`quantity`, :func:`quantities`: the message names the parameter in
+full, ``PID ki = -2.0: expected a number ≥ 0``).
+
+The rules: ``bool`` is not a number (YAML's ``yes`` must not become 1.0), neither is text
+(``"3"`` is refused rather than guessed), and NaN or ±∞ are refused unless the caller allows
+infinity explicitly (an open controller limit). Every failure raises
+:class:`hydrokit.errors.InputError`.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Iterable
+from typing import Any
+
+import numpy as np
+
+from hydrokit.errors import InputError
+
+_REAL = (int, float, np.integer, np.floating)
+
+
+def _is_real(value: object) -> bool:
+    # bool is an int subclass (and np.bool_ is not a number type here): refuse both
+    return isinstance(value, _REAL) and not isinstance(value, (bool, np.bool_))
+
+
+def _checked(
+    value: object,
+    label: str,
+    source: str,
+    positive: bool,
+    nonneg: bool,
+    allow_inf: bool,
+    unit: str,
+) -> float:
+    """The one number check: ``label = value!r: expected …`` on failure."""
+    in_unit = f" in {unit}" if unit else ""
+    if not _is_real(value):
+        raise InputError(f"{label} = {value!r}: expected a number{in_unit}", source)
+    v = float(value)  # type: ignore[arg-type]
+    if math.isnan(v) or (math.isinf(v) and not allow_inf):
+        raise InputError(f"{label} = {value!r}: expected a finite number{in_unit}", source)
+    if positive and not v > 0:
+        raise InputError(f"{label} = {value!r}: expected a positive number{in_unit}", source)
+    if nonneg and not v >= 0:
+        raise InputError(f"{label} = {value!r}: expected a number ≥ 0{in_unit}", source)
+    return v
+
+
+# ---------------------------------------------------------------------------- file fields
+def number(value: Any, field: str, source: str = "", *, positive: bool = False, nonneg: bool = False) -> float:
+    """A finite number from a file field.
+
+    Parameters
+    ----------
+    value : object
+        The value as read (int or float; bool, text, NaN and ±∞ are refused).
+    field : str
+        The field's name in the file, e.g. ``guidance.lookahead`` or ``thrusters[0].max_rpm``.
+    source : str, optional
+        The file name, prefixed to the message.
+    positive : bool, optional
+        Require value > 0.
+    nonneg : bool, optional
+        Require value ≥ 0.
+
+    Returns
+    -------
+    float
+        The value (in the field's own unit; no conversion here).
+
+    Raises
+    ------
+    InputError
+        ``field '<field>' = <value!r>: expected …`` (one line).
+    """
+    return _checked(value, f"field '{field}'", source, positive, nonneg, False, "")
+
+
+def vector(value: Any, n: int, field: str, source: str = "") -> np.ndarray:
+    """A list (or tuple) of exactly ``n`` finite numbers from a file field.
+
+    Parameters
+    ----------
+    value : object
+        The value as read.
+    n : int
+        The required number of entries.
+    field : str
+        The field's name in the file; an entry is named ``field[i]``.
+    source : str, optional
+        The file name, prefixed to the message.
+
+    Returns
+    -------
+    ndarray, shape (n,)
+        The values as floats (in the field's own unit).
+
+    Raises
+    ------
+    InputError
+        Not a list of n entries, or an entry that is not a finite number.
+    """
+    if not isinstance(value, (list, tuple)) or len(value) != n:
+        raise InputError(f"field '{field}' = {value!r}: expected a list of {n} numbers", source)
+    return np.array([number(v, f"{field}[{i}]", source) for i, v in enumerate(value)], dtype=float)
+
+
+def mapping(value: Any, field: str, source: str = "") -> dict:
+    """A mapping (YAML block of ``key: value`` lines) from a file field.
+
+    Parameters
+    ----------
+    value : object
+        The value as read.
+    field : str
+        The field's name in the file.
+    source : str, optional
+        The file name, prefixed to the message.
+
+    Returns
+    -------
+    dict
+        ``value`` itself (not copied).
+
+    Raises
+    ------
+    InputError
+        ``field '<field>' = <value!r>: expected a mapping``.
+    """
+    if not isinstance(value, dict):
+        raise InputError(f"field '{field}' = {value!r}: expected a mapping", source)
+    return value
+
+
+# ---------------------------------------------------------------------- model parameters
+def quantity(
+    value: Any,
+    what: str,
+    source: str = "",
+    *,
+    positive: bool = False,
+    nonneg: bool = False,
+    allow_inf: bool = False,
+    unit: str = "",
+) -> float:
+    """A model parameter as a float, named in full in the message.
+
+    Parameters
+    ----------
+    value : object
+        An int, float or numpy number (bool and text are refused).
+    what : str
+        The parameter as the message names it, e.g. ``PID kp`` or ``thruster 'T1' diameter``.
+    source : str, optional
+        Where it came from (a file), prefixed to the message.
+    positive, nonneg : bool, optional
+        Require value > 0 or ≥ 0.
+    allow_inf : bool, optional
+        Accept ±∞ (e.g. an absent output limit); NaN is always refused.
+    unit : str, optional
+        The SI unit expected, named in the message (``expected a positive number in m``).
+
+    Returns
+    -------
+    float
+        The value.
+
+    Raises
+    ------
+    InputError
+        ``<what> = <value>: expected …``; a number is shown as a float (``-2.0``), which is
+        what the model stores.
+    """
+    shown = float(value) if _is_real(value) else value
+    return _checked(shown, what, source, positive, nonneg, allow_inf, unit)
+
+
+def quantities(value: Any, what: str, n: int | None = None, source: str = "") -> tuple[float, ...]:
+    """A model parameter that is a sequence of finite numbers (a 3-vector, coefficients).
+
+    Parameters
+    ----------
+    value : object
+        A list, tuple or 1-D array (text and mappings are refused).
+    what : str
+        The parameter as the message names it, e.g. ``thruster 'T1' position``.
+    n : int or None, optional
+        The required length; None = any length ≥ 1.
+    source : str, optional
+        Where it came from, prefixed to the message.
+
+    Returns
+    -------
+    tuple of float
+        The values, in the parameter's own unit.
+
+    Raises
+    ------
+    InputError
+        ``<what> = <value!r>: expected …`` naming the length or the bad entry.
+    """
+    expected = f"{n} finite numbers" if n is not None else "a list of finite numbers"
+    if isinstance(value, (str, bytes, dict)) or not isinstance(value, (Iterable, np.ndarray)):
+        raise InputError(f"{what} = {value!r}: expected {expected}", source)
+    items = list(np.asarray(value, dtype=object).reshape(-1)) if isinstance(value, np.ndarray) else list(value)
+    if (n is not None and len(items) != n) or not items:
+        raise InputError(f"{what} = {value!r}: expected {expected}", source)
+    if not all(_is_real(x) and math.isfinite(float(x)) for x in items):
+        raise InputError(f"{what} = {value!r}: expected {expected}", source)
+    return tuple(float(x) for x in items)

@@ -1,0 +1,192 @@
+"""A campaign identified: launches, per-coefficient summary with CI, pairwise tests, full scale.
+
+:func:`identify_launches` fits every trimmed :class:`~hydrokit.identify.types.Launch` of one rig
+with one method and returns a :class:`CampaignResult`. Reading launch files is the io layer's
+job (:func:`hydrokit.read_launch`); :func:`hydrokit.identify_campaign` accepts paths too.
+"""
+
+from __future__ import annotations
+
+import html
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass, field
+from typing import Any
+
+import numpy as np
+
+from hydrokit._result import Result, html_table, jsonable
+from hydrokit.errors import InputError
+from hydrokit.identify.campaign import group_by_amplitude, rank_sum_pairs, summarize
+from hydrokit.identify.scaling import scale_coefficients
+from hydrokit.identify.types import METHODS, Launch, LaunchResult, Rig, rig_document
+
+COEFFS = ("added_mass", "linear_damping", "quadratic_damping")
+#: the per-launch columns of :meth:`CampaignResult.table`
+LAUNCH_COLUMNS = ("file", "amplitude", "added_mass", "added_mass_coefficient", "linear_damping",
+                  "quadratic_damping", "drag_coefficient", "natural_frequency", "damping_ratio",
+                  "reynolds_max", "kc", "rms_residual")
+
+
+def coefficient_units(rig: Rig) -> dict[str, str]:
+    """Units of the identified quantities of ``rig`` (ASCII, as in the JSON document)."""
+    if rig.rotational:
+        return {"added_mass": "kg m^2", "linear_damping": "N m s/rad", "quadratic_damping": "N m s^2/rad^2",
+                "natural_frequency": "rad/s", "amplitude": "rad", "rms_residual": "rad"}
+    sig = "m" if rig.test == "spring" else "rad"
+    return {"added_mass": "kg", "linear_damping": "N s/m", "quadratic_damping": "N s^2/m^2",
+            "natural_frequency": "rad/s", "amplitude": sig, "rms_residual": sig}
+
+
+@dataclass
+class IdentifiedLaunch:
+    """One launch: the trimmed record, its result and the fitted estimator (``predict(t)``)."""
+
+    launch: Launch
+    result: LaunchResult
+    estimator: Any
+
+
+@dataclass
+class CampaignResult(Result):
+    """One rig (one axis) identified by one method over many launches.
+
+    Attributes
+    ----------
+    rig : Rig
+    method : str — estimator name
+    launches : list of IdentifiedLaunch
+    summary : dict — per coefficient: mean, std, 95 % Student-t CI of the mean, n, rejected
+        launches and the outlier rule (:func:`hydrokit.identify.campaign.summarize`)
+    pairwise : dict — per coefficient: two-sided rank-sum tests between amplitude groups
+    groups : dict — amplitude-group label → launch files
+    full_scale : dict or None — mean added mass (kg or kg·m²) and damping scaled to full size
+        with λ = 1/rig.scale (ENG2009 §II.D; equal C_D at equal speed), when the rig has a scale
+    """
+
+    rig: Rig
+    method: str
+    launches: list[IdentifiedLaunch]
+    summary: dict[str, Any]
+    pairwise: dict[str, Any]
+    groups: dict[str, list[str]]
+    full_scale: dict[str, Any] | None = None
+    warnings: list[str] = field(default_factory=list)
+
+    @property
+    def results(self) -> list[LaunchResult]:
+        """The per-launch results, in launch order."""
+        return [it.result for it in self.launches]
+
+    def mean(self, coefficient: str) -> float | None:
+        """Campaign mean of ``coefficient`` (e.g. "added_mass"), outliers excluded, SI."""
+        return self.summary[coefficient]["mean"]
+
+    def to_dict(self) -> dict[str, Any]:
+        """The identification JSON document (issue #2 contract; ``full_scale`` added)."""
+        launches = []
+        for r in self.results:
+            d = r.to_dict()
+            d["notes"] = d.get("extra", {}).pop("notes", [])
+            launches.append(d)
+        doc = {
+            "hydrokit_result": "identify",
+            "method": self.method,
+            "rig": rig_document(self.rig),
+            "units": coefficient_units(self.rig),
+            "launches": launches,
+            "summary": self.summary,
+            "groups": self.groups,
+            "pairwise": self.pairwise,
+        }
+        if self.full_scale is not None:
+            doc["full_scale"] = self.full_scale
+        return jsonable(doc)
+
+    def table(self) -> tuple[list[str], list[list[Any]]]:
+        """One row per launch: :data:`LAUNCH_COLUMNS` (SI)."""
+        return list(LAUNCH_COLUMNS), [[getattr(r, c) for c in LAUNCH_COLUMNS] for r in self.results]
+
+    def summary_rows(self) -> list[tuple[str, Any]]:
+        units = coefficient_units(self.rig)
+        rows: list[tuple[str, Any]] = [("rig", f"{self.rig.test}, {self.rig.axis}"), ("method", self.method),
+                                       ("launches", len(self.launches))]
+        for k in COEFFS:
+            s = self.summary[k]
+            if s["mean"] is not None:
+                ci = s["ci"]
+                ci_txt = f" [{ci[0]:.4g}, {ci[1]:.4g}]" if ci[0] is not None else ""
+                rows.append((f"{k} ({units[k]})", f"{s['mean']:.5g} ± {s['std']:.2g}{ci_txt}"))
+        if self.full_scale:
+            for k in COEFFS:
+                if self.full_scale.get(k) is not None:
+                    rows.append((f"{k}, full scale ({units[k]})", self.full_scale[k]))
+        return rows
+
+    def _repr_html_(self) -> str:
+        return html_table(f"CampaignResult: {html.escape(self.rig.source or '')}", self.summary_rows())
+
+    def plot(self, ax: Any = None, coefficient: str = "added_mass") -> Any:
+        """``coefficient`` per launch against amplitude with the mean and its CI; returns the axes."""
+        from hydrokit.plot.identify import campaign_axes
+
+        if coefficient not in self.summary:
+            raise InputError(f"coefficient = {coefficient!r}: expected one of {', '.join(COEFFS)}")
+        return campaign_axes(self.results, coefficient, self.summary[coefficient],
+                             coefficient_units(self.rig).get(coefficient, "–"), ax,
+                             f"{self.rig.test} rig, {self.rig.axis} ({self.method})")
+
+
+def identify_launches(
+    rig: Rig,
+    launches: Sequence[Launch],
+    method: str = "output-error",
+    progress: Callable[[str], None] | None = None,
+) -> CampaignResult:
+    """Identify every trimmed launch of one rig and summarise the campaign.
+
+    Parameters
+    ----------
+    rig : Rig
+    launches : trimmed Launches (release at t = 0; t in s, y in m or rad)
+    method : str — "output-error" (default), "equation-error", "morison" or "log-decrement"
+    progress : callable, optional — called with each launch's file name when it is done
+
+    Returns
+    -------
+    CampaignResult
+
+    Raises
+    ------
+    InputError
+        An unknown method, no launches, or a launch no estimator can use (naming its file).
+    """
+    from hydrokit.identify.estimators import identify_launch, with_notes
+
+    if method not in METHODS:
+        raise InputError(f"method = {method!r}: expected one of {', '.join(METHODS)}")
+    if not launches:
+        raise InputError("no launches to identify; expected at least one launch")
+    items = []
+    for launch in launches:
+        result, est = identify_launch(rig, launch, method, return_estimator=True)
+        items.append(IdentifiedLaunch(launch, with_notes(result, launch.notes), est))
+        if progress is not None:
+            progress(launch.file)
+    results = [it.result for it in items]
+    groups = group_by_amplitude(results, angles=rig.test != "spring")
+    pairwise = {c: rank_sum_pairs({k: [getattr(r, c) for r in g] for k, g in groups.items()}) for c in COEFFS}
+    summary = summarize(results)
+    full = None
+    if rig.scale:
+        lam = 1.0 / rig.scale
+        means = {k: summary[k]["mean"] for k in COEFFS if summary[k]["mean"] is not None}
+        full = {"lambda": lam, **scale_coefficients(means, lam, rig.rotational),
+                "assumption": "equal C_D at equal speed (ENG2009 §II.D), not Reynolds similarity"}
+    warnings = [f"{r.file}: {w}" for r in results for w in r.warnings]
+    return CampaignResult(rig, method, items, summary, pairwise,
+                          {k: [r.file for r in g] for k, g in groups.items()}, full, warnings)
+
+
+def predict(item: IdentifiedLaunch) -> np.ndarray:
+    """The fitted signal of one launch at its own sample times (m or rad)."""
+    return np.asarray(item.estimator.predict(np.asarray(item.launch.t, float)))
