@@ -17,26 +17,28 @@ import time
 
 def closed_loop_speed(mission_name: str = "lingyun_path", kind: str = "pid", seconds: float = 60.0) -> float:
     """Steps per second of the closed loop (controller + allocation + thrusters + vehicle)."""
-    from hydrokit.io.mission import fly, load_mission
+    from hydrokit import fly, load_mission, load_vehicle
 
     mis = load_mission(mission_name)
-    fly(mis, kind, duration=1.0)  # warm-up: imports and any compilation
+    vehicle = load_vehicle(mis.vehicle)
+    fly(mis, kind, vehicle=vehicle, duration=1.0)  # warm-up: imports and any compilation
     t0 = time.perf_counter()
-    fly(mis, kind, duration=seconds)
+    fly(mis, kind, vehicle=vehicle, duration=seconds)
     elapsed = time.perf_counter() - t0
     return (seconds / mis.dt) / elapsed
 
 
 def main(mission_name: str = "lingyun_path") -> None:
-    from hydrokit.io.mission import fly, load_mission
+    from hydrokit import fly, load_mission, load_vehicle
 
     mis = load_mission(mission_name)
+    vehicle = load_vehicle(mis.vehicle)
     runs = {}
     for kind in ("pid", "s-plane"):
         t0 = time.perf_counter()
-        run = fly(mis, kind)
+        run = fly(mis, kind, vehicle=vehicle)
         elapsed = time.perf_counter() - t0
-        runs[kind] = (run.result.metrics(run.thrusters), elapsed)
+        runs[kind] = (run.metrics, elapsed)
     rows = [
         ("cross-track RMS [m]", "cross_track_rms", 1.0),
         ("cross-track max [m]", "cross_track_max", 1.0),

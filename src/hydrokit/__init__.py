@@ -15,6 +15,8 @@ A walk-through of the whole chain is in docs/api.md.
 
 from __future__ import annotations
 
+import sys
+import types
 from typing import TYPE_CHECKING, Any
 
 from hydrokit.errors import HydrokitError, InputError
@@ -65,6 +67,21 @@ if TYPE_CHECKING:  # pragma: no cover - for type checkers and IDEs only
         simulate,
         simulate_batch,
     )
+
+
+class _Package(types.ModuleType):
+    """The ``hydrokit`` module: keeps the API function ``hydrokit.simulate`` when the
+    subpackage ``hydrokit.simulate`` is imported (Python would otherwise bind the subpackage
+    to the same attribute). The subpackage stays importable: ``from hydrokit.simulate.driver
+    import …`` and ``import hydrokit.simulate.driver`` resolve through ``sys.modules``."""
+
+    def __setattr__(self, name: str, value: Any) -> None:
+        if name in _LAZY and isinstance(value, types.ModuleType):
+            return
+        super().__setattr__(name, value)
+
+
+sys.modules[__name__].__class__ = _Package
 
 
 def __getattr__(name: str) -> Any:

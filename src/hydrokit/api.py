@@ -177,7 +177,7 @@ def simulate(vehicle: Vehicle | PathLike, duration: float, dt: float, tau: Any =
     --------
     >>> import hydrokit
     >>> tr = hydrokit.simulate("bluerov2-heavy", duration=2.0, dt=0.01, tau=[10, 0, 0, 0, 0, 0])
-    >>> tr.nu[-1, 0] > 0      # surging forward (m/s)
+    >>> bool(tr.nu[-1, 0] > 0)      # surging forward (m/s)
     True
     """
     from hydrokit.simulate.driver import simulate as _simulate
@@ -233,7 +233,7 @@ def fly(mission_or_vehicle: Mission | Vehicle | PathLike, controller: str | None
     --------
     >>> import hydrokit
     >>> run = hydrokit.fly("minerva_square", duration=5.0)
-    >>> run.label, run.time[-1] <= 5.0
+    >>> run.label, bool(run.time[-1] <= 5.0)
     ('PID', True)
     """
     from hydrokit.model.mission import Mission, create_mission
@@ -275,7 +275,7 @@ def estimate_geometry(geometry: Geometry | PathLike, bem: bool = False, resoluti
     >>> import hydrokit
     >>> from hydrokit.data import geometry_file
     >>> est = hydrokit.estimate_geometry(geometry_file("sphere"))
-    >>> round(est.composite.added_mass[0, 0], 1)   # ½ρV of a 0.5 m sphere in sea water, kg
+    >>> round(float(est.composite.added_mass[0, 0]), 1)   # ½ρV of a 0.5 m sphere in sea water, kg
     33.5
     """
     from hydrokit.estimate.geometry import Geometry, estimate_geometry as _estimate

@@ -36,7 +36,6 @@ from hydrokit.errors import InputError
 from hydrokit.io.yamlfile import read_yaml
 from hydrokit.model.thrusters import DEFAULT_ADVANCE_RATIO_RANGE, Thruster, ThrusterSet
 
-
 ALLOWED = {
     "name", "position", "direction", "azimuth_deg", "elevation_deg", "max_thrust",
     "min_thrust", "diameter", "kt_forward", "kt_reverse", "thrust_loss", "max_rpm",

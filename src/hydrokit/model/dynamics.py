@@ -22,7 +22,12 @@ from dataclasses import dataclass
 import numpy as np
 
 from hydrokit.core.coriolis import coriolis_force
-from hydrokit.core.kinematics import euler_rate_matrix, quaternion_rate, quaternion_to_rotation, rotation_zyx
+from hydrokit.core.kinematics import (
+    euler_rate_matrix,
+    quaternion_rate,
+    quaternion_to_rotation,
+    rotation_zyx,
+)
 from hydrokit.errors import InputError
 from hydrokit.model.vehicle import Vehicle
 

@@ -216,7 +216,7 @@ class PropellerCurve(ThrustCurve):
     unit: ClassVar[str] = "rev/s"
 
     def __post_init__(self, label: str) -> None:
-        put = lambda k, v: object.__setattr__(self, k, v)  # noqa: E731
+        put = lambda k, v: object.__setattr__(self, k, v)
         put("diameter", quantity(self.diameter, f"{label} diameter", positive=True, unit="m"))
         put("max_speed", quantity(self.max_speed, f"{label} max_speed", positive=True, unit="rev/s"))
         kf = quantities(self.kt_forward, f"{label} kt_forward")
@@ -378,7 +378,7 @@ class Thruster:
 
     def __post_init__(self) -> None:
         where = f"thruster '{self.name}'"
-        put = lambda k, v: object.__setattr__(self, k, v)  # noqa: E731
+        put = lambda k, v: object.__setattr__(self, k, v)
         if not isinstance(self.name, str) or not self.name.strip():
             raise InputError(f"thruster name {self.name!r}: expected a non-empty string")
         pos = quantities(self.position, f"{where} position", 3)
@@ -493,7 +493,7 @@ class ThrusterSet:
         rho = quantity(self.density, "fluid density", positive=True, unit="kg/m³")
         object.__setattr__(self, "thrusters", ths)
         object.__setattr__(self, "density", rho)
-        put = lambda k, v: object.__setattr__(self, k, v)  # noqa: E731
+        put = lambda k, v: object.__setattr__(self, k, v)
         # the fluid is the vehicle's: every curve works in the set's water
         curves = tuple(t.curve.in_fluid(rho) for t in ths)  # type: ignore[union-attr]
         put("curves", curves)

@@ -43,7 +43,7 @@ def rk4_step(f: Callable[..., np.ndarray], t: float, x: np.ndarray, h: float, *,
     """
     if u is not None:
         g = f
-        f = lambda s, y: g(s, y, u)  # noqa: E731 - u held over the step
+        f = lambda s, y: g(s, y, u)  # u held over the step (zero-order hold)
     k1 = f(t, x)
     k2 = f(t + 0.5 * h, x + 0.5 * h * k1)
     k3 = f(t + 0.5 * h, x + 0.5 * h * k2)

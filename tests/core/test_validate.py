@@ -1,0 +1,91 @@
+"""core.validate: the one number/list/mapping check behind every reader and model class."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+from hydrokit.core.validate import mapping, number, quantities, quantity, vector
+from hydrokit.errors import InputError
+
+
+@pytest.mark.parametrize(
+    ("value", "match"),
+    [
+        (True, r"field 'dt' = True: expected a number"),  # YAML 'yes' is not 1.0
+        ("3", r"field 'dt' = '3': expected a number"),  # text is refused, not guessed
+        (None, r"field 'dt' = None: expected a number"),
+        (float("nan"), r"field 'dt' = nan: expected a finite number"),
+        (float("inf"), r"field 'dt' = inf: expected a finite number"),
+    ],
+)
+def test_number_rejects_non_numbers(value: object, match: str) -> None:
+    with pytest.raises(InputError, match=match) as exc:
+        number(value, "dt", "m.yaml")
+    # one line, prefixed with the file
+    assert str(exc.value).startswith("m.yaml: field 'dt'") and "\n" not in str(exc.value)
+
+
+def test_number_sign_options() -> None:
+    with pytest.raises(InputError, match=r"field 'duration' = -5: expected a positive number"):
+        number(-5, "duration", positive=True)
+    with pytest.raises(InputError, match=r"field 'duration' = 0: expected a positive number"):
+        number(0, "duration", positive=True)
+    with pytest.raises(InputError, match=r"field 'speed' = -0.1: expected a number ≥ 0"):
+        number(-0.1, "speed", nonneg=True)
+    assert number(0, "speed", nonneg=True) == 0.0
+    # accepted values come back as float, unchanged (no unit conversion here)
+    got = number(3, "n")
+    assert got == 3.0 and type(got) is float
+    assert number(-2.5, "x") == -2.5
+    assert number(np.float64(0.25), "x", positive=True) == 0.25
+
+
+def test_vector() -> None:
+    np.testing.assert_array_equal(vector([1, -2.5, 3], 3, "position"), [1.0, -2.5, 3.0])
+    np.testing.assert_array_equal(vector((0, 1), 2, "range"), [0.0, 1.0])
+    with pytest.raises(InputError, match=r"field 'position' = \[1, 2\]: expected a list of 3 numbers"):
+        vector([1, 2], 3, "position", "v.yaml")
+    with pytest.raises(InputError, match=r"field 'position' = '1,2,3': expected a list of 3 numbers"):
+        vector("1,2,3", 3, "position")
+    # a bad entry is named by its index
+    with pytest.raises(InputError, match=r"field 'position\[1\]' = True: expected a number"):
+        vector([0, True, 0], 3, "position")
+    with pytest.raises(InputError, match=r"field 'position\[2\]' = nan: expected a finite number"):
+        vector([0, 0, float("nan")], 3, "position")
+
+
+def test_mapping() -> None:
+    d = {"a": 1}
+    assert mapping(d, "fluid") is d
+    with pytest.raises(InputError, match=r"^f.yaml: field 'fluid' = \[1\]: expected a mapping$"):
+        mapping([1], "fluid", "f.yaml")
+
+
+def test_quantity_names_the_parameter_and_shows_a_float() -> None:
+    with pytest.raises(InputError, match=r"^PID ki = -2.0: expected a number ≥ 0$"):
+        quantity(-2, "PID ki", nonneg=True)
+    with pytest.raises(InputError, match=r"^T max_thrust = 0.0: expected a positive number in N$"):
+        quantity(0, "T max_thrust", positive=True, unit="N")
+    with pytest.raises(InputError, match=r"^T max_thrust = 'lots': expected a number in N$"):
+        quantity("lots", "T max_thrust", unit="N")
+    with pytest.raises(InputError, match="expected a number"):
+        quantity(False, "k")
+    # ±∞ only when allowed (an open controller limit); NaN never
+    with pytest.raises(InputError, match="expected a finite number"):
+        quantity(-math.inf, "PID output_min")
+    assert quantity(-math.inf, "PID output_min", allow_inf=True) == -math.inf
+    with pytest.raises(InputError, match="expected a finite number"):
+        quantity(math.nan, "PID output_min", allow_inf=True)
+
+
+def test_quantities() -> None:
+    assert quantities((1, 2.5, -3), "p", 3) == (1.0, 2.5, -3.0)
+    assert quantities(np.array([0.5, 0.25]), "kt") == (0.5, 0.25)
+    for bad in ([1, 2], "abc", 5, [1, "2", 3], [1, math.inf, 3], [1, True, 3]):
+        with pytest.raises(InputError, match=r"^thruster 'T' position = .*: expected 3 finite numbers$"):
+            quantities(bad, "thruster 'T' position", 3)
+    with pytest.raises(InputError, match="expected a list of finite numbers"):
+        quantities([], "kt_forward")

@@ -1,0 +1,126 @@
+"""Result objects: JSON-ready to_dict, plot on the caller's axes, notebook view, tables."""
+
+from __future__ import annotations
+
+import dataclasses
+import json
+import sys
+
+import numpy as np
+import pytest
+
+import hydrokit
+from hydrokit.errors import InputError, MissingExtraError
+
+
+@pytest.fixture(scope="module")
+def results() -> dict[str, object]:
+    from hydrokit.data import campaign_files, geometry_file
+
+    rig_file, files = campaign_files("udrobot", "spring_x")
+    return {
+        "campaign": hydrokit.identify_campaign(rig_file, files[:6]),
+        "trajectory": hydrokit.simulate("bluerov2-heavy", 2.0, 0.01, tau=[10, 0, 0, 0, 0, 0]),
+        "batch": hydrokit.simulate_batch(["bluerov2-heavy"] * 3, 1.0, 0.01, output_every=10),
+        "mission": hydrokit.fly("minerva_square", duration=4.0),
+        "estimate": hydrokit.estimate_geometry(geometry_file("sphere")),
+        "forces": hydrokit.fit_forces([0.5, 1, 1.5, 2], [2.6, 10.1, 22.4, 40.2], 0.1, 1000.0),
+        "allocation": hydrokit.allocate("minerva", [100, 0, 50, 0, 0, 10]),
+    }
+
+
+NAMES = ["campaign", "trajectory", "batch", "mission", "estimate", "forces", "allocation"]
+
+
+@pytest.mark.parametrize("name", NAMES)
+def test_to_dict_is_strict_json(results: dict[str, object], name: str) -> None:
+    doc = results[name].to_dict()  # type: ignore[attr-defined]
+    assert isinstance(doc, dict) and doc
+    text = json.dumps(doc, allow_nan=False)  # raises on NaN/inf or numpy scalars
+    assert json.loads(text) == doc
+
+
+@pytest.mark.parametrize("name", NAMES)
+def test_plot_draws_on_the_given_axes(results: dict[str, object], name: str) -> None:
+    from matplotlib.figure import Figure
+
+    ax = Figure().add_subplot()
+    out = results[name].plot(ax=ax)  # type: ignore[attr-defined]
+    assert out is ax
+    assert ax.lines or ax.patches or ax.collections, f"{name}.plot drew nothing"
+
+
+@pytest.mark.parametrize("name", NAMES)
+def test_plot_without_axes_makes_a_figure(results: dict[str, object], name: str) -> None:
+    import matplotlib
+
+    before = matplotlib.get_backend()
+    ax = results[name].plot()  # type: ignore[attr-defined]
+    assert ax.figure is not None
+    assert matplotlib.get_backend() == before
+
+
+@pytest.mark.parametrize("name", NAMES)
+def test_repr_html(results: dict[str, object], name: str) -> None:
+    html = results[name]._repr_html_()  # type: ignore[attr-defined]
+    assert html.startswith("<div>") and "<table>" in html
+
+
+def test_repr_html_escapes_user_text(results: dict[str, object]) -> None:
+    run = results["mission"]
+    evil = dataclasses.replace(run, mission=dataclasses.replace(run.mission, name="<script>x</script>"))  # type: ignore[arg-type]
+    html = evil._repr_html_()
+    assert "<script>" not in html and "&lt;script&gt;" in html
+
+
+def test_tables(results: dict[str, object]) -> None:
+    pd = pytest.importorskip("pandas")
+    camp = results["campaign"].to_dataframe()  # type: ignore[attr-defined]
+    assert len(camp) == 6 and "added_mass" in camp.columns
+    # the table holds the same numbers as the per-launch results (not a copy that could drift)
+    assert camp["added_mass"].tolist() == [r.added_mass for r in results["campaign"].results]  # type: ignore[attr-defined]
+    tr = results["trajectory"].to_dataframe()  # type: ignore[attr-defined]
+    assert list(tr.columns)[:4] == ["time", "x", "y", "z"] and isinstance(tr, pd.DataFrame)
+    alloc = results["allocation"].to_dataframe()  # type: ignore[attr-defined]
+    assert np.allclose(alloc["thrust"], results["allocation"].thrust)  # type: ignore[attr-defined]
+    from hydrokit._result import Result
+
+    with pytest.raises(TypeError, match="Result has no tabular form"):
+        Result().to_dataframe()
+
+
+def test_missing_pandas_names_the_extra(results: dict[str, object], monkeypatch: pytest.MonkeyPatch) -> None:
+    monkeypatch.setitem(sys.modules, "pandas", None)
+    with pytest.raises(MissingExtraError, match=r"hydrokit\[pandas\]"):
+        results["trajectory"].to_dataframe()  # type: ignore[attr-defined]
+
+
+def test_allocation_document_matches_cli_contract(results: dict[str, object]) -> None:
+    doc = results["allocation"].to_dict()  # type: ignore[attr-defined]
+    assert set(doc) >= {"vehicle", "method", "thrusters", "tau", "configuration_matrix", "thrust", "thrust_limits",
+                        "command", "command_unit", "achieved_tau", "residual", "uncontrollable", "saturated",
+                        "warnings", "units"}
+    # propeller speeds are shown in rpm at the edge: 60 × the rev/s the object holds
+    a = results["allocation"]
+    k = doc["command_unit"].index("rpm")
+    assert doc["command"][k] == pytest.approx(60.0 * a.command[k])  # type: ignore[attr-defined]
+
+
+def test_full_scale_values_follow_similitude(results: dict[str, object]) -> None:
+    camp = results["campaign"]
+    lam = 1.0 / camp.rig.scale  # type: ignore[attr-defined]
+    # ENG2009 §II.D: added mass scales with λ³, translational damping with λ²
+    assert camp.full_scale["added_mass"] == pytest.approx(camp.mean("added_mass") * lam**3)  # type: ignore[attr-defined]
+    assert camp.full_scale["quadratic_damping"] == pytest.approx(camp.mean("quadratic_damping") * lam**2)  # type: ignore[attr-defined]
+
+
+def test_fly_vehicle_needs_waypoints_and_thrusters() -> None:
+    v = hydrokit.load_vehicle("minerva")
+    with pytest.raises(InputError, match="waypoints"):
+        hydrokit.fly(v)
+    bare = dataclasses.replace(v, thrusters=None)
+    gains = {"pid": {"speed": {"kp": 1}, "depth": {"kp": 1}, "heading": {"kp": 1}}}
+    with pytest.raises(InputError, match="no thrusters"):
+        hydrokit.fly(bare, waypoints=[[0, 0, 0], [5, 0, 0]], gains=gains, duration=1.0)
+    with pytest.raises(InputError, match="expected 6 finite numbers"):
+        hydrokit.allocate(v, [1, 2, 3])
