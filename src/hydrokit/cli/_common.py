@@ -34,7 +34,7 @@ def progress_bar(*, time_based: bool = False) -> Any:
                     console=Console(stderr=True), transient=True)
 
 
-def write_all(files: Mapping[str | Path, bytes | str]) -> None:
+def write_all(files: Mapping[str, Any] | Mapping[Path, Any] | Mapping[str | Path, Any]) -> None:
     """Write every output (each whole or not at all) once everything has been computed."""
     from hydrokit._atomic import write_bytes
 

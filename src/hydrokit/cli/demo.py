@@ -54,11 +54,11 @@ def demo(out_dir: str, campaign: str) -> None:
              "and log-decrement (CELY2019 graphical).")
     html = identify_report(f"hydrokit identification: {campaign} campaign", runs, intro, closing)
     out = Path(out_dir)
-    files = {out / "results.json": json_text(all_docs), out / "report.html": html}
+    outputs: dict[str | Path, str | bytes] = {out / "results.json": json_text(all_docs), out / "report.html": html}
     for r in runs:
         for i, (png, _) in enumerate(r.figures):
-            files[out / "figures" / f"{r.rig.test}_{r.rig.axis}_{i + 1}.png"] = png
-    write_all(files)
+            outputs[out / "figures" / f"{r.rig.test}_{r.rig.axis}_{i + 1}.png"] = png
+    write_all(outputs)
     _print_overview(all_docs)
     click.echo(f"wrote {out / 'report.html'} and {out / 'results.json'} ({elapsed:.1f} s)", err=True)
 

@@ -80,7 +80,7 @@ def fit_forces(forces: str, area: float, density: float, json_out: str | None, p
                f"R² = {res.r2_chin:.4f}")
     click.echo(f"Morison: K_D = {res.K_D:.6g} ± {res.K_D_se:.3g} N·s²/m², C_D = {res.C_D:.6g} (A_ref = {area:g} m², "
                f"ρ = {density:g} kg/m³), R² = {res.r2_morison:.4f}")
-    files: dict[str, Any] = {}
+    files: dict[str | Path, Any] = {}
     if json_out:
         files[json_out] = json_text(res.to_dict())
     if plot_out:

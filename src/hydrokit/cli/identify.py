@@ -47,7 +47,7 @@ def identify(rig_file: str, launches: tuple[str, ...], json_out: str, method: st
         task = bar.add_task(f"identifying ({method})", total=len(launches))
         res = identify_campaign(rig, launches, method, release=release, end=end, progress=lambda f: bar.advance(task))
     doc = res.to_dict()
-    files: dict[str, Any] = {json_out: dumps(doc)}
+    files: dict[str | Path, Any] = {json_out: dumps(doc)}
     if plots_dir or report_out:
         from hydrokit.plot.identify import campaign_figures
 

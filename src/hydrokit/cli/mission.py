@@ -49,7 +49,7 @@ def mission(mission_file: str, out_dir: str, controller: str, duration: float | 
         for kind in kinds:
             task = bar.add_task(f"{kind} mission", total=duration if duration is not None else mis.duration)
             results[kind] = fly(mis, kind, vehicle=vehicle, duration=duration,
-                                progress=lambda t, task=task: bar.update(task, completed=t))
+                                progress=lambda t, task=task: bar.update(task, completed=t))  # type: ignore[misc]
     thrusters = vehicle.thrusters
     metrics = {r.label: r.metrics for r in results.values()}
     # everything computed: build the outputs in memory, then write them

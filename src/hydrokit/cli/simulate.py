@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import math
 from pathlib import Path
+from typing import Any
 
 import click
 
@@ -50,7 +51,7 @@ def simulate(vehicle: str, duration: float, dt: float, force: str, force_csv: st
     from hydrokit.io.vehicle import load_vehicle
 
     v = load_vehicle(vehicle)
-    tau = _vec(force, 6, "--force", "N, N·m")
+    tau: Any = _vec(force, 6, "--force", "N, N·m")
     if force_csv is not None:
         from hydrokit.io.trajectory import read_force_table
 

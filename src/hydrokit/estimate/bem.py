@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import json
 import math
+from typing import Any
 import os
 from pathlib import Path
 
@@ -77,17 +78,16 @@ def shape_mesh(shape: str, resolution: int = 24, **dims: float) -> SurfaceMesh:
         nx = max(2, int(round(n * L / (2 * math.pi * r))))
         ph = np.linspace(0.0, 2 * np.pi, n + 1)[:-1]
         xs = np.linspace(-L / 2, L / 2, nx + 1)
-        V = [[x, r * math.cos(p), r * math.sin(p)] for x in xs for p in ph]
-        V += [[-L / 2, 0.0, 0.0], [L / 2, 0.0, 0.0]]
-        V = np.array(V)
+        V = np.array([[x, r * math.cos(p), r * math.sin(p)] for x in xs for p in ph]
+                     + [[-L / 2, 0.0, 0.0], [L / 2, 0.0, 0.0]])
         idx = lambda i, j: i * n + (j % n)  # noqa: E731
-        F = [[idx(i, j), idx(i, j + 1), idx(i + 1, j + 1), idx(i + 1, j)] for i in range(nx) for j in range(n)]
+        quads = [[idx(i, j), idx(i, j + 1), idx(i + 1, j + 1), idx(i + 1, j)] for i in range(nx) for j in range(n)]
         c0, c1 = len(V) - 2, len(V) - 1
-        F += [[c0, idx(0, j + 1), idx(0, j), idx(0, j)] for j in range(n)]
-        F += [[c1, idx(nx, j), idx(nx, j + 1), idx(nx, j + 1)] for j in range(n)]
-        mesh = SurfaceMesh(V, np.array(F), shape)
+        quads += [[c0, idx(0, j + 1), idx(0, j), idx(0, j)] for j in range(n)]
+        quads += [[c1, idx(nx, j), idx(nx, j + 1), idx(nx, j + 1)] for j in range(n)]
+        mesh = SurfaceMesh(V, np.array(quads), shape)
         if mesh.volume() < 0:
-            mesh = SurfaceMesh(V, np.array(F)[:, ::-1], shape)
+            mesh = SurfaceMesh(V, np.array(quads)[:, ::-1], shape)
         return mesh
     raise InputError(f"shape {shape!r} has no built-in BEM mesh; expected sphere, spheroid or cylinder (or give an STL/OBJ)")
 

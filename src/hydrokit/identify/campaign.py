@@ -56,7 +56,7 @@ def describe(values: Sequence[float], files: Sequence[str] | None = None, confid
     std = float(np.std(x, ddof=1)) if n > 1 else 0.0
     if n > 1:
         half = float(stats.t.ppf(0.5 + confidence / 2, n - 1)) * std / math.sqrt(n)
-        ci = [mean - half, mean + half]
+        ci: list[float | None] = [mean - half, mean + half]
     else:
         ci = [None, None]
     return {"mean": mean, "std": std, "ci": ci, "n": n, "rejected": rejected, "rule": OUTLIER_RULE,
@@ -97,10 +97,10 @@ def rank_sum(x: Sequence[float], y: Sequence[float]) -> dict[str, float]:
     """
     from scipy import stats
 
-    x = np.asarray(x, float)
-    y = np.asarray(y, float)
+    x = np.asarray(x, float)  # type: ignore[assignment]
+    y = np.asarray(y, float)  # type: ignore[assignment]
     res = stats.mannwhitneyu(x, y, alternative="two-sided", method="asymptotic", use_continuity=False)
-    n1, n2 = x.size, y.size
+    n1, n2 = len(x), len(y)
     ranks = stats.rankdata(np.concatenate([x, y]))
     _, counts = np.unique(ranks, return_counts=True)
     n = n1 + n2

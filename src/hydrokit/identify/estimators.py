@@ -46,6 +46,14 @@ class _DecayEstimator:
     """Common machinery: validation, conversion to reported units, prediction."""
 
     method = ""
+    # learned by the subclasses' _fit: normalised (ω², b, g), its covariance, the initial
+    # state (m or rad, m/s or rad/s), the rest value and, for log-decrement, the cycles
+    p_: Any
+    pcov_: np.ndarray | None
+    q0_: float
+    v0_: float
+    offset_: float
+    cycles_: list[dict[str, Any]]
 
     def __init__(self, rig: Rig):
         self.rig = rig
@@ -85,10 +93,10 @@ class _DecayEstimator:
             cov = Jt @ self.pcov_ @ Jt.T
             self.covariance_ = cov
             se = np.sqrt(np.clip(np.diag(cov), 0.0, None))
-            self.std_error_ = {k: float(v) for k, v in zip(COEFFS, se)}
+            self.std_error_: dict[str, float | None] = {k: float(v) for k, v in zip(COEFFS, se)}
         else:
             self.covariance_ = None
-            self.std_error_ = {k: None for k in COEFFS}
+            self.std_error_ = dict.fromkeys(COEFFS)
         self.natural_frequency_ = math.sqrt(w2)
         a0 = abs(float(y[0]) - self.offset_)
         # equivalent linear damping ratio at the launch amplitude (Fossen-style linearisation
@@ -282,7 +290,7 @@ class LogDecrementEstimator(_DecayEstimator):
             raise InputError("fewer than two cycles with peaks above the noise; expected at least two cycles of free decay")
         rows.sort()
         arr = np.array(rows)
-        a, zeta, wn = arr[:, 1], arr[:, 2], arr[:, 3]
+        a, zeta, wn = arr[:, 1], arr[:, 2], arr[:, 3]  # type: ignore[assignment]
         w = float(np.mean(wn))
         w2 = w * w
         H = np.column_stack([np.ones_like(a), a])
@@ -298,7 +306,7 @@ class LogDecrementEstimator(_DecayEstimator):
         zl, kappa = float(coef[0]), float(coef[1])
         b = 2.0 * w * zl
         g = 3.0 * math.pi / 4.0 * kappa
-        var_w = float(np.var(wn, ddof=1)) / len(wn) if len(wn) > 1 else 0.0
+        var_w = float(np.var(wn, ddof=1)) / wn.size if wn.size > 1 else 0.0  # type: ignore[attr-defined]
         # ω² = w², b = 2 w ζ_L, g = 3π/4 κ
         J = np.array([[2 * w, 0, 0], [2 * zl, 2 * w, 0], [0, 0, 3 * math.pi / 4]])
         cin = np.zeros((3, 3))

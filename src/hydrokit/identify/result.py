@@ -10,7 +10,7 @@ from __future__ import annotations
 import html
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
-from typing import Any
+from typing import Any, cast
 
 import numpy as np
 
@@ -168,7 +168,7 @@ def identify_launches(
         raise InputError("no launches to identify; expected at least one launch")
     items = []
     for launch in launches:
-        result, est = identify_launch(rig, launch, method, return_estimator=True)
+        result, est = cast("tuple[LaunchResult, Any]", identify_launch(rig, launch, method, return_estimator=True))
         items.append(IdentifiedLaunch(launch, with_notes(result, launch.notes), est))
         if progress is not None:
             progress(launch.file)

@@ -136,7 +136,7 @@ def load_geometry(path: str | os.PathLike[str]) -> Geometry:
         if "drag_coefficient" in raw:
             kw["drag_coefficient" if shape in ("sphere", "block", "flat_plate") else "drag_axial"] = _num(
                 raw["drag_coefficient"], f"{where}.drag_coefficient", src)
-        sc = SHAPES[shape](**kw)
+        sc = SHAPES[shape](**kw)  # type: ignore[operator]
         vol = sc.volume
         if "buoyancy" in raw:
             vol = _num(raw["buoyancy"], f"{where}.buoyancy", src) / (rho * g)

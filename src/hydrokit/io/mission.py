@@ -213,7 +213,9 @@ def _parse_guidance(value: Any, source: str) -> WaypointPath:
     if not isinstance(wps, list) or len(wps) < 2:
         n = len(wps) if isinstance(wps, list) else 0
         raise InputError(f"field 'guidance.waypoints': {n} given; expected a list of at least 2 waypoints (x, y, z in m)", source)
-    points, speeds, times = [], [], []
+    points: list[np.ndarray] = []
+    speeds: list[float | None] = []
+    times: list[float | None] = []
     for i, wp in enumerate(wps):
         where = f"guidance.waypoints[{i}]"
         if isinstance(wp, list):

@@ -3,7 +3,7 @@
 
 from __future__ import annotations
 
-from collections.abc import Sequence
+from collections.abc import Mapping, Sequence
 from typing import Any
 
 import numpy as np
@@ -34,7 +34,7 @@ def launch_fit(t: np.ndarray, y: np.ndarray, fitted: np.ndarray, title: str, uni
     return fig
 
 
-def coefficients_vs_reynolds(groups: dict[str, Sequence[Any]], title: str = "") -> Any:
+def coefficients_vs_reynolds(groups: Mapping[str, Sequence[Any]], title: str = "") -> Any:
     """C_m, C_D, K_L and K_Q per launch against the peak Reynolds number, one colour per group
     (axis or method). ``groups`` maps a label to LaunchResults."""
     fig = new_figure((8, 5.5))

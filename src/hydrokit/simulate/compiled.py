@@ -6,6 +6,16 @@ allocation. Inputs: a force table (rows [t, X, Y, Z, K, M, N], linear interpolat
 beyond its ends; one row = constant) and a current table (rows [t, v_N, v_E, v_D]).
 Outputs are preallocated and the run stops at the first non-finite state (its step index is
 returned), so cost grows linearly with the duration.
+
+Every block here is a compiled *copy* of a numpy source, kept for speed only; the numpy one
+is the definition, and tests/model/test_compiled_vs_numpy.py compares each copy with it at
+random states: R(Θ), R(q) (:func:`hydrokit.core.kinematics.rotation_zyx`,
+:func:`~hydrokit.core.kinematics.quaternion_to_rotation`), T(Θ) and q̇
+(:func:`~hydrokit.core.kinematics.euler_rate_matrix`,
+:func:`~hydrokit.core.kinematics.quaternion_rate`), C(ν)ν
+(:func:`hydrokit.core.coriolis.coriolis_force`), the right-hand side
+(:func:`hydrokit.model.dynamics.vehicle_dynamics`) and the RK4 step
+(:func:`hydrokit.simulate.integrators.rk4_step`). Change a formula there first.
 """
 
 from __future__ import annotations
