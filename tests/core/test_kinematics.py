@@ -8,7 +8,12 @@ from hypothesis import strategies as st
 
 from hydrokit.core.coriolis import coriolis_force, coriolis_matrix
 from hydrokit.core.kinematics import (
-    J_euler, euler_rate_matrix, euler_to_quaternion, quaternion_rate, quaternion_to_euler, quaternion_to_rotation,
+    J_euler,
+    euler_rate_matrix,
+    euler_to_quaternion,
+    quaternion_rate,
+    quaternion_to_euler,
+    quaternion_to_rotation,
     rotation_zyx,
 )
 

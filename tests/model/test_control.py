@@ -134,7 +134,6 @@ def test_bad_s_plane_scale_rejected() -> None:
 # A plant written here independently of hydrokit's vehicle model: diagonal mass and linear
 # damping (no Coriolis, no restoring), zyx kinematics. Lingyun-sized numbers (LI2021 Table 1
 # mass 520 kg; the damping values are round numbers of our choosing).
-from hydrokit.model.allocation import configuration_matrix  # noqa: E402
 from hydrokit.model.guidance import Path  # noqa: E402
 from hydrokit.model.thrusters import Thruster, ThrusterSet  # noqa: E402
 from hydrokit.simulate.closed_loop import run_closed_loop  # noqa: E402

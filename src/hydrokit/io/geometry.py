@@ -32,6 +32,7 @@ from typing import Any
 
 import numpy as np
 
+from hydrokit.core.validate import number, vector
 from hydrokit.errors import InputError
 from hydrokit.estimate.geometry import Geometry, GeometryPart
 from hydrokit.estimate.shapes import solid_inertia
@@ -43,17 +44,11 @@ PART_KEYS = {"name", "shape", "vehicle", "mesh", "mass", "weight", "buoyancy", "
 
 
 def _num(v: Any, where: str, src: str, positive: bool = True) -> float:
-    if isinstance(v, bool) or not isinstance(v, (int, float)) or not math.isfinite(float(v)):
-        raise InputError(f"field '{where}' = {v!r}: expected a number", src)
-    if positive and v <= 0:
-        raise InputError(f"field '{where}' = {v}: expected a positive number", src)
-    return float(v)
+    return number(v, where, src, positive=positive)
 
 
 def _vec(v: Any, where: str, src: str) -> np.ndarray:
-    if not isinstance(v, list) or len(v) != 3:
-        raise InputError(f"field '{where}' = {v!r}: expected 3 numbers", src)
-    return np.array([_num(x, f"{where}[{i}]", src, positive=False) for i, x in enumerate(v)])
+    return vector(v, 3, where, src)
 
 
 def load_geometry(path: str | os.PathLike[str]) -> Geometry:

@@ -46,6 +46,9 @@ from typing import Any
 
 import numpy as np
 
+from hydrokit.core.validate import mapping as _mapping
+from hydrokit.core.validate import number as _num
+from hydrokit.core.validate import vector as _vector
 from hydrokit.errors import InputError
 from hydrokit.io.yamlfile import read_yaml
 from hydrokit.model.mission import CONTROLLER_KINDS, LOOPS, Mission
@@ -77,31 +80,6 @@ def load_mission(name_or_path: str | os.PathLike[str]) -> Mission:
     """Read and validate a mission file (path or bundled name)."""
     path = resolve_mission(name_or_path)
     return parse_mission(read_yaml(path), source=str(path), base_dir=path.parent)
-
-
-def _num(value: Any, field: str, source: str, *, positive: bool = False, nonneg: bool = False) -> float:
-    if isinstance(value, bool) or not isinstance(value, (int, float)):
-        raise InputError(f"field '{field}' = {value!r}: expected a number", source)
-    v = float(value)
-    if not math.isfinite(v):
-        raise InputError(f"field '{field}' = {value!r}: expected a finite number", source)
-    if positive and v <= 0:
-        raise InputError(f"field '{field}' = {v:g}: expected a positive number", source)
-    if nonneg and v < 0:
-        raise InputError(f"field '{field}' = {v:g}: expected a number ≥ 0", source)
-    return v
-
-
-def _vector(value: Any, n: int, field: str, source: str) -> np.ndarray:
-    if not isinstance(value, (list, tuple)) or len(value) != n:
-        raise InputError(f"field '{field}' = {value!r}: expected a list of {n} numbers", source)
-    return np.array([_num(v, f"{field}[{i}]", source) for i, v in enumerate(value)])
-
-
-def _mapping(value: Any, field: str, source: str) -> dict[str, Any]:
-    if not isinstance(value, dict):
-        raise InputError(f"field '{field}' = {value!r}: expected a mapping", source)
-    return value
 
 
 def parse_mission(data: dict[str, Any], source: str, base_dir: Path | None = None) -> Mission:

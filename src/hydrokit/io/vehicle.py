@@ -29,6 +29,7 @@ from typing import Any
 
 import numpy as np
 
+from hydrokit.core.validate import number, vector
 from hydrokit.errors import InputError
 from hydrokit.io.yamlfile import read_yaml
 from hydrokit.model.terms import TermSet, parse_term
@@ -67,14 +68,11 @@ def load_vehicle(name_or_path: str | os.PathLike[str]) -> Vehicle:
 
 
 def _number(value: Any, field: str, source: str, positive: bool = False) -> float:
-    if isinstance(value, bool) or not isinstance(value, (int, float)):
-        raise InputError(f"field '{field}' = {value!r}: expected a number", source)
-    v = float(value)
-    if not math.isfinite(v):
-        raise InputError(f"field '{field}' = {value}: expected a finite number", source)
-    if positive and v <= 0:
-        raise InputError(f"field '{field}' = {value}: expected a positive number", source)
-    return v
+    return number(value, field, source, positive=positive)
+
+
+def _vector(value: Any, n: int, field: str, source: str) -> np.ndarray:
+    return vector(value, n, field, source)
 
 
 def _matrix(value: Any, n: int, field: str, source: str, allow_diag: bool = True) -> np.ndarray:
@@ -89,13 +87,6 @@ def _matrix(value: Any, n: int, field: str, source: str, allow_diag: bool = True
     if len(value) != n or not allow_diag:
         raise InputError(f"field '{field}' has {len(value)} values; expected {n} (or an {n}x{n} matrix)", source)
     return np.diag([_number(x, f"{field}[{i}]", source) for i, x in enumerate(value)])
-
-
-def _vector(value: Any, n: int, field: str, source: str) -> np.ndarray:
-    if not isinstance(value, list) or len(value) != n:
-        got = len(value) if isinstance(value, list) else repr(value)
-        raise InputError(f"field '{field}' = {got if not isinstance(value, list) else value}: expected {n} numbers", source)
-    return np.array([_number(x, f"{field}[{i}]", source) for i, x in enumerate(value)])
 
 
 def parse_vehicle(data: dict[str, Any], source: str) -> Vehicle:

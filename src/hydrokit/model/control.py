@@ -242,8 +242,8 @@ class AutopilotState:
 
 def euler_rates(eta: ArrayLike, nu: ArrayLike) -> tuple[float, float, float, float]:
     """ż (m/s), φ̇, θ̇, ψ̇ (rad/s) from η and ν (zyx Euler angles, Fossen 2011 eq. 2.29)."""
-    _, _, _, phi, theta, _ = (float(x) for x in eta)
-    u, v, w, p, q, r = (float(x) for x in nu)
+    _, _, _, phi, theta, _ = (float(x) for x in np.asarray(eta, dtype=float))
+    u, v, w, p, q, r = (float(x) for x in np.asarray(nu, dtype=float))
     cphi, sphi = math.cos(phi), math.sin(phi)
     cth, sth = math.cos(theta), math.sin(theta)
     zdot = -sth * u + cth * sphi * v + cth * cphi * w

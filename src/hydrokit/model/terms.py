@@ -224,12 +224,12 @@ class TermSet:
     idx: np.ndarray
 
     @staticmethod
-    def empty() -> "TermSet":
+    def empty() -> TermSet:
         return TermSet((), np.zeros(0, np.int64), np.zeros(0), np.zeros((0, MAX_FACTORS), np.int64),
                        -np.ones((0, MAX_FACTORS, 3), np.int64))
 
     @staticmethod
-    def build(terms: list[tuple[Term, float]]) -> "TermSet":
+    def build(terms: list[tuple[Term, float]]) -> TermSet:
         n = len(terms)
         dof = np.zeros(n, np.int64)
         coef = np.zeros(n)
