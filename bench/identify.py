@@ -38,9 +38,18 @@ DURATION = 15.0
 
 
 def rig_for(axis: str) -> Rig:
-    return Rig(test="pendulum", axis={"x": "surge", "y": "sway", "z": "heave"}[axis], gravity=9.79, density=RHO,
-               kinematic_viscosity=1e-6, mass=0.146, volume=107597e-9, reference_area=AXES[axis][3],
-               reference_length=0.066, pendulum_length=0.30)
+    return Rig(
+        test="pendulum",
+        axis={"x": "surge", "y": "sway", "z": "heave"}[axis],
+        gravity=9.79,
+        density=RHO,
+        kinematic_viscosity=1e-6,
+        mass=0.146,
+        volume=107597e-9,
+        reference_area=AXES[axis][3],
+        reference_length=0.066,
+        pendulum_length=0.30,
+    )
 
 
 def campaign() -> list[tuple[str, float, object]]:
@@ -77,15 +86,21 @@ def main() -> None:
             rows = [_fit(j) for j in jobs]
         results[method] = (time.perf_counter() - t0, rows)
     wall = results["output-error"][0]
-    print(f"campaign: {len(launches)} launches (3 axes × 4 amplitudes × 6), pendulum, {SENSOR.name}, {DURATION:g} s each")
-    print(f"output-error wall time for all {len(launches)} launches: {wall:.2f} s with {args.workers} worker(s) "
-          f"(target ≤ 10 s) -> {'PASS' if wall <= 10 else 'FAIL'}")
+    print(
+        f"campaign: {len(launches)} launches (3 axes × 4 amplitudes × 6), pendulum, {SENSOR.name}, {DURATION:g} s each"
+    )
+    print(
+        f"output-error wall time for all {len(launches)} launches: {wall:.2f} s with {args.workers} worker(s) "
+        f"(target ≤ 10 s) -> {'PASS' if wall <= 10 else 'FAIL'}"
+    )
     for m in METHODS[1:]:
         print(f"  {m}: {results[m][0]:.2f} s")
     print()
     print("per axis and amplitude group (6 launches): added mass and damping force at the peak speed")
-    print(f"{'axis':>4} {'amp°':>5} {'method':>15} {'m_a bias %':>11} {'m_a spread %':>13} {'CRB %':>7} {'ratio':>6}"
-          f" {'F_d bias %':>11} {'F_d spread %':>13} {'CRB %':>7}")
+    print(
+        f"{'axis':>4} {'amp°':>5} {'method':>15} {'m_a bias %':>11} {'m_a spread %':>13} {'CRB %':>7} {'ratio':>6}"
+        f" {'F_d bias %':>11} {'F_d spread %':>13} {'CRB %':>7}"
+    )
     worst = 0.0
     for axis, (ma, kl, kq, _) in AXES.items():
         rig = rig_for(axis)
@@ -102,12 +117,16 @@ def main() -> None:
                 ratio = spread / bound
                 if m == "output-error":
                     worst = max(worst, ratio)
-                print(f"{axis:>4} {a:>5g} {m:>15} {100 * (m_est.mean() / ma - 1):>11.3f} {spread:>13.3f} {bound:>7.3f} "
-                      f"{ratio:>6.2f} {100 * (f_est.mean() / fd - 1):>11.2f} {100 * np.std(f_est, ddof=1) / fd:>13.2f} "
-                      f"{100 * crb['damping_force_rel']:>7.2f}")
+                print(
+                    f"{axis:>4} {a:>5g} {m:>15} {100 * (m_est.mean() / ma - 1):>11.3f} {spread:>13.3f} {bound:>7.3f} "
+                    f"{ratio:>6.2f} {100 * (f_est.mean() / fd - 1):>11.2f} {100 * np.std(f_est, ddof=1) / fd:>13.2f} "
+                    f"{100 * crb['damping_force_rel']:>7.2f}"
+                )
     print()
-    print(f"output-error: worst spread/CRB ratio of added mass over the 12 groups = {worst:.2f} (target ≤ 1.5; "
-          f"a 6-sample std scatters ±30 % about the true std) -> {'PASS' if worst <= 1.5 else 'CHECK'}")
+    print(
+        f"output-error: worst spread/CRB ratio of added mass over the 12 groups = {worst:.2f} (target ≤ 1.5; "
+        f"a 6-sample std scatters ±30 % about the true std) -> {'PASS' if worst <= 1.5 else 'CHECK'}"
+    )
 
 
 if __name__ == "__main__":

@@ -66,17 +66,25 @@ def main() -> None:
     p = numpy_speed(v, 5.0 if args.quick else 20.0)
     b = batch_speed(v, 2000 if args.quick else 10_000, 10.0)
     print("BlueROV2 Heavy, dt = 0.01 s, tau = [30 0 3 0 0 3]")
-    print(f"  compiled RK4 (numba), one vehicle : {c:12,.0f} steps/s   (target ≥ 500,000) {'PASS' if c >= 5e5 else 'FAIL'}")
+    print(
+        f"  compiled RK4 (numba), one vehicle : {c:12,.0f} steps/s   (target ≥ 500,000) {'PASS' if c >= 5e5 else 'FAIL'}"
+    )
     print(f"  per-step numpy RK4, same model    : {p:12,.0f} steps/s")
     print(f"  ratio compiled / numpy            : {c / p:12,.0f} x")
-    print(f"  batch, {2000 if args.quick else 10_000} vehicles              : {b:12,.0f} vehicle-steps/s (target ≥ 1,000,000) "
-          f"{'PASS' if b >= 1e6 else 'FAIL'}")
+    print(
+        f"  batch, {2000 if args.quick else 10_000} vehicles              : {b:12,.0f} vehicle-steps/s (target ≥ 1,000,000) "
+        f"{'PASS' if b >= 1e6 else 'FAIL'}"
+    )
     lv = load_vehicle("lingyun")
     tr = simulate(lv, 300.0, 0.05, TAU)
     late = tr.nu[tr.time > 250]
     print("Lingyun (LI2021 open-loop check), RK4 dt = 0.05 s, 300 s:")
-    print("  settled u, v, w (m/s) = " + ", ".join(f"{x:.4f}" for x in tr.nu[-1, :3]) +
-          "; p, q, r (rad/s) = " + ", ".join(f"{x:.5f}" for x in tr.nu[-1, 3:]))
+    print(
+        "  settled u, v, w (m/s) = "
+        + ", ".join(f"{x:.4f}" for x in tr.nu[-1, :3])
+        + "; p, q, r (rad/s) = "
+        + ", ".join(f"{x:.5f}" for x in tr.nu[-1, 3:])
+    )
     print(f"  largest change over the last 50 s: {np.max(np.ptp(late, axis=0)):.2e}")
     sys.path.insert(0, str(Path(__file__).parent))
     from closed_loop import closed_loop_speed

@@ -37,8 +37,10 @@ def test_docs_api_walkthrough_runs_and_keeps_the_backend() -> None:
 
 
 def test_import_is_light() -> None:
-    code = ("import sys, time; t = time.perf_counter(); import hydrokit; dt = time.perf_counter() - t; "
-            "heavy = [m for m in ('numba', 'matplotlib', 'scipy') if m in sys.modules]; print(dt, heavy)")
+    code = (
+        "import sys, time; t = time.perf_counter(); import hydrokit; dt = time.perf_counter() - t; "
+        "heavy = [m for m in ('numba', 'matplotlib', 'scipy') if m in sys.modules]; print(dt, heavy)"
+    )
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True).stdout.split(" ", 1)
     assert out[1].strip() == "[]", f"import hydrokit loaded {out[1]}"
 
@@ -47,11 +49,17 @@ def test_top_level_names_and_signatures() -> None:
     import hydrokit
 
     expected = {
-        "load_vehicle": ["name_or_path"], "load_rig": ["path"], "load_mission": ["name_or_path"],
-        "load_geometry": ["path"], "read_launch": ["path", "rig"],
-        "simulate": ["vehicle", "duration", "dt", "tau"], "simulate_batch": ["vehicles", "duration", "dt", "tau"],
-        "fly": ["mission_or_vehicle"], "identify_campaign": ["rig", "launches_or_paths", "method"],
-        "estimate_geometry": ["geometry", "bem"], "fit_forces": ["speed", "force", "area", "density"],
+        "load_vehicle": ["name_or_path"],
+        "load_rig": ["path"],
+        "load_mission": ["name_or_path"],
+        "load_geometry": ["path"],
+        "read_launch": ["path", "rig"],
+        "simulate": ["vehicle", "duration", "dt", "tau"],
+        "simulate_batch": ["vehicles", "duration", "dt", "tau"],
+        "fly": ["mission_or_vehicle"],
+        "identify_campaign": ["rig", "launches_or_paths", "method"],
+        "estimate_geometry": ["geometry", "bem"],
+        "fit_forces": ["speed", "force", "area", "density"],
         "allocate": ["vehicle", "tau", "method"],
     }
     for name, params in expected.items():
@@ -71,3 +79,15 @@ def test_api_docstring_examples() -> None:
 
     res = doctest.testmod(hydrokit.api, optionflags=doctest.ELLIPSIS)
     assert res.attempted >= 8 and res.failed == 0
+
+
+def test_simulate_is_both_the_function_and_the_subpackage() -> None:
+    """``hydrokit.simulate(...)`` runs a simulation, and ``import hydrokit.simulate.x as y``
+    still imports the subpackage module (the two share a name)."""
+    code = (
+        "import hydrokit.simulate.closed_loop as cl; import hydrokit; "
+        "tr = hydrokit.simulate('bluerov2-heavy', 0.5, 0.01, tau=[5, 0, 0, 0, 0, 0]); "
+        "print(cl.__name__, type(tr).__name__, tr.nu[-1, 0] > 0)"
+    )
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True).stdout.split()
+    assert out == ["hydrokit.simulate.closed_loop", "Trajectory", "True"]

@@ -97,9 +97,23 @@ def test_missing_pandas_names_the_extra(results: dict[str, object], monkeypatch:
 
 def test_allocation_document_matches_cli_contract(results: dict[str, object]) -> None:
     doc = results["allocation"].to_dict()  # type: ignore[attr-defined]
-    assert set(doc) >= {"vehicle", "method", "thrusters", "tau", "configuration_matrix", "thrust", "thrust_limits",
-                        "command", "command_unit", "achieved_tau", "residual", "uncontrollable", "saturated",
-                        "warnings", "units"}
+    assert set(doc) >= {
+        "vehicle",
+        "method",
+        "thrusters",
+        "tau",
+        "configuration_matrix",
+        "thrust",
+        "thrust_limits",
+        "command",
+        "command_unit",
+        "achieved_tau",
+        "residual",
+        "uncontrollable",
+        "saturated",
+        "warnings",
+        "units",
+    }
     # propeller speeds are shown in rpm at the edge: 60 × the rev/s the object holds
     a = results["allocation"]
     k = doc["command_unit"].index("rpm")

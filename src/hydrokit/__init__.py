@@ -15,8 +15,6 @@ A walk-through of the whole chain is in docs/api.md.
 
 from __future__ import annotations
 
-import sys
-import types
 from typing import TYPE_CHECKING, Any
 
 from hydrokit.errors import HydrokitError, InputError
@@ -30,7 +28,7 @@ _LAZY = {
     "load_mission": "hydrokit.api",
     "load_geometry": "hydrokit.api",
     "read_launch": "hydrokit.api",
-    "simulate": "hydrokit.api",
+    "simulate": "hydrokit",  # the subpackage hydrokit.simulate, callable as hydrokit.api.simulate
     "simulate_batch": "hydrokit.api",
     "fly": "hydrokit.api",
     "identify_campaign": "hydrokit.api",
@@ -69,28 +67,17 @@ if TYPE_CHECKING:  # pragma: no cover - for type checkers and IDEs only
     )
 
 
-class _Package(types.ModuleType):
-    """The ``hydrokit`` module: keeps the API function ``hydrokit.simulate`` when the
-    subpackage ``hydrokit.simulate`` is imported (Python would otherwise bind the subpackage
-    to the same attribute). The subpackage stays importable: ``from hydrokit.simulate.driver
-    import …`` and ``import hydrokit.simulate.driver`` resolve through ``sys.modules``."""
-
-    def __setattr__(self, name: str, value: Any) -> None:
-        if name in _LAZY and isinstance(value, types.ModuleType):
-            return
-        super().__setattr__(name, value)
-
-
-sys.modules[__name__].__class__ = _Package
-
-
 def __getattr__(name: str) -> Any:
     module = _LAZY.get(name)
     if module is None:
         raise AttributeError(f"module 'hydrokit' has no attribute {name!r}")
     import importlib
 
-    value = getattr(importlib.import_module(module), name)
+    value = (
+        importlib.import_module(f"hydrokit.{name}")
+        if module == "hydrokit"
+        else getattr(importlib.import_module(module), name)
+    )
     globals()[name] = value  # later look-ups skip this function
     return value
 

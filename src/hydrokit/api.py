@@ -92,8 +92,9 @@ def load_geometry(path: PathLike) -> Geometry:
     return _load(path)
 
 
-def read_launch(path: PathLike, rig: Rig | PathLike, *, release: float | None = None,
-                end: float | None = None, trim: bool = True) -> Launch:
+def read_launch(
+    path: PathLike, rig: Rig | PathLike, *, release: float | None = None, end: float | None = None, trim: bool = True
+) -> Launch:
     """Read one launch CSV of ``rig`` and (by default) trim it to the free decay.
 
     Parameters
@@ -152,13 +153,15 @@ def identify_campaign(
     from hydrokit.identify.types import Launch
 
     rig_obj = _as_rig(rig)
-    launches = [x if isinstance(x, Launch) else read_launch(x, rig_obj, release=release, end=end)
-                for x in launches_or_paths]
+    launches = [
+        x if isinstance(x, Launch) else read_launch(x, rig_obj, release=release, end=end) for x in launches_or_paths
+    ]
     return identify_launches(rig_obj, launches, method, progress=progress)
 
 
-def simulate(vehicle: Vehicle | PathLike, duration: float, dt: float, tau: Any = (0, 0, 0, 0, 0, 0),
-             **options: Any) -> Trajectory:
+def simulate(
+    vehicle: Vehicle | PathLike, duration: float, dt: float, tau: Any = (0, 0, 0, 0, 0, 0), **options: Any
+) -> Trajectory:
     """Simulate ``vehicle`` open loop under a constant τ, a τ(t) table or a callable.
 
     Parameters
@@ -185,8 +188,9 @@ def simulate(vehicle: Vehicle | PathLike, duration: float, dt: float, tau: Any =
     return _simulate(_as_vehicle(vehicle), duration, dt, tau, **options)
 
 
-def simulate_batch(vehicles: Sequence[Vehicle | PathLike], duration: float, dt: float,
-                   tau: Any = (0, 0, 0, 0, 0, 0), **options: Any) -> BatchTrajectory:
+def simulate_batch(
+    vehicles: Sequence[Vehicle | PathLike], duration: float, dt: float, tau: Any = (0, 0, 0, 0, 0, 0), **options: Any
+) -> BatchTrajectory:
     """Simulate many vehicles (e.g. Monte Carlo coefficient samples) in parallel, compiled.
 
     Parameters
@@ -205,10 +209,17 @@ def simulate_batch(vehicles: Sequence[Vehicle | PathLike], duration: float, dt: 
     return _batch([_as_vehicle(v) for v in vehicles], duration, dt, tau, **options)
 
 
-def fly(mission_or_vehicle: Mission | Vehicle | PathLike, controller: str | None = None, *,
-        vehicle: Vehicle | PathLike | None = None, waypoints: Any = None,
-        gains: dict[str, dict[str, dict[str, float]]] | None = None, duration: float | None = None,
-        progress: Callable[[float], None] | None = None, **mission_options: Any) -> MissionResult:
+def fly(
+    mission_or_vehicle: Mission | Vehicle | PathLike,
+    controller: str | None = None,
+    *,
+    vehicle: Vehicle | PathLike | None = None,
+    waypoints: Any = None,
+    gains: dict[str, dict[str, dict[str, float]]] | None = None,
+    duration: float | None = None,
+    progress: Callable[[float], None] | None = None,
+    **mission_options: Any,
+) -> MissionResult:
     """Fly a closed-loop waypoint mission (guidance, PID or S-plane autopilot, allocation,
     thrusters) and return its trajectory and tracking metrics.
 
@@ -244,14 +255,21 @@ def fly(mission_or_vehicle: Mission | Vehicle | PathLike, controller: str | None
         if waypoints is None or gains is None:
             raise InputError("fly(vehicle, …): give waypoints (m, NED) and gains, or pass a Mission")
         kind = controller or next(iter(gains))
-        mission = create_mission(waypoints, gains, vehicle=mission_or_vehicle.name, controller=kind,
-                                 duration=duration if duration is not None else mission_options.pop("duration", 300.0),
-                                 **mission_options)
+        mission = create_mission(
+            waypoints,
+            gains,
+            vehicle=mission_or_vehicle.name,
+            controller=kind,
+            duration=duration if duration is not None else mission_options.pop("duration", 300.0),
+            **mission_options,
+        )
         veh = mission_or_vehicle
     else:
         if mission_options:
-            raise InputError(f"unexpected option(s) {sorted(mission_options)} for a mission file; "
-                             "they apply only when flying a Vehicle with waypoints")
+            raise InputError(
+                f"unexpected option(s) {sorted(mission_options)} for a mission file; "
+                "they apply only when flying a Vehicle with waypoints"
+            )
         mission = mission_or_vehicle if isinstance(mission_or_vehicle, Mission) else load_mission(mission_or_vehicle)
         veh = _as_vehicle(vehicle) if vehicle is not None else load_vehicle(mission.vehicle)
     return fly_mission(mission, veh, controller, duration=duration, progress=progress)
@@ -278,7 +296,8 @@ def estimate_geometry(geometry: Geometry | PathLike, bem: bool = False, resoluti
     >>> round(float(est.composite.added_mass[0, 0]), 1)   # ½ρV of a 0.5 m sphere in sea water, kg
     33.5
     """
-    from hydrokit.estimate.geometry import Geometry, estimate_geometry as _estimate
+    from hydrokit.estimate.geometry import Geometry
+    from hydrokit.estimate.geometry import estimate_geometry as _estimate
 
     geo = geometry if isinstance(geometry, Geometry) else load_geometry(geometry)
     return _estimate(geo, bem=bem, resolution=resolution)
@@ -310,8 +329,12 @@ def fit_forces(speed: Any, force: Any, area: float, density: float) -> ForceFit:
     return _fit(speed, force, area, density)
 
 
-def allocate(vehicle: Vehicle | ThrusterSet | PathLike, tau: Any, method: str = "constrained",
-             weights: Sequence[float] | None = None) -> Allocation:
+def allocate(
+    vehicle: Vehicle | ThrusterSet | PathLike,
+    tau: Any,
+    method: str = "constrained",
+    weights: Sequence[float] | None = None,
+) -> Allocation:
     """Allocate a demanded force/moment τ to the vehicle's thrusters.
 
     Parameters
@@ -335,7 +358,6 @@ def allocate(vehicle: Vehicle | ThrusterSet | PathLike, tau: Any, method: str = 
     100.0
     """
     from hydrokit.model.allocation import allocate_constrained, allocate_pinv
-
     from hydrokit.model.thrusters import ThrusterSet
     from hydrokit.model.vehicle import Vehicle
 
@@ -348,8 +370,9 @@ def allocate(vehicle: Vehicle | ThrusterSet | PathLike, tau: Any, method: str = 
 
         ts = load_thrusters(vehicle)
     if ts is None or len(ts) == 0:
-        raise InputError(f"vehicle '{getattr(vehicle, 'name', vehicle)}' has no thrusters: allocation needs a "
-                         "'thrusters:' block")
+        raise InputError(
+            f"vehicle '{getattr(vehicle, 'name', vehicle)}' has no thrusters: allocation needs a 'thrusters:' block"
+        )
     tau_v = _six(tau, "tau")
     if method not in ("constrained", "pinv"):
         raise InputError(f"method = {method!r}: expected constrained or pinv")
@@ -365,11 +388,18 @@ def allocate(vehicle: Vehicle | ThrusterSet | PathLike, tau: Any, method: str = 
         res = allocate_constrained(T, tau_v, ts.f_min, ts.f_max, names=ts.names)
     from hydrokit.simulate.mission import COMMAND_UNITS
 
-    return replace(res, tau=tau_v, names=list(ts.names), configuration_matrix=T, f_min=ts.f_min, f_max=ts.f_max,
-                   command=ts.command_for_thrust(res.thrust),
-                   command_unit=[COMMAND_UNITS[t.model] for t in ts.thrusters],
-                   warnings=list(ts.notes) + list(res.warnings),
-                   vehicle=str(getattr(vehicle, "name", vehicle)))
+    return replace(
+        res,
+        tau=tau_v,
+        names=list(ts.names),
+        configuration_matrix=T,
+        f_min=ts.f_min,
+        f_max=ts.f_max,
+        command=ts.command_for_thrust(res.thrust),
+        command_unit=[COMMAND_UNITS[t.model] for t in ts.thrusters],
+        warnings=list(ts.notes) + list(res.warnings),
+        vehicle=str(getattr(vehicle, "name", vehicle)),
+    )
 
 
 # -- helpers -----------------------------------------------------------------------------------

@@ -40,7 +40,4 @@ class MissingExtraError(HydrokitError, ImportError):
     """An optional dependency is not installed; the message says which extra to install."""
 
     def __init__(self, package: str, extra: str):
-        super().__init__(
-            f"this feature needs the optional package '{package}': "
-            f"pip install 'hydrokit[{extra}]'"
-        )
+        super().__init__(f"this feature needs the optional package '{package}': pip install 'hydrokit[{extra}]'")

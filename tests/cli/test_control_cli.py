@@ -79,10 +79,19 @@ def test_allocate_uncontrollable_dof_warns_and_allocates_rest(run_cli, tmp_path:
 
 
 def test_allocate_propeller_speed_in_rpm(run_cli, tmp_path: Path) -> None:
-    th = [{"name": "A", "position": [0, 0, 0], "direction": [1, 0, 0], "max_thrust": 500,
-           "diameter": 0.22, "kt_forward": [0.5, -0.66, -0.25, 0.24],
-           "kt_reverse": [0.025, -0.28, 0.17, 0.15],
-           "thrust_loss": {"forward": 0.72, "reverse": 0.53}, "max_rpm": 1500}]
+    th = [
+        {
+            "name": "A",
+            "position": [0, 0, 0],
+            "direction": [1, 0, 0],
+            "max_thrust": 500,
+            "diameter": 0.22,
+            "kt_forward": [0.5, -0.66, -0.25, 0.24],
+            "kt_reverse": [0.025, -0.28, 0.17, 0.15],
+            "thrust_loss": {"forward": 0.72, "reverse": 0.53},
+            "max_rpm": 1500,
+        }
+    ]
     veh = write_vehicle(tmp_path, th)
     out = tmp_path / "a.json"
     code, _, err = run_cli("allocate", veh, "--tau", "50,0,0,0,0,0", "--json", out)
@@ -141,8 +150,7 @@ def test_mission_short_run_writes_everything(run_cli, tmp_path: Path) -> None:
     assert len(lines) == 1 + 101
     doc = json.loads((out / "metrics.json").read_text())
     m = doc["controllers"]["PID"]
-    for key in ("cross_track_rms", "cross_track_max", "waypoint_times", "thruster_energy",
-                "saturation_time"):
+    for key in ("cross_track_rms", "cross_track_max", "waypoint_times", "thruster_energy", "saturation_time"):
         assert key in m
     assert "Mission metrics" in stdout
 
@@ -150,8 +158,7 @@ def test_mission_short_run_writes_everything(run_cli, tmp_path: Path) -> None:
 @pytest.mark.parametrize("controller", ["pid", "s-plane"])
 def test_bundled_lingyun_mission_completes(run_cli, tmp_path: Path, controller: str) -> None:
     out = tmp_path / controller
-    code, _, err = run_cli("mission", "lingyun_path", "--out", out, "--controller", controller,
-                           "--no-plots")
+    code, _, err = run_cli("mission", "lingyun_path", "--out", out, "--controller", controller, "--no-plots")
     assert code == 0, err
     m = json.loads((out / "metrics.json").read_text())["controllers"]
     (metrics,) = m.values()
@@ -177,9 +184,12 @@ def _mission_doc() -> dict:
     [
         (lambda d: d["controllers"]["pid"]["speed"].update(kp="fast"), "controllers.pid.speed.kp' = 'fast'"),
         (lambda d: d["guidance"].update(waypoints=[]), "0 given; expected a list of at least 2"),
-        (lambda d: d["guidance"].update(waypoints=[{"x": 0, "y": 0, "z": 1, "time": 9},
-                                                   {"x": 9, "y": 0, "z": 1, "time": 3}]),
-         "waypoints out of order"),
+        (
+            lambda d: d["guidance"].update(
+                waypoints=[{"x": 0, "y": 0, "z": 1, "time": 9}, {"x": 9, "y": 0, "z": 1, "time": 3}]
+            ),
+            "waypoints out of order",
+        ),
         (lambda d: d.update(vehicle="no-such-vehicle"), "no such file or bundled vehicle"),
     ],
 )
@@ -210,19 +220,58 @@ def test_mission_missing_controller_gains(run_cli, tmp_path: Path) -> None:
 def test_allocate_minerva_block_reproduces_published_matrix(run_cli, tmp_path: Path, published) -> None:
     # The same thruster block as appended to the bundled minerva.yaml (azimuths in degrees,
     # converted by the reader); the matrix must match SPEC §8 to its printed 3 decimals.
-    kt = {"kt_forward": [0.5, -0.66, -0.25, 0.24], "kt_reverse": [0.025, -0.28, 0.17, 0.15],
-          "max_rpm": 1500}
+    kt = {"kt_forward": [0.5, -0.66, -0.25, 0.24], "kt_reverse": [0.025, -0.28, 0.17, 0.15], "max_rpm": 1500}
     th = [
-        {"name": "TT", "position": [0.166, 0, 0], "direction": [0, 1, 0], "diameter": 0.19,
-         "thrust_loss": 1.04, "max_thrust": 208, "min_thrust": -130, **kt},
-        {"name": "V1", "position": [0, 0.2, 0], "direction": [0, 0, 1], "diameter": 0.22,
-         "thrust_loss": 0.58, "max_thrust": 208, "min_thrust": -130, **kt},
-        {"name": "V2", "position": [0, -0.2, 0], "direction": [0, 0, 1], "diameter": 0.22,
-         "thrust_loss": 0.58, "max_thrust": 208, "min_thrust": -130, **kt},
-        {"name": "A1", "position": [-0.2, -0.305, 0], "azimuth_deg": -10, "diameter": 0.22,
-         "thrust_loss": {"forward": 0.72, "reverse": 0.53}, "max_thrust": 259, "min_thrust": -119, **kt},
-        {"name": "A2", "position": [-0.2, 0.305, 0], "azimuth_deg": 10, "diameter": 0.22,
-         "thrust_loss": {"forward": 0.72, "reverse": 0.53}, "max_thrust": 259, "min_thrust": -119, **kt},
+        {
+            "name": "TT",
+            "position": [0.166, 0, 0],
+            "direction": [0, 1, 0],
+            "diameter": 0.19,
+            "thrust_loss": 1.04,
+            "max_thrust": 208,
+            "min_thrust": -130,
+            **kt,
+        },
+        {
+            "name": "V1",
+            "position": [0, 0.2, 0],
+            "direction": [0, 0, 1],
+            "diameter": 0.22,
+            "thrust_loss": 0.58,
+            "max_thrust": 208,
+            "min_thrust": -130,
+            **kt,
+        },
+        {
+            "name": "V2",
+            "position": [0, -0.2, 0],
+            "direction": [0, 0, 1],
+            "diameter": 0.22,
+            "thrust_loss": 0.58,
+            "max_thrust": 208,
+            "min_thrust": -130,
+            **kt,
+        },
+        {
+            "name": "A1",
+            "position": [-0.2, -0.305, 0],
+            "azimuth_deg": -10,
+            "diameter": 0.22,
+            "thrust_loss": {"forward": 0.72, "reverse": 0.53},
+            "max_thrust": 259,
+            "min_thrust": -119,
+            **kt,
+        },
+        {
+            "name": "A2",
+            "position": [-0.2, 0.305, 0],
+            "azimuth_deg": 10,
+            "diameter": 0.22,
+            "thrust_loss": {"forward": 0.72, "reverse": 0.53},
+            "max_thrust": 259,
+            "min_thrust": -119,
+            **kt,
+        },
     ]
     veh = write_vehicle(tmp_path, th)
     out = tmp_path / "m.json"
@@ -242,9 +291,10 @@ def test_allocate_minerva_block_reproduces_published_matrix(run_cli, tmp_path: P
     assert doc["command"][3] == pytest.approx(n, rel=1e-9)
 
 
-@pytest.mark.parametrize(("name", "n", "unactuated"),
-                         [("minerva", 5, ["pitch"]), ("lingyun", 4, ["sway", "pitch"]),
-                          ("bluerov2-heavy", 8, [])])
+@pytest.mark.parametrize(
+    ("name", "n", "unactuated"),
+    [("minerva", 5, ["pitch"]), ("lingyun", 4, ["sway", "pitch"]), ("bluerov2-heavy", 8, [])],
+)
 def test_allocate_bundled_names(run_cli, tmp_path: Path, published, name, n, unactuated) -> None:
     out = tmp_path / "a.json"
     code, _, err = run_cli("allocate", name, "--tau", "20,0,-10,0,0,2", "--json", out)

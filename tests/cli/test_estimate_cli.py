@@ -31,17 +31,30 @@ def test_fit_forces_cli(run_cli, tmp_path):
     U = np.linspace(0.2, 10, 12)
     F = 1.0503 * U + 43.2322 * U * U  # CELY2019 Table 5 x-axis Chin coefficients, noise-free
     f.write_text("speed,force\n" + "\n".join(f"{u},{x}" for u, x in zip(U, F)) + "\n")
-    code, stdout, err = run_cli("fit-forces", f, "--area", "0.0495", "--density", "998.2", "--json", tmp_path / "o.json",
-                                "--plot", tmp_path / "o.png")
+    code, stdout, err = run_cli(
+        "fit-forces",
+        f,
+        "--area",
+        "0.0495",
+        "--density",
+        "998.2",
+        "--json",
+        tmp_path / "o.json",
+        "--plot",
+        tmp_path / "o.png",
+    )
     assert code == 0, err
     assert "K_L = 1.0503" in stdout and "K_Q = 43.2322" in stdout
     assert (tmp_path / "o.png").stat().st_size > 1000
 
 
-@pytest.mark.parametrize("doc,match", [
-    ({"parts": [{"shape": "sphere", "diameter": -0.5, "mass": 1}]}, "diameter"),
-    ({"parts": [{"shape": "torus", "diameter": 0.5, "mass": 1}]}, "'parts\\[0\\].shape' = 'torus'"),
-])
+@pytest.mark.parametrize(
+    "doc,match",
+    [
+        ({"parts": [{"shape": "sphere", "diameter": -0.5, "mass": 1}]}, "diameter"),
+        ({"parts": [{"shape": "torus", "diameter": 0.5, "mass": 1}]}, "'parts\\[0\\].shape' = 'torus'"),
+    ],
+)
 def test_estimate_bad_geometry(run_cli, tmp_path, doc, match):
     import re
 
@@ -62,7 +75,9 @@ def test_fit_forces_one_point(run_cli, tmp_path):
 
 def test_mesh_errors_are_one_line(run_cli, tmp_path):
     stl = tmp_path / "open.stl"
-    stl.write_text("solid x\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\nvertex 1 0 0\nvertex 0 1 0\nendloop\nendfacet\nendsolid x\n")
+    stl.write_text(
+        "solid x\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\nvertex 1 0 0\nvertex 0 1 0\nendloop\nendfacet\nendsolid x\n"
+    )
     g = tmp_path / "g.yaml"
     g.write_text(yaml.safe_dump({"parts": [{"mesh": "open.stl", "mass": 1.0}]}))
     code, _, err = run_cli("estimate", g, "--bem", "--out", tmp_path / "o.yaml")

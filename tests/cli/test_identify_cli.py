@@ -11,7 +11,9 @@ import pytest
 import yaml
 
 RIG = {
-    "test": "pendulum", "axis": "surge", "gravity": 9.79,
+    "test": "pendulum",
+    "axis": "surge",
+    "gravity": 9.79,
     "fluid": {"density": 998.2, "kinematic_viscosity": 1.0e-6},
     "body": {"mass": 0.146, "volume": 1.07597e-4, "reference_area": 0.004, "reference_length": 0.087},
     "pendulum": {"length": 0.39},
@@ -56,15 +58,29 @@ def good(tmp_path):
 def test_identify_writes_frozen_json(run_cli, good, tmp_path):
     rig_path, files = good
     out = tmp_path / "out.json"
-    code, stdout, err = run_cli("identify", rig_path, *files, "--json", out, "--plots", tmp_path / "plots",
-                                "--report", tmp_path / "r.html")
+    code, stdout, err = run_cli(
+        "identify", rig_path, *files, "--json", out, "--plots", tmp_path / "plots", "--report", tmp_path / "r.html"
+    )
     assert code == 0, err
     doc = json.loads(out.read_text())
     assert set(doc) >= {"launches", "summary"}
     L = doc["launches"][0]
-    for key in ("file", "method", "added_mass", "added_mass_coefficient", "linear_damping", "quadratic_damping",
-                "drag_coefficient", "natural_frequency", "damping_ratio", "reynolds_max", "kc", "rms_residual",
-                "std_error", "warnings"):
+    for key in (
+        "file",
+        "method",
+        "added_mass",
+        "added_mass_coefficient",
+        "linear_damping",
+        "quadratic_damping",
+        "drag_coefficient",
+        "natural_frequency",
+        "damping_ratio",
+        "reynolds_max",
+        "kc",
+        "rms_residual",
+        "std_error",
+        "warnings",
+    ):
         assert key in L
     assert L["method"] == "output-error"  # the default
     assert set(L["std_error"]) == {"added_mass", "linear_damping", "quadratic_damping"}
@@ -110,17 +126,37 @@ def _bad_cases(tmp_path, good):
     cases = {
         "missing column": (rig_path, write_launch(tmp_path / "c1.csv", t, y, column="theta"), "missing column 'angle'"),
         "NaN": (rig_path, Path(str(write_launch(tmp_path / "c2.csv", t, y))), "NaN"),
-        "non-monotonic time": (rig_path, write_launch(tmp_path / "c3.csv", np.r_[t[:50], t[48:40:-1], t[60:]], np.r_[y[:50], y[48:40:-1], y[60:]]), "time goes back"),
-        "duplicate time": (rig_path, write_launch(tmp_path / "c4.csv", np.r_[t[:50], t[49:]], np.r_[y[:50], y[49:]]), "duplicate time"),
-        "fewer than two cycles": (rig_path, write_launch(tmp_path / "c5.csv", t, 0.1 * np.exp(-0.1 * t) * np.cos(0.8 * t)), "two cycles"),
-        "growing": (rig_path, write_launch(tmp_path / "c6.csv", t, 0.01 * np.exp(0.3 * t) * np.cos(2.2 * t) / np.exp(3)), "grows"),
+        "non-monotonic time": (
+            rig_path,
+            write_launch(tmp_path / "c3.csv", np.r_[t[:50], t[48:40:-1], t[60:]], np.r_[y[:50], y[48:40:-1], y[60:]]),
+            "time goes back",
+        ),
+        "duplicate time": (
+            rig_path,
+            write_launch(tmp_path / "c4.csv", np.r_[t[:50], t[49:]], np.r_[y[:50], y[49:]]),
+            "duplicate time",
+        ),
+        "fewer than two cycles": (
+            rig_path,
+            write_launch(tmp_path / "c5.csv", t, 0.1 * np.exp(-0.1 * t) * np.cos(0.8 * t)),
+            "two cycles",
+        ),
+        "growing": (
+            rig_path,
+            write_launch(tmp_path / "c6.csv", t, 0.01 * np.exp(0.3 * t) * np.cos(2.2 * t) / np.exp(3)),
+            "grows",
+        ),
         "non-oscillating": (rig_path, write_launch(tmp_path / "c7.csv", t, 0.1 * np.exp(-t)), "does not oscillate"),
         "degrees in angle": (rig_path, write_launch(tmp_path / "c8.csv", t, np.degrees(y)), "looks like degrees"),
         "unknown test": (write_rig(tmp_path / "r1.yaml", test="catapult"), files[0], "field 'test' = 'catapult'"),
         "negative mass": (write_rig(tmp_path / "r2.yaml", **{"body.mass": -1.0}), files[0], "body.mass"),
         "negative volume": (write_rig(tmp_path / "r3.yaml", **{"body.volume": -1e-4}), files[0], "body.volume"),
         "pendulum without length": (write_rig(tmp_path / "r4.yaml", pendulum=None), files[0], "pendulum.length"),
-        "buoyancy equals weight": (write_rig(tmp_path / "r5.yaml", **{"body.volume": 0.146 / 998.2}), files[0], "no restoring force"),
+        "buoyancy equals weight": (
+            write_rig(tmp_path / "r5.yaml", **{"body.volume": 0.146 / 998.2}),
+            files[0],
+            "no restoring force",
+        ),
         "missing file": (rig_path, tmp_path / "nope.csv", "no such file"),
     }
     nan_file = cases["NaN"][1]
@@ -165,8 +201,23 @@ def test_scale_command_eng2009(run_cli):
 def test_rig_simulate_then_identify_round_trip(run_cli, good, tmp_path):
     rig_path, _ = good
     out_dir = tmp_path / "virtual"
-    code, _, err = run_cli("rig", "simulate", rig_path, "--added-mass", "0.05", "--linear-damping", "0.02",
-                           "--quadratic-damping", "0.3", "--amplitudes", "5,15", "--launches", "2", "--out", out_dir)
+    code, _, err = run_cli(
+        "rig",
+        "simulate",
+        rig_path,
+        "--added-mass",
+        "0.05",
+        "--linear-damping",
+        "0.02",
+        "--quadratic-damping",
+        "0.3",
+        "--amplitudes",
+        "5,15",
+        "--launches",
+        "2",
+        "--out",
+        out_dir,
+    )
     assert code == 0, err
     files = sorted(out_dir.glob("*.csv"))
     assert len(files) == 4
@@ -179,8 +230,19 @@ def test_rig_simulate_then_identify_round_trip(run_cli, good, tmp_path):
 
 def test_rig_plan_prints_bounds(run_cli, good):
     rig_path, _ = good
-    code, out, err = run_cli("rig", "plan", rig_path, "--added-mass", "0.05", "--linear-damping", "0.02",
-                             "--quadratic-damping", "0.3", "--amplitudes", "2.5,15")
+    code, out, err = run_cli(
+        "rig",
+        "plan",
+        rig_path,
+        "--added-mass",
+        "0.05",
+        "--linear-damping",
+        "0.02",
+        "--quadratic-damping",
+        "0.3",
+        "--amplitudes",
+        "2.5,15",
+    )
     assert code == 0, err
     assert "σ(m_a)" in out and "quadratic damping" in out
 

@@ -19,8 +19,15 @@ def test_wrap_angle_is_the_core_function() -> None:
 
 @pytest.mark.parametrize(
     ("a", "expected"),
-    [(0.0, 0.0), (math.pi + 0.1, -math.pi + 0.1), (-math.pi - 0.1, math.pi - 0.1),
-     (3 * math.pi / 2, -math.pi / 2), (7.0, 7.0 - 2 * math.pi), (math.pi, -math.pi), (-math.pi, -math.pi)],
+    [
+        (0.0, 0.0),
+        (math.pi + 0.1, -math.pi + 0.1),
+        (-math.pi - 0.1, math.pi - 0.1),
+        (3 * math.pi / 2, -math.pi / 2),
+        (7.0, 7.0 - 2 * math.pi),
+        (math.pi, -math.pi),
+        (-math.pi, -math.pi),
+    ],
 )
 def test_wrap_angle_values(a: float, expected: float) -> None:
     # [−π, π): +π maps to −π, and a whole turn is removed, never a half turn
@@ -38,8 +45,9 @@ def test_coriolis_symmetric_flag_skips_only_the_symmetrisation() -> None:
     # on an asymmetric M the default uses the symmetric part (Theorem 3.2 needs M = Mᵀ)
     B = M.copy()
     B[0, 4] += 0.5
-    np.testing.assert_allclose(coriolis_force(B, nu), coriolis_force(0.5 * (B + B.T), nu, symmetric=True),
-                               rtol=1e-14, atol=1e-14)
+    np.testing.assert_allclose(
+        coriolis_force(B, nu), coriolis_force(0.5 * (B + B.T), nu, symmetric=True), rtol=1e-14, atol=1e-14
+    )
     # C(ν) ν by hand for a diagonal mass: [ω × (m v); v × (m v) + ω × (I ω)]
     m, I = 10.0, np.array([1.0, 2.0, 3.0])
     D = np.diag([m, m, m, *I])

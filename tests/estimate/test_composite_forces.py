@@ -23,8 +23,10 @@ def test_shift_and_back_is_identity():
 def test_two_spheres_on_a_rod_inertia_by_direct_integration():
     # two 1 kg spheres of radius 0.1 m at x = ±0.5 m, massless rod: I_yy by integrating the solid
     # spheres on a grid, compared with the parallel-axis combination
-    parts = [Part(f"s{k}", 1.0, 0.0, np.eye(3) * 0.4 * 1.0 * 0.1**2, np.zeros((6, 6)), position=np.array([x, 0, 0]))
-             for k, x in enumerate((-0.5, 0.5))]
+    parts = [
+        Part(f"s{k}", 1.0, 0.0, np.eye(3) * 0.4 * 1.0 * 0.1**2, np.zeros((6, 6)), position=np.array([x, 0, 0]))
+        for k, x in enumerate((-0.5, 0.5))
+    ]
     comp = combine(parts)
     g = np.linspace(-0.1, 0.1, 81)
     X, Y, Z = np.meshgrid(g, g, g, indexing="ij")

@@ -42,18 +42,30 @@ def test_long_cylinder_and_plate_tend_to_strip_value():
     assert p.added_mass[0, 0] / (math.pi / 4 * 1000.0) == pytest.approx(1.0, abs=1e-3)
 
 
-@pytest.mark.parametrize("rho,idx,value", [
-    # REHMAN Table 1 (sphere Ø0.5, cylinder 1 m × Ø0.25): its entries imply ρ between 1023 and
-    # 1025 kg/m³, not one value: 46.2 and 31.97 need 1023, 21.88 and 83.28 need 1025
-    (1023, ("sphere", "A"), 33.5), (1023, ("sphere", "D"), 46.2), (1023, ("cyl", "A_axial"), 31.97),
-    (1025, ("cyl", "D_axial"), 21.88), (1025, ("cyl", "A_trans"), 42.8), (1025, ("cyl", "D_trans"), 83.28),
-])
+@pytest.mark.parametrize(
+    "rho,idx,value",
+    [
+        # REHMAN Table 1 (sphere Ø0.5, cylinder 1 m × Ø0.25): its entries imply ρ between 1023 and
+        # 1025 kg/m³, not one value: 46.2 and 31.97 need 1023, 21.88 and 83.28 need 1025
+        (1023, ("sphere", "A"), 33.5),
+        (1023, ("sphere", "D"), 46.2),
+        (1023, ("cyl", "A_axial"), 31.97),
+        (1025, ("cyl", "D_axial"), 21.88),
+        (1025, ("cyl", "A_trans"), 42.8),
+        (1025, ("cyl", "D_trans"), 83.28),
+    ],
+)
 def test_rehman_table1(rho, idx, value):
     s = sphere(0.5, density=rho, drag_coefficient=0.46)
     c = cylinder(1.0, 0.25, density=rho, axial_model="rehman")
-    got = {("sphere", "A"): s.added_mass[0, 0], ("sphere", "D"): s.quadratic_damping(rho)[0],
-           ("cyl", "A_axial"): c.added_mass[0, 0], ("cyl", "D_axial"): c.quadratic_damping(rho)[0],
-           ("cyl", "A_trans"): c.added_mass[1, 1], ("cyl", "D_trans"): c.quadratic_damping(rho)[1]}[idx]
+    got = {
+        ("sphere", "A"): s.added_mass[0, 0],
+        ("sphere", "D"): s.quadratic_damping(rho)[0],
+        ("cyl", "A_axial"): c.added_mass[0, 0],
+        ("cyl", "D_axial"): c.quadratic_damping(rho)[0],
+        ("cyl", "A_trans"): c.added_mass[1, 1],
+        ("cyl", "D_trans"): c.quadratic_damping(rho)[1],
+    }[idx]
     assert got == pytest.approx(value, rel=0.005)
 
 

@@ -27,8 +27,12 @@ def test_cramer_rao_bound_predicts_output_error_spread(pendulum_rig):
     truth = (0.05, 0.02, 0.3)
     sensor = SensorModel.imu(hold_time=0)
     plan = plan_experiment(pendulum_rig, *truth, [0.15], sensor, duration=10.0)[0]
-    fits = [identify_launch(pendulum_rig, simulate_launch(pendulum_rig, *truth, 0.15, 10.0, sensor, rng=s),
-                            "output-error").added_mass for s in range(12)]
+    fits = [
+        identify_launch(
+            pendulum_rig, simulate_launch(pendulum_rig, *truth, 0.15, 10.0, sensor, rng=s), "output-error"
+        ).added_mass
+        for s in range(12)
+    ]
     ratio = np.std(fits, ddof=1) / plan["added_mass"]
     assert 0.5 < ratio < 1.6  # efficient estimator: spread ≈ bound (12-sample std: ±50 %)
 

@@ -16,17 +16,16 @@ import pytest
 from hydrokit.errors import InputError
 from hydrokit.identify.estimators import identify_launch, make_estimator
 from hydrokit.identify.preprocess import trim_launch
-from hydrokit.identify.rig_model import rig_constants
 from hydrokit.identify.virtual_rig import SensorModel, simulate_launch
 
 TRUTH = {
-    "pendulum": (0.05, 0.02, 0.3),          # kg, N s/m, N s²/m²
-    "spring": (0.2866, 2.6793, 5.5959),     # CELY2019 Table 7 x-axis m_a; K_Q = ½ρC_D A
-    "torsion": (0.008, 0.002, 0.004),       # kg m², N m s/rad, N m s²/rad²
+    "pendulum": (0.05, 0.02, 0.3),  # kg, N s/m, N s²/m²
+    "spring": (0.2866, 2.6793, 5.5959),  # CELY2019 Table 7 x-axis m_a; K_Q = ½ρC_D A
+    "torsion": (0.008, 0.002, 0.004),  # kg m², N m s/rad, N m s²/rad²
 }
 SENSORS = {
-    "pendulum": SensorModel.imu(),                       # 100 Hz, 0.05° noise
-    "spring": SensorModel.encoder(),                      # 2.45 counts/mm = 0.41 mm steps
+    "pendulum": SensorModel.imu(),  # 100 Hz, 0.05° noise
+    "spring": SensorModel.encoder(),  # 2.45 counts/mm = 0.41 mm steps
     "torsion": SensorModel(100.0, math.radians(0.05), 0.0, 0.5, "IMU"),
 }
 AMPS = {"pendulum": [math.radians(5), math.radians(15)], "spring": [0.02, 0.04], "torsion": [0.3, 0.6]}
@@ -55,15 +54,18 @@ def test_output_error_recovers_truth_on_noisy_data(test, request):
         assert res.rms_residual < 1.3 * floor
 
 
-@pytest.mark.parametrize("test,method,tol_ma,tol_force", [
-    ("pendulum", "equation-error", 0.03, 0.15),
-    ("pendulum", "log-decrement", 0.05, 0.25),
-    ("pendulum", "morison", 0.03, 0.25),
-    ("spring", "equation-error", 0.06, 0.2),
-    ("spring", "log-decrement", 0.25, 0.3),
-    ("torsion", "equation-error", 0.03, 0.15),
-    ("torsion", "log-decrement", 0.05, 0.25),
-])
+@pytest.mark.parametrize(
+    "test,method,tol_ma,tol_force",
+    [
+        ("pendulum", "equation-error", 0.03, 0.15),
+        ("pendulum", "log-decrement", 0.05, 0.25),
+        ("pendulum", "morison", 0.03, 0.25),
+        ("spring", "equation-error", 0.06, 0.2),
+        ("spring", "log-decrement", 0.25, 0.3),
+        ("torsion", "equation-error", 0.03, 0.15),
+        ("torsion", "log-decrement", 0.05, 0.25),
+    ],
+)
 def test_other_methods_within_their_known_bias(test, method, tol_ma, tol_force, request):
     rig = request.getfixturevalue(f"{test}_rig")
     truth = TRUTH[test]
@@ -77,7 +79,9 @@ def test_other_methods_within_their_known_bias(test, method, tol_ma, tol_force, 
         u = v.extra["speed_max"]
         if method == "morison":
             # K_L = 0 by construction: only the force at the peak speed can match
-            err = abs(v.quadratic_damping * u * u - (truth[1] * u + truth[2] * u * u)) / (truth[1] * u + truth[2] * u * u)
+            err = abs(v.quadratic_damping * u * u - (truth[1] * u + truth[2] * u * u)) / (
+                truth[1] * u + truth[2] * u * u
+            )
         else:
             err = force_curve_error(rig, v, truth, u)
         assert err < tol_force

@@ -13,7 +13,9 @@ from hydrokit.identify.virtual_rig import SensorModel, simulate_launch
 
 def test_release_and_end_are_detected(pendulum_rig):
     # K_L = 0.1 N s/m: decays as e^{-t/4}, into the 0.05° noise after about 25 s
-    launch = simulate_launch(pendulum_rig, 0.05, 0.1, 0.3, math.radians(10), 40.0, SensorModel.imu(hold_time=1.0), rng=0)
+    launch = simulate_launch(
+        pendulum_rig, 0.05, 0.1, 0.3, math.radians(10), 40.0, SensorModel.imu(hold_time=1.0), rng=0
+    )
     trimmed = trim_launch(launch)
     # the still hold lasts 1.0 s (100 samples); the release is found within 3 samples
     dropped = launch.t.size - trimmed.t.size

@@ -21,9 +21,18 @@ def test_eng2009_air_test_effective_length(published):
 def test_cely2019_table7_added_mass_via_S2(published):
     spring = published["cely2019"]["spring_rig"]
     wn = published["cely2019"]["table7_spring"]["omega_n"]
-    rig = Rig(test="spring", axis="surge", gravity=9.81, density=998.2, kinematic_viscosity=1e-6,
-              mass=spring["mass"], volume=spring["volume_mm3"] * 1e-9, reference_area=0.01, reference_length=0.1,
-              stiffness=spring["stiffness"])
+    rig = Rig(
+        test="spring",
+        axis="surge",
+        gravity=9.81,
+        density=998.2,
+        kinematic_viscosity=1e-6,
+        mass=spring["mass"],
+        volume=spring["volume_mm3"] * 1e-9,
+        reference_area=0.01,
+        reference_length=0.1,
+        stiffness=spring["stiffness"],
+    )
     c = rig_constants(rig)
     m_a = [c.from_normalised(w * w, 0.0, 0.0)[0] for w in wn]
     # SPEC §1.1: k/ω_n² − m = 0.287, 0.068, 0.398 kg
@@ -33,7 +42,7 @@ def test_cely2019_table7_added_mass_via_S2(published):
 def test_eng2009_scaling(published):
     lam = scale_factor(published["eng2009"]["scale"])
     full = scale_coefficients({"added_mass": 0.58, "quadratic_damping": 9.5439, "linear_damping": 1.5515}, lam)
-    assert full["added_mass"] == pytest.approx(21.48, abs=0.005)     # ENG2009 Table III
+    assert full["added_mass"] == pytest.approx(21.48, abs=0.005)  # ENG2009 Table III
     assert full["quadratic_damping"] == pytest.approx(106.04, abs=0.005)  # Table IV
     assert full["linear_damping"] == pytest.approx(17.24, abs=0.005)
     assert lam**5 == pytest.approx(published["eng2009"]["scaling"]["rotational_drag"], abs=0.01)

@@ -21,15 +21,23 @@ BASE = {
     "dt": 0.05,
     "controller": "pid",
     "controllers": {
-        "pid": {"speed": {"kp": 400, "ki": 20, "limit": 150},
-                "depth": {"kp": 300, "kd": 600, "limit": 150},
-                "heading": {"kp": 200, "kd": 300, "limit": 60}},
-        "s-plane": {"speed": {"k1": 8, "k2": 0, "scale": 150},
-                    "depth": {"k1": 2, "k2": 4, "scale": 150},
-                    "heading": {"k1": 3, "k2": 5, "scale": 60}},
+        "pid": {
+            "speed": {"kp": 400, "ki": 20, "limit": 150},
+            "depth": {"kp": 300, "kd": 600, "limit": 150},
+            "heading": {"kp": 200, "kd": 300, "limit": 60},
+        },
+        "s-plane": {
+            "speed": {"k1": 8, "k2": 0, "scale": 150},
+            "depth": {"k1": 2, "k2": 4, "scale": 150},
+            "heading": {"k1": 3, "k2": 5, "scale": 60},
+        },
     },
-    "guidance": {"acceptance_radius": 1.0, "lookahead": 4.0, "speed": 0.5,
-                 "waypoints": [[0, 0, 2], {"x": 20, "y": 0, "z": 4, "speed": 0.6}, [20, 20, 4]]},
+    "guidance": {
+        "acceptance_radius": 1.0,
+        "lookahead": 4.0,
+        "speed": 0.5,
+        "waypoints": [[0, 0, 2], {"x": 20, "y": 0, "z": 4, "speed": 0.6}, [20, 20, 4]],
+    },
     "initial": {"attitude_deg": [0, 0, 90]},
     "current": [0.1, 0, 0],
 }
@@ -53,9 +61,11 @@ def test_parses_units_and_controllers() -> None:
 
 def test_waypoint_times_give_leg_speeds() -> None:
     doc = copy.deepcopy(BASE)
-    doc["guidance"]["waypoints"] = [{"x": 0, "y": 0, "z": 2, "time": 0},
-                                    {"x": 30, "y": 0, "z": 2, "time": 60},
-                                    {"x": 30, "y": 40, "z": 2, "time": 140}]
+    doc["guidance"]["waypoints"] = [
+        {"x": 0, "y": 0, "z": 2, "time": 0},
+        {"x": 30, "y": 0, "z": 2, "time": 60},
+        {"x": 30, "y": 40, "z": 2, "time": 140},
+    ]
     m = parse(doc)
     np.testing.assert_allclose(m.path.speeds, [30 / 60, 40 / 80], rtol=1e-15)
 
@@ -86,10 +96,16 @@ _DELETE = object()
         ("guidance.waypoints", [], "0 given; expected a list of at least 2 waypoints"),
         ("guidance.waypoints", [[0, 0, 1]], "expected a list of at least 2 waypoints"),
         ("guidance.waypoints", [[0, 0, 1], [0, 0, 1]], r"waypoints\[1\]' repeats waypoint 0"),
-        ("guidance.waypoints", [{"x": 0, "y": 0, "z": 0, "time": 10}, {"x": 5, "y": 0, "z": 0, "time": 5}],
-         "waypoints out of order"),
-        ("guidance.waypoints", [{"x": 0, "y": 0, "z": 0, "time": 0}, {"x": 5, "y": 0, "z": 0}],
-         "'time' given for some waypoints only"),
+        (
+            "guidance.waypoints",
+            [{"x": 0, "y": 0, "z": 0, "time": 10}, {"x": 5, "y": 0, "z": 0, "time": 5}],
+            "waypoints out of order",
+        ),
+        (
+            "guidance.waypoints",
+            [{"x": 0, "y": 0, "z": 0, "time": 0}, {"x": 5, "y": 0, "z": 0}],
+            "'time' given for some waypoints only",
+        ),
         ("guidance.waypoints", [[0, 0], [1, 1, 1]], r"waypoints\[0\]' = \[0, 0\]: expected a list of 3 numbers"),
         ("duration", -5, "field 'duration' = -5: expected a positive number"),
         ("dt", 500, "expected a step no longer than duration"),

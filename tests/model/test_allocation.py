@@ -40,14 +40,16 @@ def test_lingyun_matrix_structure_eq29() -> None:
     # LI2021 eq. 29: surge from both horizontal thrusters, heave from both vertical ones
     # (pointing up, -z), roll from the vertical pair's lateral arm, yaw from the horizontal
     # pair's lateral arm; sway and pitch rows zero. Exact small-integer arithmetic.
-    expected = np.array([
-        [1, 1, 0, 0],
-        [0, 0, 0, 0],
-        [0, 0, -1, -1],
-        [0, 0, R_VY, -R_VY],
-        [0, 0, 0, 0],
-        [R_HY, -R_HY, 0, 0],
-    ])
+    expected = np.array(
+        [
+            [1, 1, 0, 0],
+            [0, 0, 0, 0],
+            [0, 0, -1, -1],
+            [0, 0, R_VY, -R_VY],
+            [0, 0, 0, 0],
+            [R_HY, -R_HY, 0, 0],
+        ]
+    )
     np.testing.assert_allclose(T, expected, atol=1e-15)
     assert uncontrollable_dofs(T) == ["sway", "pitch"]
 
@@ -191,9 +193,16 @@ def test_constrained_least_norm_agrees_with_slsqp(tau: list[float]) -> None:
 
     # a redundant 8-thruster layout (BlueROV2-Heavy-like: 4 vectored horizontal, 4 vertical)
     c = math.sqrt(0.5)
-    pos = [(0.156, 0.111, 0.085), (0.156, -0.111, 0.085), (-0.156, 0.111, 0.085),
-           (-0.156, -0.111, 0.085), (0.12, 0.218, 0), (0.12, -0.218, 0), (-0.12, 0.218, 0),
-           (-0.12, -0.218, 0)]
+    pos = [
+        (0.156, 0.111, 0.085),
+        (0.156, -0.111, 0.085),
+        (-0.156, 0.111, 0.085),
+        (-0.156, -0.111, 0.085),
+        (0.12, 0.218, 0),
+        (0.12, -0.218, 0),
+        (-0.12, 0.218, 0),
+        (-0.12, -0.218, 0),
+    ]
     dirs = [(c, -c, 0), (c, c, 0), (c, c, 0), (c, -c, 0)] + [(0, 0, -1)] * 4
     T = configuration_matrix(pos, dirs)
     lo = np.full(8, -30.0)
@@ -203,9 +212,15 @@ def test_constrained_least_norm_agrees_with_slsqp(tau: list[float]) -> None:
     a_star = res.achieved_tau
     sol = None
     for start in (np.clip(res.thrust * 0.5, lo, hi), res.thrust, np.zeros(8)):
-        sol = minimize(lambda f: f @ f, start, jac=lambda f: 2 * f,
-                       constraints=[{"type": "eq", "fun": lambda f: T @ f - a_star, "jac": lambda f: T}],
-                       bounds=list(zip(lo, hi)), method="SLSQP", options={"ftol": 1e-12, "maxiter": 500})
+        sol = minimize(
+            lambda f: f @ f,
+            start,
+            jac=lambda f: 2 * f,
+            constraints=[{"type": "eq", "fun": lambda f: T @ f - a_star, "jac": lambda f: T}],
+            bounds=list(zip(lo, hi)),
+            method="SLSQP",
+            options={"ftol": 1e-12, "maxiter": 500},
+        )
         if sol.success:
             break
     # the reference itself can fail ("positive directional derivative"); such an example proves

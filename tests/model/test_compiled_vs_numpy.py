@@ -35,10 +35,19 @@ def coupled_vehicle(**changes):
     MA[0, 4] = MA[4, 0] = 0.3
     MA[1, 5] = MA[5, 1] = -0.2
     MA[2, 3] = MA[3, 2] = 0.15
-    doc = {"name": "t", "gravity": 9.81, "fluid": {"density": 1000.0}, "mass": 10.0, "volume": 0.0102,
-           "inertia": [1.0, 1.2, 1.4], "center_of_gravity": [0.01, -0.02, 0.05],
-           "center_of_buoyancy": [0.0, 0.01, -0.03], "added_mass": MA.tolist(),
-           "linear_damping": [3, 4, 5, 0.5, 0.6, 0.7], "quadratic_damping": [20, 30, 40, 1, 2, 3]}
+    doc = {
+        "name": "t",
+        "gravity": 9.81,
+        "fluid": {"density": 1000.0},
+        "mass": 10.0,
+        "volume": 0.0102,
+        "inertia": [1.0, 1.2, 1.4],
+        "center_of_gravity": [0.01, -0.02, 0.05],
+        "center_of_buoyancy": [0.0, 0.01, -0.03],
+        "added_mass": MA.tolist(),
+        "linear_damping": [3, 4, 5, 0.5, 0.6, 0.7],
+        "quadratic_damping": [20, 30, 40, 1, 2, 3],
+    }
     doc.update(changes)
     return parse_vehicle(doc, "t")
 
@@ -99,8 +108,9 @@ def test_compiled_rotation_and_attitude_rates_equal_core(attitude: str) -> None:
 def test_compiled_coriolis_equals_core_coriolis_force() -> None:
     # no damping, no terms, no current and W = B at one point (g = 0): what is left is
     # M ν̇ = τ − C(ν) ν with C from M_RB + M_A (Fossen 2011 Theorem 3.2)
-    v = coupled_vehicle(linear_damping=[0] * 6, quadratic_damping=[0] * 6, volume=0.01,
-                        center_of_buoyancy=[0.01, -0.02, 0.05])
+    v = coupled_vehicle(
+        linear_damping=[0] * 6, quadratic_damping=[0] * 6, volume=0.01, center_of_buoyancy=[0.01, -0.02, 0.05]
+    )
     assert v.weight == pytest.approx(v.buoyancy, rel=1e-12)
     f = make_dynamics(v)
     rng = np.random.default_rng(3)
@@ -115,8 +125,9 @@ def test_compiled_coriolis_equals_core_coriolis_force() -> None:
 
 def test_numpy_model_uses_core_coriolis() -> None:
     # the same isolation for the numpy model: a wrong sign in either would break one side
-    v = coupled_vehicle(linear_damping=[0] * 6, quadratic_damping=[0] * 6, volume=0.01,
-                        center_of_buoyancy=[0.01, -0.02, 0.05])
+    v = coupled_vehicle(
+        linear_damping=[0] * 6, quadratic_damping=[0] * 6, volume=0.01, center_of_buoyancy=[0.01, -0.02, 0.05]
+    )
     f = vehicle_dynamics(v)
     x = np.zeros(12)
     x[6:] = [0.4, -0.3, 0.2, 0.3, -0.2, 0.5]
@@ -137,8 +148,26 @@ def test_compiled_rk4_step_equals_numpy_rk4_step(attitude: str) -> None:
         t0, dt = rng.uniform(0, 15), 0.05
         tau = rng.normal(size=6) * 20
         out = np.empty((2, x0.size))
-        taken = rk4_run(x0, t0, dt, 1, 1, quat, np.concatenate([[0.0], tau])[None, :], ctab, p.Minv, p.Mc,
-                        p.DL, p.DQ, p.scal, p.t_dof, p.t_coef, p.t_kind, p.t_idx, out)
+        taken = rk4_run(
+            x0,
+            t0,
+            dt,
+            1,
+            1,
+            quat,
+            np.concatenate([[0.0], tau])[None, :],
+            ctab,
+            p.Minv,
+            p.Mc,
+            p.DL,
+            p.DQ,
+            p.scal,
+            p.t_dof,
+            p.t_coef,
+            p.t_kind,
+            p.t_idx,
+            out,
+        )
         assert taken == 1
         expected = rk4_step(f, t0, x0, dt, u=tau)
         np.testing.assert_allclose(out[1], expected, rtol=1e-11, atol=1e-12)

@@ -101,8 +101,13 @@ def test_autopilot_tau_layout() -> None:
 
 
 def test_autopilot_roll_and_pitch_hold() -> None:
-    ap = Autopilot(speed=PID(kp=1), depth=PID(kp=1), heading=PID(kp=1, angle=True),
-                   roll=PID(kp=50, angle=True), pitch=SPlane(k1=2, k2=0, scale=30, angle=True))
+    ap = Autopilot(
+        speed=PID(kp=1),
+        depth=PID(kp=1),
+        heading=PID(kp=1, angle=True),
+        roll=PID(kp=50, angle=True),
+        pitch=SPlane(k1=2, k2=0, scale=30, angle=True),
+    )
     eta = [0, 0, 0, 0.1, -0.2, 0]
     tau, _ = ap.update(ap.initial_state(), Reference(0, 0, 0), eta, np.zeros(6), 0.1)
     assert tau[3] == pytest.approx(-5.0, rel=1e-12)  # -kp phi
@@ -116,9 +121,11 @@ def test_euler_rates_level_flight() -> None:
 
 @pytest.mark.parametrize(
     ("kw", "match"),
-    [({"kp": "fast"}, "PID kp = 'fast': expected a number"),
-     ({"kp": 1.0, "ki": -2}, "PID ki = -2.0: expected a number ≥ 0"),
-     ({"kp": 1.0, "output_min": 5, "output_max": 1}, "output_min < output_max")],
+    [
+        ({"kp": "fast"}, "PID kp = 'fast': expected a number"),
+        ({"kp": 1.0, "ki": -2}, "PID ki = -2.0: expected a number ≥ 0"),
+        ({"kp": 1.0, "output_min": 5, "output_max": 1}, "output_min < output_max"),
+    ],
 )
 def test_bad_gains_rejected(kw: dict, match: str) -> None:
     with pytest.raises(InputError, match=match):
@@ -144,11 +151,14 @@ PLANT_D = np.array([150.0, 300.0, 300.0, 80.0, 100.0, 60.0])
 
 def plant(t: float, x: np.ndarray, tau: np.ndarray) -> np.ndarray:
     phi, th, psi = x[3:6]
-    cf, sf, ct, st, cp, sp = (math.cos(phi), math.sin(phi), math.cos(th), math.sin(th),
-                              math.cos(psi), math.sin(psi))
-    R = np.array([[cp * ct, -sp * cf + cp * st * sf, sp * sf + cp * cf * st],
-                  [sp * ct, cp * cf + sf * st * sp, -cp * sf + st * sp * cf],
-                  [-st, ct * sf, ct * cf]])
+    cf, sf, ct, st, cp, sp = (math.cos(phi), math.sin(phi), math.cos(th), math.sin(th), math.cos(psi), math.sin(psi))
+    R = np.array(
+        [
+            [cp * ct, -sp * cf + cp * st * sf, sp * sf + cp * cf * st],
+            [sp * ct, cp * cf + sf * st * sp, -cp * sf + st * sp * cf],
+            [-st, ct * sf, ct * cf],
+        ]
+    )
     Tm = np.array([[1, sf * st / ct, cf * st / ct], [0, cf, -sf], [0, sf / ct, cf / ct]])
     nu = x[6:]
     return np.concatenate([R @ nu[:3], Tm @ nu[3:], (tau - PLANT_D * nu) / PLANT_M])
@@ -157,8 +167,12 @@ def plant(t: float, x: np.ndarray, tau: np.ndarray) -> np.ndarray:
 def lingyun_set(tc: float = 0.0) -> ThrusterSet:
     pos = [(-0.6, -0.35, 0), (-0.6, 0.35, 0), (0, -0.3, -0.4), (0, 0.3, -0.4)]
     dirs = [(1, 0, 0), (1, 0, 0), (0, 0, -1), (0, 0, -1)]
-    return ThrusterSet(tuple(Thruster(f"T{i}", p, d, max_thrust=150, min_thrust=-120, time_constant=tc)
-                             for i, (p, d) in enumerate(zip(pos, dirs))))
+    return ThrusterSet(
+        tuple(
+            Thruster(f"T{i}", p, d, max_thrust=150, min_thrust=-120, time_constant=tc)
+            for i, (p, d) in enumerate(zip(pos, dirs))
+        )
+    )
 
 
 def test_closed_loop_p_speed_matches_closed_form() -> None:
@@ -167,22 +181,28 @@ def test_closed_loop_p_speed_matches_closed_form() -> None:
     kp, u_d = 300.0, 0.4
     ap = Autopilot(speed=PID(kp=kp), depth=PID(kp=200, kd=400), heading=PID(kp=100, kd=100, angle=True))
     path = Path(points=[[0, 0, 5], [500, 0, 5]], speeds=[u_d])
-    res = run_closed_loop(plant, lingyun_set(), ap, path, [0, 0, 5, 0, 0, 0], np.zeros(6),
-                          duration=60.0, dt=0.05)
+    res = run_closed_loop(plant, lingyun_set(), ap, path, [0, 0, 5, 0, 0, 0], np.zeros(6), duration=60.0, dt=0.05)
     # 60 s = 26 time constants of m/(d+kp): transient e^-26; 1e-9 covers round-off
     assert res.nu[-1, 0] == pytest.approx(kp * u_d / (PLANT_D[0] + kp), rel=1e-9)
     assert np.all(res.thrust <= 150 + 1e-9) and np.all(res.thrust >= -120 - 1e-9)
 
 
 def test_closed_loop_reaches_waypoints_within_limits() -> None:
-    ap = Autopilot(speed=PID(kp=600, ki=60, output_min=-200, output_max=200),
-                   depth=PID(kp=400, ki=20, kd=800, output_min=-200, output_max=200),
-                   heading=PID(kp=150, ki=2, kd=250, output_min=-60, output_max=60, angle=True))
-    path = Path(points=[[0, 0, 2], [15, 0, 4], [15, 15, 4], [0, 15, 6]], speeds=[0.5, 0.5, 0.5],
-                acceptance_radius=1.0, lookahead=4.0)
+    ap = Autopilot(
+        speed=PID(kp=600, ki=60, output_min=-200, output_max=200),
+        depth=PID(kp=400, ki=20, kd=800, output_min=-200, output_max=200),
+        heading=PID(kp=150, ki=2, kd=250, output_min=-60, output_max=60, angle=True),
+    )
+    path = Path(
+        points=[[0, 0, 2], [15, 0, 4], [15, 15, 4], [0, 15, 6]],
+        speeds=[0.5, 0.5, 0.5],
+        acceptance_radius=1.0,
+        lookahead=4.0,
+    )
     ts = lingyun_set(tc=0.3)
-    res = run_closed_loop(plant, ts, ap, path, [0, 0, 2, 0, 0, 0], np.zeros(6),
-                          duration=200.0, dt=0.05, stop_when_done=True)
+    res = run_closed_loop(
+        plant, ts, ap, path, [0, 0, 2, 0, 0, 0], np.zeros(6), duration=200.0, dt=0.05, stop_when_done=True
+    )
     m = res.metrics(ts)
     assert m["completed"], m["waypoint_times"]
     assert all(np.diff([t for t in m["waypoint_times"]]) > 0)
@@ -193,8 +213,9 @@ def test_closed_loop_reaches_waypoints_within_limits() -> None:
     step = np.abs(np.diff(res.command, axis=0))
     assert np.all(step <= (270.0 * (1 - math.exp(-0.05 / 0.3))) + 1e-9)
     # repeatable: a second run from the same inputs gives identical arrays
-    res2 = run_closed_loop(plant, ts, ap, path, [0, 0, 2, 0, 0, 0], np.zeros(6),
-                           duration=200.0, dt=0.05, stop_when_done=True)
+    res2 = run_closed_loop(
+        plant, ts, ap, path, [0, 0, 2, 0, 0, 0], np.zeros(6), duration=200.0, dt=0.05, stop_when_done=True
+    )
     np.testing.assert_array_equal(res.eta, res2.eta)
 
 
@@ -207,11 +228,18 @@ from hydrokit.simulate.compiled import make_dynamics  # noqa: E402
 def lingyun_like(z_g: float = 0.10, damped: bool = True):
     """LI2021 Table 1 mass and inertia with diagonal added mass and damping (W = B)."""
     m = 519.798
-    doc = {"gravity": 9.81, "fluid": {"density": 1000.0}, "mass": m, "volume": m / 1000.0,
-           "inertia": [30.717279, 47.148837, 65.763013], "center_of_gravity": [0, 0, z_g],
-           "center_of_buoyancy": [0, 0, 0], "added_mass": [58.7, 381.5, 117.4, 10, 20.9, 8.9],
-           "linear_damping": [20.0, 40, 40, 20, 20, 20] if damped else [0] * 6,
-           "quadratic_damping": [108.8, 629.5, 1110, 4385, 209, 300] if damped else [0] * 6}
+    doc = {
+        "gravity": 9.81,
+        "fluid": {"density": 1000.0},
+        "mass": m,
+        "volume": m / 1000.0,
+        "inertia": [30.717279, 47.148837, 65.763013],
+        "center_of_gravity": [0, 0, z_g],
+        "center_of_buoyancy": [0, 0, 0],
+        "added_mass": [58.7, 381.5, 117.4, 10, 20.9, 8.9],
+        "linear_damping": [20.0, 40, 40, 20, 20, 20] if damped else [0] * 6,
+        "quadratic_damping": [108.8, 629.5, 1110, 4385, 209, 300] if damped else [0] * 6,
+    }
     return parse_vehicle(doc, "lingyun-like")
 
 
@@ -258,9 +286,11 @@ def test_control_callback_matches_closed_loop_driver() -> None:
     # Second method: the same autopilot as a tau(t, eta, nu) callback in plain RK4 loops.
     from hydrokit.simulate.closed_loop import control_callback
 
-    ap = Autopilot(speed=PID(kp=600, ki=60, output_min=-200, output_max=200),
-                   depth=PID(kp=400, ki=20, kd=800, output_min=-200, output_max=200),
-                   heading=PID(kp=150, kd=250, output_min=-60, output_max=60, angle=True))
+    ap = Autopilot(
+        speed=PID(kp=600, ki=60, output_min=-200, output_max=200),
+        depth=PID(kp=400, ki=20, kd=800, output_min=-200, output_max=200),
+        heading=PID(kp=150, kd=250, output_min=-60, output_max=60, angle=True),
+    )
     path = Path(points=[[0, 0, 2], [15, 0, 4], [15, 15, 4]], speeds=[0.5, 0.5])
     ts, dt = lingyun_set(), 0.05
     ref = run_closed_loop(plant, ts, ap, path, [0, 0, 2, 0, 0, 0], np.zeros(6), duration=30.0, dt=dt)
@@ -296,16 +326,30 @@ def test_mission_metrics_closed_form() -> None:
     eta[:, 0] = np.linspace(0, 5, n)
     eta[:, 1] = 0.5
     path = Path(points=[[0, 0, 0], [10, 0, 0]], speeds=[0.5])
-    ts = ThrusterSet((Thruster("A", (0, 0, 0), (1, 0, 0), 50, diameter=0.1),
-                      Thruster("B", (0, 0, 0), (1, 0, 0), 50, diameter=0.1)), density=1000.0)
+    ts = ThrusterSet(
+        (Thruster("A", (0, 0, 0), (1, 0, 0), 50, diameter=0.1), Thruster("B", (0, 0, 0), (1, 0, 0), 50, diameter=0.1)),
+        density=1000.0,
+    )
     thrust = np.full((n, 2), 20.0)
     limited = np.zeros(n, dtype=bool)
     limited[:10] = True
     res = ClosedLoopResult(
-        time=t, eta=eta, nu=np.zeros((n, 6)), reference=np.zeros((n, 3)),
-        tau_demand=np.zeros((n, 6)), command_demand=thrust, command=thrust,
-        thrust_demand=thrust, thrust=thrust, limited=limited, leg=np.ones(n, dtype=int),
-        waypoint_times=[None], thruster_names=["A", "B"], dt=h, path=path)
+        time=t,
+        eta=eta,
+        nu=np.zeros((n, 6)),
+        reference=np.zeros((n, 3)),
+        tau_demand=np.zeros((n, 6)),
+        command_demand=thrust,
+        command=thrust,
+        thrust_demand=thrust,
+        thrust=thrust,
+        limited=limited,
+        leg=np.ones(n, dtype=int),
+        waypoint_times=[None],
+        thruster_names=["A", "B"],
+        dt=h,
+        path=path,
+    )
     m = mission_metrics(res, ts)
     assert m["cross_track_rms"] == pytest.approx(0.5, rel=1e-12)
     assert m["cross_track_max"] == pytest.approx(0.5, rel=1e-12)

@@ -71,8 +71,7 @@ def test_path_distance_closed_form() -> None:
 )
 def test_bad_paths_rejected(pts, speeds, match) -> None:
     with pytest.raises(InputError, match=match):
-        Path(points=np.array(pts, dtype=float).reshape(-1, 3) if pts else np.zeros((0, 3)),
-             speeds=speeds)
+        Path(points=np.array(pts, dtype=float).reshape(-1, 3) if pts else np.zeros((0, 3)), speeds=speeds)
 
 
 def test_bad_radius_rejected() -> None:

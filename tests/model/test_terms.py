@@ -7,11 +7,18 @@ from hydrokit.errors import InputError
 from hydrokit.model.terms import ABS, NORM, SIGN, VEL, TermSet, parse_term
 
 
-@pytest.mark.parametrize("name,dof,kinds", [
-    ("X_uu", 0, [VEL, VEL]), ("Y_v|v|", 1, [VEL, ABS]), ("Y_vq", 1, [VEL, VEL]), ("Z_|w|", 2, [ABS]),
-    ("N_p|p|", 5, [VEL, ABS]), ("Z_w*sqrt(v^2+w^2)", 2, [VEL, NORM]),
-    ("N_(v/|v|)*sqrt(v^2+w^2)*|r|", 5, [SIGN, NORM, ABS]),
-])
+@pytest.mark.parametrize(
+    "name,dof,kinds",
+    [
+        ("X_uu", 0, [VEL, VEL]),
+        ("Y_v|v|", 1, [VEL, ABS]),
+        ("Y_vq", 1, [VEL, VEL]),
+        ("Z_|w|", 2, [ABS]),
+        ("N_p|p|", 5, [VEL, ABS]),
+        ("Z_w*sqrt(v^2+w^2)", 2, [VEL, NORM]),
+        ("N_(v/|v|)*sqrt(v^2+w^2)*|r|", 5, [SIGN, NORM, ABS]),
+    ],
+)
 def test_grammar(name, dof, kinds):
     t = parse_term(name)
     assert t.dof == dof and [f.kind for f in t.factors] == kinds
@@ -20,9 +27,9 @@ def test_grammar(name, dof, kinds):
 def test_acceleration_term():
     t = parse_term("X_udot")
     assert t.acceleration == 0 and t.factors == ()
-    assert parse_term("M_qdot").scale_power() == 5   # moment / angular
-    assert parse_term("X_udot").scale_power() == 3   # force / linear
-    assert parse_term("Z_qdot").scale_power() == 4   # mixed
+    assert parse_term("M_qdot").scale_power() == 5  # moment / angular
+    assert parse_term("X_udot").scale_power() == 3  # force / linear
+    assert parse_term("Z_qdot").scale_power() == 4  # mixed
 
 
 def test_scaling_rule_of_spec_section_3():
@@ -45,7 +52,9 @@ def test_sign_factor_and_values():
     assert ts.force(np.zeros(6))[5] == 0.0  # sign of zero is zero
 
 
-@pytest.mark.parametrize("bad", ["Q_uu", "X_uz", "X_u|u", "X_", "X_udotv", "X_(u/|v|)", "X_sqrt(u^2)", "__import__('os')"])
+@pytest.mark.parametrize(
+    "bad", ["Q_uu", "X_uz", "X_u|u", "X_", "X_udotv", "X_(u/|v|)", "X_sqrt(u^2)", "__import__('os')"]
+)
 def test_bad_names_are_one_line_errors(bad):
     with pytest.raises(InputError, match="term"):
         parse_term(bad, "veh.yaml")

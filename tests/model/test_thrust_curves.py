@@ -18,8 +18,15 @@ KT_R = (0.025, -0.28, 0.17, 0.15)
 
 
 def minerva(**kw) -> PropellerCurve:
-    args = dict(diameter=0.22, kt_forward=KT_F, kt_reverse=KT_R, max_speed=25.0,
-                thrust_loss_forward=0.72, thrust_loss_reverse=0.53, density=1025.0)
+    args = dict(
+        diameter=0.22,
+        kt_forward=KT_F,
+        kt_reverse=KT_R,
+        max_speed=25.0,
+        thrust_loss_forward=0.72,
+        thrust_loss_reverse=0.53,
+        density=1025.0,
+    )
     args.update(kw)
     return PropellerCurve(**args)
 
@@ -133,8 +140,18 @@ def test_thruster_builds_its_curve_and_model_string() -> None:
 
 
 def test_thruster_given_a_curve_equals_the_field_form() -> None:
-    fields = Thruster("P", (0, 0, 0), (1, 0, 0), 1e4, diameter=0.22, kt_forward=KT_F, kt_reverse=KT_R,
-                      thrust_loss_forward=0.72, thrust_loss_reverse=0.53, max_speed=25.0)
+    fields = Thruster(
+        "P",
+        (0, 0, 0),
+        (1, 0, 0),
+        1e4,
+        diameter=0.22,
+        kt_forward=KT_F,
+        kt_reverse=KT_R,
+        thrust_loss_forward=0.72,
+        thrust_loss_reverse=0.53,
+        max_speed=25.0,
+    )
     given = Thruster("P", (0, 0, 0), (1, 0, 0), 1e4, curve=minerva())
     assert given.diameter == 0.22  # taken from the curve (used for actuator-disk power)
     a, b = ThrusterSet((fields,), density=1025.0), ThrusterSet((given,), density=1025.0)
@@ -161,11 +178,13 @@ def test_set_binds_its_density_into_the_curves() -> None:
 
 
 def test_set_limits_mix_curve_and_rated_limits() -> None:
-    ts = ThrusterSet((
-        Thruster("P", (0, 0, 0), (1, 0, 0), 50.0, min_thrust=-10.0, curve=minerva(max_speed=12.0)),
-        Thruster("T", (0, 0, 0), (1, 0, 0), 100.0, curve=t200()),
-        Thruster("I", (0, 0, 0), (1, 0, 0), 60.0, min_thrust=-40.0),
-    ))
+    ts = ThrusterSet(
+        (
+            Thruster("P", (0, 0, 0), (1, 0, 0), 50.0, min_thrust=-10.0, curve=minerva(max_speed=12.0)),
+            Thruster("T", (0, 0, 0), (1, 0, 0), 100.0, curve=t200()),
+            Thruster("I", (0, 0, 0), (1, 0, 0), 60.0, min_thrust=-40.0),
+        )
+    )
     # P: rated 50 N is below the 59.75 N the curve gives at 12 rev/s; reverse the curve's
     # −27.49 N is beyond the rated −10 N. T: the table's own ends. I: rated only.
     np.testing.assert_allclose(ts.f_max, [50.0, t200().thrusts[-1], 60.0], rtol=1e-12)
@@ -181,11 +200,25 @@ def test_set_limits_mix_curve_and_rated_limits() -> None:
 DOC = {
     "fluid": {"density": 1025.0},
     "thrusters": [
-        {"name": "A", "position": [0, 0, 0], "direction": [1, 0, 0], "max_thrust": 500, "diameter": 0.22,
-         "kt_forward": list(KT_F), "kt_reverse": list(KT_R), "thrust_loss": {"forward": 0.72, "reverse": 0.53},
-         "max_rpm": 1500, "advance_ratio_range": [-0.5, 1.0]},
-        {"name": "B", "position": [0, 0.3, 0], "azimuth_deg": 90, "max_thrust": 40,
-         "thrust_table": {"command": [-1, 0, 1], "thrust": [-30, 0, 35]}},
+        {
+            "name": "A",
+            "position": [0, 0, 0],
+            "direction": [1, 0, 0],
+            "max_thrust": 500,
+            "diameter": 0.22,
+            "kt_forward": list(KT_F),
+            "kt_reverse": list(KT_R),
+            "thrust_loss": {"forward": 0.72, "reverse": 0.53},
+            "max_rpm": 1500,
+            "advance_ratio_range": [-0.5, 1.0],
+        },
+        {
+            "name": "B",
+            "position": [0, 0.3, 0],
+            "azimuth_deg": 90,
+            "max_thrust": 40,
+            "thrust_table": {"command": [-1, 0, 1], "thrust": [-30, 0, 35]},
+        },
         {"name": "C", "position": [0, -0.3, 0], "direction": [0, 0, 1], "max_thrust": 60, "min_thrust": -40},
     ],
 }
@@ -207,7 +240,10 @@ def test_reader_builds_the_same_curves() -> None:
         ({"thrust_loss": {"forward": 0}}, r"field 'thrusters\[0\] \(A\).thrust_loss.forward' = 0: expected a positive"),
         ({"thrust_loss": "high"}, r"field 'thrusters\[0\] \(A\).thrust_loss' = 'high': expected a number"),
         ({"max_rpm": -100}, r"field 'thrusters\[0\] \(A\).max_rpm' = -100: expected a positive number"),
-        ({"advance_ratio_range": [0, 1, 2]}, r"thrusters\[0\] \(A\).advance_ratio_range' = \[0, 1, 2\]: expected a list of 2"),
+        (
+            {"advance_ratio_range": [0, 1, 2]},
+            r"thrusters\[0\] \(A\).advance_ratio_range' = \[0, 1, 2\]: expected a list of 2",
+        ),
         ({"kt_forward": [0.1, -0.3]}, r"thrusters\[0\] \(A\): thruster 'A': K_T\(0\) must be positive"),
     ],
 )

@@ -18,9 +18,17 @@ KT_R = (0.025, -0.28, 0.17, 0.15)
 
 def axial(**kw) -> Thruster:
     args = dict(
-        name="A1", position=(-0.2, -0.305, 0.0), direction=(1.0, 0.0, 0.0), max_thrust=1e4,
-        min_thrust=-1e4, diameter=0.22, kt_forward=KT_F, kt_reverse=KT_R,
-        thrust_loss_forward=0.72, thrust_loss_reverse=0.53, max_speed=25.0,
+        name="A1",
+        position=(-0.2, -0.305, 0.0),
+        direction=(1.0, 0.0, 0.0),
+        max_thrust=1e4,
+        min_thrust=-1e4,
+        diameter=0.22,
+        kt_forward=KT_F,
+        kt_reverse=KT_R,
+        thrust_loss_forward=0.72,
+        thrust_loss_reverse=0.53,
+        max_speed=25.0,
     )
     args.update(kw)
     return Thruster(**args)
@@ -99,8 +107,9 @@ def test_table_thruster_interpolates_t200() -> None:
     # SPEC §8 BlueROV2 T200: F = -140.3V^9 + 389.9V^7 - 404.1V^5 + 176.0V^3 + 8.9V
     V = np.linspace(-1, 1, 21)
     F = -140.3 * V**9 + 389.9 * V**7 - 404.1 * V**5 + 176.0 * V**3 + 8.9 * V
-    th = Thruster("T", (0, 0, 0), (1, 0, 0), max_thrust=40, min_thrust=-40,
-                  table_command=tuple(V), table_thrust=tuple(F))
+    th = Thruster(
+        "T", (0, 0, 0), (1, 0, 0), max_thrust=40, min_thrust=-40, table_command=tuple(V), table_thrust=tuple(F)
+    )
     ts = ThrusterSet((th,))
     assert ts.thrust([0.5])[0] == pytest.approx(F[15], rel=1e-12)
     v = 0.55

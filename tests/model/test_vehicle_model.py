@@ -14,9 +14,19 @@ from hydrokit.simulate.driver import simulate
 
 
 def base(**changes):
-    doc = {"name": "t", "gravity": 9.81, "fluid": {"density": 1000.0}, "mass": 10.0, "volume": 0.01,
-           "inertia": [1.0, 1.2, 1.4], "center_of_gravity": [0, 0, 0], "center_of_buoyancy": [0, 0, 0],
-           "added_mass": [5, 6, 7, 0.5, 0.6, 0.7], "linear_damping": [0] * 6, "quadratic_damping": [0] * 6}
+    doc = {
+        "name": "t",
+        "gravity": 9.81,
+        "fluid": {"density": 1000.0},
+        "mass": 10.0,
+        "volume": 0.01,
+        "inertia": [1.0, 1.2, 1.4],
+        "center_of_gravity": [0, 0, 0],
+        "center_of_buoyancy": [0, 0, 0],
+        "added_mass": [5, 6, 7, 0.5, 0.6, 0.7],
+        "linear_damping": [0] * 6,
+        "quadratic_damping": [0] * 6,
+    }
     doc.update(changes)
     return doc
 
@@ -34,7 +44,9 @@ def test_pure_surge_quadratic_drag_closed_form():
 def test_steady_speed_under_constant_thrust():
     # d_L u + d_Q u² = X  ->  u = (−d_L + √(d_L² + 4 d_Q X)) / (2 d_Q)
     # BlueROV2 Heavy surge damping on a neutral body with r_B = r_G (no pitch coupling)
-    v = parse_vehicle(base(linear_damping=[13.7, 0, 33, 0, 0.8, 0], quadratic_damping=[141, 217, 190, 1.19, 0.47, 1.5]), "t")
+    v = parse_vehicle(
+        base(linear_damping=[13.7, 0, 33, 0, 0.8, 0], quadratic_damping=[141, 217, 190, 1.19, 0.47, 1.5]), "t"
+    )
     tr = simulate(v, 60.0, 0.01, tau=[30, 0, 0, 0, 0, 0])
     u = (-13.7 + math.sqrt(13.7**2 + 4 * 141 * 30)) / (2 * 141)
     assert tr.nu[-1, 0] == pytest.approx(u, rel=1e-6)
@@ -47,8 +59,12 @@ def test_kinetic_energy_conserved_without_damping(integrator):
     MA = np.diag([5.0, 6, 7, 0.5, 0.6, 0.7])
     MA[0, 4] = MA[4, 0] = 0.3
     MA[1, 5] = MA[5, 1] = -0.2
-    doc = base(added_mass=MA.tolist(), center_of_gravity=[0.01, 0.0, 0.02], center_of_buoyancy=[0.01, 0.0, 0.02],
-               volume=10.0 / 1000.0)
+    doc = base(
+        added_mass=MA.tolist(),
+        center_of_gravity=[0.01, 0.0, 0.02],
+        center_of_buoyancy=[0.01, 0.0, 0.02],
+        volume=10.0 / 1000.0,
+    )
     v = parse_vehicle(doc, "t")
     nu0 = [0.5, -0.2, 0.3, 0.4, -0.3, 0.6]
     tr = simulate(v, 10.0, 0.001, nu0=nu0, integrator=integrator, output_every=100)
@@ -126,15 +142,29 @@ def test_batch_equals_single():
     assert np.all(res["steps"] == 500)
 
 
-@pytest.mark.parametrize("change,match", [
-    ({"added_mass": [[5, 0, 0, 0, 0, 0], [0, 6, 0, 0, 0, 0], [0, 0, 7, 0, 0, 0], [0, 0, 0, 0.5, 0, 0],
-                     [0, 0, 0, 0, 0.6, 0], [3, 0, 0, 0, 0, 0.7]]}, "not symmetric"),
-    ({"added_mass": [-50, 6, 7, 0.5, 0.6, 0.7]}, "not positive definite"),
-    ({"added_mass": [5, 6, 7]}, "'added_mass' has 3 values; expected 6"),
-    ({"mass": float("nan")}, "'mass'"),
-    ({"terms": {"X_ux": -1.0}}, "term 'X_ux'"),
-    ({"inertia": [1, 2]}, "'inertia' has 2 values"),
-])
+@pytest.mark.parametrize(
+    "change,match",
+    [
+        (
+            {
+                "added_mass": [
+                    [5, 0, 0, 0, 0, 0],
+                    [0, 6, 0, 0, 0, 0],
+                    [0, 0, 7, 0, 0, 0],
+                    [0, 0, 0, 0.5, 0, 0],
+                    [0, 0, 0, 0, 0.6, 0],
+                    [3, 0, 0, 0, 0, 0.7],
+                ]
+            },
+            "not symmetric",
+        ),
+        ({"added_mass": [-50, 6, 7, 0.5, 0.6, 0.7]}, "not positive definite"),
+        ({"added_mass": [5, 6, 7]}, "'added_mass' has 3 values; expected 6"),
+        ({"mass": float("nan")}, "'mass'"),
+        ({"terms": {"X_ux": -1.0}}, "term 'X_ux'"),
+        ({"inertia": [1, 2]}, "'inertia' has 2 values"),
+    ],
+)
 def test_bad_vehicle_input(change, match):
     with pytest.raises(InputError, match=match):
         parse_vehicle(base(**change), "veh.yaml")

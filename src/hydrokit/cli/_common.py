@@ -20,18 +20,33 @@ def floats(text: str, option: str, n: int | None = None, unit: str = "", positiv
     if not ok or (n is not None and len(vals) != n):
         count = f"{n} " if n is not None else ""
         kind = "positive" if positive else "finite"
-        raise InputError(f"{option} {text!r}: expected {count}comma-separated {kind} numbers" + (f" ({unit})" if unit else ""))
+        raise InputError(
+            f"{option} {text!r}: expected {count}comma-separated {kind} numbers" + (f" ({unit})" if unit else "")
+        )
     return vals
 
 
 def progress_bar(*, time_based: bool = False) -> Any:
     """A transient rich progress bar on stderr (count or simulated time)."""
     from rich.console import Console
-    from rich.progress import BarColumn, MofNCompleteColumn, Progress, TextColumn, TimeElapsedColumn, TimeRemainingColumn
+    from rich.progress import (
+        BarColumn,
+        MofNCompleteColumn,
+        Progress,
+        TextColumn,
+        TimeElapsedColumn,
+        TimeRemainingColumn,
+    )
 
     middle = (TextColumn("{task.percentage:>3.0f}%"), TimeRemainingColumn()) if time_based else (MofNCompleteColumn(),)
-    return Progress(TextColumn("{task.description}"), BarColumn(), *middle, TimeElapsedColumn(),
-                    console=Console(stderr=True), transient=True)
+    return Progress(
+        TextColumn("{task.description}"),
+        BarColumn(),
+        *middle,
+        TimeElapsedColumn(),
+        console=Console(stderr=True),
+        transient=True,
+    )
 
 
 def write_all(files: Mapping[str, Any] | Mapping[Path, Any] | Mapping[str | Path, Any]) -> None:

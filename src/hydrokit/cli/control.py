@@ -12,13 +12,26 @@ from hydrokit.cli._common import floats, json_text, write_all
 @click.command()
 @click.argument("vehicle")
 @click.option("--tau", required=True, help="Demanded force/moment X,Y,Z,K,M,N in body axes (N, N·m), comma-separated.")
-@click.option("--method", type=click.Choice(["constrained", "pinv"]), default="constrained", show_default=True,
-              help="constrained: least residual within the thrust limits (N), then least thrust; "
-              "pinv: unconstrained (weighted) pseudo-inverse.")
-@click.option("--weights", default=None,
-              help="pinv only: per-thruster weights (dimensionless, larger = used less), comma-separated in file order.")
-@click.option("--json", "json_out", type=click.Path(dir_okay=False), default=None,
-              help="Write the result as JSON to this file (forces in N, moments in N·m, speeds in rpm).")
+@click.option(
+    "--method",
+    type=click.Choice(["constrained", "pinv"]),
+    default="constrained",
+    show_default=True,
+    help="constrained: least residual within the thrust limits (N), then least thrust; "
+    "pinv: unconstrained (weighted) pseudo-inverse.",
+)
+@click.option(
+    "--weights",
+    default=None,
+    help="pinv only: per-thruster weights (dimensionless, larger = used less), comma-separated in file order.",
+)
+@click.option(
+    "--json",
+    "json_out",
+    type=click.Path(dir_okay=False),
+    default=None,
+    help="Write the result as JSON to this file (forces in N, moments in N·m, speeds in rpm).",
+)
 def allocate(vehicle: str, tau: str, method: str, weights: str | None, json_out: str | None) -> None:
     """Allocate a demanded force/moment TAU to the thrusters of VEHICLE (file or bundled name).
 
@@ -65,8 +78,15 @@ def _print_allocation(doc: dict[str, Any]) -> None:
         tt.add_column(col, justify="left" if col in ("thruster", "unit") else "right")
     for i, name in enumerate(doc["thrusters"]):
         lo, hi = doc["thrust_limits"][i]
-        tt.add_row(str(name), f"{doc['thrust'][i]:.4g}", f"{lo:.4g}", f"{hi:.4g}", f"{doc['command'][i]:.4g}",
-                   doc["command_unit"][i], "yes" if name in doc["saturated"] else "")
+        tt.add_row(
+            str(name),
+            f"{doc['thrust'][i]:.4g}",
+            f"{lo:.4g}",
+            f"{hi:.4g}",
+            f"{doc['command'][i]:.4g}",
+            doc["command_unit"][i],
+            "yes" if name in doc["saturated"] else "",
+        )
     console.print(tt)
     at = Table(title="Demanded and achieved τ (N, N·m)")
     for col in ("DOF", "demanded", "achieved"):

@@ -7,17 +7,30 @@ from pathlib import Path
 
 import click
 
-METHODS = {"spring": ("output-error", "equation-error", "log-decrement"),
-           "pendulum": ("output-error", "equation-error", "morison"),
-           "torsion": ("output-error", "equation-error", "log-decrement")}
+METHODS = {
+    "spring": ("output-error", "equation-error", "log-decrement"),
+    "pendulum": ("output-error", "equation-error", "morison"),
+    "torsion": ("output-error", "equation-error", "log-decrement"),
+}
 
 
 @click.command()
-@click.option("--out", "out_dir", default="demo-report", show_default=True, type=click.Path(file_okay=False),
-              help="Directory for report.html, results.json and the figures (directory).")
-@click.option("--campaign", type=click.Choice(["udrobot", "rov2"]), default="udrobot", show_default=True,
-              help="Bundled campaign (no unit): udrobot (CELY2019-like spring and pendulum, 3 axes × 4 amplitudes × "
-                   "6 launches) or rov2 (ENG2009-like surge pendulum).")
+@click.option(
+    "--out",
+    "out_dir",
+    default="demo-report",
+    show_default=True,
+    type=click.Path(file_okay=False),
+    help="Directory for report.html, results.json and the figures (directory).",
+)
+@click.option(
+    "--campaign",
+    type=click.Choice(["udrobot", "rov2"]),
+    default="udrobot",
+    show_default=True,
+    help="Bundled campaign (no unit): udrobot (CELY2019-like spring and pendulum, 3 axes × 4 amplitudes × "
+    "6 launches) or rov2 (ENG2009-like surge pendulum).",
+)
 def demo(out_dir: str, campaign: str) -> None:
     """Identify the bundled campaign with every method and write a self-contained HTML report."""
     from hydrokit.api import identify_campaign, load_rig
@@ -39,19 +52,25 @@ def demo(out_dir: str, campaign: str) -> None:
     with progress_bar() as bar:
         task = bar.add_task(f"identifying {campaign}", total=total)
         for rig, files in jobs:
-            results = {m: identify_campaign(rig, files, m, progress=lambda f: bar.advance(task)) for m in METHODS[rig.test]}
+            results = {
+                m: identify_campaign(rig, files, m, progress=lambda f: bar.advance(task)) for m in METHODS[rig.test]
+            }
             title = f"{rig.test} rig, {rig.axis}"
             figs = campaign_figures(results["output-error"], per_launch=False)
             runs.append(Run(title, rig, {m: r.to_dict() for m, r in results.items()}, list(figs.values())))
             all_docs[title] = runs[-1].documents
             re_groups[title] = results["output-error"].results
     fig = coefficients_vs_reynolds(re_groups, "output-error, all rigs and axes")
-    closing = [(to_png(fig), "C_m, C_D, K_L and K_Q per launch against the launch's peak Reynolds number (output-error)")]
+    closing = [
+        (to_png(fig), "C_m, C_D, K_L and K_Q per launch against the launch's peak Reynolds number (output-error)")
+    ]
     elapsed = time.perf_counter() - start
-    intro = (f"Bundled {campaign} campaign (virtual-rig launches; true values and choices in "
-             f"src/hydrokit/data/campaigns/{campaign}/README.md), {total} fits in {elapsed:.1f} s. "
-             "Methods: output-error (default, most accurate), equation-error (CHIN2012), Morison (CELY2019, K_L = 0) "
-             "and log-decrement (CELY2019 graphical).")
+    intro = (
+        f"Bundled {campaign} campaign (virtual-rig launches; true values and choices in "
+        f"src/hydrokit/data/campaigns/{campaign}/README.md), {total} fits in {elapsed:.1f} s. "
+        "Methods: output-error (default, most accurate), equation-error (CHIN2012), Morison (CELY2019, K_L = 0) "
+        "and log-decrement (CELY2019 graphical)."
+    )
     html = identify_report(f"hydrokit identification: {campaign} campaign", runs, intro, closing)
     out = Path(out_dir)
     outputs: dict[str | Path, str | bytes] = {out / "results.json": json_text(all_docs), out / "report.html": html}
@@ -74,7 +93,14 @@ def _print_overview(all_docs: dict) -> None:
         tab.add_column(c, justify="left" if c == "rig" else "right")
     for title, docs in all_docs.items():
         s = docs["output-error"]["summary"]
-        cell = lambda k: "–" if s[k]["mean"] is None else f"{fmt(s[k]['mean'])} ± {fmt(s[k]['std'], 2)}"  # noqa: E731
-        tab.add_row(title, cell("added_mass"), cell("added_mass_coefficient"), cell("linear_damping"),
-                    cell("quadratic_damping"), cell("drag_coefficient"), str(s["added_mass"]["n"]))
+        cell = lambda k, s=s: "–" if s[k]["mean"] is None else f"{fmt(s[k]['mean'])} ± {fmt(s[k]['std'], 2)}"
+        tab.add_row(
+            title,
+            cell("added_mass"),
+            cell("added_mass_coefficient"),
+            cell("linear_damping"),
+            cell("quadratic_damping"),
+            cell("drag_coefficient"),
+            str(s["added_mass"]["n"]),
+        )
     Console().print(tab)

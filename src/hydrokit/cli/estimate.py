@@ -13,10 +13,18 @@ from hydrokit.core.names import DOF_NAMES as DOF
 
 @click.command()
 @click.argument("geometry", metavar="GEOMETRY.yaml", type=click.Path(dir_okay=False))
-@click.option("--out", "out_file", required=True, type=click.Path(dir_okay=False),
-              help="Vehicle-file fragment to write (YAML, SI: kg, kg·m², m, N·s/m, N·s²/m²).")
-@click.option("--bem", is_flag=True, help="Added mass of shape and mesh parts by the boundary-element solver "
-              "(Capytaine; pip install 'hydrokit[bem]').")
+@click.option(
+    "--out",
+    "out_file",
+    required=True,
+    type=click.Path(dir_okay=False),
+    help="Vehicle-file fragment to write (YAML, SI: kg, kg·m², m, N·s/m, N·s²/m²).",
+)
+@click.option(
+    "--bem",
+    is_flag=True,
+    help="Added mass of shape and mesh parts by the boundary-element solver (Capytaine; pip install 'hydrokit[bem]').",
+)
 @click.option("--resolution", type=int, default=None, help="BEM panels around the circumference (count; default 48).")
 def estimate(geometry: str, out_file: str, bem: bool, resolution: int | None) -> None:
     """Estimate added mass, damping and mass properties of GEOMETRY (one shape or a composite)
@@ -37,8 +45,13 @@ def estimate(geometry: str, out_file: str, bem: bool, resolution: int | None) ->
     for gp in geo.parts:
         p = gp.part
         a = np.diag(p.added_mass)
-        tab.add_row(p.name, f"{p.mass:.4g}", ", ".join(f"{x:.4g}" for x in a[:3]), ", ".join(f"{x:.4g}" for x in a[3:]),
-                    ", ".join(f"{x:.4g}" for x in np.diag(p.quadratic_damping)[:3]))
+        tab.add_row(
+            p.name,
+            f"{p.mass:.4g}",
+            ", ".join(f"{x:.4g}" for x in a[:3]),
+            ", ".join(f"{x:.4g}" for x in a[3:]),
+            ", ".join(f"{x:.4g}" for x in np.diag(p.quadratic_damping)[:3]),
+        )
     console.print(tab)
     console.print("sources:")
     for gp in geo.parts:
@@ -53,11 +66,15 @@ def estimate(geometry: str, out_file: str, bem: bool, resolution: int | None) ->
         off[i] = 0
         off[off < 1e-9 * np.abs(full).max()] = 0  # symmetry zeros, not rounding noise
         j = int(np.argmax(off))
-        comp_tab.add_row(name, f"{full[i, i]:.4g}", f"{dg[i, i]:.4g}", f"{full[i, j]:.4g} ({DOF[j]})" if off[j] > 0 else "0")
+        comp_tab.add_row(
+            name, f"{full[i, i]:.4g}", f"{dg[i, i]:.4g}", f"{full[i, j]:.4g} ({DOF[j]})" if off[j] > 0 else "0"
+        )
     console.print(comp_tab)
-    console.print(f"mass {comp.mass:.4g} kg, weight {comp.weight(geo.gravity):.4g} N, buoyancy "
-                  f"{comp.buoyancy(geo.density, geo.gravity):.4g} N, CG {np.round(comp.r_g, 4).tolist()} m, "
-                  f"CB {np.round(comp.r_b, 4).tolist()} m")
+    console.print(
+        f"mass {comp.mass:.4g} kg, weight {comp.weight(geo.gravity):.4g} N, buoyancy "
+        f"{comp.buoyancy(geo.density, geo.gravity):.4g} N, CG {np.round(comp.r_g, 4).tolist()} m, "
+        f"CB {np.round(comp.r_b, 4).tolist()} m"
+    )
     text = "# vehicle-file fragment written by hydrokit estimate (SI units; matrices about the common origin)\n"
     write_all({out_file: text + yaml.safe_dump(frag, sort_keys=False)})
     click.echo(f"wrote {out_file}", err=True)
@@ -67,8 +84,12 @@ def estimate(geometry: str, out_file: str, bem: bool, resolution: int | None) ->
 @click.argument("forces", metavar="FORCES.csv", type=click.Path(dir_okay=False))
 @click.option("--area", type=float, required=True, help="Reference area A_ref for C_D, m².")
 @click.option("--density", type=float, required=True, help="Fluid density ρ, kg/m³.")
-@click.option("--json", "json_out", type=click.Path(dir_okay=False), default=None, help="Write the fits to this JSON file.")
-@click.option("--plot", "plot_out", type=click.Path(dir_okay=False), default=None, help="Write data and fits to this PNG.")
+@click.option(
+    "--json", "json_out", type=click.Path(dir_okay=False), default=None, help="Write the fits to this JSON file."
+)
+@click.option(
+    "--plot", "plot_out", type=click.Path(dir_okay=False), default=None, help="Write data and fits to this PNG."
+)
 def fit_forces(forces: str, area: float, density: float, json_out: str | None, plot_out: str | None) -> None:
     """Fit F = K_L U + K_Q|U|U (Chin) and F = K_D|U|U (Morison) to FORCES.csv (columns speed m/s, force N)."""
     from hydrokit.api import fit_forces as fit
@@ -76,10 +97,14 @@ def fit_forces(forces: str, area: float, density: float, json_out: str | None, p
 
     U, F = read_forces(forces)
     res = fit(U, F, area, density)
-    click.echo(f"Chin:    K_L = {res.K_L:.6g} ± {res.K_L_se:.3g} N·s/m, K_Q = {res.K_Q:.6g} ± {res.K_Q_se:.3g} N·s²/m², "
-               f"R² = {res.r2_chin:.4f}")
-    click.echo(f"Morison: K_D = {res.K_D:.6g} ± {res.K_D_se:.3g} N·s²/m², C_D = {res.C_D:.6g} (A_ref = {area:g} m², "
-               f"ρ = {density:g} kg/m³), R² = {res.r2_morison:.4f}")
+    click.echo(
+        f"Chin:    K_L = {res.K_L:.6g} ± {res.K_L_se:.3g} N·s/m, K_Q = {res.K_Q:.6g} ± {res.K_Q_se:.3g} N·s²/m², "
+        f"R² = {res.r2_chin:.4f}"
+    )
+    click.echo(
+        f"Morison: K_D = {res.K_D:.6g} ± {res.K_D_se:.3g} N·s²/m², C_D = {res.C_D:.6g} (A_ref = {area:g} m², "
+        f"ρ = {density:g} kg/m³), R² = {res.r2_morison:.4f}"
+    )
     files: dict[str | Path, Any] = {}
     if json_out:
         files[json_out] = json_text(res.to_dict())

@@ -21,7 +21,7 @@ import click
 COMMANDS: dict[str, tuple[str, str]] = {
     "demo": ("hydrokit.cli.demo:demo", "Identify the bundled UDrobot campaign and write an HTML report."),
     "identify": ("hydrokit.cli.identify:identify", "Identify coefficients from free-decay launches."),
-    "scale": ("hydrokit.cli.identify:scale", "Scale model-test coefficients to full size (similitude)."),
+    "scale": ("hydrokit.cli.scale:scale", "Scale model-test coefficients to full size (similitude)."),
     "rig": ("hydrokit.cli.rig:rig", "Virtual rig: simulate launches, plan an experiment."),
     "simulate": ("hydrokit.cli.simulate:simulate", "Simulate a vehicle under a constant or tabulated force."),
     "allocate": ("hydrokit.cli.control:allocate", "Allocate a demanded force/moment to thrusters."),

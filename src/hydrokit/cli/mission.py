@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 from pathlib import Path
 from typing import Any
 
@@ -13,11 +14,21 @@ from hydrokit.cli._common import json_text, progress_bar, write_all
 
 @click.command()
 @click.argument("mission_file", metavar="MISSION")
-@click.option("--out", "out_dir", required=True, type=click.Path(file_okay=False),
-              help="Output directory (created if missing) for the CSV (SI: m, rad, s, N), plots and metrics JSON.")
-@click.option("--controller", type=click.Choice(["file", "pid", "s-plane", "both"]), default="file", show_default=True,
-              help="Which gain set of the mission file to fly (dimensionless choice): the file's "
-              "'controller', pid, s-plane, or both for a side-by-side comparison.")
+@click.option(
+    "--out",
+    "out_dir",
+    required=True,
+    type=click.Path(file_okay=False),
+    help="Output directory (created if missing) for the CSV (SI: m, rad, s, N), plots and metrics JSON.",
+)
+@click.option(
+    "--controller",
+    type=click.Choice(["file", "pid", "s-plane", "both"]),
+    default="file",
+    show_default=True,
+    help="Which gain set of the mission file to fly (dimensionless choice): the file's "
+    "'controller', pid, s-plane, or both for a side-by-side comparison.",
+)
 @click.option("--duration", type=float, default=None, help="Override the mission duration, s.")
 @click.option("--no-plots", is_flag=True, help="Skip the PNG figures (no unit).")
 def mission(mission_file: str, out_dir: str, controller: str, duration: float | None, no_plots: bool) -> None:
@@ -48,8 +59,7 @@ def mission(mission_file: str, out_dir: str, controller: str, duration: float | 
     with progress_bar(time_based=True) as bar:
         for kind in kinds:
             task = bar.add_task(f"{kind} mission", total=duration if duration is not None else mis.duration)
-            results[kind] = fly(mis, kind, vehicle=vehicle, duration=duration,
-                                progress=lambda t, task=task: bar.update(task, completed=t))  # type: ignore[misc]
+            results[kind] = fly(mis, kind, vehicle=vehicle, duration=duration, progress=_advance(bar, task))
     thrusters = vehicle.thrusters
     metrics = {r.label: r.metrics for r in results.values()}
     # everything computed: build the outputs in memory, then write them
@@ -57,9 +67,15 @@ def mission(mission_file: str, out_dir: str, controller: str, duration: float | 
     for kind, res in results.items():
         name = "trajectory.csv" if len(results) == 1 else f"trajectory_{kind}.csv"
         files[name] = table_csv(*res.columns_and_data())
-    doc = {"mission": mis.name, "source": mis.source, "vehicle": mis.vehicle, "thrusters": thrusters.names,
-           "command_units": [COMMAND_UNITS[t.model] for t in thrusters.thrusters], "controllers": metrics,
-           "units": METRIC_UNITS}
+    doc = {
+        "mission": mis.name,
+        "source": mis.source,
+        "vehicle": mis.vehicle,
+        "thrusters": thrusters.names,
+        "command_units": [COMMAND_UNITS[t.model] for t in thrusters.thrusters],
+        "controllers": metrics,
+        "units": METRIC_UNITS,
+    }
     files["metrics.json"] = json_text(doc)
     if not no_plots:
         from hydrokit.plot._mpl import to_png
@@ -70,12 +86,22 @@ def mission(mission_file: str, out_dir: str, controller: str, duration: float | 
         files["tracking.png"] = to_png(tracking_figure(runs, f"{mis.name}: tracking error"))
         for kind, res in results.items():
             name = "thrusters.png" if len(results) == 1 else f"thrusters_{kind}.png"
-            files[name] = to_png(thruster_figure(res.run, thrusters.f_min, thrusters.f_max,
-                                                 f"{mis.name} ({res.label}): thruster usage"))
+            files[name] = to_png(
+                thruster_figure(res.run, thrusters.f_min, thrusters.f_max, f"{mis.name} ({res.label}): thruster usage")
+            )
     out = Path(out_dir)
     write_all({out / name: data for name, data in files.items()})
     _print_metrics(metrics)
     click.echo(f"wrote {', '.join(sorted(files))} to {out}", err=True)
+
+
+def _advance(bar: Any, task: Any) -> Callable[[float], None]:
+    """A progress callback that moves ``task`` of ``bar`` to the simulated time t (s)."""
+
+    def update(t: float) -> None:
+        bar.update(task, completed=t)
+
+    return update
 
 
 def _print_metrics(metrics: dict[str, dict[str, Any]]) -> None:
@@ -86,10 +112,16 @@ def _print_metrics(metrics: dict[str, dict[str, Any]]) -> None:
     table.add_column("metric")
     for label in metrics:
         table.add_column(label, justify="right")
-    rows = [("cross-track RMS (m)", "cross_track_rms", "{:.3f}"), ("cross-track max (m)", "cross_track_max", "{:.3f}"),
-            ("depth error RMS (m)", "depth_error_rms", "{:.3f}"), ("heading error RMS (deg)", "heading_error_rms", "deg"),
-            ("thrust impulse (N s)", "thrust_impulse", "{:.4g}"), ("thruster energy (J)", "thruster_energy", "{:.4g}"),
-            ("saturation time (s)", "saturation_time", "{:.2f}"), ("completed", "completed", "{}")]
+    rows = [
+        ("cross-track RMS (m)", "cross_track_rms", "{:.3f}"),
+        ("cross-track max (m)", "cross_track_max", "{:.3f}"),
+        ("depth error RMS (m)", "depth_error_rms", "{:.3f}"),
+        ("heading error RMS (deg)", "heading_error_rms", "deg"),
+        ("thrust impulse (N s)", "thrust_impulse", "{:.4g}"),
+        ("thruster energy (J)", "thruster_energy", "{:.4g}"),
+        ("saturation time (s)", "saturation_time", "{:.2f}"),
+        ("completed", "completed", "{}"),
+    ]
     for title, key, f in rows:
         cells = []
         for m in metrics.values():
@@ -97,7 +129,9 @@ def _print_metrics(metrics: dict[str, dict[str, Any]]) -> None:
             cells.append("–" if v is None else f"{math.degrees(v):.2f}" if f == "deg" else f.format(v))
         table.add_row(title, *cells)
     for i in range(len(next(iter(metrics.values()))["waypoint_times"])):
-        cells = ["not reached" if m["waypoint_times"][i] is None else f"{m['waypoint_times'][i]:.1f}"
-                 for m in metrics.values()]
+        cells = [
+            "not reached" if m["waypoint_times"][i] is None else f"{m['waypoint_times'][i]:.1f}"
+            for m in metrics.values()
+        ]
         table.add_row(f"time to waypoint {i + 1} (s)", *cells)
     Console().print(table)

@@ -5,13 +5,12 @@ Heavy imports stay inside the command functions so ``hydrokit --help`` starts fa
 
 from __future__ import annotations
 
-import math
 from pathlib import Path
-from typing import Any
 
 import click
 
-from hydrokit.cli._common import floats, write_all
+from hydrokit.cli._common import write_all
+from hydrokit.cli._rig_options import _amplitudes, _common, _sensor
 from hydrokit.errors import InputError
 
 
@@ -20,58 +19,30 @@ def rig() -> None:
     """Virtual rig: simulate launches like a real test, or plan an experiment."""
 
 
-def _sensor(rig_obj: Any, sample_rate: float | None, noise: float | None, resolution: float | None, hold: float) -> Any:
-    from hydrokit.identify.virtual_rig import SensorModel
-
-    if rig_obj.test == "spring":
-        base = SensorModel.encoder(hold_time=hold)
-        noise_si = 0.0 if noise is None else noise * 1e-3
-        res_si = base.resolution if resolution is None else resolution * 1e-3
-    else:
-        base = SensorModel.imu(hold_time=hold)
-        noise_si = base.noise_std if noise is None else math.radians(noise)
-        res_si = 0.0 if resolution is None else math.radians(resolution)
-    rate = base.sample_rate if sample_rate is None else sample_rate
-    unit = "mm" if rig_obj.test == "spring" else "°"
-    name = f"{rate:g} Hz, noise {noise_si * (1e3 if unit == 'mm' else 180 / math.pi):.3g} {unit}, step {res_si * (1e3 if unit == 'mm' else 180 / math.pi):.3g} {unit}"
-    return SensorModel(rate, noise_si, res_si, hold, name)
-
-
-_COMMON = [
-    click.option("--added-mass", type=float, required=True, help="True added mass m_a, kg (kg·m² torsion)."),
-    click.option("--linear-damping", type=float, required=True, help="True K_L, N·s/m (N·m·s/rad torsion)."),
-    click.option("--quadratic-damping", type=float, required=True, help="True K_Q, N·s²/m² (N·m·s²/rad² torsion)."),
-    click.option("--amplitudes", required=True, help="Release displacements, comma-separated: mm (spring) or degrees (pendulum, torsion)."),
-    click.option("--duration", type=float, default=20.0, show_default=True, help="Recorded time after the release, s."),
-    click.option("--sample-rate", type=float, default=None, help="Sensor sample rate, Hz (default 100)."),
-    click.option("--noise", type=float, default=None, help="Sensor noise std: mm (spring, default 0) or degrees (default 0.05)."),
-    click.option("--resolution", type=float, default=None, help="Sensor step: mm (spring, default 1/2.45 = 0.408) or degrees (default 0)."),
-]
-
-
-def _common(f):  # noqa: ANN001, ANN202
-    for opt in reversed(_COMMON):
-        f = opt(f)
-    return f
-
-
-def _amplitudes(text: str, rig_obj: Any) -> list[float]:
-    vals = floats(text, "--amplitudes", unit="mm or degrees")
-    if any(v == 0 for v in vals):
-        raise InputError(f"--amplitudes {text!r}: expected non-zero displacements")
-    return [v * 1e-3 for v in vals] if rig_obj.test == "spring" else [math.radians(v) for v in vals]
-
-
 @rig.command("simulate")
 @click.argument("rig_file", metavar="RIG.yaml", type=click.Path(dir_okay=False))
 @_common
 @click.option("--launches", type=int, default=6, show_default=True, help="Launches per amplitude (count).")
 @click.option("--hold", type=float, default=0.5, show_default=True, help="Still record before each release, s.")
 @click.option("--seed", type=int, default=0, show_default=True, help="Random seed for the sensor noise (integer).")
-@click.option("--out", "out_dir", required=True, type=click.Path(file_okay=False), help="Directory for the launch CSVs.")
-def rig_simulate(rig_file: str, added_mass: float, linear_damping: float, quadratic_damping: float, amplitudes: str,
-                 duration: float, sample_rate: float | None, noise: float | None, resolution: float | None,
-                 launches: int, hold: float, seed: int, out_dir: str) -> None:
+@click.option(
+    "--out", "out_dir", required=True, type=click.Path(file_okay=False), help="Directory for the launch CSVs."
+)
+def rig_simulate(
+    rig_file: str,
+    added_mass: float,
+    linear_damping: float,
+    quadratic_damping: float,
+    amplitudes: str,
+    duration: float,
+    sample_rate: float | None,
+    noise: float | None,
+    resolution: float | None,
+    launches: int,
+    hold: float,
+    seed: int,
+    out_dir: str,
+) -> None:
     """Write launch CSVs of RIG.yaml with the given true coefficients, like a real test."""
     import numpy as np
 
@@ -91,9 +62,11 @@ def rig_simulate(rig_file: str, added_mass: float, linear_damping: float, quadra
         for j in range(launches):
             L = simulate_launch(r, added_mass, linear_damping, quadratic_damping, a, duration, sensor, rng)
             name = f"{r.test}_{r.axis}_L{i + 1}_{j + 1:02d}.csv"
-            comments = [f"virtual rig: {r.test} {r.axis}, amplitude {a:g} {'m' if column == 'position' else 'rad'}",
-                        f"true m_a = {added_mass:g}, K_L = {linear_damping:g}, K_Q = {quadratic_damping:g} (SI)",
-                        f"sensor: {sensor.name}, seed {seed}"]
+            comments = [
+                f"virtual rig: {r.test} {r.axis}, amplitude {a:g} {'m' if column == 'position' else 'rad'}",
+                f"true m_a = {added_mass:g}, K_L = {linear_damping:g}, K_Q = {quadratic_damping:g} (SI)",
+                f"sensor: {sensor.name}, seed {seed}",
+            ]
             texts[name] = launch_csv(L.t, L.y, column, comments)
     write_all({Path(out_dir) / name: text for name, text in texts.items()})
     click.echo(f"wrote {len(texts)} launch files to {out_dir}")
@@ -103,8 +76,18 @@ def rig_simulate(rig_file: str, added_mass: float, linear_damping: float, quadra
 @click.argument("rig_file", metavar="RIG.yaml", type=click.Path(dir_okay=False))
 @_common
 @click.option("--launches", type=int, default=6, show_default=True, help="Launches per amplitude (count).")
-def rig_plan(rig_file: str, added_mass: float, linear_damping: float, quadratic_damping: float, amplitudes: str,
-             duration: float, sample_rate: float | None, noise: float | None, resolution: float | None, launches: int) -> None:
+def rig_plan(
+    rig_file: str,
+    added_mass: float,
+    linear_damping: float,
+    quadratic_damping: float,
+    amplitudes: str,
+    duration: float,
+    sample_rate: float | None,
+    noise: float | None,
+    resolution: float | None,
+    launches: int,
+) -> None:
     """Predict each coefficient's standard error (Cramér–Rao bound) per candidate amplitude."""
     from rich.console import Console
     from rich.table import Table
@@ -120,10 +103,13 @@ def rig_plan(rig_file: str, added_mass: float, linear_damping: float, quadratic_
     for c in ("amplitude", "peak speed (m/s)", "σ(m_a)", "σ(K_L)", "σ(K_Q)", "σ(damping force) at peak"):
         tab.add_column(c, justify="right")
     for row, a in zip(plan, amplitudes.split(",")):
-        tab.add_row(a.strip() + (" mm" if r.test == "spring" else "°"), f"{row['speed_max']:.3g}",
-                    f"{row['added_mass']:.3g} ({100 * row['added_mass_rel']:.2g} %)",
-                    f"{row['linear_damping']:.3g} ({100 * row['linear_damping_rel']:.2g} %)",
-                    f"{row['quadratic_damping']:.3g} ({100 * row['quadratic_damping_rel']:.2g} %)",
-                    f"{100 * row['damping_force_rel']:.2g} %")
+        tab.add_row(
+            a.strip() + (" mm" if r.test == "spring" else "°"),
+            f"{row['speed_max']:.3g}",
+            f"{row['added_mass']:.3g} ({100 * row['added_mass_rel']:.2g} %)",
+            f"{row['linear_damping']:.3g} ({100 * row['linear_damping_rel']:.2g} %)",
+            f"{row['quadratic_damping']:.3g} ({100 * row['quadratic_damping_rel']:.2g} %)",
+            f"{100 * row['damping_force_rel']:.2g} %",
+        )
     Console().print(tab)
     click.echo(recommend(plan))

@@ -27,25 +27,65 @@ def _vec(text: str | None, n: int, option: str, unit: str) -> list[float] | None
 @click.argument("vehicle", metavar="VEHICLE")
 @click.option("--duration", type=float, default=60.0, show_default=True, help="Simulated time, s.")
 @click.option("--dt", type=float, default=0.01, show_default=True, help="Integration step, s.")
-@click.option("--force", default="0,0,0,0,0,0", show_default=True,
-              help="Constant generalised force X,Y,Z,K,M,N in body axes: N and N·m.")
-@click.option("--force-csv", type=click.Path(dir_okay=False), default=None,
-              help="Force over time instead: CSV with time,X,Y,Z,K,M,N (s, N, N·m), interpolated linearly.")
+@click.option(
+    "--force",
+    default="0,0,0,0,0,0",
+    show_default=True,
+    help="Constant generalised force X,Y,Z,K,M,N in body axes: N and N·m.",
+)
+@click.option(
+    "--force-csv",
+    type=click.Path(dir_okay=False),
+    default=None,
+    help="Force over time instead: CSV with time,X,Y,Z,K,M,N (s, N, N·m), interpolated linearly.",
+)
 @click.option("--initial-velocity", default=None, help="Initial u,v,w,p,q,r: m/s and rad/s (default 0).")
 @click.option("--initial-pose", default=None, help="Initial x,y,z,phi,theta,psi: m (NED) and rad (default 0).")
 @click.option("--current-ned", default=None, help="Constant ocean current vx,vy,vz in north-east-down: m/s.")
-@click.option("--integrator", type=click.Choice(["rk4", "dop853", "rk45", "rk4-numpy"]), default="rk4", show_default=True,
-              help="rk4: compiled fixed step (as the sources); dop853/rk45: scipy adaptive (no unit).")
-@click.option("--attitude", type=click.Choice(["euler", "quaternion"]), default="euler", show_default=True,
-              help="Attitude representation (quaternions have no singularity at pitch ±90°).")
+@click.option(
+    "--integrator",
+    type=click.Choice(["rk4", "dop853", "rk45", "rk4-numpy"]),
+    default="rk4",
+    show_default=True,
+    help="rk4: compiled fixed step (as the sources); dop853/rk45: scipy adaptive (no unit).",
+)
+@click.option(
+    "--attitude",
+    type=click.Choice(["euler", "quaternion"]),
+    default="euler",
+    show_default=True,
+    help="Attitude representation (quaternions have no singularity at pitch ±90°).",
+)
 @click.option("--output-every", type=int, default=1, show_default=True, help="Write every N-th step (count).")
-@click.option("--out", "out_file", required=True, type=click.Path(dir_okay=False),
-              help="Trajectory CSV: time,x,y,z,phi,theta,psi,u,v,w,p,q,r (s, m, rad, m/s, rad/s).")
-@click.option("--plots", "plots_dir", type=click.Path(file_okay=False), default=None,
-              help="Write states.png and path.png here (directory).")
-def simulate(vehicle: str, duration: float, dt: float, force: str, force_csv: str | None, initial_velocity: str | None,
-             initial_pose: str | None, current_ned: str | None, integrator: str, attitude: str, output_every: int,
-             out_file: str, plots_dir: str | None) -> None:
+@click.option(
+    "--out",
+    "out_file",
+    required=True,
+    type=click.Path(dir_okay=False),
+    help="Trajectory CSV: time,x,y,z,phi,theta,psi,u,v,w,p,q,r (s, m, rad, m/s, rad/s).",
+)
+@click.option(
+    "--plots",
+    "plots_dir",
+    type=click.Path(file_okay=False),
+    default=None,
+    help="Write states.png and path.png here (directory).",
+)
+def simulate(
+    vehicle: str,
+    duration: float,
+    dt: float,
+    force: str,
+    force_csv: str | None,
+    initial_velocity: str | None,
+    initial_pose: str | None,
+    current_ned: str | None,
+    integrator: str,
+    attitude: str,
+    output_every: int,
+    out_file: str,
+    plots_dir: str | None,
+) -> None:
     """Simulate VEHICLE (a vehicle YAML file or a bundled name: bluerov2-heavy, minerva,
     lingyun, udrobot) under a constant or tabulated force, from rest unless told otherwise."""
     from hydrokit.io.vehicle import load_vehicle
@@ -70,8 +110,19 @@ def simulate(vehicle: str, duration: float, dt: float, force: str, force_csv: st
     console = Console(stderr=True)
     with Progress(TextColumn("simulating"), BarColumn(), TimeElapsedColumn(), console=console, transient=True) as bar:
         task = bar.add_task("sim", total=duration)
-        traj = run(v, duration, dt, tau, eta0, nu0, cur, integrator, attitude, output_every,
-                   progress=lambda t: bar.update(task, completed=t))
+        traj = run(
+            v,
+            duration,
+            dt,
+            tau,
+            eta0,
+            nu0,
+            cur,
+            integrator,
+            attitude,
+            output_every,
+            progress=lambda t: bar.update(task, completed=t),
+        )
     import numpy as np
 
     files = {out_file: trajectory_csv(np.column_stack([traj.time, traj.eta, traj.nu])).encode()}
@@ -88,6 +139,12 @@ def simulate(vehicle: str, duration: float, dt: float, force: str, force_csv: st
     for w in traj.warnings:
         click.echo(f"warning: {w}", err=True)
     fin = traj.nu[-1]
-    click.echo("final velocity u,v,w (m/s) = " + ", ".join(f"{x:.4g}" for x in fin[:3]) +
-               "; p,q,r (rad/s) = " + ", ".join(f"{x:.4g}" for x in fin[3:]))
-    click.echo(f"wrote {out_file} ({traj.time.size} rows)" + (f" and plots to {plots_dir}" if plots_dir else ""), err=True)
+    click.echo(
+        "final velocity u,v,w (m/s) = "
+        + ", ".join(f"{x:.4g}" for x in fin[:3])
+        + "; p,q,r (rad/s) = "
+        + ", ".join(f"{x:.4g}" for x in fin[3:])
+    )
+    click.echo(
+        f"wrote {out_file} ({traj.time.size} rows)" + (f" and plots to {plots_dir}" if plots_dir else ""), err=True
+    )

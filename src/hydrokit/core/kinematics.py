@@ -39,11 +39,13 @@ def rotation_zyx(phi: float, theta: float, psi: float) -> np.ndarray:
     cf, sf = math.cos(phi), math.sin(phi)
     ct, st = math.cos(theta), math.sin(theta)
     cp, sp = math.cos(psi), math.sin(psi)
-    return np.array([
-        [cp * ct, -sp * cf + cp * st * sf, sp * sf + cp * cf * st],
-        [sp * ct, cp * cf + sf * st * sp, -cp * sf + st * sp * cf],
-        [-st, ct * sf, ct * cf],
-    ])
+    return np.array(
+        [
+            [cp * ct, -sp * cf + cp * st * sf, sp * sf + cp * cf * st],
+            [sp * ct, cp * cf + sf * st * sp, -cp * sf + st * sp * cf],
+            [-st, ct * sf, ct * cf],
+        ]
+    )
 
 
 def euler_rate_matrix(phi: float, theta: float) -> np.ndarray:
@@ -66,22 +68,26 @@ def euler_to_quaternion(phi: float, theta: float, psi: float) -> np.ndarray:
     c1, s1 = math.cos(psi / 2), math.sin(psi / 2)
     c2, s2 = math.cos(theta / 2), math.sin(theta / 2)
     c3, s3 = math.cos(phi / 2), math.sin(phi / 2)
-    return np.array([
-        c1 * c2 * c3 + s1 * s2 * s3,
-        c1 * c2 * s3 - s1 * s2 * c3,
-        c1 * s2 * c3 + s1 * c2 * s3,
-        s1 * c2 * c3 - c1 * s2 * s3,
-    ])
+    return np.array(
+        [
+            c1 * c2 * c3 + s1 * s2 * s3,
+            c1 * c2 * s3 - s1 * s2 * c3,
+            c1 * s2 * c3 + s1 * c2 * s3,
+            s1 * c2 * c3 - c1 * s2 * s3,
+        ]
+    )
 
 
 def quaternion_to_rotation(q: np.ndarray) -> np.ndarray:
     """R(q) for a unit quaternion [η, ε1, ε2, ε3] (Fossen eq. 2.72)."""
     n, e1, e2, e3 = q
-    return np.array([
-        [1 - 2 * (e2 * e2 + e3 * e3), 2 * (e1 * e2 - e3 * n), 2 * (e1 * e3 + e2 * n)],
-        [2 * (e1 * e2 + e3 * n), 1 - 2 * (e1 * e1 + e3 * e3), 2 * (e2 * e3 - e1 * n)],
-        [2 * (e1 * e3 - e2 * n), 2 * (e2 * e3 + e1 * n), 1 - 2 * (e1 * e1 + e2 * e2)],
-    ])
+    return np.array(
+        [
+            [1 - 2 * (e2 * e2 + e3 * e3), 2 * (e1 * e2 - e3 * n), 2 * (e1 * e3 + e2 * n)],
+            [2 * (e1 * e2 + e3 * n), 1 - 2 * (e1 * e1 + e3 * e3), 2 * (e2 * e3 - e1 * n)],
+            [2 * (e1 * e3 - e2 * n), 2 * (e2 * e3 + e1 * n), 1 - 2 * (e1 * e1 + e2 * e2)],
+        ]
+    )
 
 
 def quaternion_to_euler(q: np.ndarray) -> np.ndarray:
@@ -97,12 +103,14 @@ def quaternion_rate(q: np.ndarray, w: np.ndarray) -> np.ndarray:
     """q̇ = ½ Ω(ω) q for body rates ω = [p, q, r] (rad/s)."""
     n, e1, e2, e3 = q
     p, qq, r = w
-    return 0.5 * np.array([
-        -e1 * p - e2 * qq - e3 * r,
-        n * p + e2 * r - e3 * qq,
-        n * qq + e3 * p - e1 * r,
-        n * r + e1 * qq - e2 * p,
-    ])
+    return 0.5 * np.array(
+        [
+            -e1 * p - e2 * qq - e3 * r,
+            n * p + e2 * r - e3 * qq,
+            n * qq + e3 * p - e1 * r,
+            n * r + e1 * qq - e2 * p,
+        ]
+    )
 
 
 def wrap_angle(a: float) -> float:

@@ -24,7 +24,9 @@ def campaign_files(campaign: str, rig: str) -> tuple[Path, list[Path]]:
     """
     folder = DATA_DIR / "campaigns" / campaign
     if not folder.is_dir():
-        raise InputError(f"no bundled campaign '{campaign}' (bundled: {', '.join(_names(DATA_DIR / 'campaigns', '*'))})")
+        raise InputError(
+            f"no bundled campaign '{campaign}' (bundled: {', '.join(_names(DATA_DIR / 'campaigns', '*'))})"
+        )
     rig_file = folder / f"{rig}.yaml"
     if not rig_file.is_file():
         raise InputError(f"campaign '{campaign}' has no rig '{rig}' (rigs: {', '.join(_names(folder, '*.yaml'))})")
@@ -43,5 +45,7 @@ def geometry_file(name: str) -> Path:
     """Path of a bundled geometry file (e.g. "sphere", "rehman_assembly")."""
     p = DATA_DIR / "geometry" / f"{name}.yaml"
     if not p.is_file():
-        raise InputError(f"no bundled geometry '{name}' (bundled: {', '.join(_names(DATA_DIR / 'geometry', '*.yaml'))})")
+        raise InputError(
+            f"no bundled geometry '{name}' (bundled: {', '.join(_names(DATA_DIR / 'geometry', '*.yaml'))})"
+        )
     return p

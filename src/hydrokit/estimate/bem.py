@@ -10,7 +10,6 @@ from __future__ import annotations
 
 import json
 import math
-from typing import Any
 import os
 from pathlib import Path
 
@@ -78,8 +77,9 @@ def shape_mesh(shape: str, resolution: int = 24, **dims: float) -> SurfaceMesh:
         nx = max(2, int(round(n * L / (2 * math.pi * r))))
         ph = np.linspace(0.0, 2 * np.pi, n + 1)[:-1]
         xs = np.linspace(-L / 2, L / 2, nx + 1)
-        V = np.array([[x, r * math.cos(p), r * math.sin(p)] for x in xs for p in ph]
-                     + [[-L / 2, 0.0, 0.0], [L / 2, 0.0, 0.0]])
+        V = np.array(
+            [[x, r * math.cos(p), r * math.sin(p)] for x in xs for p in ph] + [[-L / 2, 0.0, 0.0], [L / 2, 0.0, 0.0]]
+        )
         idx = lambda i, j: i * n + (j % n)  # noqa: E731
         quads = [[idx(i, j), idx(i, j + 1), idx(i + 1, j + 1), idx(i + 1, j)] for i in range(nx) for j in range(n)]
         c0, c1 = len(V) - 2, len(V) - 1
@@ -89,11 +89,14 @@ def shape_mesh(shape: str, resolution: int = 24, **dims: float) -> SurfaceMesh:
         if mesh.volume() < 0:
             mesh = SurfaceMesh(V, np.array(quads)[:, ::-1], shape)
         return mesh
-    raise InputError(f"shape {shape!r} has no built-in BEM mesh; expected sphere, spheroid or cylinder (or give an STL/OBJ)")
+    raise InputError(
+        f"shape {shape!r} has no built-in BEM mesh; expected sphere, spheroid or cylinder (or give an STL/OBJ)"
+    )
 
 
-def added_mass_bem(mesh: SurfaceMesh, density: float = 1025.0, reference_point=(0.0, 0.0, 0.0),
-                   use_cache: bool = True) -> np.ndarray:
+def added_mass_bem(
+    mesh: SurfaceMesh, density: float = 1025.0, reference_point=(0.0, 0.0, 0.0), use_cache: bool = True
+) -> np.ndarray:
     """6×6 added mass (kg, kg·m, kg·m²) about ``reference_point`` (m) of a deeply submerged body.
 
     Raises MissingExtraError without capytaine, InputError for an open or inward mesh.
@@ -116,8 +119,9 @@ def added_mass_bem(mesh: SurfaceMesh, density: float = 1025.0, reference_point=(
     solver = cpt.BEMSolver(method="direct")
     MA = np.zeros((6, 6))
     for j, dof in enumerate(DOFS):
-        res = solver.solve(cpt.RadiationProblem(body=body, radiating_dof=dof, omega=np.inf, free_surface=np.inf,
-                                                rho=float(density)))
+        res = solver.solve(
+            cpt.RadiationProblem(body=body, radiating_dof=dof, omega=np.inf, free_surface=np.inf, rho=float(density))
+        )
         for i, d in enumerate(DOFS):
             MA[i, j] = res.added_mass[d]
     MA = 0.5 * (MA + MA.T)

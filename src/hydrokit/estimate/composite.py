@@ -109,5 +109,6 @@ def combine(parts: Sequence[Part]) -> Composite:
         R6[:3, :3] = p.rotation
         R6[3:, 3:] = p.rotation
         diag += np.diag(np.diag(R6 @ np.diag(np.diag(p.added_mass)) @ R6.T))
-    return Composite(mass, vol, I, r_g, r_b, np.asarray(MA), np.asarray(DL), np.asarray(DQ), diag,
-                     tuple(p.name for p in parts))
+    return Composite(
+        mass, vol, I, r_g, r_b, np.asarray(MA), np.asarray(DL), np.asarray(DQ), diag, tuple(p.name for p in parts)
+    )

@@ -44,14 +44,29 @@ class ForceFit(Result):
 
     def to_dict(self) -> dict[str, Any]:
         """Both fits with area and density (what ``hydrokit fit-forces --json`` writes)."""
-        keys = ("K_L", "K_Q", "K_L_se", "K_Q_se", "r2_chin", "K_D", "K_D_se", "C_D", "r2_morison", "n", "area", "density")
+        keys = (
+            "K_L",
+            "K_Q",
+            "K_L_se",
+            "K_Q_se",
+            "r2_chin",
+            "K_D",
+            "K_D_se",
+            "C_D",
+            "r2_morison",
+            "n",
+            "area",
+            "density",
+        )
         return jsonable({k: getattr(self, k) for k in keys})
 
     def table(self) -> tuple[list[str], list[list[Any]]]:
         """Rows of speed (m/s), measured force, Chin and Morison fits (N)."""
         U = np.asarray(self.speed, float)
-        return (["speed", "force", "chin", "morison"],
-                np.column_stack([U, self.force, self.chin(U), self.morison(U)]).tolist())
+        return (
+            ["speed", "force", "chin", "morison"],
+            np.column_stack([U, self.force, self.chin(U), self.morison(U)]).tolist(),
+        )
 
     def plot(self, ax: Any = None) -> Any:
         """Data and both fitted curves on ``ax`` (or new axes); returns the axes."""
@@ -102,6 +117,19 @@ def fit_forces(speed: np.ndarray, force: np.ndarray, area: float, density: float
     kd = float(x1 @ F / (x1 @ x1))
     r1 = F - kd * x1
     kd_se = math.sqrt(float(r1 @ r1) / max(1, U.size - 1) / float(x1 @ x1))
-    return ForceFit(float(coef[0]), float(coef[1]), math.sqrt(cov[0, 0]), math.sqrt(cov[1, 1]), _r2(F, X @ coef),
-                    kd, kd_se, 2 * kd / (density * area), _r2(F, kd * x1), int(U.size), U, F,
-                    float(area), float(density))
+    return ForceFit(
+        float(coef[0]),
+        float(coef[1]),
+        math.sqrt(cov[0, 0]),
+        math.sqrt(cov[1, 1]),
+        _r2(F, X @ coef),
+        kd,
+        kd_se,
+        2 * kd / (density * area),
+        _r2(F, kd * x1),
+        int(U.size),
+        U,
+        F,
+        float(area),
+        float(density),
+    )

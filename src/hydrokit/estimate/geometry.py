@@ -70,15 +70,30 @@ class Estimate(Result):
     def table(self) -> tuple[list[str], list[list[Any]]]:
         """One row per DOF: added mass full transform vs diagonal-only, linear and quadratic damping."""
         c = self.composite
-        return (["dof", "added_mass", "added_mass_diagonal_only", "linear_damping", "quadratic_damping"],
-                [[DOF_NAMES[i], float(c.added_mass[i, i]), float(c.added_mass_diagonal_only[i, i]),
-                  float(c.linear_damping[i, i]), float(c.quadratic_damping[i, i])] for i in range(6)])
+        return (
+            ["dof", "added_mass", "added_mass_diagonal_only", "linear_damping", "quadratic_damping"],
+            [
+                [
+                    DOF_NAMES[i],
+                    float(c.added_mass[i, i]),
+                    float(c.added_mass_diagonal_only[i, i]),
+                    float(c.linear_damping[i, i]),
+                    float(c.quadratic_damping[i, i]),
+                ]
+                for i in range(6)
+            ],
+        )
 
     def summary_rows(self) -> list[tuple[str, Any]]:
         c = self.composite
-        return [("geometry", self.geometry.name), ("parts", len(self.geometry.parts)), ("mass (kg)", c.mass),
-                ("volume (m³)", c.volume), ("added mass diagonal", [round(float(x), 4) for x in np.diag(c.added_mass)]),
-                ("BEM", self.bem)]
+        return [
+            ("geometry", self.geometry.name),
+            ("parts", len(self.geometry.parts)),
+            ("mass (kg)", c.mass),
+            ("volume (m³)", c.volume),
+            ("added mass diagonal", [round(float(x), 4) for x in np.diag(c.added_mass)]),
+            ("BEM", self.bem),
+        ]
 
     def _repr_html_(self) -> str:
         return html_table(f"Estimate: {html.escape(self.geometry.name)}", self.summary_rows())
@@ -87,8 +102,9 @@ class Estimate(Result):
         """Added-mass diagonal per DOF, full transform vs REHMAN's diagonal-only sum; returns the axes."""
         from hydrokit.plot.estimate import added_mass_axes
 
-        return added_mass_axes(np.diag(self.composite.added_mass), np.diag(self.composite.added_mass_diagonal_only),
-                               ax, self.geometry.name)
+        return added_mass_axes(
+            np.diag(self.composite.added_mass), np.diag(self.composite.added_mass_diagonal_only), ax, self.geometry.name
+        )
 
 
 def estimate_geometry(geometry: Geometry, bem: bool = False, resolution: int | None = None) -> Estimate:
@@ -124,8 +140,9 @@ def estimate_geometry(geometry: Geometry, bem: bool = False, resolution: int | N
             res = resolution or gp.resolution
             mesh = gp.mesh if gp.mesh is not None else shape_mesh(str(gp.shape), res, **gp.dims)
             sources = {**gp.sources, "added_mass": f"BEM (Capytaine, direct, {len(mesh.faces)} panels)"}
-            new.append(replace(gp, part=replace(gp.part, added_mass=added_mass_bem(mesh, geometry.density)),
-                               sources=sources))
+            new.append(
+                replace(gp, part=replace(gp.part, added_mass=added_mass_bem(mesh, geometry.density)), sources=sources)
+            )
         parts = new
     elif any(gp.mesh is not None for gp in parts):
         raise InputError("a mesh part needs --bem (its added mass comes from the BEM solver)", geometry.source)

@@ -20,8 +20,9 @@ from hydrokit.errors import InputError
 LI2021_FACTORS = {"K11": 0.2, "K22": 1.3, "K33": 0.4, "K55": 0.8, "K66": 0.25}
 
 
-def lander_derivatives(length: float, breadth: float, height: float, factors: dict[str, float] | None = None,
-                       paper_nrdot: bool = False) -> dict[str, float]:
+def lander_derivatives(
+    length: float, breadth: float, height: float, factors: dict[str, float] | None = None, paper_nrdot: bool = False
+) -> dict[str, float]:
     """Non-dimensional X'_udot, Y'_vdot, Z'_wdot, M'_qdot, N'_rdot (negative numbers).
 
     Parameters

@@ -62,15 +62,22 @@ def check_mesh(mesh: SurfaceMesh) -> None:
     _, counts = np.unique(und, axis=0, return_counts=True)
     open_edges = int(np.sum(counts == 1))
     if open_edges:
-        raise InputError(f"the mesh is not closed: {open_edges} edge(s) belong to one face only; "
-                         "expected a watertight hull", mesh.source)
+        raise InputError(
+            f"the mesh is not closed: {open_edges} edge(s) belong to one face only; expected a watertight hull",
+            mesh.source,
+        )
     if np.any(counts > 2):
-        raise InputError(f"{int(np.sum(counts > 2))} edge(s) shared by more than two faces; expected a simple closed hull",
-                         mesh.source)
+        raise InputError(
+            f"{int(np.sum(counts > 2))} edge(s) shared by more than two faces; expected a simple closed hull",
+            mesh.source,
+        )
     vol = SurfaceMesh(mesh.vertices, tri).volume()
     if vol < 0:
-        raise InputError(f"the face normals point inwards (enclosed volume {vol:.4g} m³ < 0); "
-                         "expected outward normals — reverse the vertex order of every face", mesh.source)
+        raise InputError(
+            f"the face normals point inwards (enclosed volume {vol:.4g} m³ < 0); "
+            "expected outward normals — reverse the vertex order of every face",
+            mesh.source,
+        )
     if vol == 0:
         raise InputError("the mesh encloses no volume", mesh.source)
 
@@ -117,7 +124,7 @@ def _read_stl_binary(data: bytes, src: str) -> SurfaceMesh:
     (n,) = struct.unpack("<I", data[80:84])
     if len(data) < 84 + 50 * n:
         raise InputError(f"binary STL announces {n} triangles but is truncated", src)
-    rec = np.frombuffer(data[84:84 + 50 * n], dtype=np.dtype([("n", "<f4", 3), ("v", "<f4", (3, 3)), ("a", "<u2")]))
+    rec = np.frombuffer(data[84 : 84 + 50 * n], dtype=np.dtype([("n", "<f4", 3), ("v", "<f4", (3, 3)), ("a", "<u2")]))
     return _soup(rec["v"].astype(float), src)
 
 

@@ -26,15 +26,37 @@ from hydrokit.errors import InputError
 CYL_TRANSVERSE_CA = ((1.2, 0.62), (2.5, 0.78), (5.0, 0.90), (9.0, 0.96), (1e9, 1.0))
 # DNV-RP-H103 Table A-2, flat rectangular plate normal to the flow, C_A by b/a with
 # V_R = π a² b / 4 (unchecked transcription; → 1 as b/a → ∞, the 2-D strip value)
-PLATE_CA = ((1.0, 0.579), (1.25, 0.642), (1.5, 0.690), (2.0, 0.757), (2.5, 0.801), (3.0, 0.830),
-            (4.0, 0.871), (5.0, 0.897), (6.0, 0.913), (7.0, 0.926), (8.0, 0.934), (10.0, 0.947), (1e9, 1.0))
+PLATE_CA = (
+    (1.0, 0.579),
+    (1.25, 0.642),
+    (1.5, 0.690),
+    (2.0, 0.757),
+    (2.5, 0.801),
+    (3.0, 0.830),
+    (4.0, 0.871),
+    (5.0, 0.897),
+    (6.0, 0.913),
+    (7.0, 0.926),
+    (8.0, 0.934),
+    (10.0, 0.947),
+    (1e9, 1.0),
+)
 # DNV-RP-H103 Table A-2, square prism (a × a × b) moving along b, C_A by b/a with V_R = a² b
 # (unchecked transcription)
 BLOCK_CA = ((1.0, 0.68), (2.0, 0.36), (3.0, 0.24), (4.0, 0.19), (5.0, 0.15), (6.0, 0.13), (7.0, 0.11), (10.0, 0.08))
 # Drag of a finite circular cylinder across its axis: 2-D C_D ≈ 1.05 (supercritical, rough)
 # times the finite-length reduction κ(L/D) (Hoerner 1965 / DNV-RP-C205 Table 6-?; unchecked)
-CYL_KAPPA = ((1.0, 0.58), (2.0, 0.60), (4.0, 0.62), (5.0, 0.63), (10.0, 0.68), (20.0, 0.74), (40.0, 0.82),
-             (100.0, 0.98), (1e9, 1.0))
+CYL_KAPPA = (
+    (1.0, 0.58),
+    (2.0, 0.60),
+    (4.0, 0.62),
+    (5.0, 0.63),
+    (10.0, 0.68),
+    (20.0, 0.74),
+    (40.0, 0.82),
+    (100.0, 0.98),
+    (1e9, 1.0),
+)
 
 
 def _interp(table: tuple[tuple[float, float], ...], x: float) -> float:
@@ -86,14 +108,21 @@ def sphere_drag_coefficient(reynolds: float, method: str = "Morrison") -> float:
 
     if not (reynolds > 0 and math.isfinite(reynolds)):
         raise InputError(f"Reynolds number = {reynolds}: expected a positive number")
-    name = {"Mikhailov-Freire": "Mikhailov_Freire", "Mikhailov_Freire": "Mikhailov_Freire", "Morrison": "Morrison"}.get(method)
+    name = {"Mikhailov-Freire": "Mikhailov_Freire", "Mikhailov_Freire": "Mikhailov_Freire", "Morrison": "Morrison"}.get(
+        method
+    )
     if name is None:
         raise InputError(f"sphere drag method = {method!r}: expected Morrison or Mikhailov-Freire")
     return float(drag_sphere(reynolds, Method=name))
 
 
-def sphere(diameter: float, density: float = 1025.0, drag_coefficient: float | None = None,
-           speed: float = 1.0, kinematic_viscosity: float = 1.05e-6) -> ShapeCoefficients:
+def sphere(
+    diameter: float,
+    density: float = 1025.0,
+    drag_coefficient: float | None = None,
+    speed: float = 1.0,
+    kinematic_viscosity: float = 1.05e-6,
+) -> ShapeCoefficients:
     """Sphere: C_a = 0.5 with V_R = πD³/6 in every translation (DNV-RP-H103 Table A-2; potential
     flow exact), no rotational added mass. C_D from `fluids` at Re = U D / ν unless given.
 
@@ -134,8 +163,9 @@ def lamb_coefficients(a: float, b: float) -> tuple[float, float, float]:
     return k1, k2, kp
 
 
-def spheroid(length: float, diameter: float, density: float = 1025.0, drag_axial: float = 0.1,
-             drag_transverse: float = 0.6) -> ShapeCoefficients:
+def spheroid(
+    length: float, diameter: float, density: float = 1025.0, drag_axial: float = 0.1, drag_transverse: float = 0.6
+) -> ShapeCoefficients:
     """Prolate spheroid (axis x, a = length/2 > b = diameter/2): Lamb's closed form,
     A11 = k1 ρV, A22 = A33 = k2 ρV, A55 = A66 = k′ (ρV/5)(a² + b²). Drag coefficients are
     rough defaults (streamlined axial, transverse 0.6), override them with measured values."""
@@ -146,15 +176,26 @@ def spheroid(length: float, diameter: float, density: float = 1025.0, drag_axial
     rv = density * V
     MA = np.diag([k1 * rv, k2 * rv, k2 * rv, 0.0, kp * rv / 5 * (a * a + b * b), kp * rv / 5 * (a * a + b * b)])
     return ShapeCoefficients(
-        "spheroid", V, MA, np.array([drag_axial, drag_transverse, drag_transverse]),
+        "spheroid",
+        V,
+        MA,
+        np.array([drag_axial, drag_transverse, drag_transverse]),
         np.array([math.pi * b * b, math.pi * a * b, math.pi * a * b]),
-        sources={"added_mass": f"Lamb (1932) §373: k1 = {k1:.5f}, k2 = {k2:.5f}, k' = {kp:.5f}",
-                 "drag_coefficient": "default (override): axial 0.1, transverse 0.6"},
+        sources={
+            "added_mass": f"Lamb (1932) §373: k1 = {k1:.5f}, k2 = {k2:.5f}, k' = {kp:.5f}",
+            "drag_coefficient": "default (override): axial 0.1, transverse 0.6",
+        },
     )
 
 
-def cylinder(length: float, diameter: float, density: float = 1025.0, axial_model: str = "spheroid",
-             drag_axial: float = 0.87, drag_transverse: float | None = None) -> ShapeCoefficients:
+def cylinder(
+    length: float,
+    diameter: float,
+    density: float = 1025.0,
+    axial_model: str = "spheroid",
+    drag_axial: float = 0.87,
+    drag_transverse: float | None = None,
+) -> ShapeCoefficients:
     """Solid circular cylinder, axis along x.
 
     Transverse: C_a(L/D) from DNV-RP-H103 Table A-2 with V_R = πD²L/4 (→ 1 as L/D → ∞);
@@ -182,15 +223,21 @@ def cylinder(length: float, diameter: float, density: float = 1025.0, axial_mode
     MA = np.diag([density * ca_a * V, a_t, a_t, 0.0, rot, rot])
     cd_t = 1.05 * _interp(CYL_KAPPA, lam) if drag_transverse is None else drag_transverse
     return ShapeCoefficients(
-        "cylinder", V, MA, np.array([drag_axial, cd_t, cd_t]),
+        "cylinder",
+        V,
+        MA,
+        np.array([drag_axial, cd_t, cd_t]),
         np.array([math.pi * diameter**2 / 4, length * diameter, length * diameter]),
-        sources={"added_mass": f"transverse C_a = {ca_t:.4f}, DNV-RP-H103 Table A-2 by L/D (unchecked transcription); {src_a}",
-                 "drag_coefficient": f"axial 0.87 (REHMAN); transverse 1.05 × κ(L/D) = {cd_t:.3f}"},
+        sources={
+            "added_mass": f"transverse C_a = {ca_t:.4f}, DNV-RP-H103 Table A-2 by L/D (unchecked transcription); {src_a}",
+            "drag_coefficient": f"axial 0.87 (REHMAN); transverse 1.05 × κ(L/D) = {cd_t:.3f}",
+        },
     )
 
 
-def flat_plate(length: float, width: float, thickness: float = 0.0, density: float = 1025.0,
-               drag_coefficient: float | None = None) -> ShapeCoefficients:
+def flat_plate(
+    length: float, width: float, thickness: float = 0.0, density: float = 1025.0, drag_coefficient: float | None = None
+) -> ShapeCoefficients:
     """Thin rectangular plate, normal along x (sides a = width ≤ b = length): C_a(b/a) from
     DNV-RP-H103 Table A-2 with V_R = π a² b / 4 (unchecked transcription; → 1 for a long strip).
     In-plane motions have no added mass. C_D normal ≈ 1.17 (square) to 2.0 (long strip)."""
@@ -202,15 +249,21 @@ def flat_plate(length: float, width: float, thickness: float = 0.0, density: flo
     MA[0, 0] = density * ca * math.pi * a * a * b / 4
     cd = (1.17 + 0.83 * (1 - 1 / ratio)) if drag_coefficient is None else drag_coefficient
     return ShapeCoefficients(
-        "flat_plate", max(thickness, 0.0) * length * width, MA, np.array([cd, 0.0, 0.0]),
+        "flat_plate",
+        max(thickness, 0.0) * length * width,
+        MA,
+        np.array([cd, 0.0, 0.0]),
         np.array([length * width, 0.0, 0.0]),
-        sources={"added_mass": f"C_a = {ca:.3f}, DNV-RP-H103 Table A-2, b/a = {ratio:.3g} (unchecked transcription)",
-                 "drag_coefficient": "normal C_D from 1.17 (square, Hoerner) rising to 2.0 (2-D strip)"},
+        sources={
+            "added_mass": f"C_a = {ca:.3f}, DNV-RP-H103 Table A-2, b/a = {ratio:.3g} (unchecked transcription)",
+            "drag_coefficient": "normal C_D from 1.17 (square, Hoerner) rising to 2.0 (2-D strip)",
+        },
     )
 
 
-def block(length: float, width: float, height: float, density: float = 1025.0,
-          drag_coefficient: float = 1.05) -> ShapeCoefficients:
+def block(
+    length: float, width: float, height: float, density: float = 1025.0, drag_coefficient: float = 1.05
+) -> ShapeCoefficients:
     """Rectangular block (length along x). Each translation uses the square-prism C_a(b/a) of
     DNV-RP-H103 Table A-2 with a = √(area across the motion), b = extent along it,
     V_R = a² b (an approximation for non-square sections; unchecked transcription). C_D 1.05
@@ -223,15 +276,26 @@ def block(length: float, width: float, height: float, density: float = 1025.0,
         along = dims[i]
         across = [dims[j] for j in range(3) if j != i]
         a = math.sqrt(across[0] * across[1])
-        ca = _interp(BLOCK_CA, along / a) if along >= a else _interp(PLATE_CA, a / max(along, 1e-12)) * math.pi / 4 * a / along
+        ca = (
+            _interp(BLOCK_CA, along / a)
+            if along >= a
+            else _interp(PLATE_CA, a / max(along, 1e-12)) * math.pi / 4 * a / along
+        )
         cas.append(ca)
         MA[i, i] = density * ca * a * a * along
     V = length * width * height
     areas = np.array([width * height, length * height, length * width])
     return ShapeCoefficients(
-        "block", V, MA, np.full(3, drag_coefficient), areas,
-        sources={"added_mass": "square-prism C_a, DNV-RP-H103 Table A-2 (unchecked transcription): " +
-                 ", ".join(f"{c:.3f}" for c in cas), "drag_coefficient": f"{drag_coefficient} (cube, Hoerner)"},
+        "block",
+        V,
+        MA,
+        np.full(3, drag_coefficient),
+        areas,
+        sources={
+            "added_mass": "square-prism C_a, DNV-RP-H103 Table A-2 (unchecked transcription): "
+            + ", ".join(f"{c:.3f}" for c in cas),
+            "drag_coefficient": f"{drag_coefficient} (cube, Hoerner)",
+        },
         notes=("rotational added mass of a block is not given by the tables; use BEM for it",),
     )
 

@@ -20,10 +20,19 @@ import numpy as np
 from hydrokit.identify.types import LaunchResult
 
 SUMMARY_FIELDS = (
-    "added_mass", "added_mass_coefficient", "linear_damping", "quadratic_damping",
-    "drag_coefficient", "natural_frequency", "damping_ratio", "reynolds_max", "kc",
+    "added_mass",
+    "added_mass_coefficient",
+    "linear_damping",
+    "quadratic_damping",
+    "drag_coefficient",
+    "natural_frequency",
+    "damping_ratio",
+    "reynolds_max",
+    "kc",
 )
-OUTLIER_RULE = "modified z-score |x − median| / (1.4826 MAD) > 3.5 (Iglewicz–Hoaglin), applied when ≥ 5 launches and ≥ 4 remain"
+OUTLIER_RULE = (
+    "modified z-score |x − median| / (1.4826 MAD) > 3.5 (Iglewicz–Hoaglin), applied when ≥ 5 launches and ≥ 4 remain"
+)
 
 
 def describe(values: Sequence[float], files: Sequence[str] | None = None, confidence: float = 0.95) -> dict[str, Any]:
@@ -59,8 +68,15 @@ def describe(values: Sequence[float], files: Sequence[str] | None = None, confid
         ci: list[float | None] = [mean - half, mean + half]
     else:
         ci = [None, None]
-    return {"mean": mean, "std": std, "ci": ci, "n": n, "rejected": rejected, "rule": OUTLIER_RULE,
-            "confidence": confidence}
+    return {
+        "mean": mean,
+        "std": std,
+        "ci": ci,
+        "n": n,
+        "rejected": rejected,
+        "rule": OUTLIER_RULE,
+        "confidence": confidence,
+    }
 
 
 def summarize(results: Sequence[LaunchResult], confidence: float = 0.95) -> dict[str, Any]:
@@ -78,7 +94,9 @@ def amplitude_label(amplitude: float, rotational_units: bool) -> str:
     return f"{math.degrees(amplitude):.3g}°" if rotational_units else f"{amplitude * 1e3:.3g} mm"
 
 
-def group_by_amplitude(results: Sequence[LaunchResult], angles: bool, rel_tol: float = 0.15) -> dict[str, list[LaunchResult]]:
+def group_by_amplitude(
+    results: Sequence[LaunchResult], angles: bool, rel_tol: float = 0.15
+) -> dict[str, list[LaunchResult]]:
     """Group launches whose initial amplitudes agree within ``rel_tol`` (nominal launch levels)."""
     order = sorted(results, key=lambda r: r.amplitude)
     groups: list[list[LaunchResult]] = []
@@ -87,7 +105,10 @@ def group_by_amplitude(results: Sequence[LaunchResult], angles: bool, rel_tol: f
             groups[-1].append(r)
         else:
             groups.append([r])
-    return {f"L{i + 1} ({amplitude_label(float(np.mean([r.amplitude for r in g])), angles)})": g for i, g in enumerate(groups)}
+    return {
+        f"L{i + 1} ({amplitude_label(float(np.mean([r.amplitude for r in g])), angles)})": g
+        for i, g in enumerate(groups)
+    }
 
 
 def rank_sum(x: Sequence[float], y: Sequence[float]) -> dict[str, float]:

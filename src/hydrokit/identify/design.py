@@ -40,7 +40,9 @@ def cramer_rao(
     """
     var = sensor.noise_std**2 + sensor.resolution**2 / 12.0
     if var <= 0:
-        raise InputError("the sensor has neither noise nor quantisation: the bound is zero; give noise_std or resolution")
+        raise InputError(
+            "the sensor has neither noise nor quantisation: the bound is zero; give noise_std or resolution"
+        )
     c = rig_constants(rig)
     w2, b, g = c.to_normalised(added_mass, linear_damping, quadratic_damping)
     t = np.arange(int(round(duration * sensor.sample_rate)) + 1) / sensor.sample_rate

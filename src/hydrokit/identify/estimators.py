@@ -32,7 +32,7 @@ from typing import Any
 import numpy as np
 
 from hydrokit.errors import InputError
-from hydrokit.identify.preprocess import check_record, noise_floor
+from hydrokit.identify.preprocess import check_record
 from hydrokit.identify.rig_model import RigConstants, rig_constants, simulate_normalised
 from hydrokit.identify.types import METHODS, Launch, LaunchResult, Rig
 
@@ -63,7 +63,7 @@ class _DecayEstimator:
     def _fit(self, t: np.ndarray, y: np.ndarray, facts: dict[str, float]) -> None:
         raise NotImplementedError
 
-    def fit(self, t: Any, y: Any, file: str = "") -> "_DecayEstimator":
+    def fit(self, t: Any, y: Any, file: str = "") -> _DecayEstimator:
         """Fit the launch (t in s from the release, y in m or rad). Returns self."""
         t = np.asarray(t, float)
         y = np.asarray(y, float)
@@ -105,16 +105,21 @@ class _DecayEstimator:
         self.amplitude_ = a0
         pred = self.predict(t)
         self.rms_residual_ = float(np.sqrt(np.mean((pred - y) ** 2)))
+
         def significant(value: float, key: str) -> bool:
             se = self.std_error_[key]
             return value < 0 and (se is None or -value > 2.0 * se)
 
         if significant(K_L, "linear_damping"):
-            self.warnings_.append(f"negative linear damping fitted (K_L = {K_L:.4g}); K_L and K_Q trade off, compare force curves")
+            self.warnings_.append(
+                f"negative linear damping fitted (K_L = {K_L:.4g}); K_L and K_Q trade off, compare force curves"
+            )
         if significant(K_Q, "quadratic_damping"):
             self.warnings_.append(f"negative quadratic damping fitted (K_Q = {K_Q:.4g})")
         if m_a < 0:
-            self.warnings_.append(f"negative added mass fitted ({m_a:.4g}); check mass, length or stiffness in the rig file")
+            self.warnings_.append(
+                f"negative added mass fitted ({m_a:.4g}); check mass, length or stiffness in the rig file"
+            )
         return self
 
     def _replay(self, t: Any) -> tuple[np.ndarray, np.ndarray]:
@@ -189,7 +194,9 @@ class EquationErrorEstimator(_DecayEstimator):
             t = tu
         window = self.window or _savgol_window(self.period_, dt, y.size)
         if window <= self.polyorder or window >= y.size:
-            raise InputError(f"window = {window}: expected an odd number of samples between {self.polyorder + 1} and {y.size - 1}")
+            raise InputError(
+                f"window = {window}: expected an odd number of samples between {self.polyorder + 1} and {y.size - 1}"
+            )
         self.window_ = window
         offset = facts["offset"]
         q = savgol_filter(y, window, self.polyorder) - offset
@@ -287,7 +294,9 @@ class LogDecrementEstimator(_DecayEstimator):
                     wn *= 1.0 + a_mean**2 / 16.0  # large-amplitude pendulum period correction
                 rows.append((t1, a_mean, zeta, wn))
         if len(rows) < 2:
-            raise InputError("fewer than two cycles with peaks above the noise; expected at least two cycles of free decay")
+            raise InputError(
+                "fewer than two cycles with peaks above the noise; expected at least two cycles of free decay"
+            )
         rows.sort()
         arr = np.array(rows)
         a, zeta, wn = arr[:, 1], arr[:, 2], arr[:, 3]  # type: ignore[assignment]
@@ -302,7 +311,9 @@ class LogDecrementEstimator(_DecayEstimator):
         else:  # all cycles alike: no separation possible, all damping linear
             coef = np.array([float(np.mean(zeta)), 0.0])
             cz = np.diag([float(np.var(zeta)) / len(rows), 0.0])
-            self.warnings_.append("cycle amplitudes too alike to separate linear and quadratic damping; all taken as linear")
+            self.warnings_.append(
+                "cycle amplitudes too alike to separate linear and quadratic damping; all taken as linear"
+            )
         zl, kappa = float(coef[0]), float(coef[1])
         b = 2.0 * w * zl
         g = 3.0 * math.pi / 4.0 * kappa
@@ -326,11 +337,16 @@ class LogDecrementEstimator(_DecayEstimator):
             cq = (ze - zl) * 3.0 * math.pi * A / (4.0 * am)
             K_Q = cq / c.quadratic_factor
             cd = None if rig.rotational else 2.0 * K_Q / (rig.density * rig.reference_area)
-            self.cycles_.append({
-                "time": t1, "amplitude": am, "damping_ratio": ze, "natural_frequency": wni,
-                "reynolds": u * rig.reference_length / rig.kinematic_viscosity,
-                "drag_coefficient": cd,
-            })
+            self.cycles_.append(
+                {
+                    "time": t1,
+                    "amplitude": am,
+                    "damping_ratio": ze,
+                    "natural_frequency": wni,
+                    "reynolds": u * rig.reference_length / rig.kinematic_viscosity,
+                    "drag_coefficient": cd,
+                }
+            )
 
 
 def _peaks(t: np.ndarray, z: np.ndarray, min_abs: float) -> list[tuple[float, float]]:
@@ -391,7 +407,9 @@ class OutputErrorEstimator(_DecayEstimator):
                 est._fit(t, y, facts)
                 w2, b, g = est.p_
                 if w2 > 0:
-                    starts.append(np.array([w2, max(b, 0.0), max(g, 0.0), y[0] - facts["offset"], 0.0, facts["offset"]]))
+                    starts.append(
+                        np.array([w2, max(b, 0.0), max(g, 0.0), y[0] - facts["offset"], 0.0, facts["offset"]])
+                    )
             except (InputError, np.linalg.LinAlgError, ValueError):
                 continue
         w = 2 * math.pi / facts["period"]
@@ -488,9 +506,7 @@ def identify_launch(
     K_Q = est.quadratic_damping_ - rig.tare_quadratic_damping
     warnings = list(est.warnings_)
     if rig.tare_linear_damping or rig.tare_quadratic_damping:
-        warnings.append(
-            f"tare subtracted: K_L − {rig.tare_linear_damping:g}, K_Q − {rig.tare_quadratic_damping:g}"
-        )
+        warnings.append(f"tare subtracted: K_L − {rig.tare_linear_damping:g}, K_Q − {rig.tare_quadratic_damping:g}")
     m_a = est.added_mass_
     t = np.asarray(launch.t, float)
     tf = np.linspace(t[0], t[-1], max(2000, 4 * t.size))
@@ -506,7 +522,9 @@ def identify_launch(
                 "size; added mass and damping are likely raised by wall proximity"
             )
     if c.sine and est.amplitude_ > math.radians(20):
-        warnings.append(f"launch angle {math.degrees(est.amplitude_):.1f}° is large; the rod and body rotation matter more")
+        warnings.append(
+            f"launch angle {math.degrees(est.amplitude_):.1f}° is large; the rod and body rotation matter more"
+        )
     rv = rig.density * rig.volume
     result = LaunchResult(
         file=launch.file,

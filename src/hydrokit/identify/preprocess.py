@@ -42,7 +42,7 @@ def noise_floor(y: np.ndarray) -> float:
 def equilibrium(y: np.ndarray) -> float:
     """The rest value: median of the last fifth of the record (m or rad)."""
     y = np.asarray(y, float)
-    return float(np.median(y[-max(5, y.size // 5):]))
+    return float(np.median(y[-max(5, y.size // 5) :]))
 
 
 def zero_crossings(t: np.ndarray, y: np.ndarray) -> np.ndarray:
@@ -106,7 +106,9 @@ def trim_launch(launch: Launch, release: float | None = None, end: float | None 
         how = "detected"
     else:
         if not (t[0] <= release < t[-1]):
-            raise InputError(f"release = {release} s: expected a time within the record [{t[0]:g}, {t[-1]:g}] s", launch.file)
+            raise InputError(
+                f"release = {release} s: expected a time within the record [{t[0]:g}, {t[-1]:g}] s", launch.file
+            )
         i0 = int(np.searchsorted(t, release, side="left"))
         how = "given"
     eq = equilibrium(y[i0:])
@@ -114,21 +116,23 @@ def trim_launch(launch: Launch, release: float | None = None, end: float | None 
         floor = max(4.0 * sigma, 1e-12)
         big = np.nonzero(np.abs(y[i0:] - eq) > floor)[0]
         i1 = i0 + int(big[-1]) if big.size else t.size - 1
-        zc = zero_crossings(t[i0:i1 + 1], y[i0:i1 + 1] - eq)
+        zc = zero_crossings(t[i0 : i1 + 1], y[i0 : i1 + 1] - eq)
         quarter = 0.5 * float(np.median(np.diff(zc))) if zc.size >= 3 else 0.0
         i1 = min(t.size - 1, int(np.searchsorted(t, t[i1] + quarter)))
         how_end = "detected"
     else:
         if not (t[i0] < end <= t[-1] + 1e-12):
-            raise InputError(f"end = {end} s: expected a time after the release ({t[i0]:g} s) and within the record", launch.file)
+            raise InputError(
+                f"end = {end} s: expected a time after the release ({t[i0]:g} s) and within the record", launch.file
+            )
         i1 = int(np.searchsorted(t, end, side="right")) - 1
         how_end = "given"
     if i0 > 0:
         notes.append(f"release {how} at t = {t[i0]:.3f} s: {i0} still samples dropped")
     if i1 < t.size - 1:
         notes.append(f"end {how_end} at t = {t[i1]:.3f} s: {t.size - 1 - i1} samples of noise dropped")
-    tt = t[i0:i1 + 1] - t[i0]
-    return replace(launch, t=tt, y=y[i0:i1 + 1].copy(), notes=tuple(notes))
+    tt = t[i0 : i1 + 1] - t[i0]
+    return replace(launch, t=tt, y=y[i0 : i1 + 1].copy(), notes=tuple(notes))
 
 
 def check_record(launch: Launch) -> dict[str, float]:
@@ -166,13 +170,14 @@ def check_record(launch: Launch) -> dict[str, float]:
     if last > 1.2 * first + band:
         raise InputError(
             f"the oscillation grows (peak {first:.4g} in the first third, {last:.4g} in the last); "
-            "expected a decaying record", launch.file,
+            "expected a decaying record",
+            launch.file,
         )
     n_cross = len(crossings)
     if n_cross < 2:
         raise InputError(
-            f"the record does not oscillate ({n_cross} crossing(s) of the rest value {eq:.4g}); "
-            "expected a free decay", launch.file,
+            f"the record does not oscillate ({n_cross} crossing(s) of the rest value {eq:.4g}); expected a free decay",
+            launch.file,
         )
     cycles = n_cross / 2.0
     if cycles < 2.0:
@@ -181,7 +186,7 @@ def check_record(launch: Launch) -> dict[str, float]:
     # tail is biased when the tail holds a fraction of a cycle)
     same = [c for c in crossings[::2] if c >= y.size // 2] if len(crossings) >= 3 else []
     if len(same) >= 2:
-        eq = float(np.mean(y[same[0]:same[-1]]))
+        eq = float(np.mean(y[same[0] : same[-1]]))
     tc = t[np.asarray(crossings)]
     # full periods between crossings of the same direction: the hysteresis offsets cancel
     period = float(np.median(tc[2:] - tc[:-2])) if tc.size >= 3 else 2.0 * float(tc[1] - tc[0])

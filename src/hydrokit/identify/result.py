@@ -22,19 +22,42 @@ from hydrokit.identify.types import METHODS, Launch, LaunchResult, Rig, rig_docu
 
 COEFFS = ("added_mass", "linear_damping", "quadratic_damping")
 #: the per-launch columns of :meth:`CampaignResult.table`
-LAUNCH_COLUMNS = ("file", "amplitude", "added_mass", "added_mass_coefficient", "linear_damping",
-                  "quadratic_damping", "drag_coefficient", "natural_frequency", "damping_ratio",
-                  "reynolds_max", "kc", "rms_residual")
+LAUNCH_COLUMNS = (
+    "file",
+    "amplitude",
+    "added_mass",
+    "added_mass_coefficient",
+    "linear_damping",
+    "quadratic_damping",
+    "drag_coefficient",
+    "natural_frequency",
+    "damping_ratio",
+    "reynolds_max",
+    "kc",
+    "rms_residual",
+)
 
 
 def coefficient_units(rig: Rig) -> dict[str, str]:
     """Units of the identified quantities of ``rig`` (ASCII, as in the JSON document)."""
     if rig.rotational:
-        return {"added_mass": "kg m^2", "linear_damping": "N m s/rad", "quadratic_damping": "N m s^2/rad^2",
-                "natural_frequency": "rad/s", "amplitude": "rad", "rms_residual": "rad"}
+        return {
+            "added_mass": "kg m^2",
+            "linear_damping": "N m s/rad",
+            "quadratic_damping": "N m s^2/rad^2",
+            "natural_frequency": "rad/s",
+            "amplitude": "rad",
+            "rms_residual": "rad",
+        }
     sig = "m" if rig.test == "spring" else "rad"
-    return {"added_mass": "kg", "linear_damping": "N s/m", "quadratic_damping": "N s^2/m^2",
-            "natural_frequency": "rad/s", "amplitude": sig, "rms_residual": sig}
+    return {
+        "added_mass": "kg",
+        "linear_damping": "N s/m",
+        "quadratic_damping": "N s^2/m^2",
+        "natural_frequency": "rad/s",
+        "amplitude": sig,
+        "rms_residual": sig,
+    }
 
 
 @dataclass
@@ -108,8 +131,11 @@ class CampaignResult(Result):
 
     def summary_rows(self) -> list[tuple[str, Any]]:
         units = coefficient_units(self.rig)
-        rows: list[tuple[str, Any]] = [("rig", f"{self.rig.test}, {self.rig.axis}"), ("method", self.method),
-                                       ("launches", len(self.launches))]
+        rows: list[tuple[str, Any]] = [
+            ("rig", f"{self.rig.test}, {self.rig.axis}"),
+            ("method", self.method),
+            ("launches", len(self.launches)),
+        ]
         for k in COEFFS:
             s = self.summary[k]
             if s["mean"] is not None:
@@ -131,9 +157,14 @@ class CampaignResult(Result):
 
         if coefficient not in self.summary:
             raise InputError(f"coefficient = {coefficient!r}: expected one of {', '.join(COEFFS)}")
-        return campaign_axes(self.results, coefficient, self.summary[coefficient],
-                             coefficient_units(self.rig).get(coefficient, "–"), ax,
-                             f"{self.rig.test} rig, {self.rig.axis} ({self.method})")
+        return campaign_axes(
+            self.results,
+            coefficient,
+            self.summary[coefficient],
+            coefficient_units(self.rig).get(coefficient, "–"),
+            ax,
+            f"{self.rig.test} rig, {self.rig.axis} ({self.method})",
+        )
 
 
 def identify_launches(
@@ -180,11 +211,15 @@ def identify_launches(
     if rig.scale:
         lam = 1.0 / rig.scale
         means = {k: summary[k]["mean"] for k in COEFFS if summary[k]["mean"] is not None}
-        full = {"lambda": lam, **scale_coefficients(means, lam, rig.rotational),
-                "assumption": "equal C_D at equal speed (ENG2009 §II.D), not Reynolds similarity"}
+        full = {
+            "lambda": lam,
+            **scale_coefficients(means, lam, rig.rotational),
+            "assumption": "equal C_D at equal speed (ENG2009 §II.D), not Reynolds similarity",
+        }
     warnings = [f"{r.file}: {w}" for r in results for w in r.warnings]
-    return CampaignResult(rig, method, items, summary, pairwise,
-                          {k: [r.file for r in g] for k, g in groups.items()}, full, warnings)
+    return CampaignResult(
+        rig, method, items, summary, pairwise, {k: [r.file for r in g] for k, g in groups.items()}, full, warnings
+    )
 
 
 def predict(item: IdentifiedLaunch) -> np.ndarray:

@@ -80,11 +80,13 @@ class RigConstants:
         """∂(m_a, K_L, K_Q)/∂(ω², b, g), for propagating a covariance."""
         A = self.S / w2
         dA = -self.S / w2**2
-        return np.array([
-            [dA / self.added_factor, 0.0, 0.0],
-            [b * dA / self.linear_factor, A / self.linear_factor, 0.0],
-            [g * dA / self.quadratic_factor, 0.0, A / self.quadratic_factor],
-        ])
+        return np.array(
+            [
+                [dA / self.added_factor, 0.0, 0.0],
+                [b * dA / self.linear_factor, A / self.linear_factor, 0.0],
+                [g * dA / self.quadratic_factor, 0.0, A / self.quadratic_factor],
+            ]
+        )
 
 
 def rig_constants(rig: Rig) -> RigConstants:

@@ -50,5 +50,9 @@ def air_tare(alpha: float, beta: float, gamma: float, mass: float, gravity: floa
 
 def apply_tare(rig: Rig, tare: AirTare) -> Rig:
     """The rig with the effective length and the tare damping to subtract."""
-    return replace(rig, pendulum_length=tare.effective_length, tare_linear_damping=tare.linear_damping,
-                   tare_quadratic_damping=tare.quadratic_damping)
+    return replace(
+        rig,
+        pendulum_length=tare.effective_length,
+        tare_linear_damping=tare.linear_damping,
+        tare_quadratic_damping=tare.quadratic_damping,
+    )

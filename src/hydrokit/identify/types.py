@@ -133,10 +133,17 @@ class LaunchResult:
 def rig_document(rig: Rig) -> dict[str, Any]:
     """The rig in the rig-file layout (SI), for JSON results and virtual-rig output."""
     out: dict[str, Any] = {
-        "test": rig.test, "axis": rig.axis, "gravity": rig.gravity,
+        "test": rig.test,
+        "axis": rig.axis,
+        "gravity": rig.gravity,
         "fluid": {"density": rig.density, "kinematic_viscosity": rig.kinematic_viscosity},
-        "body": {"mass": rig.mass, "volume": rig.volume, "reference_area": rig.reference_area,
-                 "reference_length": rig.reference_length, "inertia": rig.inertia},
+        "body": {
+            "mass": rig.mass,
+            "volume": rig.volume,
+            "reference_area": rig.reference_area,
+            "reference_length": rig.reference_length,
+            "inertia": rig.inertia,
+        },
     }
     if rig.test == "pendulum":
         out["pendulum"] = {"length": rig.pendulum_length, "rod_mass": rig.rod_mass, "rod_volume": rig.rod_volume}

@@ -43,18 +43,22 @@ class SensorModel:
             raise InputError("noise_std, resolution and hold_time must be ≥ 0")
 
     @classmethod
-    def imu(cls, sample_rate: float = 100.0, noise_deg: float = 0.05, hold_time: float = 0.5) -> "SensorModel":
+    def imu(cls, sample_rate: float = 100.0, noise_deg: float = 0.05, hold_time: float = 0.5) -> SensorModel:
         """An IMU angle sensor (CELY2019 pendulum: 100 Hz); noise given in degrees, stored in rad."""
-        return cls(sample_rate, math.radians(noise_deg), 0.0, hold_time, f"IMU {sample_rate:g} Hz, {noise_deg:g}° noise")
+        return cls(
+            sample_rate, math.radians(noise_deg), 0.0, hold_time, f"IMU {sample_rate:g} Hz, {noise_deg:g}° noise"
+        )
 
     @classmethod
-    def encoder(cls, counts_per_mm: float = 2.45, sample_rate: float = 100.0, hold_time: float = 0.5) -> "SensorModel":
+    def encoder(cls, counts_per_mm: float = 2.45, sample_rate: float = 100.0, hold_time: float = 0.5) -> SensorModel:
         """A linear encoder (CELY2019 spring rig: 2.45 counts/mm, i.e. 0.408 mm steps)."""
         step = 1e-3 / counts_per_mm
-        return cls(sample_rate, 0.0, step, hold_time, f"encoder {counts_per_mm:g} counts/mm ({step * 1e3:.3f} mm steps)")
+        return cls(
+            sample_rate, 0.0, step, hold_time, f"encoder {counts_per_mm:g} counts/mm ({step * 1e3:.3f} mm steps)"
+        )
 
     @classmethod
-    def camera(cls, fps: float = 30.0, noise_deg: float = 0.2, hold_time: float = 0.5) -> "SensorModel":
+    def camera(cls, fps: float = 30.0, noise_deg: float = 0.2, hold_time: float = 0.5) -> SensorModel:
         """A video camera tracking the rod angle (ENG2009: 30 fps)."""
         return cls(fps, math.radians(noise_deg), 0.0, hold_time, f"camera {fps:g} fps, {noise_deg:g}° noise")
 

@@ -20,14 +20,18 @@ def read_forces(path: str | os.PathLike[str]) -> tuple[np.ndarray, np.ndarray]:
     src = str(p)
     if not p.is_file():
         raise InputError("no such file", src)
-    lines = [ln for ln in p.read_text(encoding="utf-8-sig").splitlines() if ln.strip() and not ln.lstrip().startswith("#")]
+    lines = [
+        ln for ln in p.read_text(encoding="utf-8-sig").splitlines() if ln.strip() and not ln.lstrip().startswith("#")
+    ]
     if not lines:
         raise InputError("empty file; expected a header speed,force and rows", src)
     rows = list(csv.reader(io.StringIO("\n".join(lines))))
     header = [h.strip().lower() for h in rows[0]]
     for col in ("speed", "force"):
         if col not in header:
-            raise InputError(f"missing column '{col}' (header: {', '.join(header)}); expected speed (m/s) and force (N)", src)
+            raise InputError(
+                f"missing column '{col}' (header: {', '.join(header)}); expected speed (m/s) and force (N)", src
+            )
     i, j = header.index("speed"), header.index("force")
     U, F = [], []
     for k, row in enumerate(rows[1:]):

@@ -25,7 +25,6 @@ parts:
 
 from __future__ import annotations
 
-import math
 import os
 from pathlib import Path
 from typing import Any
@@ -39,8 +38,24 @@ from hydrokit.estimate.shapes import solid_inertia
 from hydrokit.io.yamlfile import read_yaml
 
 DIMENSIONS = ("diameter", "length", "width", "height", "thickness")
-PART_KEYS = {"name", "shape", "vehicle", "mesh", "mass", "weight", "buoyancy", "position", "rotation_deg",
-             "drag_coefficient", "axial_model", "inertia", "center_of_gravity", "bem", "resolution", *DIMENSIONS}
+PART_KEYS = {
+    "name",
+    "shape",
+    "vehicle",
+    "mesh",
+    "mass",
+    "weight",
+    "buoyancy",
+    "position",
+    "rotation_deg",
+    "drag_coefficient",
+    "axial_model",
+    "inertia",
+    "center_of_gravity",
+    "bem",
+    "resolution",
+    *DIMENSIONS,
+}
 
 
 def _num(v: Any, where: str, src: str, positive: bool = True) -> float:
@@ -88,7 +103,20 @@ def load_geometry(path: str | os.PathLike[str]) -> Geometry:
             from hydrokit.io.vehicle import load_vehicle
 
             v = load_vehicle(raw["vehicle"])
-            part = Part(name, v.mass, v.volume, v.inertia, v.M_A, v.D_L, np.diag(v.D_Q), v.r_g, v.r_b, pos, R, str(raw["vehicle"]))
+            part = Part(
+                name,
+                v.mass,
+                v.volume,
+                v.inertia,
+                v.M_A,
+                v.D_L,
+                np.diag(v.D_Q),
+                v.r_g,
+                v.r_b,
+                pos,
+                R,
+                str(raw["vehicle"]),
+            )
             parts.append(GeometryPart(part, {"all": f"vehicle {raw['vehicle']}"}, None, {}))
             continue
         if "mass" in raw:
@@ -107,9 +135,12 @@ def load_geometry(path: str | os.PathLike[str]) -> Geometry:
             if "buoyancy" in raw:
                 vol = _num(raw["buoyancy"], f"{where}.buoyancy", src) / (rho * g)
             I = np.array(raw["inertia"], float) if "inertia" in raw else np.eye(3) * 1e-6
-            part = Part(name, mass, vol, I if I.shape == (3, 3) else np.diag(I), np.zeros((6, 6)), position=pos, rotation=R)
-            parts.append(GeometryPart(part, {"added_mass": "BEM (mesh)"}, None, dims, mesh, True,
-                                      int(raw.get("resolution", 48))))
+            part = Part(
+                name, mass, vol, I if I.shape == (3, 3) else np.diag(I), np.zeros((6, 6)), position=pos, rotation=R
+            )
+            parts.append(
+                GeometryPart(part, {"added_mass": "BEM (mesh)"}, None, dims, mesh, True, int(raw.get("resolution", 48)))
+            )
             continue
         shape = raw["shape"]
         if shape not in SHAPES:
@@ -121,7 +152,9 @@ def load_geometry(path: str | os.PathLike[str]) -> Geometry:
             elif shape == "spheroid":
                 kw.update(length=dims["length"], diameter=dims["diameter"])
             elif shape == "cylinder":
-                kw.update(length=dims["length"], diameter=dims["diameter"], axial_model=raw.get("axial_model", "spheroid"))
+                kw.update(
+                    length=dims["length"], diameter=dims["diameter"], axial_model=raw.get("axial_model", "spheroid")
+                )
             elif shape == "block":
                 kw.update(length=dims["length"], width=dims["width"], height=dims["height"])
             else:
@@ -130,7 +163,8 @@ def load_geometry(path: str | os.PathLike[str]) -> Geometry:
             raise InputError(f"field '{where}': shape {shape} needs '{exc.args[0]}' (m)", src) from None
         if "drag_coefficient" in raw:
             kw["drag_coefficient" if shape in ("sphere", "block", "flat_plate") else "drag_axial"] = _num(
-                raw["drag_coefficient"], f"{where}.drag_coefficient", src)
+                raw["drag_coefficient"], f"{where}.drag_coefficient", src
+            )
         sc = SHAPES[shape](**kw)  # type: ignore[operator]
         vol = sc.volume
         if "buoyancy" in raw:
@@ -138,6 +172,9 @@ def load_geometry(path: str | os.PathLike[str]) -> Geometry:
         I = solid_inertia(shape, mass, dims)
         DQ = np.diag(sc.quadratic_damping(rho))
         part = Part(name, mass, vol, I, sc.added_mass, np.zeros((6, 6)), DQ, position=pos, rotation=R, source=shape)
-        parts.append(GeometryPart(part, dict(sc.sources), shape, dims, None, bool(raw.get("bem", True)),
-                                  int(raw.get("resolution", 48))))
+        parts.append(
+            GeometryPart(
+                part, dict(sc.sources), shape, dims, None, bool(raw.get("bem", True)), int(raw.get("resolution", 48))
+            )
+        )
     return Geometry(str(data.get("name", p.stem)), g, rho, parts, src)

@@ -62,20 +62,30 @@ def read_launch(path: str | os.PathLike[str], rig: Rig) -> Launch:
                 cell = row[idx].strip()
                 arr[k] = float(cell)
             except IndexError:
-                raise InputError(f"row {line_no}: column '{name}' is missing; expected {len(header)} cells", src) from None
+                raise InputError(
+                    f"row {line_no}: column '{name}' is missing; expected {len(header)} cells", src
+                ) from None
             except ValueError:
                 raise InputError(f"row {line_no}, column '{name}' = {cell!r}: expected a number", src) from None
             if not math.isfinite(arr[k]):
-                raise InputError(f"row {line_no}, column '{name}' = {cell}: expected a finite number (NaN/inf found)", src)
+                raise InputError(
+                    f"row {line_no}, column '{name}' = {cell}: expected a finite number (NaN/inf found)", src
+                )
     if t.size < 20:
         raise InputError(f"only {t.size} data rows; expected a launch of at least 20 samples", src)
     dt = np.diff(t)
     if np.any(dt == 0):
         k = int(np.nonzero(dt == 0)[0][0])
-        raise InputError(f"column 'time': duplicate time {t[k]:g} s at rows {k + 2} and {k + 3}; expected strictly increasing times", src)
+        raise InputError(
+            f"column 'time': duplicate time {t[k]:g} s at rows {k + 2} and {k + 3}; expected strictly increasing times",
+            src,
+        )
     if np.any(dt < 0):
         k = int(np.nonzero(dt < 0)[0][0])
-        raise InputError(f"column 'time': time goes back from {t[k]:g} to {t[k + 1]:g} s at row {k + 3}; expected strictly increasing times", src)
+        raise InputError(
+            f"column 'time': time goes back from {t[k]:g} to {t[k + 1]:g} s at row {k + 3}; expected strictly increasing times",
+            src,
+        )
     notes: list[str] = []
     if want == "angle_deg":
         y = np.radians(y)
@@ -86,7 +96,8 @@ def read_launch(path: str | os.PathLike[str], rig: Rig) -> Launch:
         if peak > limit:
             raise InputError(
                 f"column 'angle' reaches {peak:.4g}, which looks like degrees; expected radians "
-                f"(|angle| ≤ {limit:.3g}) — name the column 'angle_deg' for degrees", src,
+                f"(|angle| ≤ {limit:.3g}) — name the column 'angle_deg' for degrees",
+                src,
             )
     return Launch(t=t, y=y, file=src, notes=tuple(notes))
 

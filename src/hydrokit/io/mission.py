@@ -51,13 +51,23 @@ from hydrokit.core.validate import number as _num
 from hydrokit.core.validate import vector as _vector
 from hydrokit.errors import InputError
 from hydrokit.io.yamlfile import read_yaml
-from hydrokit.model.mission import CONTROLLER_KINDS, LOOPS, Mission
 from hydrokit.model.guidance import Path as WaypointPath
+from hydrokit.model.mission import CONTROLLER_KINDS, LOOPS, Mission
 
 MISSIONS_DIR = Path(__file__).resolve().parents[1] / "data" / "missions"
 TOP_KEYS = {
-    "name", "vehicle", "duration", "dt", "output_every", "controller", "controllers",
-    "guidance", "initial", "current", "allocation", "description",
+    "name",
+    "vehicle",
+    "duration",
+    "dt",
+    "output_every",
+    "controller",
+    "controllers",
+    "guidance",
+    "initial",
+    "current",
+    "allocation",
+    "description",
 }
 GAIN_KEYS = {"pid": {"kp", "ki", "kd", "limit"}, "s-plane": {"k1", "k2", "scale"}}
 
@@ -71,9 +81,7 @@ def resolve_mission(name_or_path: str | os.PathLike[str]) -> Path:
     if "/" not in str(name_or_path) and bundled.is_file():
         return bundled
     names = sorted(q.stem for q in MISSIONS_DIR.glob("*.yaml"))
-    raise InputError(
-        f"no such file or bundled mission '{name_or_path}' (bundled: {', '.join(names) or 'none'})"
-    )
+    raise InputError(f"no such file or bundled mission '{name_or_path}' (bundled: {', '.join(names) or 'none'})")
 
 
 def load_mission(name_or_path: str | os.PathLike[str]) -> Mission:
@@ -86,9 +94,7 @@ def parse_mission(data: dict[str, Any], source: str, base_dir: Path | None = Non
     """Validate a mission document; see the module docstring for the format."""
     unknown = sorted(set(map(str, data)) - TOP_KEYS)
     if unknown:
-        raise InputError(
-            f"unknown field '{unknown[0]}' (allowed: {', '.join(sorted(TOP_KEYS))})", source
-        )
+        raise InputError(f"unknown field '{unknown[0]}' (allowed: {', '.join(sorted(TOP_KEYS))})", source)
     for key in ("vehicle", "duration", "guidance", "controllers"):
         if key not in data:
             raise InputError(f"missing field '{key}'", source)
@@ -96,7 +102,7 @@ def parse_mission(data: dict[str, Any], source: str, base_dir: Path | None = Non
     if not isinstance(vehicle, str) or not vehicle.strip():
         raise InputError(f"field 'vehicle' = {vehicle!r}: expected a vehicle name or path", source)
     if base_dir is not None and ("/" in vehicle or vehicle.endswith((".yaml", ".yml"))):
-        candidate = (base_dir / vehicle)
+        candidate = base_dir / vehicle
         vehicle = str(candidate) if candidate.is_file() else vehicle
     duration = _num(data["duration"], "duration", source, positive=True)
     dt = _num(data.get("dt", 0.05), "dt", source, positive=True)
@@ -129,7 +135,9 @@ def parse_mission(data: dict[str, Any], source: str, base_dir: Path | None = Non
     if data.get("allocation") is not None:
         alloc = _mapping(data["allocation"], "allocation", source)
         if set(alloc) - {"weights"}:
-            raise InputError(f"field 'allocation.{sorted(set(alloc) - {'weights'})[0]}': unknown (allowed: weights)", source)
+            raise InputError(
+                f"field 'allocation.{sorted(set(alloc) - {'weights'})[0]}': unknown (allowed: weights)", source
+            )
         w = alloc.get("weights")
         if w is not None:
             if not isinstance(w, list) or not w:
@@ -137,9 +145,19 @@ def parse_mission(data: dict[str, Any], source: str, base_dir: Path | None = Non
             weights = tuple(_num(x, f"allocation.weights[{i}]", source, positive=True) for i, x in enumerate(w))
     name = data.get("name", Path(source).stem)
     return Mission(
-        name=str(name), source=source, vehicle=vehicle, duration=duration, dt=dt,
-        output_every=int(every), controller=kind, gains=gains, path=path,
-        eta0=np.concatenate([pos, att]), nu0=nu0, current=current, weights=weights,
+        name=str(name),
+        source=source,
+        vehicle=vehicle,
+        duration=duration,
+        dt=dt,
+        output_every=int(every),
+        controller=kind,
+        gains=gains,
+        path=path,
+        eta0=np.concatenate([pos, att]),
+        nu0=nu0,
+        current=current,
+        weights=weights,
     )
 
 
@@ -164,13 +182,17 @@ def _parse_gains(value: Any, source: str) -> dict[str, dict[str, dict[str, float
                 )
             nums = {k: _num(v, f"{where}.{k}", source, nonneg=True) for k, v in g.items()}
             if kind == "pid" and "limit" in nums and nums["limit"] <= 0:
-                raise InputError(f"field '{where}.limit' = {nums['limit']:g}: expected a positive force or moment", source)
+                raise InputError(
+                    f"field '{where}.limit' = {nums['limit']:g}: expected a positive force or moment", source
+                )
             if kind == "s-plane":
                 for req in ("k1", "scale"):
                     if req not in nums:
                         raise InputError(f"field '{where}': missing '{req}'", source)
                 if nums["scale"] <= 0:
-                    raise InputError(f"field '{where}.scale' = {nums['scale']:g}: expected a positive force or moment", source)
+                    raise InputError(
+                        f"field '{where}.scale' = {nums['scale']:g}: expected a positive force or moment", source
+                    )
             parsed[loop] = nums
         for req in ("speed", "depth", "heading"):
             if req not in parsed:
@@ -183,14 +205,18 @@ def _parse_guidance(value: Any, source: str) -> WaypointPath:
     g = _mapping(value, "guidance", source)
     bad = sorted(set(g) - {"acceptance_radius", "lookahead", "speed", "waypoints"})
     if bad:
-        raise InputError(f"field 'guidance.{bad[0]}': unknown (allowed: acceptance_radius, lookahead, speed, waypoints)", source)
+        raise InputError(
+            f"field 'guidance.{bad[0]}': unknown (allowed: acceptance_radius, lookahead, speed, waypoints)", source
+        )
     radius = _num(g.get("acceptance_radius", 1.0), "guidance.acceptance_radius", source, positive=True)
     lookahead = _num(g.get("lookahead", 5.0), "guidance.lookahead", source, positive=True)
     default_speed = _num(g.get("speed", 0.5), "guidance.speed", source, nonneg=True)
     wps = g.get("waypoints")
     if not isinstance(wps, list) or len(wps) < 2:
         n = len(wps) if isinstance(wps, list) else 0
-        raise InputError(f"field 'guidance.waypoints': {n} given; expected a list of at least 2 waypoints (x, y, z in m)", source)
+        raise InputError(
+            f"field 'guidance.waypoints': {n} given; expected a list of at least 2 waypoints (x, y, z in m)", source
+        )
     points: list[np.ndarray] = []
     speeds: list[float | None] = []
     times: list[float | None] = []
@@ -221,7 +247,9 @@ def _parse_guidance(value: Any, source: str) -> WaypointPath:
             )
     given = [t is not None for t in times]
     if any(given) and not all(given):
-        raise InputError("field 'guidance.waypoints': 'time' given for some waypoints only; give it for all or none", source)
+        raise InputError(
+            "field 'guidance.waypoints': 'time' given for some waypoints only; give it for all or none", source
+        )
     if all(given):
         for i in range(1, len(times)):
             if times[i] <= times[i - 1]:  # type: ignore[operator]

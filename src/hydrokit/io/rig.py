@@ -110,20 +110,37 @@ def parse_rig(data: dict[str, Any], source: str) -> Rig:
         stiffness = f.spring.stiffness
     if f.test == "torsion":
         if f.torsion is None:
-            raise InputError("field 'torsion.stiffness' is missing: a torsion rig needs its stiffness (N·m/rad)", source)
+            raise InputError(
+                "field 'torsion.stiffness' is missing: a torsion rig needs its stiffness (N·m/rad)", source
+            )
         stiffness = f.torsion.stiffness
         if f.body.inertia <= 0:
-            raise InputError(f"field 'body.inertia' = {f.body.inertia}: a torsion rig needs the body's inertia about the axis (kg·m², > 0)", source)
+            raise InputError(
+                f"field 'body.inertia' = {f.body.inertia}: a torsion rig needs the body's inertia about the axis (kg·m², > 0)",
+                source,
+            )
     pend = f.pendulum if f.test == "pendulum" else None
     tare = f.tare or _Tare()
     rig = Rig(
-        test=f.test, axis=f.axis, gravity=f.gravity, density=f.fluid.density,
-        kinematic_viscosity=f.fluid.kinematic_viscosity, mass=f.body.mass, volume=f.body.volume,
-        reference_area=f.body.reference_area, reference_length=f.body.reference_length,
-        inertia=f.body.inertia, pendulum_length=pend.length if pend else None, stiffness=stiffness,
-        rod_mass=pend.rod_mass if pend else 0.0, rod_volume=pend.rod_volume if pend else 0.0,
-        tare_linear_damping=tare.linear_damping, tare_quadratic_damping=tare.quadratic_damping,
-        wall_distance=f.wall_distance, scale=f.scale, source=source,
+        test=f.test,
+        axis=f.axis,
+        gravity=f.gravity,
+        density=f.fluid.density,
+        kinematic_viscosity=f.fluid.kinematic_viscosity,
+        mass=f.body.mass,
+        volume=f.body.volume,
+        reference_area=f.body.reference_area,
+        reference_length=f.body.reference_length,
+        inertia=f.body.inertia,
+        pendulum_length=pend.length if pend else None,
+        stiffness=stiffness,
+        rod_mass=pend.rod_mass if pend else 0.0,
+        rod_volume=pend.rod_volume if pend else 0.0,
+        tare_linear_damping=tare.linear_damping,
+        tare_quadratic_damping=tare.quadratic_damping,
+        wall_distance=f.wall_distance,
+        scale=f.scale,
+        source=source,
     )
     if rig.test == "pendulum":
         from hydrokit.identify.rig_model import rig_constants

@@ -37,9 +37,22 @@ from hydrokit.io.yamlfile import read_yaml
 from hydrokit.model.thrusters import DEFAULT_ADVANCE_RATIO_RANGE, Thruster, ThrusterSet
 
 ALLOWED = {
-    "name", "position", "direction", "azimuth_deg", "elevation_deg", "max_thrust",
-    "min_thrust", "diameter", "kt_forward", "kt_reverse", "thrust_loss", "max_rpm",
-    "advance_ratio_range", "wake_fraction", "time_constant", "thrust_table",
+    "name",
+    "position",
+    "direction",
+    "azimuth_deg",
+    "elevation_deg",
+    "max_thrust",
+    "min_thrust",
+    "diameter",
+    "kt_forward",
+    "kt_reverse",
+    "thrust_loss",
+    "max_rpm",
+    "advance_ratio_range",
+    "wake_fraction",
+    "time_constant",
+    "thrust_table",
 }
 
 
@@ -93,9 +106,7 @@ def parse_thrusters(data: dict[str, Any], source: str) -> ThrusterSet:
         except InputError as exc:
             raise InputError(exc.detail, source) from None
     try:
-        return ThrusterSet(
-            tuple(items), density=density if density is not None else 1025.0, notes=tuple(notes)
-        )
+        return ThrusterSet(tuple(items), density=density if density is not None else 1025.0, notes=tuple(notes))
     except InputError as exc:
         raise InputError(exc.detail, source) from None
 
@@ -115,9 +126,7 @@ def _one(entry: dict[str, Any], name: str, where: str, density: float | None) ->
     has_dir = "direction" in entry
     has_angles = "azimuth_deg" in entry or "elevation_deg" in entry
     if has_dir == has_angles:
-        raise InputError(
-            f"{where}: give either 'direction' (3 numbers) or 'azimuth_deg'/'elevation_deg'"
-        )
+        raise InputError(f"{where}: give either 'direction' (3 numbers) or 'azimuth_deg'/'elevation_deg'")
     if has_dir:
         direction = entry["direction"]
     else:
@@ -158,9 +167,7 @@ def _one(entry: dict[str, Any], name: str, where: str, density: float | None) ->
             # reverse defaults to the forward factor
             kw["thrust_loss_reverse"] = number(loss.get("reverse", fwd), f"{where}.thrust_loss.reverse", positive=True)
         else:
-            kw["thrust_loss_forward"] = kw["thrust_loss_reverse"] = number(
-                loss, f"{where}.thrust_loss", positive=True
-            )
+            kw["thrust_loss_forward"] = kw["thrust_loss_reverse"] = number(loss, f"{where}.thrust_loss", positive=True)
     if "thrust_table" in entry:
         table = mapping(entry["thrust_table"], f"{where}.thrust_table")
         if set(table) != {"command", "thrust"}:
@@ -173,4 +180,3 @@ def _one(entry: dict[str, Any], name: str, where: str, density: float | None) ->
         raise InputError(f"{where}: {exc.detail}") from None
     except (TypeError, ValueError) as exc:
         raise InputError(f"{where}: {exc}") from None
-

@@ -20,7 +20,6 @@ from hydrokit.errors import InputError
 COLUMNS = STATE_COLUMNS
 
 
-
 def trajectory_csv(table: np.ndarray) -> str:
     """CSV text of an (n, 13) table in :data:`COLUMNS` order."""
     out = io.StringIO()
@@ -51,7 +50,9 @@ def read_force_table(path: str | os.PathLike[str]) -> np.ndarray:
     header = [h.strip() for h in rows[0]]
     missing = [c for c in FORCE_COLUMNS if c not in header]
     if missing:
-        raise InputError(f"missing column(s) {', '.join(missing)} (header: {', '.join(header)}); expected time,X,Y,Z,K,M,N", src)
+        raise InputError(
+            f"missing column(s) {', '.join(missing)} (header: {', '.join(header)}); expected time,X,Y,Z,K,M,N", src
+        )
     idx = [header.index(c) for c in FORCE_COLUMNS]
     out = np.empty((len(rows) - 1, 7))
     for k, row in enumerate(rows[1:]):

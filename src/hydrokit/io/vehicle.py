@@ -22,7 +22,6 @@ default; ``thrusters:`` (issue #4, read by :mod:`hydrokit.io.thrusters`).
 
 from __future__ import annotations
 
-import math
 import os
 from pathlib import Path
 from typing import Any
@@ -36,12 +35,35 @@ from hydrokit.model.terms import TermSet, parse_term
 from hydrokit.model.vehicle import Vehicle, make_vehicle
 
 VEHICLES_DIR = Path(__file__).resolve().parents[1] / "data" / "vehicles"
-REQUIRED = ("mass", "volume", "inertia", "center_of_gravity", "center_of_buoyancy", "added_mass",
-            "linear_damping", "quadratic_damping")
-KNOWN = set(REQUIRED) | {"name", "gravity", "fluid", "reference_length", "reference_speed", "terms",
-                         "terms_nondimensional", "thrusters", "description", "source", "sources", "notes",
-                         "warnings", "geometry", "allocation", "volume_printed",
-                         "added_mass_coriolis"}
+REQUIRED = (
+    "mass",
+    "volume",
+    "inertia",
+    "center_of_gravity",
+    "center_of_buoyancy",
+    "added_mass",
+    "linear_damping",
+    "quadratic_damping",
+)
+KNOWN = set(REQUIRED) | {
+    "name",
+    "gravity",
+    "fluid",
+    "reference_length",
+    "reference_speed",
+    "terms",
+    "terms_nondimensional",
+    "thrusters",
+    "description",
+    "source",
+    "sources",
+    "notes",
+    "warnings",
+    "geometry",
+    "allocation",
+    "volume_printed",
+    "added_mass_coriolis",
+}
 TERM_KEYS = {"value", "nondimensional", "printed", "note", "suspect", "factors", "source"}
 
 
@@ -81,9 +103,14 @@ def _matrix(value: Any, n: int, field: str, source: str, allow_diag: bool = True
         raise InputError(f"field '{field}' = {value!r}: expected a list of {n} numbers or an {n}x{n} matrix", source)
     if value and all(isinstance(r, list) for r in value):
         if len(value) != n or any(len(r) != n for r in value):
-            raise InputError(f"field '{field}': expected an {n}x{n} matrix, got {len(value)} rows of lengths "
-                             f"{[len(r) for r in value]}", source)
-        return np.array([[_number(x, f"{field}[{i}][{j}]", source) for j, x in enumerate(r)] for i, r in enumerate(value)])
+            raise InputError(
+                f"field '{field}': expected an {n}x{n} matrix, got {len(value)} rows of lengths "
+                f"{[len(r) for r in value]}",
+                source,
+            )
+        return np.array(
+            [[_number(x, f"{field}[{i}][{j}]", source) for j, x in enumerate(r)] for i, r in enumerate(value)]
+        )
     if len(value) != n or not allow_diag:
         raise InputError(f"field '{field}' has {len(value)} values; expected {n} (or an {n}x{n} matrix)", source)
     return np.diag([_number(x, f"{field}[{i}]", source) for i, x in enumerate(value)])
@@ -129,7 +156,9 @@ def parse_vehicle(data: dict[str, Any], source: str) -> Vehicle:
         if isinstance(spec, dict):
             extra = set(spec) - TERM_KEYS
             if extra:
-                raise InputError(f"field '{where}': unknown key(s) {sorted(extra)}; expected value, nondimensional", source)
+                raise InputError(
+                    f"field '{where}': unknown key(s) {sorted(extra)}; expected value, nondimensional", source
+                )
             if "value" not in spec:
                 raise InputError(f"field '{where}': missing 'value'", source)
             nd = spec.get("nondimensional", default_nd)
@@ -141,7 +170,9 @@ def parse_vehicle(data: dict[str, Any], source: str) -> Vehicle:
         term = parse_term(str(name), source)
         if nd:
             if L is None:
-                raise InputError(f"field '{where}' is non-dimensional: the vehicle needs 'reference_length' (m)", source)
+                raise InputError(
+                    f"field '{where}' is non-dimensional: the vehicle needs 'reference_length' (m)", source
+                )
             coef = term.dimensional(value, rho, L, U, source)
         else:
             coef = value
@@ -154,5 +185,21 @@ def parse_vehicle(data: dict[str, Any], source: str) -> Vehicle:
     cor = data.get("added_mass_coriolis", True)
     if not isinstance(cor, bool):
         raise InputError(f"field 'added_mass_coriolis' = {cor!r}: expected true or false", source)
-    return make_vehicle(name, mass, volume, gravity, rho, inertia, r_g, r_b, M_A, D_L, D_Q,
-                        TermSet.build(velocity_terms), L, source, warnings, cor)
+    return make_vehicle(
+        name,
+        mass,
+        volume,
+        gravity,
+        rho,
+        inertia,
+        r_g,
+        r_b,
+        M_A,
+        D_L,
+        D_Q,
+        TermSet.build(velocity_terms),
+        L,
+        source,
+        warnings,
+        cor,
+    )

@@ -7,19 +7,18 @@ forces f (N) with τ = T f, where column i of the 6×m configuration matrix T is
 
 from __future__ import annotations
 
-from typing import Any
-
 from dataclasses import dataclass, field
+from typing import Any
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from hydrokit._result import Result, jsonable
+from hydrokit.core.names import DOF_NAMES
 from hydrokit.errors import InputError
 
 Array = NDArray[np.float64]
 
-from hydrokit.core.names import DOF_NAMES
 
 #: A row of T whose largest entry is below this (N per N, m) counts as all-zero: poses are
 #: given to ~1e-3 m, so anything smaller is round-off, not a lever arm.
@@ -47,9 +46,7 @@ def configuration_matrix(positions: ArrayLike, directions: ArrayLike) -> Array:
     r = np.atleast_2d(np.asarray(positions, dtype=float))
     e = np.atleast_2d(np.asarray(directions, dtype=float))
     if r.shape != e.shape or r.shape[1] != 3:
-        raise InputError(
-            f"positions {r.shape} and directions {e.shape}: expected two (m, 3) arrays"
-        )
+        raise InputError(f"positions {r.shape} and directions {e.shape}: expected two (m, 3) arrays")
     return np.vstack([e.T, np.cross(r, e).T])
 
 
@@ -123,24 +120,27 @@ class Allocation(Result):
             # rev/s → rpm at the edge: the JSON contract states propeller speeds in rpm
             shown = [float(c) * 60.0 if u == "rev/s" else float(c) for c, u in zip(self.command, self.command_unit)]
         T = self.configuration_matrix
-        return jsonable({
-            "vehicle": self.vehicle,
-            "method": self.method,
-            "thrusters": list(self.names),
-            "tau": None if self.tau is None else [float(x) for x in self.tau],
-            "configuration_matrix": None if T is None else [[float(x) for x in row] for row in T],
-            "thrust": [float(x) for x in self.thrust],
-            "thrust_limits": None if self.f_min is None or self.f_max is None else
-            [[float(a), float(b)] for a, b in zip(self.f_min, self.f_max)],
-            "command": shown,
-            "command_unit": ["rpm" if u == "rev/s" else u for u in self.command_unit],
-            "achieved_tau": [float(x) for x in self.achieved_tau],
-            "residual": float(self.residual),
-            "uncontrollable": list(self.uncontrollable),
-            "saturated": list(self.saturated),
-            "warnings": list(self.warnings),
-            "units": {"thrust": "N", "tau": "N, N·m (X,Y,Z,K,M,N)", "configuration_matrix": "-, m"},
-        })
+        return jsonable(
+            {
+                "vehicle": self.vehicle,
+                "method": self.method,
+                "thrusters": list(self.names),
+                "tau": None if self.tau is None else [float(x) for x in self.tau],
+                "configuration_matrix": None if T is None else [[float(x) for x in row] for row in T],
+                "thrust": [float(x) for x in self.thrust],
+                "thrust_limits": None
+                if self.f_min is None or self.f_max is None
+                else [[float(a), float(b)] for a, b in zip(self.f_min, self.f_max)],
+                "command": shown,
+                "command_unit": ["rpm" if u == "rev/s" else u for u in self.command_unit],
+                "achieved_tau": [float(x) for x in self.achieved_tau],
+                "residual": float(self.residual),
+                "uncontrollable": list(self.uncontrollable),
+                "saturated": list(self.saturated),
+                "warnings": list(self.warnings),
+                "units": {"thrust": "N", "tau": "N, N·m (X,Y,Z,K,M,N)", "configuration_matrix": "-, m"},
+            }
+        )
 
     def table(self) -> tuple[list[str], list[list[Any]]]:
         """One row per thruster: name, thrust (N), limits (N), command and its unit."""
@@ -150,14 +150,22 @@ class Allocation(Result):
         hi = self.f_max if self.f_max is not None else [None] * n
         cmd = self.command if self.command is not None else [None] * n
         units = self.command_unit or [""] * n
-        return (["thruster", "thrust", "f_min", "f_max", "command", "command_unit", "saturated"],
-                [[names[i], float(self.thrust[i]), lo[i], hi[i], cmd[i], units[i], names[i] in self.saturated]
-                 for i in range(n)])
+        return (
+            ["thruster", "thrust", "f_min", "f_max", "command", "command_unit", "saturated"],
+            [
+                [names[i], float(self.thrust[i]), lo[i], hi[i], cmd[i], units[i], names[i] in self.saturated]
+                for i in range(n)
+            ],
+        )
 
     def summary_rows(self) -> list[tuple[str, Any]]:
-        return [("method", self.method), ("thrust (N)", [round(float(x), 3) for x in self.thrust]),
-                ("residual", self.residual), ("saturated", ", ".join(self.saturated) or "none"),
-                ("not actuated", ", ".join(self.uncontrollable) or "none")]
+        return [
+            ("method", self.method),
+            ("thrust (N)", [round(float(x), 3) for x in self.thrust]),
+            ("residual", self.residual),
+            ("saturated", ", ".join(self.saturated) or "none"),
+            ("not actuated", ", ".join(self.uncontrollable) or "none"),
+        ]
 
     def plot(self, ax: Any = None) -> Any:
         """Thrust per thruster with its limits on ``ax`` (or new axes); returns the axes."""
@@ -332,9 +340,7 @@ def _polish(T: Array, target: Array, f: Array, lo: Array, hi: Array) -> Array:
     g = np.where(active, fixed, 0.0)
     free = ~active
     g[free] = np.linalg.pinv(T[:, free]) @ (target - T[:, active] @ fixed[active])
-    if np.all(g >= lo) and np.all(g <= hi) and np.linalg.norm(T @ g - target) <= np.linalg.norm(
-        T @ f - target
-    ):
+    if np.all(g >= lo) and np.all(g <= hi) and np.linalg.norm(T @ g - target) <= np.linalg.norm(T @ f - target):
         return g
     return f
 

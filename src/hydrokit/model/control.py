@@ -283,9 +283,7 @@ class Autopilot:
 
     def initial_state(self) -> AutopilotState:
         """Fresh states for every loop."""
-        return AutopilotState(
-            tuple(c.initial_state() if c is not None else AxisState() for c in self._loops())
-        )
+        return AutopilotState(tuple(c.initial_state() if c is not None else AxisState() for c in self._loops()))
 
     def update(
         self, state: AutopilotState, reference: Reference, eta: ArrayLike, nu: ArrayLike, dt: float

@@ -54,11 +54,15 @@ def pack(v: Vehicle) -> Packed:
     M = v.M
     Mc = v.M_coriolis
     return Packed(
-        Minv=np.ascontiguousarray(np.linalg.inv(M)), Mc=np.ascontiguousarray(0.5 * (Mc + Mc.T)),
-        DL=np.ascontiguousarray(v.D_L, dtype=float), DQ=np.ascontiguousarray(v.D_Q, dtype=float),
+        Minv=np.ascontiguousarray(np.linalg.inv(M)),
+        Mc=np.ascontiguousarray(0.5 * (Mc + Mc.T)),
+        DL=np.ascontiguousarray(v.D_L, dtype=float),
+        DQ=np.ascontiguousarray(v.D_Q, dtype=float),
         scal=np.concatenate([[v.weight, v.buoyancy], v.r_g, v.r_b]).astype(float),
-        t_dof=v.terms.dof, t_coef=np.ascontiguousarray(v.terms.coef, dtype=float),
-        t_kind=v.terms.kinds, t_idx=v.terms.idx,
+        t_dof=v.terms.dof,
+        t_coef=np.ascontiguousarray(v.terms.coef, dtype=float),
+        t_kind=v.terms.kinds,
+        t_idx=v.terms.idx,
     )
 
 
@@ -89,7 +93,9 @@ def interp_table(tab: np.ndarray, t: float) -> tuple[np.ndarray, np.ndarray]:
     return tab[k, 1:] + slope * (t - tab[k, 0]), slope
 
 
-def hydro_force(p: Packed, terms_force: Callable[[np.ndarray], np.ndarray], nr: np.ndarray, R: np.ndarray) -> np.ndarray:
+def hydro_force(
+    p: Packed, terms_force: Callable[[np.ndarray], np.ndarray], nr: np.ndarray, R: np.ndarray
+) -> np.ndarray:
     """τ-independent right-hand side −C ν_r − D ν_r + τ_terms − g (N, N·m) at ν_r with rotation R."""
     cor = coriolis_force(p.Mc, nr, symmetric=True)  # p.Mc was symmetrised once in pack()
     damp = p.DL @ nr + p.DQ * np.abs(nr) * nr

@@ -55,8 +55,7 @@ class Path:
         p = np.asarray(self.points, dtype=float)
         if p.ndim != 2 or p.shape[1] != 3 or p.shape[0] < 2:
             raise InputError(
-                f"waypoints: expected at least 2 points of 3 coordinates (x, y, z in m), "
-                f"got shape {p.shape}"
+                f"waypoints: expected at least 2 points of 3 coordinates (x, y, z in m), got shape {p.shape}"
             )
         if not np.all(np.isfinite(p)):
             raise InputError("waypoints: coordinates must be finite numbers")
@@ -69,9 +68,7 @@ class Path:
             )
         s = np.asarray(self.speeds, dtype=float).reshape(-1)
         if s.shape != (p.shape[0] - 1,) or not np.all(np.isfinite(s)) or np.any(s < 0):
-            raise InputError(
-                f"waypoints: expected {p.shape[0] - 1} leg speeds ≥ 0 m/s, got {s.tolist()}"
-            )
+            raise InputError(f"waypoints: expected {p.shape[0] - 1} leg speeds ≥ 0 m/s, got {s.tolist()}")
         R, L = float(self.acceptance_radius), float(self.lookahead)
         if not (math.isfinite(R) and R > 0):
             raise InputError(f"acceptance_radius = {R}: expected a positive distance in m")

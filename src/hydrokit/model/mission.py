@@ -70,14 +70,16 @@ class Mission:
             if kind == "pid":
                 lim = g.get("limit", math.inf)
                 loops[loop] = PID(
-                    kp=g.get("kp", 0.0), ki=g.get("ki", 0.0), kd=g.get("kd", 0.0),
-                    output_min=-lim, output_max=lim, angle=angle,
+                    kp=g.get("kp", 0.0),
+                    ki=g.get("ki", 0.0),
+                    kd=g.get("kd", 0.0),
+                    output_min=-lim,
+                    output_max=lim,
+                    angle=angle,
                 )
             else:
                 loops[loop] = SPlane(k1=g["k1"], k2=g.get("k2", 0.0), scale=g["scale"], angle=angle)
         return Autopilot(**loops)
-
-
 
 
 def create_mission(
@@ -131,14 +133,26 @@ def create_mission(
                 raise InputError(f"gains.{kind}: missing the '{req}' loop")
     if controller not in gains:
         raise InputError(f"gains: no gains for the chosen controller '{controller}'")
-    path = WaypointPath(points=pts, speeds=np.full(len(pts) - 1, float(speed)),
-                        acceptance_radius=float(acceptance_radius), lookahead=float(lookahead))
+    path = WaypointPath(
+        points=pts,
+        speeds=np.full(len(pts) - 1, float(speed)),
+        acceptance_radius=float(acceptance_radius),
+        lookahead=float(lookahead),
+    )
     d = pts[1] - pts[0]
     psi0 = math.atan2(d[1], d[0]) if math.hypot(d[0], d[1]) > 0 else 0.0
     return Mission(
-        name=name, source="<python>", vehicle=str(vehicle), duration=float(duration), dt=float(dt),
-        output_every=int(output_every), controller=controller,
+        name=name,
+        source="<python>",
+        vehicle=str(vehicle),
+        duration=float(duration),
+        dt=float(dt),
+        output_every=int(output_every),
+        controller=controller,
         gains={k: {lp: {g: float(v) for g, v in lg.items()} for lp, lg in loops.items()} for k, loops in gains.items()},
-        path=path, eta0=np.array([*pts[0], 0.0, 0.0, psi0]), nu0=np.zeros(6),
-        current=np.asarray(current, dtype=float), weights=None,
+        path=path,
+        eta0=np.array([*pts[0], 0.0, 0.0, psi0]),
+        nu0=np.zeros(6),
+        current=np.asarray(current, dtype=float),
+        weights=None,
     )

@@ -130,7 +130,8 @@ class _Parser:
     def fail(self, what: str) -> InputError:
         return InputError(
             f"term {self.name!r}: {what} at position {self.i + 1}; expected SNAME form like X_uu, Y_v|v|, "
-            "Z_w*sqrt(v^2+w^2), N_(v/|v|)*|r|, X_udot", self.source,
+            "Z_w*sqrt(v^2+w^2), N_(v/|v|)*|r|, X_udot",
+            self.source,
         )
 
     def peek(self, text: str) -> bool:
@@ -225,8 +226,13 @@ class TermSet:
 
     @staticmethod
     def empty() -> TermSet:
-        return TermSet((), np.zeros(0, np.int64), np.zeros(0), np.zeros((0, MAX_FACTORS), np.int64),
-                       -np.ones((0, MAX_FACTORS, 3), np.int64))
+        return TermSet(
+            (),
+            np.zeros(0, np.int64),
+            np.zeros(0),
+            np.zeros((0, MAX_FACTORS), np.int64),
+            -np.ones((0, MAX_FACTORS, 3), np.int64),
+        )
 
     @staticmethod
     def build(terms: list[tuple[Term, float]]) -> TermSet:

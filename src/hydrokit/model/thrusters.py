@@ -147,13 +147,10 @@ class TableCurve(ThrustCurve):
         f = quantities(self.thrusts, f"{label} thrust_table thrust")
         if len(c) != len(f) or len(c) < 2:
             raise InputError(
-                f"{label} thrust_table: command and thrust need the same length ≥ 2, "
-                f"got {len(c)} and {len(f)}"
+                f"{label} thrust_table: command and thrust need the same length ≥ 2, got {len(c)} and {len(f)}"
             )
         if np.any(np.diff(c) <= 0) or np.any(np.diff(f) <= 0):
-            raise InputError(
-                f"{label} thrust_table: command and thrust must both be strictly increasing"
-            )
+            raise InputError(f"{label} thrust_table: command and thrust must both be strictly increasing")
         object.__setattr__(self, "commands", c)
         object.__setattr__(self, "thrusts", f)
 
@@ -232,8 +229,7 @@ class PropellerCurve(ThrustCurve):
         rng = quantities(self.advance_ratio_range, f"{label} advance_ratio_range", 2)
         if not rng[0] <= 0 < rng[1]:
             raise InputError(
-                f"{label} advance_ratio_range = {list(self.advance_ratio_range)}: "
-                "expected [low ≤ 0, high > 0]"
+                f"{label} advance_ratio_range = {list(self.advance_ratio_range)}: expected [low ≤ 0, high > 0]"
             )
         put("advance_ratio_range", rng)
         put("density", quantity(self.density, f"{label} density", positive=True, unit="kg/m³"))
@@ -323,8 +319,12 @@ class PropellerCurve(ThrustCurve):
 # =============================================================================== thruster
 #: the Thruster fields that describe a curve (the alternative to giving ``curve``)
 _PROPELLER_FIELDS = (
-    "kt_forward", "kt_reverse", "thrust_loss_forward", "thrust_loss_reverse",
-    "advance_ratio_range", "max_speed",
+    "kt_forward",
+    "kt_reverse",
+    "thrust_loss_forward",
+    "thrust_loss_reverse",
+    "advance_ratio_range",
+    "max_speed",
 )
 
 
@@ -385,18 +385,13 @@ class Thruster:
         d = np.asarray(quantities(self.direction, f"{where} direction", 3))
         norm = float(np.linalg.norm(d))
         if norm < 1e-12:
-            raise InputError(
-                f"{where} direction {list(self.direction)} has zero length; "
-                "expected a non-zero 3-vector"
-            )
+            raise InputError(f"{where} direction {list(self.direction)} has zero length; expected a non-zero 3-vector")
         put("position", pos)
         put("direction", tuple(float(x) for x in d / norm))
         fmax = quantity(self.max_thrust, f"{where} max_thrust", positive=True, unit="N")
         fmin = -fmax if self.min_thrust is None else quantity(self.min_thrust, f"{where} min_thrust")
         if fmin > 0:
-            raise InputError(
-                f"{where} min_thrust = {fmin}: expected a reverse thrust ≤ 0 N (negative)"
-            )
+            raise InputError(f"{where} min_thrust = {fmin}: expected a reverse thrust ≤ 0 N (negative)")
         put("max_thrust", fmax)
         put("min_thrust", fmin)
         put("time_constant", quantity(self.time_constant, f"{where} time_constant", nonneg=True, unit="s"))
@@ -413,9 +408,7 @@ class Thruster:
         elif not isinstance(curve, ThrustCurve):
             raise InputError(f"{where} curve = {curve!r}: expected a PropellerCurve, TableCurve or IdealCurve")
         elif built is not None and built != curve:
-            raise InputError(
-                f"{where}: give either 'curve' or the kt_forward/thrust_table fields, not both"
-            )
+            raise InputError(f"{where}: give either 'curve' or the kt_forward/thrust_table fields, not both")
         put("curve", curve)
         curve_d = getattr(curve, "diameter", None)
         if self.diameter is None:
@@ -442,10 +435,14 @@ class Thruster:
         if self.max_speed is None:
             raise InputError(f"{where}: a propeller thruster needs max_rpm (speed limit)")
         return PropellerCurve(
-            diameter=self.diameter, kt_forward=self.kt_forward, max_speed=self.max_speed,
-            kt_reverse=self.kt_reverse, thrust_loss_forward=self.thrust_loss_forward,
+            diameter=self.diameter,
+            kt_forward=self.kt_forward,
+            max_speed=self.max_speed,
+            kt_reverse=self.kt_reverse,
+            thrust_loss_forward=self.thrust_loss_forward,
             thrust_loss_reverse=self.thrust_loss_reverse,
-            advance_ratio_range=self.advance_ratio_range, label=where,
+            advance_ratio_range=self.advance_ratio_range,
+            label=where,
         )
 
     @property

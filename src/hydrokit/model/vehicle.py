@@ -10,10 +10,9 @@ terms (SNAME signs: X_uu < 0 is drag); g(η) from W at r_G and B at r_B.
 
 from __future__ import annotations
 
-from typing import Any
-
 import math
 from dataclasses import dataclass, field
+from typing import Any
 
 import numpy as np
 
@@ -131,8 +130,14 @@ def make_vehicle(
     for fname, v in (("mass", mass), ("volume", volume), ("gravity", gravity), ("fluid.density", density)):
         if not (isinstance(v, (int, float)) and math.isfinite(v) and v > 0):
             raise InputError(f"field '{fname}' = {v}: expected a positive number", source)
-    arrays = {"inertia": inertia, "center_of_gravity": r_g, "center_of_buoyancy": r_b, "added_mass": M_A,
-              "linear_damping": D_L, "quadratic_damping": D_Q}
+    arrays = {
+        "inertia": inertia,
+        "center_of_gravity": r_g,
+        "center_of_buoyancy": r_b,
+        "added_mass": M_A,
+        "linear_damping": D_L,
+        "quadratic_damping": D_Q,
+    }
     for fname, a in arrays.items():
         _check_finite(np.asarray(a, float), fname, source)
     inertia = np.asarray(inertia, float)
@@ -151,21 +156,38 @@ def make_vehicle(
             i, j = np.unravel_index(int(np.argmax(np.abs(M - M.T))), M.shape)
             raise InputError(
                 f"field 'added_mass': M_RB + M_A is not symmetric (entry [{i}][{j}] = {M[i, j]:.6g} vs "
-                f"[{j}][{i}] = {M[j, i]:.6g}); expected a symmetric matrix", source,
+                f"[{j}][{i}] = {M[j, i]:.6g}); expected a symmetric matrix",
+                source,
             )
         M_A = 0.5 * (M_A + M_A.T)
-        warn.append(f"added_mass: M_RB + M_A asymmetric by {asym:.3g} (≤ {SYMMETRY_TOLERANCE:g} of the largest entry); symmetrised")
+        warn.append(
+            f"added_mass: M_RB + M_A asymmetric by {asym:.3g} (≤ {SYMMETRY_TOLERANCE:g} of the largest entry); symmetrised"
+        )
         M = M_RB + M_A
     eig = np.linalg.eigvalsh(M)
     if eig.min() <= 0:
         raise InputError(
             f"field 'added_mass': M_RB + M_A is not positive definite (smallest eigenvalue {eig.min():.4g}); "
-            "expected added-mass magnitudes (−X_udot > 0 …)", source,
+            "expected added-mass magnitudes (−X_udot > 0 …)",
+            source,
         )
     D_Q = np.asarray(D_Q, float)
     if np.any(D_Q < 0):
         warn.append(f"quadratic_damping has negative entries {D_Q.tolist()}: energy is fed in at speed")
-    return Vehicle(name, float(mass), float(volume), float(gravity), float(density), inertia,
-                   np.asarray(r_g, float), np.asarray(r_b, float), M_A, D_L, D_Q,
-                   terms if terms is not None else TermSet.empty(), reference_length, tuple(warn),
-                   bool(added_mass_coriolis))
+    return Vehicle(
+        name,
+        float(mass),
+        float(volume),
+        float(gravity),
+        float(density),
+        inertia,
+        np.asarray(r_g, float),
+        np.asarray(r_b, float),
+        M_A,
+        D_L,
+        D_Q,
+        terms if terms is not None else TermSet.empty(),
+        reference_length,
+        tuple(warn),
+        bool(added_mass_coriolis),
+    )

@@ -25,7 +25,9 @@ def force_fit_axes(U: np.ndarray, F: np.ndarray, fit: Any, ax: Any = None) -> An
     ax.plot(U, F, "o", ms=4, color="0.3", label="data")
     u = np.linspace(min(0.0, U.min()), U.max(), 200)
     ax.plot(u, fit.chin(u), "-", label=f"Chin: K_L = {fit.K_L:.4g}, K_Q = {fit.K_Q:.4g} (R² = {fit.r2_chin:.4f})")
-    ax.plot(u, fit.morison(u), "--", label=f"Morison: K_D = {fit.K_D:.4g}, C_D = {fit.C_D:.4g} (R² = {fit.r2_morison:.4f})")
+    ax.plot(
+        u, fit.morison(u), "--", label=f"Morison: K_D = {fit.K_D:.4g}, C_D = {fit.C_D:.4g} (R² = {fit.r2_morison:.4f})"
+    )
     ax.set_xlabel("speed (m/s)")
     ax.set_ylabel("force (N)")
     ax.grid(alpha=0.3)

@@ -39,8 +39,12 @@ def coefficients_vs_reynolds(groups: Mapping[str, Sequence[Any]], title: str = "
     (axis or method). ``groups`` maps a label to LaunchResults."""
     fig = new_figure((8, 5.5))
     axes = fig.subplots(2, 2)
-    panels = (("added_mass_coefficient", "C_m = m_a/(ρV)"), ("drag_coefficient", "C_D"),
-              ("linear_damping", "K_L"), ("quadratic_damping", "K_Q"))
+    panels = (
+        ("added_mass_coefficient", "C_m = m_a/(ρV)"),
+        ("drag_coefficient", "C_D"),
+        ("linear_damping", "K_L"),
+        ("quadratic_damping", "K_Q"),
+    )
     for ax, (field, label) in zip(axes.flat, panels):
         for i, (name, results) in enumerate(groups.items()):
             re = [r.reynolds_max for r in results if getattr(r, field) is not None]
@@ -74,8 +78,9 @@ def drag_per_cycle(cycles: Sequence[dict[str, Any]], title: str = "") -> Any:
     return fig
 
 
-def campaign_axes(results: Sequence[Any], coefficient: str, summary: dict[str, Any], unit: str,
-                  ax: Any = None, title: str = "") -> Any:
+def campaign_axes(
+    results: Sequence[Any], coefficient: str, summary: dict[str, Any], unit: str, ax: Any = None, title: str = ""
+) -> Any:
     """One coefficient per launch against the launch amplitude, with the campaign mean and its
     confidence interval as a band; rejected launches (outliers) drawn hollow. Returns the axes.
 
@@ -88,10 +93,16 @@ def campaign_axes(results: Sequence[Any], coefficient: str, summary: dict[str, A
     """
     ax = axes_or_new(ax)
     rejected = set(summary.get("rejected") or [])
-    keep = [(r.amplitude, getattr(r, coefficient)) for r in results
-            if getattr(r, coefficient) is not None and r.file not in rejected]
-    out = [(r.amplitude, getattr(r, coefficient)) for r in results
-           if getattr(r, coefficient) is not None and r.file in rejected]
+    keep = [
+        (r.amplitude, getattr(r, coefficient))
+        for r in results
+        if getattr(r, coefficient) is not None and r.file not in rejected
+    ]
+    out = [
+        (r.amplitude, getattr(r, coefficient))
+        for r in results
+        if getattr(r, coefficient) is not None and r.file in rejected
+    ]
     if keep:
         ax.plot(*zip(*keep), "o", ms=4, color="C0", label="launch")
     if out:

@@ -36,9 +36,11 @@ def path_figure(runs: Mapping[str, ClosedLoopResult], title: str = "") -> Any:
     ax3.set_zlabel("z depth [m]")
     ax3.invert_zaxis()
     ax3.legend(fontsize=8)
-    panels = [((0, 1), "x north [m]", "y east [m]", False),
-              ((0, 2), "x north [m]", "z depth [m]", True),
-              ((1, 2), "y east [m]", "z depth [m]", True)]
+    panels = [
+        ((0, 1), "x north [m]", "y east [m]", False),
+        ((0, 2), "x north [m]", "z depth [m]", True),
+        ((1, 2), "y east [m]", "z depth [m]", True),
+    ]
     for k, ((i, j), xl, yl, invert) in enumerate(panels, start=2):
         ax = fig.add_subplot(2, 2, k)
         ax.plot(wp[:, i], wp[:, j], "k--", lw=1.2, label="planned")

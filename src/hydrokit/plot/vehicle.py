@@ -8,8 +8,10 @@ import numpy as np
 
 from hydrokit.plot._mpl import axes_or_new, new_figure
 
-LABELS = (("x (m)", "y (m)", "z (m)", "φ (°)", "θ (°)", "ψ (°)"),
-          ("u (m/s)", "v (m/s)", "w (m/s)", "p (°/s)", "q (°/s)", "r (°/s)"))
+LABELS = (
+    ("x (m)", "y (m)", "z (m)", "φ (°)", "θ (°)", "ψ (°)"),
+    ("u (m/s)", "v (m/s)", "w (m/s)", "p (°/s)", "q (°/s)", "r (°/s)"),
+)
 
 
 def states_figure(traj: Any, title: str = "") -> Any:

@@ -82,7 +82,7 @@ def page(title: str, body_parts: Iterable[str]) -> str:
     """A whole HTML document with inline CSS; ``body_parts`` are already-safe HTML fragments."""
     body = "\n".join(body_parts)
     return (
-        "<!DOCTYPE html>\n<html lang=\"en\"><head><meta charset=\"utf-8\">"
+        '<!DOCTYPE html>\n<html lang="en"><head><meta charset="utf-8">'
         f"<title>{esc(title)}</title><style>{CSS}</style></head>"
         f"<body><h1>{esc(title)}</h1>\n{body}\n</body></html>\n"
     )

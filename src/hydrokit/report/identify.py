@@ -14,9 +14,15 @@ from typing import Any
 
 from hydrokit.report.html import esc, figure, fmt, page, table, warnings_block
 
-COEFS = (("added_mass", "m_a"), ("added_mass_coefficient", "C_m"), ("linear_damping", "K_L"),
-         ("quadratic_damping", "K_Q"), ("drag_coefficient", "C_D"), ("natural_frequency", "ω_n (rad/s)"),
-         ("damping_ratio", "ζ"))
+COEFS = (
+    ("added_mass", "m_a"),
+    ("added_mass_coefficient", "C_m"),
+    ("linear_damping", "K_L"),
+    ("quadratic_damping", "K_Q"),
+    ("drag_coefficient", "C_D"),
+    ("natural_frequency", "ω_n (rad/s)"),
+    ("damping_ratio", "ζ"),
+)
 
 
 @dataclass
@@ -55,8 +61,10 @@ def run_section(run: Run) -> str:
 
     units = _units(run.rig)
     parts = [f"<h2>{esc(run.title)}</h2>"]
-    parts.append(f"<p>rig file: <code>{esc(run.rig.source)}</code>; test {esc(run.rig.test)}, axis {esc(run.rig.axis)}; "
-                 "values are mean ± standard deviation over launches [95 % confidence interval of the mean].</p>")
+    parts.append(
+        f"<p>rig file: <code>{esc(run.rig.source)}</code>; test {esc(run.rig.test)}, axis {esc(run.rig.axis)}; "
+        "values are mean ± standard deviation over launches [95 % confidence interval of the mean].</p>"
+    )
     header = ["method", "n"] + [f"{lab} ({units[k]})" if k in units else lab for k, lab in COEFS]
     rows = []
     warn: list[str] = []
@@ -74,23 +82,62 @@ def run_section(run: Run) -> str:
         srows = []
         for method, doc in run.documents.items():
             s = doc["summary"]
-            vals = {k: s[k]["mean"] for k in ("added_mass", "linear_damping", "quadratic_damping") if s[k]["mean"] is not None}
+            vals = {
+                k: s[k]["mean"]
+                for k in ("added_mass", "linear_damping", "quadratic_damping")
+                if s[k]["mean"] is not None
+            }
             full = scale_coefficients(vals, lam, run.rig.rotational)
             srows.append([method] + [fmt(full.get(k)) for k in ("added_mass", "linear_damping", "quadratic_damping")])
         parts.append(f"<h3>Full scale (λ = {fmt(lam)}; equal C_D at equal speed, not Reynolds similarity)</h3>")
-        parts.append(table(["method", f"m_a ({units['added_mass']})", f"K_L ({units['linear_damping']})",
-                            f"K_Q ({units['quadratic_damping']})"], srows))
+        parts.append(
+            table(
+                [
+                    "method",
+                    f"m_a ({units['added_mass']})",
+                    f"K_L ({units['linear_damping']})",
+                    f"K_Q ({units['quadratic_damping']})",
+                ],
+                srows,
+            )
+        )
     first = next(iter(run.documents.values()))
     pw = first.get("pairwise", {}).get("added_mass", [])
     if pw:
-        parts.append(f"<h3>Amplitude groups compared (added mass, {esc(next(iter(run.documents)))}; two-sided rank-sum, normal approximation)</h3>")
-        parts.append(table(["groups", "U", "z", "p"], [[" vs ".join(p["pair"]), fmt(p["u"]), fmt(p["z"], 3), fmt(p["p"], 3)] for p in pw]))
+        parts.append(
+            f"<h3>Amplitude groups compared (added mass, {esc(next(iter(run.documents)))}; two-sided rank-sum, normal approximation)</h3>"
+        )
+        parts.append(
+            table(
+                ["groups", "U", "z", "p"],
+                [[" vs ".join(p["pair"]), fmt(p["u"]), fmt(p["z"], 3), fmt(p["p"], 3)] for p in pw],
+            )
+        )
     launches = first["launches"]
-    parts.append("<details><summary>Per-launch results (" + esc(next(iter(run.documents))) + f", {len(launches)} launches)</summary>")
-    parts.append(table(["file", "amplitude", "m_a", "K_L", "K_Q", "C_D", "Re_max", "KC", "RMS residual"],
-                       [[L["file"].split("/")[-1], fmt(L["amplitude"]), fmt(L["added_mass"]), fmt(L["linear_damping"]),
-                         fmt(L["quadratic_damping"]), fmt(L["drag_coefficient"]), fmt(L["reynolds_max"], 3), fmt(L["kc"], 3),
-                         fmt(L["rms_residual"], 3)] for L in launches]))
+    parts.append(
+        "<details><summary>Per-launch results ("
+        + esc(next(iter(run.documents)))
+        + f", {len(launches)} launches)</summary>"
+    )
+    parts.append(
+        table(
+            ["file", "amplitude", "m_a", "K_L", "K_Q", "C_D", "Re_max", "KC", "RMS residual"],
+            [
+                [
+                    L["file"].split("/")[-1],
+                    fmt(L["amplitude"]),
+                    fmt(L["added_mass"]),
+                    fmt(L["linear_damping"]),
+                    fmt(L["quadratic_damping"]),
+                    fmt(L["drag_coefficient"]),
+                    fmt(L["reynolds_max"], 3),
+                    fmt(L["kc"], 3),
+                    fmt(L["rms_residual"], 3),
+                ]
+                for L in launches
+            ],
+        )
+    )
     parts.append("</details>")
     for png, cap in run.figures:
         parts.append(figure(png, cap))
@@ -102,7 +149,9 @@ def run_section(run: Run) -> str:
     return "\n".join(parts)
 
 
-def identify_report(title: str, runs: Sequence[Run], intro: str = "", closing_figures: Sequence[tuple[bytes, str]] = ()) -> str:
+def identify_report(
+    title: str, runs: Sequence[Run], intro: str = "", closing_figures: Sequence[tuple[bytes, str]] = ()
+) -> str:
     """The whole HTML document."""
     parts = []
     if intro:

@@ -4,8 +4,8 @@ uncertainty). Each vehicle is integrated by the compiled RK4 on its own core thr
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
 from collections.abc import Sequence
+from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
@@ -52,18 +52,35 @@ class BatchTrajectory(Result):
 
     def to_dict(self) -> dict[str, Any]:
         """Times, final states and steps of every vehicle (JSON-ready; SI)."""
-        return jsonable({"attitude": self.attitude, "time": self.time, "final_states": self.states[:, -1, :],
-                         "steps": self.steps, "vehicles": len(self)})
+        return jsonable(
+            {
+                "attitude": self.attitude,
+                "time": self.time,
+                "final_states": self.states[:, -1, :],
+                "steps": self.steps,
+                "vehicles": len(self),
+            }
+        )
 
     def table(self) -> tuple[list[str], list[list[Any]]]:
         """One row per vehicle: its index and final state (Euler attitude only)."""
-        cols = ["vehicle", *(STATE_COLUMNS[1:] if self.attitude == "euler" else
-                             ("x", "y", "z", "q0", "q1", "q2", "q3", "u", "v", "w", "p", "q", "r"))]
+        cols = [
+            "vehicle",
+            *(
+                STATE_COLUMNS[1:]
+                if self.attitude == "euler"
+                else ("x", "y", "z", "q0", "q1", "q2", "q3", "u", "v", "w", "p", "q", "r")
+            ),
+        ]
         return cols, [[k, *map(float, self.states[k, -1, :])] for k in range(len(self))]
 
     def summary_rows(self) -> list[tuple[str, Any]]:
-        return [("vehicles", len(self)), ("duration (s)", float(self.time[-1])), ("samples", self.time.size),
-                ("failed", len(self.failed))]
+        return [
+            ("vehicles", len(self)),
+            ("duration (s)", float(self.time[-1])),
+            ("samples", self.time.size),
+            ("failed", len(self.failed)),
+        ]
 
     def plot(self, ax: Any = None) -> Any:
         """Horizontal paths of every vehicle on ``ax`` (or new axes); returns the axes."""
@@ -111,8 +128,12 @@ def simulate_batch(
     packs = [pack(v) for v in vehicles]
     n_terms = packs[0].t_dof.size
     for k, p in enumerate(packs):
-        if p.t_dof.size != n_terms or not (np.array_equal(p.t_kind, packs[0].t_kind) and np.array_equal(p.t_dof, packs[0].t_dof)):
-            raise InputError(f"vehicle {k} has other derivative terms than vehicle 0; a batch shares one term structure")
+        if p.t_dof.size != n_terms or not (
+            np.array_equal(p.t_kind, packs[0].t_kind) and np.array_equal(p.t_dof, packs[0].t_dof)
+        ):
+            raise InputError(
+                f"vehicle {k} has other derivative terms than vehicle 0; a batch shares one term structure"
+            )
     stack = lambda name: np.ascontiguousarray(np.stack([getattr(p, name) for p in packs]))  # noqa: E731
     tau = np.asarray(tau, float)
     taus = np.broadcast_to(tau, (nv, 6)) if tau.ndim <= 1 else tau
@@ -131,7 +152,24 @@ def simulate_batch(
     n_out = n_steps // every + 1
     out = np.empty((nv, n_out, dim))
     done = np.empty(nv, dtype=np.int64)
-    rk4_batch(x0, float(dt), n_steps, every, quat, tau_tab, current_table(current_ned), stack("Minv"), stack("Mc"),
-              stack("DL"), stack("DQ"), stack("scal"), packs[0].t_dof, stack("t_coef"), packs[0].t_kind,
-              packs[0].t_idx, out, done)
+    rk4_batch(
+        x0,
+        float(dt),
+        n_steps,
+        every,
+        quat,
+        tau_tab,
+        current_table(current_ned),
+        stack("Minv"),
+        stack("Mc"),
+        stack("DL"),
+        stack("DQ"),
+        stack("scal"),
+        packs[0].t_dof,
+        stack("t_coef"),
+        packs[0].t_kind,
+        packs[0].t_idx,
+        out,
+        done,
+    )
     return BatchTrajectory(np.arange(n_out) * dt * every, out, done, attitude)

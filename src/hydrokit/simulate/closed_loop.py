@@ -141,11 +141,17 @@ def run_closed_loop(
 
     n_out = n_steps // output_every + 1
     rec = {
-        "time": np.empty(n_out), "eta": np.empty((n_out, 6)), "nu": np.empty((n_out, 6)),
-        "reference": np.empty((n_out, 3)), "tau_demand": np.empty((n_out, 6)),
-        "command_demand": np.empty((n_out, m)), "command": np.empty((n_out, m)),
-        "thrust_demand": np.empty((n_out, m)), "thrust": np.empty((n_out, m)),
-        "limited": np.zeros(n_out, dtype=bool), "leg": np.empty(n_out, dtype=int),
+        "time": np.empty(n_out),
+        "eta": np.empty((n_out, 6)),
+        "nu": np.empty((n_out, 6)),
+        "reference": np.empty((n_out, 3)),
+        "tau_demand": np.empty((n_out, 6)),
+        "command_demand": np.empty((n_out, m)),
+        "command": np.empty((n_out, m)),
+        "thrust_demand": np.empty((n_out, m)),
+        "thrust": np.empty((n_out, m)),
+        "limited": np.zeros(n_out, dtype=bool),
+        "leg": np.empty(n_out, dtype=int),
     }
     x = np.concatenate([np.asarray(eta0, float), np.asarray(nu0, float)])
     c = np.zeros(m)
@@ -175,8 +181,7 @@ def run_closed_loop(
         c_mean = c_cmd + (c - c_cmd) * mean_w
         f_act = thrusters.thrust(c_mean, va)
         sat = limited or bool(
-            np.any(c_cmd >= thrusters.command_max * (1 - 1e-9))
-            or np.any(c_cmd <= thrusters.command_min * (1 - 1e-9))
+            np.any(c_cmd >= thrusters.command_max * (1 - 1e-9)) or np.any(c_cmd <= thrusters.command_min * (1 - 1e-9))
         )
         if k % output_every == 0:
             rec["time"][j] = t

@@ -190,7 +190,9 @@ def deriv(t, x, quat, tau_tab, cur_tab, Minv, Mc, DL, DQ, scal, t_dof, t_coef, t
 
 
 @numba.njit(cache=True)
-def rk4_run(x0, t0, dt, n_steps, every, quat, tau_tab, cur_tab, Minv, Mc, DL, DQ, scal, t_dof, t_coef, t_kind, t_idx, out):  # noqa: ANN001, ANN201
+def rk4_run(
+    x0, t0, dt, n_steps, every, quat, tau_tab, cur_tab, Minv, Mc, DL, DQ, scal, t_dof, t_coef, t_kind, t_idx, out
+):  # noqa: ANN001, ANN201
     """Integrate n_steps RK4 steps from x0; store every ``every``-th state in ``out`` (rows).
 
     Returns the number of steps taken (< n_steps if the state became non-finite).
@@ -233,13 +235,33 @@ def rk4_run(x0, t0, dt, n_steps, every, quat, tau_tab, cur_tab, Minv, Mc, DL, DQ
 
 
 @numba.njit(cache=True, parallel=True)
-def rk4_batch(x0, dt, n_steps, every, quat, tau_tab, cur_tab, Minv, Mc, DL, DQ, scal, t_dof, t_coef, t_kind, t_idx, out, done):  # noqa: ANN001, ANN201
+def rk4_batch(
+    x0, dt, n_steps, every, quat, tau_tab, cur_tab, Minv, Mc, DL, DQ, scal, t_dof, t_coef, t_kind, t_idx, out, done
+):  # noqa: ANN001, ANN201
     """Many vehicles at once: leading axis of x0, tau_tab, Minv, Mc, DL, DQ, scal, t_coef and
     out is the vehicle; ``done`` receives each vehicle's number of steps taken."""
     nv = x0.shape[0]
     for k in numba.prange(nv):
-        done[k] = rk4_run(x0[k], 0.0, dt, n_steps, every, quat, tau_tab[k], cur_tab, Minv[k], Mc[k], DL[k], DQ[k],
-                          scal[k], t_dof, t_coef[k], t_kind, t_idx, out[k])
+        done[k] = rk4_run(
+            x0[k],
+            0.0,
+            dt,
+            n_steps,
+            every,
+            quat,
+            tau_tab[k],
+            cur_tab,
+            Minv[k],
+            Mc[k],
+            DL[k],
+            DQ[k],
+            scal[k],
+            t_dof,
+            t_coef[k],
+            t_kind,
+            t_idx,
+            out[k],
+        )
 
 
 def make_dynamics(vehicle, current_ned=None, attitude: str = "euler"):  # noqa: ANN001, ANN201

@@ -13,8 +13,8 @@ from typing import Any
 
 import numpy as np
 
-from hydrokit.core.kinematics import PITCH_WARNING, euler_to_quaternion, quaternion_to_euler
 from hydrokit._result import Result, jsonable
+from hydrokit.core.kinematics import PITCH_WARNING, euler_to_quaternion, quaternion_to_euler
 from hydrokit.core.names import STATE_COLUMNS
 from hydrokit.errors import InputError, SimulationError
 from hydrokit.model.dynamics import current_table, pack, vehicle_dynamics
@@ -51,14 +51,18 @@ class Trajectory(Result):
 
     def to_dict(self) -> dict[str, Any]:
         """Columns and values (SI) and the warnings, JSON-ready."""
-        return jsonable({"columns": list(COLUMNS), "time": self.time, "eta": self.eta, "nu": self.nu,
-                         "warnings": self.warnings})
+        return jsonable(
+            {"columns": list(COLUMNS), "time": self.time, "eta": self.eta, "nu": self.nu, "warnings": self.warnings}
+        )
 
     def summary_rows(self) -> list[tuple[str, Any]]:
-        return [("duration (s)", float(self.time[-1])), ("samples", int(self.time.size)),
-                ("final position (m)", [round(float(v), 4) for v in self.eta[-1, :3]]),
-                ("final velocity (m/s, rad/s)", [round(float(v), 4) for v in self.nu[-1]]),
-                ("warnings", len(self.warnings))]
+        return [
+            ("duration (s)", float(self.time[-1])),
+            ("samples", int(self.time.size)),
+            ("final position (m)", [round(float(v), 4) for v in self.eta[-1, :3]]),
+            ("final velocity (m/s, rad/s)", [round(float(v), 4) for v in self.nu[-1]]),
+            ("warnings", len(self.warnings)),
+        ]
 
     def plot(self, ax: Any = None) -> Any:
         """Horizontal path (east across, north up) on ``ax`` (or new axes); returns the axes."""
@@ -139,11 +143,31 @@ def simulate(
 
         p = pack(vehicle)
         out = np.empty((n_steps // output_every + 1, x0.size))
-        done = rk4_run(x0, 0.0, float(dt), n_steps, output_every, quat, ttab, ctab, p.Minv, p.Mc, p.DL, p.DQ, p.scal,
-                       p.t_dof, p.t_coef, p.t_kind, p.t_idx, out)
+        done = rk4_run(
+            x0,
+            0.0,
+            float(dt),
+            n_steps,
+            output_every,
+            quat,
+            ttab,
+            ctab,
+            p.Minv,
+            p.Mc,
+            p.DL,
+            p.DQ,
+            p.scal,
+            p.t_dof,
+            p.t_coef,
+            p.t_kind,
+            p.t_idx,
+            out,
+        )
         if done < n_steps:
-            raise SimulationError(f"the state became non-finite at t = {(done + 1) * dt:.6g} s (step {done + 1}); "
-                                  "check the coefficients' signs and the step size")
+            raise SimulationError(
+                f"the state became non-finite at t = {(done + 1) * dt:.6g} s (step {done + 1}); "
+                "check the coefficients' signs and the step size"
+            )
         states = out
         times = np.arange(states.shape[0]) * dt * output_every
         if progress is not None:
@@ -151,6 +175,7 @@ def simulate(
     else:
         f = vehicle_dynamics(vehicle, current_ned, attitude)
         if ttab is None:
+
             def rhs(t: float, x: np.ndarray) -> np.ndarray:
                 eta = _eta(x, quat)
                 nu = x[-6:]
@@ -160,6 +185,7 @@ def simulate(
 
             def rhs(t: float, x: np.ndarray) -> np.ndarray:
                 return f(t, x, interp_table(ttab, t)[0])
+
         if integrator in ("rk4", "rk4-numpy"):
             prog = None if progress is None else (lambda k: progress(k * dt))
             times, states = _rk4(rhs, x0, dt, n_steps, output_every, prog)
@@ -171,8 +197,10 @@ def simulate(
     eta = np.array([_eta(s, quat) for s in states]) if quat else states[:, :6]
     nu = states[:, -6:]
     if not quat and np.any(np.abs(eta[:, 4]) > PITCH_WARNING):
-        warnings.append(f"pitch reached {math.degrees(float(np.max(np.abs(eta[:, 4])))):.1f}°: Euler angles are near their "
-                        "singularity at ±90°; use --attitude quaternion")
+        warnings.append(
+            f"pitch reached {math.degrees(float(np.max(np.abs(eta[:, 4])))):.1f}°: Euler angles are near their "
+            "singularity at ±90°; use --attitude quaternion"
+        )
     return Trajectory(times, eta, nu, warnings)
 
 

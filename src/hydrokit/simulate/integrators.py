@@ -13,8 +13,9 @@ from hydrokit.errors import SimulationError
 Rhs = Callable[[float, np.ndarray], np.ndarray]
 
 
-def rk4_step(f: Callable[..., np.ndarray], t: float, x: np.ndarray, h: float, *,
-             u: np.ndarray | None = None) -> np.ndarray:
+def rk4_step(
+    f: Callable[..., np.ndarray], t: float, x: np.ndarray, h: float, *, u: np.ndarray | None = None
+) -> np.ndarray:
     """One classical Runge–Kutta step of ẋ = f(t, x), or of ẋ = f(t, x, u) with u held.
 
     The one RK4 step of the package: the open-loop driver calls it without ``u``, the
@@ -51,8 +52,9 @@ def rk4_step(f: Callable[..., np.ndarray], t: float, x: np.ndarray, h: float, *,
     return x + h / 6.0 * (k1 + 2 * k2 + 2 * k3 + k4)
 
 
-def rk4(f: Rhs, x0: np.ndarray, dt: float, n_steps: int, every: int = 1,
-        progress: Callable[[int], None] | None = None) -> tuple[np.ndarray, np.ndarray]:
+def rk4(
+    f: Rhs, x0: np.ndarray, dt: float, n_steps: int, every: int = 1, progress: Callable[[int], None] | None = None
+) -> tuple[np.ndarray, np.ndarray]:
     """Fixed-step RK4 from t = 0; returns (times, states) of every ``every``-th step.
 
     Raises SimulationError at the first non-finite state, naming the time.
@@ -68,8 +70,10 @@ def rk4(f: Rhs, x0: np.ndarray, dt: float, n_steps: int, every: int = 1,
     for k in range(n_steps):
         x = rk4_step(f, k * dt, x, dt)
         if not np.all(np.isfinite(x)):
-            raise SimulationError(f"the state became non-finite at t = {(k + 1) * dt:.6g} s (step {k + 1}); "
-                                  "check the coefficients' signs and the step size")
+            raise SimulationError(
+                f"the state became non-finite at t = {(k + 1) * dt:.6g} s (step {k + 1}); "
+                "check the coefficients' signs and the step size"
+            )
         if (k + 1) % every == 0:
             out[j] = x
             times[j] = (k + 1) * dt
@@ -79,8 +83,15 @@ def rk4(f: Rhs, x0: np.ndarray, dt: float, n_steps: int, every: int = 1,
     return times[:j], out[:j]
 
 
-def adaptive(f: Rhs, x0: np.ndarray, duration: float, t_eval: np.ndarray, method: str = "DOP853",
-             rtol: float = 1e-8, atol: float = 1e-10) -> tuple[np.ndarray, np.ndarray]:
+def adaptive(
+    f: Rhs,
+    x0: np.ndarray,
+    duration: float,
+    t_eval: np.ndarray,
+    method: str = "DOP853",
+    rtol: float = 1e-8,
+    atol: float = 1e-10,
+) -> tuple[np.ndarray, np.ndarray]:
     """scipy.integrate.solve_ivp (DOP853 or RK45) sampled at ``t_eval``."""
     from scipy.integrate import solve_ivp
 
@@ -88,8 +99,9 @@ def adaptive(f: Rhs, x0: np.ndarray, duration: float, t_eval: np.ndarray, method
         return 1.0 if np.all(np.isfinite(x)) and np.max(np.abs(x)) < 1e12 else -1.0
 
     event.terminal = True  # type: ignore[attr-defined]
-    sol = solve_ivp(f, (0.0, duration), np.asarray(x0, float), method=method, t_eval=t_eval, rtol=rtol,
-                    atol=atol, events=event)
+    sol = solve_ivp(
+        f, (0.0, duration), np.asarray(x0, float), method=method, t_eval=t_eval, rtol=rtol, atol=atol, events=event
+    )
     if sol.status == 1 or not sol.success or not np.all(np.isfinite(sol.y)):
         t_bad = float(sol.t[-1]) if sol.t.size else math.nan
         raise SimulationError(f"the state became non-finite near t = {t_bad:.6g} s ({sol.message})")

@@ -27,10 +27,16 @@ from hydrokit.simulate.closed_loop import ClosedLoopResult, run_closed_loop
 CONTROLLER_LABEL = {"pid": "PID", "s-plane": "S-plane"}
 #: units of the tracking and effort metrics (what metrics.json states)
 METRIC_UNITS = {
-    "cross_track_rms": "m", "cross_track_max": "m", "depth_error_rms": "m",
-    "heading_error_rms": "rad", "waypoint_times": "s", "final_time": "s",
-    "thrust_impulse": "N s", "thruster_energy": "J (ideal actuator-disk, lower bound)",
-    "saturation_time": "s", "saturation_fraction": "-",
+    "cross_track_rms": "m",
+    "cross_track_max": "m",
+    "depth_error_rms": "m",
+    "heading_error_rms": "rad",
+    "waypoint_times": "s",
+    "final_time": "s",
+    "thrust_impulse": "N s",
+    "thruster_energy": "J (ideal actuator-disk, lower bound)",
+    "saturation_time": "s",
+    "saturation_fraction": "-",
 }
 #: the unit of a thruster command, by curve kind
 COMMAND_UNITS = {"propeller": "rev/s", "table": "table command", "ideal": "N"}
@@ -57,7 +63,7 @@ class MissionResult(Result):
 
     @property
     def label(self) -> str:
-        """"PID" or "S-plane"."""
+        """ "PID" or "S-plane"."""
         return CONTROLLER_LABEL[self.controller]
 
     @property
@@ -77,12 +83,16 @@ class MissionResult(Result):
 
     def to_dict(self) -> dict[str, Any]:
         """Metrics of the run with their units (the per-controller entry of metrics.json)."""
-        return jsonable({
-            "mission": self.mission.name, "controller": self.label, "metrics": self.metrics,
-            "thrusters": self.thrusters.names,
-            "command_units": [COMMAND_UNITS[t.model] for t in self.thrusters.thrusters],
-            "units": METRIC_UNITS,
-        })
+        return jsonable(
+            {
+                "mission": self.mission.name,
+                "controller": self.label,
+                "metrics": self.metrics,
+                "thrusters": self.thrusters.names,
+                "command_units": [COMMAND_UNITS[t.model] for t in self.thrusters.thrusters],
+                "units": METRIC_UNITS,
+            }
+        )
 
     def table(self) -> tuple[list[str], list[list[Any]]]:
         """Columns and rows of the trajectory: state, thruster commands and thrusts, saturation, leg."""
@@ -94,8 +104,12 @@ class MissionResult(Result):
         r = self.run
         cols = list(STATE_COLUMNS)
         blocks = [r.time[:, None], r.eta, r.nu]
-        for prefix, arr in (("cmd_demand_", r.command_demand), ("cmd_", r.command),
-                            ("thrust_demand_", r.thrust_demand), ("thrust_", r.thrust)):
+        for prefix, arr in (
+            ("cmd_demand_", r.command_demand),
+            ("cmd_", r.command),
+            ("thrust_demand_", r.thrust_demand),
+            ("thrust_", r.thrust),
+        ):
             cols += [prefix + n for n in r.thruster_names]
             blocks.append(arr)
         cols += ["saturated", "leg"]
@@ -104,11 +118,16 @@ class MissionResult(Result):
 
     def summary_rows(self) -> list[tuple[str, Any]]:
         m = self.metrics
-        return [("mission", self.mission.name), ("controller", self.label),
-                ("cross-track RMS (m)", m["cross_track_rms"]), ("cross-track max (m)", m["cross_track_max"]),
-                ("depth error RMS (m)", m["depth_error_rms"]),
-                ("heading error RMS (deg)", math.degrees(m["heading_error_rms"])),
-                ("completed", m["completed"]), ("final time (s)", m["final_time"])]
+        return [
+            ("mission", self.mission.name),
+            ("controller", self.label),
+            ("cross-track RMS (m)", m["cross_track_rms"]),
+            ("cross-track max (m)", m["cross_track_max"]),
+            ("depth error RMS (m)", m["depth_error_rms"]),
+            ("heading error RMS (deg)", math.degrees(m["heading_error_rms"])),
+            ("completed", m["completed"]),
+            ("final time (s)", m["final_time"]),
+        ]
 
     def plot(self, ax: Any = None) -> Any:
         """Planned and flown horizontal path on ``ax`` (or new axes); returns the axes."""
@@ -169,8 +188,17 @@ def fly_mission(
     current = mission.current if current_ned is None else np.asarray(current_ned, dtype=float)
     autopilot = mission.autopilot(kind)
     run = run_closed_loop(
-        make_dynamics(vehicle, current), thrusters, autopilot, mission.path, mission.eta0, mission.nu0,
-        duration=T, dt=mission.dt, current_ned=current, weights=mission.weights,
-        output_every=mission.output_every, progress=progress,
+        make_dynamics(vehicle, current),
+        thrusters,
+        autopilot,
+        mission.path,
+        mission.eta0,
+        mission.nu0,
+        duration=T,
+        dt=mission.dt,
+        current_ned=current,
+        weights=mission.weights,
+        output_every=mission.output_every,
+        progress=progress,
     )
     return MissionResult(mission, kind, run, thrusters, run.metrics(thrusters))
