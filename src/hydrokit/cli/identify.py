@@ -94,21 +94,14 @@ def _print_summary(doc: dict[str, Any], rig: Any) -> None:
     from rich.console import Console
     from rich.table import Table
 
+    from hydrokit.identify.campaign import SUMMARY_FIELDS
     from hydrokit.report.html import fmt
 
     u = doc["units"]
     tab = Table(title=f"{rig.test} rig, {rig.axis}: {doc['method']} ({len(doc['launches'])} launches)")
     for col in ("coefficient", "mean", "std", "95 % CI", "n", "rejected"):
         tab.add_column(col, justify="left" if col == "coefficient" else "right")
-    for key in (
-        "added_mass",
-        "added_mass_coefficient",
-        "linear_damping",
-        "quadratic_damping",
-        "drag_coefficient",
-        "natural_frequency",
-        "damping_ratio",
-    ):
+    for key in SUMMARY_FIELDS[:7]:  # the coefficients, without Re and KC
         s = doc["summary"][key]
         if s["mean"] is None:
             continue

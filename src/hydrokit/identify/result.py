@@ -16,26 +16,13 @@ import numpy as np
 
 from hydrokit._result import Result, html_table, jsonable
 from hydrokit.errors import InputError
-from hydrokit.identify.campaign import group_by_amplitude, rank_sum_pairs, summarize
+from hydrokit.identify.campaign import SUMMARY_FIELDS, group_by_amplitude, rank_sum_pairs, summarize
 from hydrokit.identify.scaling import scale_coefficients
 from hydrokit.identify.types import METHODS, Launch, LaunchResult, Rig, rig_document
 
 COEFFS = ("added_mass", "linear_damping", "quadratic_damping")
 #: the per-launch columns of :meth:`CampaignResult.table`
-LAUNCH_COLUMNS = (
-    "file",
-    "amplitude",
-    "added_mass",
-    "added_mass_coefficient",
-    "linear_damping",
-    "quadratic_damping",
-    "drag_coefficient",
-    "natural_frequency",
-    "damping_ratio",
-    "reynolds_max",
-    "kc",
-    "rms_residual",
-)
+LAUNCH_COLUMNS = ("file", "amplitude", *SUMMARY_FIELDS, "rms_residual")
 
 
 def coefficient_units(rig: Rig) -> dict[str, str]:

@@ -57,8 +57,6 @@ def _units(rig: Any) -> dict[str, str]:
 
 def run_section(run: Run) -> str:
     """HTML of one run."""
-    from hydrokit.identify.scaling import scale_coefficients
-
     units = _units(run.rig)
     parts = [f"<h2>{esc(run.title)}</h2>"]
     parts.append(
@@ -77,30 +75,15 @@ def run_section(run: Run) -> str:
         if rej:
             warn.append(f"{method}: outliers rejected ({s['outlier_rule']}): {', '.join(sorted(rej))}")
     parts.append(table(header, rows, left_cols=1))
-    if run.rig.scale:
-        lam = 1.0 / run.rig.scale
-        srows = []
-        for method, doc in run.documents.items():
-            s = doc["summary"]
-            vals = {
-                k: s[k]["mean"]
-                for k in ("added_mass", "linear_damping", "quadratic_damping")
-                if s[k]["mean"] is not None
-            }
-            full = scale_coefficients(vals, lam, run.rig.rotational)
-            srows.append([method] + [fmt(full.get(k)) for k in ("added_mass", "linear_damping", "quadratic_damping")])
+    scaled = {m: d["full_scale"] for m, d in run.documents.items() if d.get("full_scale")}
+    if scaled:
+        # the values come from the result (CampaignResult.full_scale): the report only shows them
+        lam = next(iter(scaled.values()))["lambda"]
+        keys = ("added_mass", "linear_damping", "quadratic_damping")
+        srows = [[method] + [fmt(full.get(k)) for k in keys] for method, full in scaled.items()]
         parts.append(f"<h3>Full scale (λ = {fmt(lam)}; equal C_D at equal speed, not Reynolds similarity)</h3>")
-        parts.append(
-            table(
-                [
-                    "method",
-                    f"m_a ({units['added_mass']})",
-                    f"K_L ({units['linear_damping']})",
-                    f"K_Q ({units['quadratic_damping']})",
-                ],
-                srows,
-            )
-        )
+        header = ["method"] + [f"{lab} ({units[k]})" for lab, k in zip(("m_a", "K_L", "K_Q"), keys)]
+        parts.append(table(header, srows))
     first = next(iter(run.documents.values()))
     pw = first.get("pairwise", {}).get("added_mass", [])
     if pw:
