@@ -70,6 +70,8 @@ def main(argv: list[str] | None = None) -> int:
     """Entry point; returns the process exit code (0 ok, 2 bad input, 1 internal error)."""
     from hydrokit.errors import HydrokitError
 
+    # the CLI alone picks a backend: figures are rendered to files, never shown
+    os.environ.setdefault("MPLBACKEND", "Agg")
     try:
         cli.main(args=argv, prog_name="hydrokit", standalone_mode=False)
     except click.exceptions.Exit as exc:
