@@ -17,7 +17,7 @@ import numpy as np
 from hydrokit._result import Result, html_table, jsonable
 from hydrokit.core.names import DOF_NAMES
 from hydrokit.errors import InputError
-from hydrokit.estimate.composite import Composite, combine
+from hydrokit.estimate.composite import Composite, Part, combine
 
 
 @dataclass
@@ -42,6 +42,143 @@ class Geometry:
     density: float
     parts: list[GeometryPart]
     source: str
+
+
+def vehicle_part(name: str, vehicle: Any, position: np.ndarray, rotation: np.ndarray, label: str) -> GeometryPart:
+    """A part that is a whole vehicle: its mass, inertia, CG, CB, M_A, D_L and D_Q (SI).
+
+    Parameters
+    ----------
+    name : str
+    vehicle : Vehicle
+    position : (3,) — part origin in the common frame, m
+    rotation : (3, 3) — part axes in the common frame
+    label : str — where the vehicle came from (name or file), for the sources list
+    """
+    part = Part(
+        name,
+        vehicle.mass,
+        vehicle.volume,
+        vehicle.inertia,
+        vehicle.M_A,
+        vehicle.D_L,
+        np.diag(vehicle.D_Q),
+        vehicle.r_g,
+        vehicle.r_b,
+        position,
+        rotation,
+        label,
+    )
+    return GeometryPart(part, {"all": f"vehicle {label}"}, None, {})
+
+
+def mesh_part(
+    name: str,
+    mesh: Any,
+    mass: float,
+    position: np.ndarray,
+    rotation: np.ndarray,
+    *,
+    density: float,
+    gravity: float,
+    buoyancy: float | None = None,
+    inertia: np.ndarray | None = None,
+    dims: dict[str, float] | None = None,
+    resolution: int = 48,
+) -> GeometryPart:
+    """A part given by a closed surface mesh (m); its added mass comes from the BEM solver.
+
+    ``buoyancy`` (N) overrides the mesh volume; ``inertia`` (kg·m², 3 values or 3×3) defaults
+    to a negligible tensor when the mesh part is, say, a thin shell.
+    """
+    vol = abs(mesh.volume()) if buoyancy is None else buoyancy / (density * gravity)
+    I = np.eye(3) * 1e-6 if inertia is None else np.asarray(inertia, float)
+    part = Part(
+        name, mass, vol, I if I.shape == (3, 3) else np.diag(I), np.zeros((6, 6)), position=position, rotation=rotation
+    )
+    return GeometryPart(part, {"added_mass": "BEM (mesh)"}, None, dims or {}, mesh, True, resolution)
+
+
+def shape_part(
+    name: str,
+    shape: str,
+    mass: float,
+    dims: dict[str, float],
+    position: np.ndarray,
+    rotation: np.ndarray,
+    *,
+    density: float,
+    gravity: float,
+    speed: float = 1.0,
+    kinematic_viscosity: float = 1.05e-6,
+    drag_coefficient: float | None = None,
+    axial_model: str = "spheroid",
+    buoyancy: float | None = None,
+    bem: bool = True,
+    resolution: int = 48,
+    where: str = "",
+    source: str = "",
+) -> GeometryPart:
+    """A simple body from the shape library (DNV-RP-H103, Lamb; see :mod:`hydrokit.estimate.shapes`).
+
+    Parameters
+    ----------
+    name, shape : str — part name; sphere, spheroid, cylinder, block or flat_plate
+    mass : float — kg
+    dims : dict — diameter, length, width, height, thickness as the shape needs, m
+    position : (3,) m; rotation : (3, 3) — the part's place in the common frame
+    density : float — kg/m³; gravity : float — m/s²
+    speed : float — operating speed for Reynolds-dependent drag (sphere), m/s
+    kinematic_viscosity : float — m²/s
+    drag_coefficient : float, optional — overrides the table C_D (axial C_D for spheroid and cylinder)
+    axial_model : str — cylinder axial added mass: "spheroid" (Lamb) or "rehman" (REHMAN's 2/π)
+    buoyancy : float, optional — N, overrides ρ g × shape volume
+    bem, resolution : eligibility for the BEM solver and its panel count
+    where, source : the file field and file, for error messages
+
+    Raises
+    ------
+    InputError
+        An unknown shape or a missing dimension, naming ``where``.
+    """
+    from hydrokit.estimate.shapes import SHAPES, solid_inertia
+
+    if shape not in SHAPES:
+        raise InputError(f"field '{where}.shape' = {shape!r}: expected one of {', '.join(SHAPES)}", source)
+    needs = {
+        "sphere": ("diameter",),
+        "spheroid": ("length", "diameter"),
+        "cylinder": ("length", "diameter"),
+        "block": ("length", "width", "height"),
+        "flat_plate": ("length", "width"),
+    }[shape]
+    missing = [d for d in needs if d not in dims]
+    if missing:
+        raise InputError(f"field '{where}': shape {shape} needs '{missing[0]}' (m)", source)
+    kw: dict[str, Any] = {"density": density, **{d: dims[d] for d in needs}}
+    if shape == "sphere":
+        kw.update(speed=speed, kinematic_viscosity=kinematic_viscosity)
+    elif shape == "cylinder":
+        kw["axial_model"] = axial_model
+    elif shape == "flat_plate":
+        kw["thickness"] = dims.get("thickness", 0.0)
+    if drag_coefficient is not None:
+        kw["drag_coefficient" if shape in ("sphere", "block", "flat_plate") else "drag_axial"] = drag_coefficient
+    sc = SHAPES[shape](**kw)  # type: ignore[operator]
+    vol = sc.volume if buoyancy is None else buoyancy / (density * gravity)
+    part = Part(
+        name,
+        mass,
+        vol,
+        solid_inertia(shape, mass, dims),
+        sc.added_mass,
+        np.zeros((6, 6)),
+        np.diag(sc.quadratic_damping(density)),
+        position=position,
+        rotation=rotation,
+        source=shape,
+    )
+    return GeometryPart(part, dict(sc.sources), shape, dims, None, bem, resolution)
 
 
 @dataclass(frozen=True)

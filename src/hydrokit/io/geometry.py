@@ -33,8 +33,7 @@ import numpy as np
 
 from hydrokit.core.validate import number, vector
 from hydrokit.errors import InputError
-from hydrokit.estimate.geometry import Geometry, GeometryPart
-from hydrokit.estimate.shapes import solid_inertia
+from hydrokit.estimate.geometry import Geometry, GeometryPart, mesh_part, shape_part, vehicle_part
 from hydrokit.io.yamlfile import read_yaml
 
 DIMENSIONS = ("diameter", "length", "width", "height", "thickness")
@@ -67,9 +66,9 @@ def _vec(v: Any, where: str, src: str) -> np.ndarray:
 
 
 def load_geometry(path: str | os.PathLike[str]) -> Geometry:
-    """Read a geometry file; every part becomes an :class:`hydrokit.estimate.composite.Part`."""
-    from hydrokit.estimate.composite import Part, rotation_from_degrees
-    from hydrokit.estimate.shapes import SHAPES
+    """Read a geometry file (fields validated here; each part's coefficients come from
+    :mod:`hydrokit.estimate.geometry`)."""
+    from hydrokit.estimate.composite import rotation_from_degrees
 
     p = Path(path)
     src = str(p)
@@ -102,22 +101,7 @@ def load_geometry(path: str | os.PathLike[str]) -> Geometry:
         if "vehicle" in raw:
             from hydrokit.io.vehicle import load_vehicle
 
-            v = load_vehicle(raw["vehicle"])
-            part = Part(
-                name,
-                v.mass,
-                v.volume,
-                v.inertia,
-                v.M_A,
-                v.D_L,
-                np.diag(v.D_Q),
-                v.r_g,
-                v.r_b,
-                pos,
-                R,
-                str(raw["vehicle"]),
-            )
-            parts.append(GeometryPart(part, {"all": f"vehicle {raw['vehicle']}"}, None, {}))
+            parts.append(vehicle_part(name, load_vehicle(raw["vehicle"]), pos, R, str(raw["vehicle"])))
             continue
         if "mass" in raw:
             mass = _num(raw["mass"], f"{where}.mass", src)
@@ -126,55 +110,51 @@ def load_geometry(path: str | os.PathLike[str]) -> Geometry:
         else:
             raise InputError(f"field '{where}': missing 'mass' (kg) or 'weight' (N)", src)
         dims = {d: _num(raw[d], f"{where}.{d}", src) for d in DIMENSIONS if d in raw}
+        buoyancy = _num(raw["buoyancy"], f"{where}.buoyancy", src) if "buoyancy" in raw else None
+        resolution = int(raw.get("resolution", 48))
         if "mesh" in raw:
             from hydrokit.estimate.mesh import read_mesh
 
             mpath = Path(raw["mesh"])
             mesh = read_mesh(mpath if mpath.is_absolute() else p.parent / mpath)
-            vol = abs(mesh.volume())
-            if "buoyancy" in raw:
-                vol = _num(raw["buoyancy"], f"{where}.buoyancy", src) / (rho * g)
-            I = np.array(raw["inertia"], float) if "inertia" in raw else np.eye(3) * 1e-6
-            part = Part(
-                name, mass, vol, I if I.shape == (3, 3) else np.diag(I), np.zeros((6, 6)), position=pos, rotation=R
-            )
+            inertia = np.array(raw["inertia"], float) if "inertia" in raw else None
             parts.append(
-                GeometryPart(part, {"added_mass": "BEM (mesh)"}, None, dims, mesh, True, int(raw.get("resolution", 48)))
+                mesh_part(
+                    name,
+                    mesh,
+                    mass,
+                    pos,
+                    R,
+                    density=rho,
+                    gravity=g,
+                    buoyancy=buoyancy,
+                    inertia=inertia,
+                    dims=dims,
+                    resolution=resolution,
+                )
             )
             continue
         shape = raw["shape"]
-        if shape not in SHAPES:
-            raise InputError(f"field '{where}.shape' = {shape!r}: expected one of {', '.join(SHAPES)}", src)
-        kw: dict[str, Any] = {"density": rho}
-        try:
-            if shape == "sphere":
-                kw.update(diameter=dims["diameter"], speed=speed, kinematic_viscosity=nu)
-            elif shape == "spheroid":
-                kw.update(length=dims["length"], diameter=dims["diameter"])
-            elif shape == "cylinder":
-                kw.update(
-                    length=dims["length"], diameter=dims["diameter"], axial_model=raw.get("axial_model", "spheroid")
-                )
-            elif shape == "block":
-                kw.update(length=dims["length"], width=dims["width"], height=dims["height"])
-            else:
-                kw.update(length=dims["length"], width=dims["width"], thickness=dims.get("thickness", 0.0))
-        except KeyError as exc:
-            raise InputError(f"field '{where}': shape {shape} needs '{exc.args[0]}' (m)", src) from None
-        if "drag_coefficient" in raw:
-            kw["drag_coefficient" if shape in ("sphere", "block", "flat_plate") else "drag_axial"] = _num(
-                raw["drag_coefficient"], f"{where}.drag_coefficient", src
-            )
-        sc = SHAPES[shape](**kw)  # type: ignore[operator]
-        vol = sc.volume
-        if "buoyancy" in raw:
-            vol = _num(raw["buoyancy"], f"{where}.buoyancy", src) / (rho * g)
-        I = solid_inertia(shape, mass, dims)
-        DQ = np.diag(sc.quadratic_damping(rho))
-        part = Part(name, mass, vol, I, sc.added_mass, np.zeros((6, 6)), DQ, position=pos, rotation=R, source=shape)
+        drag = _num(raw["drag_coefficient"], f"{where}.drag_coefficient", src) if "drag_coefficient" in raw else None
         parts.append(
-            GeometryPart(
-                part, dict(sc.sources), shape, dims, None, bool(raw.get("bem", True)), int(raw.get("resolution", 48))
+            shape_part(
+                name,
+                shape,
+                mass,
+                dims,
+                pos,
+                R,
+                density=rho,
+                gravity=g,
+                speed=speed,
+                kinematic_viscosity=nu,
+                drag_coefficient=drag,
+                axial_model=str(raw.get("axial_model", "spheroid")),
+                buoyancy=buoyancy,
+                bem=bool(raw.get("bem", True)),
+                resolution=resolution,
+                where=where,
+                source=src,
             )
         )
     return Geometry(str(data.get("name", p.stem)), g, rho, parts, src)
