@@ -3,6 +3,12 @@
 A virtual launch looks like a real record: the body is held still at the launch displacement
 for ``hold_time`` seconds, released, and recorded for ``duration`` seconds by a sensor that
 samples at ``sample_rate``, adds white noise and quantises to its resolution.
+
+Effects the estimators do not model, so that virtual data are honest test material (issue:
+"virtual data must be honest"): a first-order sensor lag (``lag``), an encoder whose zero
+falls at a random place on its grid in every launch (``random_zero``), a hand release that
+misses the nominal amplitude and gives the body a small push (:func:`simulate_launch`'s
+``amplitude_jitter`` and ``release_rate_std``). Each launch draws its own noise from ``rng``.
 """
 
 from __future__ import annotations
@@ -28,6 +34,10 @@ class SensorModel:
     resolution : float — quantisation step, m or rad (0 = none)
     hold_time : float — still record before the release, s
     name : str — description for reports
+    lag : float — first-order sensor time constant, s (0 = none; an IMU filter or a
+        camera's exposure delays the recorded signal, which no estimator models)
+    random_zero : bool — the quantisation grid has a random offset in each launch (an
+        encoder's zero is wherever counting started)
     """
 
     sample_rate: float = 100.0
@@ -35,12 +45,16 @@ class SensorModel:
     resolution: float = 0.0
     hold_time: float = 0.5
     name: str = "ideal sensor"
+    lag: float = 0.0
+    random_zero: bool = False
 
     def __post_init__(self) -> None:
         if not (math.isfinite(self.sample_rate) and self.sample_rate > 0):
             raise InputError(f"sample_rate = {self.sample_rate}: expected a positive number (Hz)")
-        if not (self.noise_std >= 0 and self.resolution >= 0 and self.hold_time >= 0):
-            raise InputError("noise_std, resolution and hold_time must be ≥ 0")
+        for name in ("noise_std", "resolution", "hold_time", "lag"):
+            v = getattr(self, name)
+            if not (math.isfinite(v) and v >= 0):
+                raise InputError(f"sensor {name} = {v}: expected a finite number ≥ 0")
 
     @classmethod
     def imu(cls, sample_rate: float = 100.0, noise_deg: float = 0.05, hold_time: float = 0.5) -> SensorModel:
@@ -63,12 +77,24 @@ class SensorModel:
         return cls(fps, math.radians(noise_deg), 0.0, hold_time, f"camera {fps:g} fps, {noise_deg:g}° noise")
 
     def measure(self, y: np.ndarray, rng: np.random.Generator) -> np.ndarray:
-        """Noise and quantisation applied to the true signal ``y``."""
+        """Lag, noise and quantisation applied to the true signal ``y`` (m or rad, sampled at
+        ``sample_rate``).
+
+        Notes
+        -----
+        The lag is the exact discrete first-order filter y_f[k] = y_f[k−1] + a (y[k] − y_f[k−1]),
+        a = 1 − exp(−Δt/τ), started at rest on the first sample.
+        """
         out = np.asarray(y, float).copy()
+        if self.lag > 0 and out.size:
+            a = 1.0 - math.exp(-1.0 / (self.sample_rate * self.lag))
+            for k in range(1, out.size):
+                out[k] = out[k - 1] + a * (y[k] - out[k - 1])
         if self.noise_std > 0:
             out += rng.normal(0.0, self.noise_std, out.shape)
         if self.resolution > 0:
-            out = np.round(out / self.resolution) * self.resolution
+            zero = rng.uniform(-0.5, 0.5) * self.resolution if self.random_zero else 0.0
+            out = np.round((out + zero) / self.resolution) * self.resolution - zero
         return out
 
 
@@ -82,6 +108,8 @@ def simulate_launch(
     sensor: SensorModel | None = None,
     rng: np.random.Generator | int | None = None,
     file: str = "",
+    amplitude_jitter: float = 0.0,
+    release_rate_std: float = 0.0,
 ) -> Launch:
     """One launch as the sensor would record it.
 
@@ -96,6 +124,10 @@ def simulate_launch(
     sensor : SensorModel — default: ideal 100 Hz
     rng : Generator or seed
     file : str — name for messages
+    amplitude_jitter : float — relative standard deviation of the actual release displacement
+        about ``amplitude`` (a hand release misses the mark), –
+    release_rate_std : float — standard deviation of the rate given at the release (a push),
+        m/s or rad/s
 
     Returns
     -------
@@ -112,7 +144,13 @@ def simulate_launch(
     n_run = int(round(duration * sensor.sample_rate)) + 1
     t_run = np.arange(n_run) * dt
     # 8 RK4 steps per sample: truth far more accurate than any sensor
-    q, _, _ = simulate_normalised(t_run, w2, b, g, amplitude, 0.0, c.sine, 8)
-    y = np.concatenate([np.full(n_hold, float(amplitude)), q])
+    if not (amplitude_jitter >= 0 and release_rate_std >= 0):
+        raise InputError(
+            f"amplitude_jitter = {amplitude_jitter}, release_rate_std = {release_rate_std}: expected numbers ≥ 0"
+        )
+    a0 = float(amplitude) * (1.0 + amplitude_jitter * rng.standard_normal()) if amplitude_jitter else float(amplitude)
+    v0 = release_rate_std * rng.standard_normal() if release_rate_std else 0.0
+    q, _, _ = simulate_normalised(t_run, w2, b, g, a0, v0, c.sine, 8)
+    y = np.concatenate([np.full(n_hold, a0), q])
     t = np.arange(n_hold + n_run) * dt
     return Launch(t=t, y=sensor.measure(y, rng), file=file, notes=(f"virtual rig, {sensor.name}",))
