@@ -57,7 +57,26 @@ def test_rank_sum_z_to_p_cely2019(published):
 
 def test_rank_sum_against_hand_count():
     # x all below y: U = 0 (scipy reports U of x); n1 = n2 = 6: z = (0 − 18)/√(36·13/12) = −2.882
-    r = rank_sum([1, 2, 3, 4, 5, 6], [7, 8, 9, 10, 11, 12])
+    r = rank_sum([1, 2, 3, 4, 5, 6], [7, 8, 9, 10, 11, 12], continuity=False)
     assert r["u"] == 0
     assert r["z"] == pytest.approx(-18 / (36 * 13 / 12) ** 0.5, rel=1e-12)
     assert r["p"] == pytest.approx(z_to_p(r["z"]), rel=1e-9)
+    # exact: U = 0 is the single most extreme of C(12, 6) = 924 orderings, two-sided p = 2/924
+    assert r["p_exact"] == pytest.approx(2 / 924, rel=1e-12)
+
+
+def test_rank_sum_with_continuity_reproduces_cely2019_tables_8_9():
+    # CELY2019 Tables 8–9 print U = 36 → z = 2.8022, p = 0.0051 and U = 17 → z = −0.080, p = 0.9362
+    # for 6 × 6 launches: the normal approximation with the continuity correction,
+    # z = (U − 18 ∓ ½)/√39.
+    r = rank_sum([7, 8, 9, 10, 11, 12], [1, 2, 3, 4, 5, 6])
+    assert r["u"] == 36
+    assert r["z"] == pytest.approx(2.8022, abs=5e-5)
+    assert r["p"] == pytest.approx(0.0051, abs=5e-5)
+    x, y = [1, 2, 6, 8, 9, 12], [3, 4, 5, 7, 10, 11]  # pairs with x > y: 0+0+3+4+4+6 = 17
+    r = rank_sum(x, y)
+    assert r["u"] == sum(a > b for a in x for b in y) == 17
+    assert r["z"] == pytest.approx(-0.080, abs=5e-4)
+    assert r["p"] == pytest.approx(0.9362, abs=5e-5)
+    # without the correction the same data give z = −1/√39 = −0.160
+    assert rank_sum(x, y, continuity=False)["z"] == pytest.approx(-1 / 39**0.5, rel=1e-12)

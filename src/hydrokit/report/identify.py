@@ -92,8 +92,11 @@ def run_section(run: Run) -> str:
         )
         parts.append(
             table(
-                ["groups", "U", "z", "p"],
-                [[" vs ".join(p["pair"]), fmt(p["u"]), fmt(p["z"], 3), fmt(p["p"], 3)] for p in pw],
+                ["groups", "U", "z (continuity-corrected)", "p (normal, as CELY2019)", "p (exact)"],
+                [
+                    [" vs ".join(p["pair"]), fmt(p["u"]), fmt(p["z"], 3), fmt(p["p"], 3), fmt(p.get("p_exact"), 3)]
+                    for p in pw
+                ],
             )
         )
     launches = first["launches"]
