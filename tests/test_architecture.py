@@ -28,10 +28,11 @@ RANK = {
     "io": 3,
     "plot": 4,
     "api": 5,
-    "report": 6,
-    "cli": 7,
+    "pipeline": 6,
+    "report": 7,
+    "cli": 8,
 }
-BASE = {"errors", "_atomic", "_result", "data", "__init__", "__main__"}
+BASE = {"errors", "_atomic", "_result", "_parallel", "data", "__init__", "__main__"}
 #: imports a rank would allow but the layer's job forbids: (importer, imported)
 FORBIDDEN = {("io", "simulate"), ("plot", "io"), ("plot", "api")}
 #: the one upward edge by design: the simulate package object is callable as hydrokit.api.simulate

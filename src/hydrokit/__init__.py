@@ -35,6 +35,10 @@ _LAZY = {
     "estimate_geometry": "hydrokit.api",
     "fit_forces": "hydrokit.api",
     "allocate": "hydrokit.api",
+    "vehicle_from_dict": "hydrokit.api",
+    "load_project": "hydrokit.io.project",
+    "run_project": "hydrokit.pipeline",
+    "RunResult": "hydrokit.pipeline.result",
     "Vehicle": "hydrokit.model.vehicle",
     "Rig": "hydrokit.identify.types",
     "Launch": "hydrokit.identify.types",
@@ -64,7 +68,11 @@ if TYPE_CHECKING:  # pragma: no cover - for type checkers and IDEs only
         read_launch,
         simulate,
         simulate_batch,
+        vehicle_from_dict,
     )
+    from hydrokit.io.project import load_project
+    from hydrokit.pipeline import run_project
+    from hydrokit.pipeline.result import RunResult
 
 
 def __getattr__(name: str) -> Any:

@@ -51,15 +51,36 @@ def load_vehicle(name_or_path: PathLike) -> Vehicle:
     >>> v.mass, len(v.thrusters)
     (13.5, 8)
     """
-    from hydrokit.io.thrusters import parse_thrusters
-    from hydrokit.io.vehicle import parse_vehicle, resolve_vehicle
+    from hydrokit.io.vehicle import resolve_vehicle
     from hydrokit.io.yamlfile import read_yaml
 
     path = resolve_vehicle(name_or_path)
-    data = read_yaml(path)
-    vehicle = parse_vehicle(data, str(path))
+    return vehicle_from_dict(read_yaml(path), str(path))
+
+
+def vehicle_from_dict(data: dict[str, Any], source: str = "vehicle") -> Vehicle:
+    """A Vehicle (with its ``thrusters:`` block) from a vehicle-file mapping already in memory.
+
+    Parameters
+    ----------
+    data : dict — the fields of a vehicle file (SI, see docs/model.md)
+    source : str — named in error messages
+
+    Examples
+    --------
+    >>> import hydrokit, yaml
+    >>> from hydrokit.io.vehicle import resolve_vehicle
+    >>> doc = yaml.safe_load(resolve_vehicle("minerva").read_text())
+    >>> doc["added_mass"][0] = 2 * doc["added_mass"][0]
+    >>> bool(hydrokit.vehicle_from_dict(doc).M_A[0, 0] == 2 * hydrokit.load_vehicle("minerva").M_A[0, 0])
+    True
+    """
+    from hydrokit.io.thrusters import parse_thrusters
+    from hydrokit.io.vehicle import parse_vehicle
+
+    vehicle = parse_vehicle(data, source)
     if data.get("thrusters"):
-        vehicle = replace(vehicle, thrusters=parse_thrusters(data, str(path)))
+        vehicle = replace(vehicle, thrusters=parse_thrusters(data, source))
     return vehicle
 
 

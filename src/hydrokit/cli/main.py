@@ -19,6 +19,7 @@ import click
 
 # name -> "module:attribute", imported lazily.
 COMMANDS: dict[str, tuple[str, str]] = {
+    "run": ("hydrokit.cli.run:run", "The main job: tank launches to an identified, flown vehicle and one report."),
     "demo": ("hydrokit.cli.demo:demo", "Identify the bundled UDrobot campaign and write an HTML report."),
     "identify": ("hydrokit.cli.identify:identify", "Identify coefficients from free-decay launches."),
     "scale": ("hydrokit.cli.scale:scale", "Scale model-test coefficients to full size (similitude)."),

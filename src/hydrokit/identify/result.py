@@ -49,11 +49,16 @@ def coefficient_units(rig: Rig) -> dict[str, str]:
 
 @dataclass
 class IdentifiedLaunch:
-    """One launch: the trimmed record, its result and the fitted estimator (``predict(t)``)."""
+    """One launch: the trimmed record, its result and the fitted estimator (``predict(t)``).
+
+    ``prediction`` (m or rad at the launch's own sample times) stands in for the estimator when
+    the fit ran elsewhere (a worker process) and only its numbers came back.
+    """
 
     launch: Launch
     result: LaunchResult
     estimator: Any
+    prediction: np.ndarray | None = None
 
 
 @dataclass
@@ -178,18 +183,34 @@ def identify_launches(
     InputError
         An unknown method, no launches, or a launch no estimator can use (naming its file).
     """
-    from hydrokit.identify.estimators import identify_launch, with_notes
-
     if method not in METHODS:
         raise InputError(f"method = {method!r}: expected one of {', '.join(METHODS)}")
     if not launches:
         raise InputError("no launches to identify; expected at least one launch")
     items = []
     for launch in launches:
-        result, est = cast("tuple[LaunchResult, Any]", identify_launch(rig, launch, method, return_estimator=True))
-        items.append(IdentifiedLaunch(launch, with_notes(result, launch.notes), est))
+        items.append(fit_launch(rig, launch, method))
         if progress is not None:
             progress(launch.file)
+    return summarize_campaign(rig, method, items)
+
+
+def fit_launch(rig: Rig, launch: Launch, method: str = "output-error") -> IdentifiedLaunch:
+    """Fit one trimmed launch; the pieces a campaign is summarised from (one parallel task)."""
+    from hydrokit.identify.estimators import identify_launch, with_notes
+
+    if method not in METHODS:
+        raise InputError(f"method = {method!r}: expected one of {', '.join(METHODS)}")
+    result, est = cast("tuple[LaunchResult, Any]", identify_launch(rig, launch, method, return_estimator=True))
+    return IdentifiedLaunch(launch, with_notes(result, launch.notes), est)
+
+
+def summarize_campaign(rig: Rig, method: str, items: Sequence[IdentifiedLaunch]) -> CampaignResult:
+    """The campaign of already-fitted launches: summary with CI, amplitude groups, rank-sum tests,
+    full scale (when the rig has a scale) and the launches' warnings."""
+    if not items:
+        raise InputError("no launches to identify; expected at least one launch")
+    items = list(items)
     results = [it.result for it in items]
     groups = group_by_amplitude(results, angles=rig.test != "spring")
     pairwise = {c: rank_sum_pairs({k: [getattr(r, c) for r in g] for k, g in groups.items()}) for c in COEFFS}
@@ -211,4 +232,6 @@ def identify_launches(
 
 def predict(item: IdentifiedLaunch) -> np.ndarray:
     """The fitted signal of one launch at its own sample times (m or rad)."""
+    if item.prediction is not None:
+        return np.asarray(item.prediction, float)
     return np.asarray(item.estimator.predict(np.asarray(item.launch.t, float)))

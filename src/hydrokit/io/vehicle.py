@@ -63,6 +63,8 @@ KNOWN = set(REQUIRED) | {
     "allocation",
     "volume_printed",
     "added_mass_coriolis",
+    "uncertainty",
+    "project",
 }
 TERM_KEYS = {"value", "nondimensional", "printed", "note", "suspect", "factors", "source"}
 

@@ -11,15 +11,19 @@ import numpy as np
 from hydrokit.plot._mpl import axes_or_new, new_figure
 
 
-def launch_fit(t: np.ndarray, y: np.ndarray, fitted: np.ndarray, title: str, unit: str, ax: Any = None) -> Any:
+def launch_fit(
+    t: np.ndarray, y: np.ndarray, fitted: np.ndarray, title: str, unit: str, ax: Any = None, compact: bool = False
+) -> Any:
     """Measured vs fitted signal (top) and residual (bottom). Returns the figure.
 
     Parameters
     ----------
     t : s; y, fitted : signal in ``unit`` (m or rad — shown in mm or degrees)
+    compact : bool — a small figure with a fixed layout (for grids of many launches; renders
+        about twice as fast as the automatic layout)
     """
     scale, label = (1e3, "position (mm)") if unit == "m" else (180 / np.pi, "angle (°)")
-    fig = new_figure((7, 4.2))
+    fig = new_figure((4.6, 3.0) if compact else (7, 4.2))
     (a1, a2) = fig.subplots(2, 1, sharex=True, gridspec_kw={"height_ratios": [3, 1.3]})
     a1.plot(t, y * scale, ".", ms=2.5, color="0.35", label="measured")
     a1.plot(t, fitted * scale, "-", lw=1.2, color="C0", label="fitted")
@@ -30,7 +34,10 @@ def launch_fit(t: np.ndarray, y: np.ndarray, fitted: np.ndarray, title: str, uni
     a2.axhline(0, color="0.5", lw=0.5)
     a2.set_ylabel("residual")
     a2.set_xlabel("time after release (s)")
-    fig.tight_layout()
+    if compact:
+        fig.subplots_adjust(left=0.16, right=0.97, top=0.91, bottom=0.15, hspace=0.08)
+    else:
+        fig.tight_layout()
     return fig
 
 
@@ -76,6 +83,46 @@ def drag_per_cycle(cycles: Sequence[dict[str, Any]], title: str = "") -> Any:
     ax.grid(alpha=0.3)
     fig.tight_layout()
     return fig
+
+
+def drag_vs_reynolds(results: Sequence[Any], summary: dict[str, Any], title: str = "", ax: Any = None) -> Any:
+    """C_D per launch against its peak Reynolds number with ±1.96 standard-error bars; launches
+    the outlier rule rejected drawn hollow in red. Returns the figure.
+
+    Parameters
+    ----------
+    results : LaunchResults (``drag_coefficient`` –, ``reynolds_max`` –, ``quadratic_damping``
+        and its ``std_error`` in N·s²/m² or the rotational unit)
+    summary : the campaign summary entry of ``drag_coefficient`` (``rejected`` files, ``mean``)
+    """
+    ax = axes_or_new(ax, (6, 3.8))
+    rejected = set(summary.get("rejected") or [])
+    for keep in (True, False):
+        pts = [r for r in results if r.drag_coefficient is not None and (r.file not in rejected) == keep]
+        if not pts:
+            continue
+        re = [r.reynolds_max for r in pts]
+        cd = [r.drag_coefficient for r in pts]
+        err = []
+        for r in pts:
+            se = (r.std_error or {}).get("quadratic_damping")
+            kq = r.quadratic_damping
+            err.append(1.96 * se * abs(r.drag_coefficient / kq) if se is not None and kq else 0.0)
+        style = {"fmt": "o", "ms": 4, "color": "C0", "label": "launch (±1.96 SE)"}
+        if not keep:
+            style = {"fmt": "o", "ms": 6, "mfc": "none", "color": "C3", "label": "rejected (outlier rule)"}
+        ax.errorbar(re, cd, yerr=err, capsize=2, lw=0.8, **style)
+    if summary.get("mean") is not None:
+        ax.axhline(summary["mean"], color="C1", lw=1, label="campaign mean")
+    ax.set_xscale("log")
+    ax.set_xlabel("peak Reynolds number")
+    ax.set_ylabel("C_D")
+    ax.grid(alpha=0.3)
+    ax.legend(fontsize=7)
+    if title:
+        ax.set_title(title, fontsize=9)
+    ax.figure.tight_layout()
+    return ax.figure
 
 
 def campaign_axes(

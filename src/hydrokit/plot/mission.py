@@ -114,3 +114,58 @@ def mission_axes(res: ClosedLoopResult, ax: Any = None, label: str = "flown") ->
     ax.grid(alpha=0.3)
     ax.legend(fontsize=8)
     return ax
+
+
+def envelope_figure(
+    waypoints: np.ndarray,
+    grid: np.ndarray,
+    envelopes: Mapping[str, Mapping[str, Any]],
+    nominal: Mapping[str, np.ndarray],
+    truth: Mapping[str, np.ndarray] | None = None,
+    title: str = "",
+) -> Any:
+    """Monte Carlo of a mission: per controller, the plan view with sample paths (thin), the
+    identified vehicle's path and the truth's (when known), and the 5–95 % band of depth (m)
+    against time (s).
+
+    Parameters
+    ----------
+    waypoints : (k, 3) — NED, m
+    grid : (t,) — s
+    envelopes : controller label → {"p5", "p95", "min", "max": (t, 3), "sample_paths": (n, t, 3)}
+    nominal : controller label → (t, 3) path of the identified vehicle on ``grid``, m
+    truth : controller label → (t, 3) path of the true vehicle on ``grid``, m (virtual data)
+    """
+    labels = list(envelopes)
+    fig = new_figure((5.2 * len(labels), 8.2))
+    axes = fig.subplots(2, len(labels), squeeze=False, gridspec_kw={"height_ratios": [3, 1.4]})
+    for j, label in enumerate(labels):
+        env = envelopes[label]
+        ax = axes[0, j]
+        for k, p in enumerate(np.asarray(env["sample_paths"], float)):
+            ax.plot(p[:, 1], p[:, 0], color="0.6", lw=0.5, alpha=0.6, label="samples" if k == 0 else None)
+        ax.plot(waypoints[:, 1], waypoints[:, 0], "k--", lw=1.0, label="planned")
+        ax.plot(waypoints[:, 1], waypoints[:, 0], "ko", ms=3)
+        ax.plot(nominal[label][:, 1], nominal[label][:, 0], color="C0", lw=1.4, label="identified vehicle")
+        if truth is not None and label in truth:
+            ax.plot(truth[label][:, 1], truth[label][:, 0], color="C3", lw=1.1, ls=":", label="true vehicle")
+        ax.set_xlabel("east y (m)")
+        ax.set_ylabel("north x (m)")
+        ax.set_aspect("equal", adjustable="datalim")
+        ax.grid(alpha=0.3)
+        ax.legend(fontsize=7)
+        ax.set_title(f"{label}: {len(env['sample_paths'])} of the samples shown", fontsize=9)
+        ax = axes[1, j]
+        lo, hi = np.asarray(env["p5"], float), np.asarray(env["p95"], float)
+        ax.fill_between(grid, lo[:, 2], hi[:, 2], color="C0", alpha=0.25, label="5–95 % of samples")
+        ax.plot(grid, nominal[label][:, 2], color="C0", lw=1.2, label="identified")
+        if truth is not None and label in truth:
+            ax.plot(grid, truth[label][:, 2], color="C3", lw=1.0, ls=":", label="true")
+        ax.invert_yaxis()
+        ax.set_xlabel("time (s)")
+        ax.set_ylabel("depth z (m)")
+        ax.grid(alpha=0.3)
+        ax.legend(fontsize=7)
+    fig.suptitle(title or "Mission under coefficient uncertainty (Monte Carlo)")
+    fig.tight_layout()
+    return fig

@@ -1,0 +1,106 @@
+"""``hydrokit run PROJECT``: the main job, from tank launches to a flown vehicle and one report."""
+
+from __future__ import annotations
+
+import time
+from pathlib import Path
+
+import click
+
+
+@click.command()
+@click.argument("project")
+@click.option(
+    "--out",
+    "out_dir",
+    default=None,
+    type=click.Path(file_okay=False),
+    help="Run folder for report.html, results.json, vehicle.yaml, mission/ and the step cache "
+    "(directory; default: <project name>-run).",
+)
+@click.option("--force", is_flag=True, help="Redo every step, ignoring the cache (no unit).")
+@click.option("--bem", is_flag=True, help="Boundary-element added mass from the geometry (needs hydrokit[bem]).")
+@click.option(
+    "--workers",
+    type=int,
+    default=None,
+    help="Dask local workers (count) for launch fits and the Monte Carlo; 1 = serial in this process; "
+    "default: one per core when hydrokit[dask] is installed, else serial.",
+)
+@click.option(
+    "--scheduler", default=None, help="Address of a running Dask scheduler, e.g. tcp://127.0.0.1:8786 (no unit)."
+)
+@click.option("--samples", type=int, default=None, help="Monte Carlo samples (count); default: the project's.")
+@click.option("--quiet", is_flag=True, help="No progress bars or summary table.")
+def run(
+    project: str,
+    out_dir: str | None,
+    force: bool,
+    bem: bool,
+    workers: int | None,
+    scheduler: str | None,
+    samples: int | None,
+    quiet: bool,
+) -> None:
+    """Run PROJECT (a project file, a folder holding project.yaml, or a bundled name: udrobot, rov2).
+
+    Identifies every campaign, scales it to full size, compares with geometry/BEM/CFD, chooses per
+    the project's rule, writes vehicle.yaml with an uncertainty block, flies the mission with PID
+    and S-plane, runs the Monte Carlo and writes report.html. Steps whose inputs did not change
+    are taken from the cache in OUT/.cache.
+    """
+    from hydrokit.io.project import load_project
+    from hydrokit.pipeline import run_project
+    from hydrokit.report.run import write_run
+
+    start = time.perf_counter()
+    proj = load_project(project)
+    out = Path(out_dir) if out_dir else Path(f"{proj.name}-run")
+    if quiet:
+        result = run_project(proj, out, force=force, bem=bem, workers=workers, scheduler=scheduler, samples=samples)
+    else:
+        from hydrokit.cli._common import progress_bar
+
+        with progress_bar() as bar:
+
+            def progress(label: str, total: int):  # noqa: ANN202
+                task = bar.add_task(label, total=total)
+                return lambda n: bar.advance(task, n)
+
+            result = run_project(
+                proj,
+                out,
+                force=force,
+                bem=bem,
+                workers=workers,
+                scheduler=scheduler,
+                samples=samples,
+                progress=progress,
+            )
+    write_run(result, out)
+    if not quiet:
+        _print_summary(result)
+    click.echo(
+        f"wrote {out / 'report.html'}, results.json, vehicle.yaml ({time.perf_counter() - start:.1f} s)", err=True
+    )
+
+
+def _print_summary(result) -> None:  # noqa: ANN001
+    from rich.console import Console
+    from rich.table import Table
+
+    from hydrokit.report.html import fmt
+
+    tab = Table(title=f"{result.document['project']['name']}: chosen full-scale coefficients (SI)")
+    for c in ("DOF", "coefficient", "tank [95 % CI]", "chosen", "source"):
+        tab.add_column(c)
+    for r in result.document["comparison"]:
+        ci = r["tank_ci"] or [None, None]
+        tank = f"{fmt(r['tank'])} [{fmt(ci[0])}, {fmt(ci[1])}]" if r["tank"] is not None else "–"
+        tab.add_row(r["dof"], r["coefficient"], tank, fmt(r["chosen"]), r["chosen_source"])
+    console = Console(stderr=True)
+    console.print(tab)
+    steps = ", ".join(
+        f"{t['step']} {t['seconds']:.1f} s" + (" (cached)" if t["cached"] else "") for t in result.timings
+    )
+    console.print(f"steps: {steps}")

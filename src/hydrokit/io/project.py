@@ -1,0 +1,278 @@
+"""Project files (YAML) for ``hydrokit run``: the main job's inputs (issue #10 contract).
+
+```yaml
+name: udrobot
+vehicle: base.yaml            # full-scale base: mass, volume, inertia, CG, CB, thrusters (vehicle file)
+scale_ratio: 0.3              # model/full length ratio, as `hydrokit scale --ratio`
+campaigns:                    # one entry per identified DOF
+  - {dof: surge, rig: rigs/spring_x.yaml, launches: launches/spring_x/*.csv, method: output-error}
+  - {dof: heave, rig: rigs/pendulum_z.yaml, launches: launches/pendulum_z/*.csv}
+geometry: geometry.yaml       # optional: estimate (and --bem) for comparison and for DOFs not tested
+forces: {surge: cfd_x.csv}    # optional CFD/tow force curves per DOF (speed m/s, force N), full scale
+choose: tank                  # rule when sources disagree: tank | geometry | bem | cfd (or per DOF)
+mission: mission.yaml         # optional: flown with PID and S-plane on the identified vehicle
+uncertainty: {samples: 200, seed: 1}   # Monte Carlo over the coefficient covariance
+```
+
+Extra fields (all optional): a campaign's own ``scale_ratio`` (its model may differ from the
+project's), ``truth`` (model-scale ``added_mass``, ``linear_damping``, ``quadratic_damping``
+of virtual data, shown as identified vs true), ``forces`` entries as
+``{file, area (m²), density (kg/m³)}``, ``published`` (per DOF, full-scale values printed by a
+source with a ``source`` text, shown in the comparison), ``choose`` as a mapping
+``{surge: cfd, default: tank}``, ``virtual: true`` and ``description``.
+
+Paths are relative to the project file. Every problem is one line naming the field.
+"""
+
+from __future__ import annotations
+
+import glob
+import os
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+from pydantic import BaseModel, ConfigDict, Field, ValidationError
+
+from hydrokit.core.names import DOF_NAMES
+from hydrokit.errors import InputError
+from hydrokit.identify.types import METHODS
+from hydrokit.io.yamlfile import pydantic_error_line, read_yaml
+
+#: sources a coefficient can be chosen from
+SOURCES = ("tank", "geometry", "bem", "cfd")
+COEFFICIENTS = ("added_mass", "linear_damping", "quadratic_damping")
+PROJECTS_DIR = Path(__file__).resolve().parents[1] / "data" / "projects"
+
+
+class _Truth(BaseModel):
+    model_config = ConfigDict(extra="forbid")
+    added_mass: float = Field(ge=0, description="kg or kg·m², model scale")
+    linear_damping: float = Field(ge=0, description="N·s/m or N·m·s/rad, model scale")
+    quadratic_damping: float = Field(ge=0, description="N·s²/m² or N·m·s²/rad², model scale")
+
+
+class _Campaign(BaseModel):
+    model_config = ConfigDict(extra="allow")
+    dof: str
+    rig: str
+    launches: str | list[str]
+    method: str = "output-error"
+    scale_ratio: float | None = Field(None, gt=0)
+    truth: _Truth | None = None
+
+
+class _Force(BaseModel):
+    model_config = ConfigDict(extra="forbid")
+    file: str
+    area: float | None = Field(None, gt=0, description="m²")
+    density: float | None = Field(None, gt=0, description="kg/m³")
+
+
+class _Uncertainty(BaseModel):
+    model_config = ConfigDict(extra="forbid")
+    samples: int = Field(200, ge=0, le=100_000)
+    seed: int = 1
+
+
+class ProjectFile(BaseModel):
+    """The project file schema (see module docstring)."""
+
+    model_config = ConfigDict(extra="allow")
+    name: str = Field(min_length=1)
+    vehicle: str
+    scale_ratio: float = Field(gt=0, le=1000)
+    campaigns: list[_Campaign] = Field(min_length=1)
+    geometry: str | None = None
+    forces: dict[str, str | _Force] = Field(default_factory=dict)
+    choose: str | dict[str, str] = "tank"
+    mission: str | None = None
+    uncertainty: _Uncertainty = Field(default_factory=lambda: _Uncertainty(samples=200, seed=1))
+    published: dict[str, dict[str, Any]] = Field(default_factory=dict)
+    virtual: bool = False
+    description: str = ""
+
+
+@dataclass(frozen=True)
+class CampaignSpec:
+    """One campaign: the DOF it identifies, its rig file and launch files (sorted), the method,
+    the model/full length ratio and, for virtual data, the true model-scale coefficients (SI)."""
+
+    dof: str
+    rig: Path
+    launches: tuple[Path, ...]
+    method: str
+    scale_ratio: float
+    pattern: str
+    truth: dict[str, float] | None = None
+
+
+@dataclass(frozen=True)
+class ForceSpec:
+    """A full-scale CFD or tow-tank force curve for one DOF: file (speed m/s, force N), reference
+    area (m², None = the campaign rig's, scaled) and density (kg/m³, None = the vehicle's)."""
+
+    dof: str
+    file: Path
+    area: float | None
+    density: float | None
+
+
+@dataclass(frozen=True)
+class Project:
+    """A validated project: every path resolved and existing, every glob expanded."""
+
+    name: str
+    source: Path
+    vehicle: Path
+    scale_ratio: float
+    campaigns: tuple[CampaignSpec, ...]
+    geometry: Path | None
+    forces: dict[str, ForceSpec]
+    choose: dict[str, str]
+    mission: Path | None
+    samples: int
+    seed: int
+    published: dict[str, dict[str, Any]] = field(default_factory=dict)
+    virtual: bool = False
+    description: str = ""
+
+    @property
+    def root(self) -> Path:
+        """The folder of the project file (paths in it are relative to this)."""
+        return self.source.parent
+
+    def input_files(self) -> list[Path]:
+        """Every file the project reads (for hashing and for the report)."""
+        files = [self.source, self.vehicle]
+        for c in self.campaigns:
+            files += [c.rig, *c.launches]
+        files += [f.file for f in self.forces.values()]
+        files += [p for p in (self.geometry, self.mission) if p is not None]
+        return files
+
+
+def resolve_project(name_or_path: str | os.PathLike[str]) -> Path:
+    """A project file from a path, a folder holding ``project.yaml``, or a bundled name."""
+    p = Path(name_or_path)
+    if p.is_dir() and (p / "project.yaml").is_file():
+        return p / "project.yaml"
+    if p.is_file():
+        return p
+    bundled = PROJECTS_DIR / str(name_or_path) / "project.yaml"
+    if bundled.is_file():
+        return bundled
+    names = ", ".join(bundled_projects())
+    raise InputError(f"project {str(name_or_path)!r} not found: expected a project file or a bundled name ({names})")
+
+
+def bundled_projects() -> list[str]:
+    """Names of the bundled projects."""
+    return sorted(p.parent.name for p in PROJECTS_DIR.glob("*/project.yaml"))
+
+
+def _file(root: Path, value: str, field_name: str, source: str) -> Path:
+    p = Path(value)
+    p = p if p.is_absolute() else root / p
+    if not p.is_file():
+        raise InputError(
+            f"field '{field_name}' = {value!r}: file not found (expected a path relative to the project)", source
+        )
+    return p
+
+
+def _launches(root: Path, value: str | list[str], field_name: str, source: str) -> tuple[Path, ...]:
+    patterns = [value] if isinstance(value, str) else list(value)
+    if not patterns:
+        raise InputError(f"field '{field_name}' is empty: expected a glob or a list of launch files", source)
+    found: list[Path] = []
+    for pat in patterns:
+        full = pat if Path(pat).is_absolute() else str(root / pat)
+        if glob.has_magic(pat):
+            hits = sorted(Path(h) for h in glob.glob(full) if Path(h).is_file())
+            if not hits:
+                raise InputError(f"field '{field_name}' = {pat!r}: the glob matches no file", source)
+            found += hits
+        else:
+            found.append(_file(root, pat, field_name, source))
+    return tuple(dict.fromkeys(found))
+
+
+def _choose(value: str | dict[str, str], source: str) -> dict[str, str]:
+    rules = {"default": value} if isinstance(value, str) else dict(value)
+    rules.setdefault("default", "tank")
+    for key, rule in rules.items():
+        if key != "default" and key not in DOF_NAMES:
+            raise InputError(
+                f"field 'choose.{key}': unknown DOF; expected one of {', '.join(DOF_NAMES)} or default", source
+            )
+        if rule not in SOURCES:
+            where = "choose" if isinstance(value, str) else f"choose.{key}"
+            raise InputError(f"field '{where}' = {rule!r}: expected one of {', '.join(SOURCES)}", source)
+    return {d: rules.get(d, rules["default"]) for d in DOF_NAMES}
+
+
+def parse_project(data: dict[str, Any], path: Path) -> Project:
+    """Validate a project mapping read from ``path`` (errors name the file and field)."""
+    source = str(path)
+    try:
+        f = ProjectFile.model_validate(data)
+    except ValidationError as exc:
+        raise pydantic_error_line(exc, source) from None
+    root = path.parent
+    campaigns = []
+    seen: dict[str, int] = {}
+    for i, c in enumerate(f.campaigns):
+        where = f"campaigns[{i}]"
+        if c.dof not in DOF_NAMES:
+            raise InputError(f"field '{where}.dof' = {c.dof!r}: expected one of {', '.join(DOF_NAMES)}", source)
+        if c.dof in seen:
+            raise InputError(
+                f"field '{where}.dof' = {c.dof!r}: already identified by campaigns[{seen[c.dof]}]; expected one campaign per DOF",
+                source,
+            )
+        seen[c.dof] = i
+        if c.method not in METHODS:
+            raise InputError(f"field '{where}.method' = {c.method!r}: expected one of {', '.join(METHODS)}", source)
+        campaigns.append(
+            CampaignSpec(
+                dof=c.dof,
+                rig=_file(root, c.rig, f"{where}.rig", source),
+                launches=_launches(root, c.launches, f"{where}.launches", source),
+                method=c.method,
+                scale_ratio=c.scale_ratio if c.scale_ratio is not None else f.scale_ratio,
+                pattern=c.launches if isinstance(c.launches, str) else ", ".join(c.launches),
+                truth=c.truth.model_dump() if c.truth is not None else None,
+            )
+        )
+    forces = {}
+    for dof, spec in f.forces.items():
+        if dof not in DOF_NAMES:
+            raise InputError(f"field 'forces.{dof}': unknown DOF; expected one of {', '.join(DOF_NAMES)}", source)
+        spec = spec if isinstance(spec, _Force) else _Force(file=spec, area=None, density=None)
+        forces[dof] = ForceSpec(dof, _file(root, spec.file, f"forces.{dof}", source), spec.area, spec.density)
+    for dof in f.published:
+        if dof not in DOF_NAMES:
+            raise InputError(f"field 'published.{dof}': unknown DOF; expected one of {', '.join(DOF_NAMES)}", source)
+    return Project(
+        name=f.name,
+        source=path,
+        vehicle=_file(root, f.vehicle, "vehicle", source),
+        scale_ratio=f.scale_ratio,
+        campaigns=tuple(campaigns),
+        geometry=_file(root, f.geometry, "geometry", source) if f.geometry else None,
+        forces=forces,
+        choose=_choose(f.choose, source),
+        mission=_file(root, f.mission, "mission", source) if f.mission else None,
+        samples=f.uncertainty.samples,
+        seed=f.uncertainty.seed,
+        published=f.published,
+        virtual=f.virtual,
+        description=f.description,
+    )
+
+
+def load_project(name_or_path: str | os.PathLike[str]) -> Project:
+    """Read and validate a project file (a path, a folder with ``project.yaml`` or a bundled name)."""
+    path = resolve_project(name_or_path)
+    return parse_project(read_yaml(path), path)

@@ -1,0 +1,220 @@
+"""Steps 2–4 of ``hydrokit run``: other sources, the comparison table, the choice, the vehicle.
+
+Sources of a full-scale coefficient (SI, the vehicle file's units):
+
+- ``tank`` — the identified campaign, scaled with λ (mean, 95 % CI, standard error);
+- ``geometry`` — the semi-empirical estimate of the geometry file (added mass and damping);
+- ``bem`` — the boundary-element added mass (``--bem``; damping stays semi-empirical);
+- ``cfd`` — the Chin fit K_L, K_Q of a CFD or tow-tank force curve (damping only);
+- ``published`` — values printed by a source (shown, never chosen).
+
+The rule of a DOF names the preferred source; a coefficient that source lacks (no value, or an
+estimate of 0: the shape tables give none) falls back along tank → cfd → bem → geometry, and
+finally keeps the base vehicle's value. The report states
+which source every chosen number came from (CELY2019 §5 compares tank with CFD the same way).
+"""
+
+from __future__ import annotations
+
+import math
+from typing import Any
+
+import numpy as np
+
+from hydrokit.core.names import DOF_NAMES
+from hydrokit.io.project import COEFFICIENTS, Project
+
+FALLBACK = ("tank", "cfd", "bem", "geometry")
+#: the coefficient keys of a published entry
+PUBLISHED_KEYS = COEFFICIENTS
+
+
+def geometry_sources(project: Project, bem: bool) -> dict[str, Any]:
+    """``{"geometry": {dof: {coef: value}}, "bem": … or None}`` from the project's geometry file."""
+    from hydrokit.api import estimate_geometry, load_geometry
+
+    assert project.geometry is not None
+    geo = load_geometry(project.geometry)
+    out: dict[str, Any] = {"geometry": _diagonals(estimate_geometry(geo).composite), "bem": None}
+    if bem:
+        comp = estimate_geometry(geo, bem=True).composite
+        out["bem"] = {d: {"added_mass": v["added_mass"]} for d, v in _diagonals(comp).items()}
+    return out
+
+
+def _diagonals(comp: Any) -> dict[str, dict[str, float]]:
+    return {
+        d: {
+            "added_mass": float(comp.added_mass[i, i]),
+            "linear_damping": float(comp.linear_damping[i, i]),
+            "quadratic_damping": float(comp.quadratic_damping[i, i]),
+        }
+        for i, d in enumerate(DOF_NAMES)
+    }
+
+
+def cfd_sources(project: Project, tank: dict[str, Any], density: float) -> dict[str, Any]:
+    """Per DOF with a force curve: the Chin fit (K_L, K_Q with standard errors) and Morison C_D."""
+    from hydrokit.api import fit_forces
+    from hydrokit.io.forces import read_forces
+
+    out = {}
+    for dof, spec in project.forces.items():
+        speed, force = read_forces(spec.file)
+        area = spec.area
+        if area is None:
+            t = tank.get(dof)
+            area = t["reference_area_full"] if t and t.get("reference_area_full") else 1.0
+        fit = fit_forces(speed, force, area, spec.density or density)
+        out[dof] = {
+            "linear_damping": fit.K_L,
+            "quadratic_damping": fit.K_Q,
+            "se": {"linear_damping": fit.K_L_se, "quadratic_damping": fit.K_Q_se},
+            "drag_coefficient": fit.C_D,
+            "area": area,
+            "points": fit.n,
+        }
+    return out
+
+
+def _given(source: str, value: float | None) -> bool:
+    """A usable value: finite, and for the estimates also non-zero (a shape table that has no
+    entry, e.g. a block's rotational added mass or any linear damping, gives 0)."""
+    if value is None or not math.isfinite(value):
+        return False
+    return source in ("tank", "cfd") or value > 0
+
+
+def _tank_value(step: dict[str, Any], coef: str) -> float | None:
+    return step["full_scale"][coef]["mean"]
+
+
+def comparison(
+    project: Project, tank: dict[str, Any], others: dict[str, Any], base: Any
+) -> tuple[list[dict[str, Any]], dict[str, Any]]:
+    """The comparison rows and the chosen coefficients.
+
+    Parameters
+    ----------
+    tank : DOF → identification step document
+    others : {"geometry": …, "bem": …, "cfd": …} (any may be None)
+    base : the base Vehicle (its diagonal values are the last fallback)
+
+    Returns
+    -------
+    rows : one per DOF and coefficient with every source's value and its relative difference
+        from the tank value (%); chosen : DOF → coefficient → {value, source, se}
+    """
+    dofs = [d for d in DOF_NAMES if d in tank or any(d in (others.get(k) or {}) for k in ("cfd",))]
+    dofs += [d for d in project.published if d not in dofs]
+    base_diag = {
+        "added_mass": np.diag(base.M_A),
+        "linear_damping": np.diag(base.D_L),
+        "quadratic_damping": np.asarray(base.D_Q),
+    }
+    rows = []
+    chosen: dict[str, Any] = {}
+    for dof in DOF_NAMES:
+        i = DOF_NAMES.index(dof)
+        for coef in COEFFICIENTS:
+            vals: dict[str, float | None] = {
+                "tank": _tank_value(tank[dof], coef) if dof in tank else None,
+                "geometry": ((others.get("geometry") or {}).get(dof) or {}).get(coef),
+                "bem": ((others.get("bem") or {}).get(dof) or {}).get(coef),
+                "cfd": ((others.get("cfd") or {}).get(dof) or {}).get(coef),
+            }
+            rule = project.choose[dof]
+            order = [rule] + [s for s in FALLBACK if s != rule]
+            source = next((s for s in order if _given(s, vals[s])), "base")
+            value = float(base_diag[coef][i]) if source == "base" else float(vals[source])  # type: ignore[arg-type]
+            se = None
+            if source == "tank":
+                se = tank[dof]["full_scale"][coef]["se"]
+            elif source == "cfd":
+                se = others["cfd"][dof]["se"].get(coef)
+            chosen.setdefault(dof, {})[coef] = {"value": value, "source": source, "se": se}
+            if dof not in dofs:
+                continue
+            pub = project.published.get(dof, {})
+            published = pub.get(coef) if isinstance(pub.get(coef), (int, float)) else None
+            ref = vals["tank"]
+            row = {
+                "dof": dof,
+                "coefficient": coef,
+                "tank": ref,
+                "tank_ci": tank[dof]["full_scale"][coef]["ci"] if dof in tank else None,
+                "truth": ((tank.get(dof) or {}).get("truth") or {}).get(coef, {}).get("full"),
+                **{k: vals[k] if _given(k, vals[k]) else None for k in ("geometry", "bem", "cfd")},
+                "published": published,
+                "published_source": pub.get("source"),
+                "base": float(base_diag[coef][i]),
+                "chosen": value,
+                "chosen_source": source,
+                "rule": rule,
+            }
+            row["relative_to_tank_percent"] = {
+                k: (100.0 * (row[k] - ref) / ref if ref and row[k] is not None else None)
+                for k in ("geometry", "bem", "cfd", "published", "truth")
+            }
+            rows.append(row)
+    return rows, chosen
+
+
+def vehicle_document(
+    base_data: dict[str, Any], chosen: dict[str, Any], tank: dict[str, Any], project: Project
+) -> dict[str, Any]:
+    """The base vehicle file's fields with the chosen diagonals and an ``uncertainty:`` block.
+
+    ``uncertainty`` holds the standard errors (SI, full scale; 0 where the value carries no
+    identified uncertainty) of the ``added_mass``, ``linear_damping`` and ``quadratic_damping``
+    diagonals, and the covariance over the listed ``parameters`` (block-diagonal: campaigns
+    are independent; within a campaign the means of one launch set co-vary).
+    """
+    doc = {k: v for k, v in base_data.items()}
+    doc["name"] = f"{project.name}-identified"
+    for coef in COEFFICIENTS:
+        values = doc[coef]
+        matrix = bool(values) and all(isinstance(r, list) for r in values)
+        values = [list(map(float, r)) for r in values] if matrix else [float(x) for x in values]
+        for i, dof in enumerate(DOF_NAMES):
+            v = chosen[dof][coef]["value"]
+            if matrix:
+                values[i][i] = v
+            else:
+                values[i] = v
+        doc[coef] = values
+    params: list[str] = []
+    blocks: list[np.ndarray] = []
+    se = {c: [0.0] * 6 for c in COEFFICIENTS}
+    for i, dof in enumerate(DOF_NAMES):
+        picked = [c for c in COEFFICIENTS if chosen[dof][c]["source"] == "tank"]
+        for c in COEFFICIENTS:
+            s = chosen[dof][c]["se"]
+            se[c][i] = float(s) if s is not None and math.isfinite(s) else 0.0
+        if picked:
+            cov = np.asarray(tank[dof]["covariance"], float)
+            idx = [COEFFICIENTS.index(c) for c in picked]
+            blocks.append(cov[np.ix_(idx, idx)])
+            params += [f"{c}.{dof}" for c in picked]
+    n = len(params)
+    cov_all = np.zeros((n, n))
+    k = 0
+    for b in blocks:
+        m = b.shape[0]
+        cov_all[k : k + m, k : k + m] = np.nan_to_num(b)
+        k += m
+    doc["uncertainty"] = {
+        "description": "standard errors of the identified full-scale means (SI) and their covariance; "
+        "0 where a value has no identified uncertainty",
+        "added_mass": se["added_mass"],
+        "linear_damping": se["linear_damping"],
+        "quadratic_damping": se["quadratic_damping"],
+        "parameters": params,
+        "covariance": cov_all.tolist(),
+    }
+    doc["project"] = {
+        "name": project.name,
+        "sources": {dof: {c: chosen[dof][c]["source"] for c in COEFFICIENTS} for dof in DOF_NAMES},
+        "virtual_data": project.virtual,
+    }
+    return doc

@@ -1,0 +1,57 @@
+"""The result of ``hydrokit run``: every number of the report, the figures and the output files."""
+
+from __future__ import annotations
+
+import html
+from dataclasses import dataclass, field
+from typing import Any
+
+from hydrokit._result import Result, html_table, jsonable
+
+
+@dataclass
+class RunResult(Result):
+    """One run of a project.
+
+    Attributes
+    ----------
+    document : dict — everything ``results.json`` holds (SI units, stated per table)
+    figures : dict — section → list of {name, caption, png (base64)}
+    files : dict — output path relative to the run folder → text (``vehicle.yaml``,
+        ``mission/…``), written with the report
+    timings : list of {step, seconds, cached}
+    """
+
+    document: dict[str, Any]
+    figures: dict[str, list[dict[str, str]]] = field(default_factory=dict)
+    files: dict[str, str] = field(default_factory=dict)
+    timings: list[dict[str, Any]] = field(default_factory=list)
+
+    def to_dict(self) -> dict[str, Any]:
+        """``results.json``: the document with the step timings."""
+        return jsonable({**self.document, "timings": self.timings})
+
+    @property
+    def chosen(self) -> dict[str, Any]:
+        """DOF → coefficient → {value (SI, full scale), source, se}."""
+        return self.document["chosen"]
+
+    def table(self) -> tuple[list[str], list[list[Any]]]:
+        """The comparison: one row per DOF and coefficient, tank vs the other sources."""
+        cols = ["dof", "coefficient", "tank", "geometry", "bem", "cfd", "published", "chosen", "chosen_source"]
+        return cols, [[r.get(c) for c in cols] for r in self.document["comparison"]]
+
+    def summary_rows(self) -> list[tuple[str, Any]]:
+        d = self.document
+        rows: list[tuple[str, Any]] = [("project", d["project"]["name"]), ("campaigns", len(d["campaigns"]))]
+        for dof, coefs in d["chosen"].items():
+            if dof in d["campaigns"]:
+                rows.append((dof, ", ".join(f"{c} {v['value']:.4g} ({v['source']})" for c, v in coefs.items())))
+        for c, m in (d.get("monte_carlo") or {}).get("controllers", {}).items():
+            x = m["metrics"]["cross_track_rms"]
+            if x["median"] is not None:
+                rows.append((f"{c} cross-track RMS (m)", f"{x['median']:.3g} [{x['p5']:.3g}, {x['p95']:.3g}]"))
+        return rows
+
+    def _repr_html_(self) -> str:
+        return html_table(f"RunResult: {html.escape(self.document['project']['name'])}", self.summary_rows())

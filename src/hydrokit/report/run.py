@@ -1,0 +1,290 @@
+"""The report of the whole chain (``hydrokit run``) and the run folder's files.
+
+First screen: the full-scale coefficients with their 95 % CI next to geometry, BEM, CFD and
+published values, the chosen values with their source, the mission with its uncertainty
+envelope and the de-duplicated warnings. Then the details: per campaign, the launches' fits and
+residuals (collapsible), per-launch standard errors with units, C_D against Re with rejected
+launches marked, and the amplitude-group tests. Self-contained (inline CSS, base64 PNG).
+"""
+
+from __future__ import annotations
+
+import json
+import os
+from pathlib import Path
+from typing import Any
+
+from hydrokit.pipeline.result import RunResult
+from hydrokit.report.html import esc, fmt, page, table, warnings_block
+
+SYMBOL = {"added_mass": "added mass", "linear_damping": "K_L", "quadratic_damping": "K_Q"}
+UNIT = {
+    False: {"added_mass": "kg", "linear_damping": "N·s/m", "quadratic_damping": "N·s²/m²"},
+    True: {"added_mass": "kg·m²", "linear_damping": "N·m·s/rad", "quadratic_damping": "N·m·s²/rad²"},
+}
+ROTATIONAL = {"roll", "pitch", "yaw"}
+EXTRA_CSS = """
+.banner{background:#fdecea;border-left:5px solid #c0392b;padding:.5rem .9rem;font-weight:600}
+details{margin:.4rem 0} summary{cursor:pointer;color:#0b5394}
+td{white-space:nowrap}
+.grid{display:flex;flex-wrap:wrap;gap:.4rem} .grid figure{width:32%;margin:0}
+"""
+
+
+def _img(fig: dict[str, str], cls: str = "") -> str:
+    cap = esc(fig.get("caption", ""))
+    return (
+        f'<figure{cls}><img alt="{cap}" src="data:image/png;base64,{fig["png"]}">'
+        f"<figcaption>{cap}</figcaption></figure>"
+    )
+
+
+def _rel(value: float | None) -> str:
+    return "" if value is None else f" ({value:+.1f} %)"
+
+
+def _ci(ci: list[Any] | None) -> str:
+    if not ci or ci[0] is None:
+        return ""
+    return f" [{fmt(ci[0])}, {fmt(ci[1])}]"
+
+
+def first_screen(doc: dict[str, Any], figures: dict[str, list[dict[str, str]]]) -> list[str]:
+    """Coefficients vs other sources, the choice, the mission envelope, warnings."""
+    parts = []
+    proj = doc["project"]
+    if proj.get("virtual_data"):
+        parts.append(
+            '<p class="banner">These launches are virtual: simulated by hydrokit\'s virtual rig, not measured. '
+            "Where the truth is known the report shows identified against true values.</p>"
+        )
+    if proj.get("description"):
+        parts.append(f"<p>{esc(proj['description'])}</p>")
+    parts.append("<h2>Full-scale coefficients: tank against the other sources</h2>")
+    rules = sorted(set(proj["choose"].values()))
+    parts.append(
+        f"<p>Choice rule: <b>{esc(', '.join(f'{d}: {r}' for d, r in proj['choose'].items()))}</b>"
+        if len(rules) > 1
+        else f"<p>Choice rule: <b>{esc(rules[0])}</b> for every DOF"
+    )
+    parts.append(
+        "; a coefficient the preferred source lacks falls back along tank → CFD → BEM → geometry → base vehicle. "
+        "Tank values: mean over launches scaled with λ, [95 % CI]. In parentheses: difference from the tank value.</p>"
+    )
+    has_truth = any(r.get("truth") is not None for r in doc["comparison"])
+    header = ["DOF", "coefficient", "unit", "tank [95 % CI]"] + (["true"] if has_truth else [])
+    header += ["geometry", "BEM", "CFD", "published", "chosen", "source"]
+    rows = []
+    for r in doc["comparison"]:
+        rel = r["relative_to_tank_percent"]
+        row = [r["dof"], SYMBOL[r["coefficient"]], UNIT[r["dof"] in ROTATIONAL][r["coefficient"]]]
+        row.append(fmt(r["tank"]) + _ci(r["tank_ci"]))
+        if has_truth:
+            row.append(fmt(r["truth"]) + _rel(rel["truth"]))
+        for k in ("geometry", "bem", "cfd", "published"):
+            row.append(fmt(r[k]) + _rel(rel[k]) if r[k] is not None else "–")
+        row += [fmt(r["chosen"]), r["chosen_source"]]
+        rows.append(row)
+    parts.append(table(header, rows, left_cols=3))
+    pubs = {r["published_source"] for r in doc["comparison"] if r.get("published_source")}
+    if pubs:
+        parts.append(f'<p class="note">Published values: {esc("; ".join(sorted(pubs)))}.</p>')
+    parts += _mission_summary(doc, figures)
+    if doc["warnings"]:
+        parts.append(f"<h2>Warnings ({len(doc['warnings'])})</h2>")
+        parts.append(warnings_block(doc["warnings"][:15]))
+        if len(doc["warnings"]) > 15:
+            parts.append(
+                "<details><summary>all warnings</summary>" + warnings_block(doc["warnings"][15:]) + "</details>"
+            )
+    return parts
+
+
+def _mission_summary(doc: dict[str, Any], figures: dict[str, list[dict[str, str]]]) -> list[str]:
+    missions, mc = doc.get("missions"), doc.get("monte_carlo")
+    if not missions:
+        return ["<h2>Mission</h2><p>No mission in the project.</p>"]
+    parts = [f"<h2>Mission {esc(missions['mission'])} on the identified vehicle</h2>"]
+    header = ["controller", "cross-track RMS (m)", "cross-track max (m)", "depth error RMS (m)", "completed"]
+    if mc:
+        header += [
+            f"MC cross-track RMS, median [5–95 %] (m), n = {mc['samples']}",
+            "MC completed",
+            "truth inside envelope",
+        ]
+    rows = []
+    for c, f in missions["controllers"].items():
+        m = f["metrics"]
+        row = [c, m["cross_track_rms"], m["cross_track_max"], m["depth_error_rms"], str(m["completed"])]
+        if mc:
+            s = mc["controllers"][c]
+            x = s["metrics"]["cross_track_rms"]
+            row.append(f"{fmt(x['median'], 3)} [{fmt(x['p5'], 3)}, {fmt(x['p95'], 3)}]")
+            row.append(f"{100 * s['completed_fraction']:.0f} %")
+            inside = s.get("truth_inside")
+            row.append(f"{100 * inside['min_max']:.0f} % of times (min–max)" if inside else "–")
+        rows.append(row)
+    parts.append(table(header, rows))
+    for fig in figures.get("monte_carlo", []):
+        parts.append(_img(fig))
+    return parts
+
+
+def campaign_section(dof: str, c: dict[str, Any], figures: dict[str, list[dict[str, str]]]) -> list[str]:
+    """One campaign's details."""
+    camp = c["campaign"]
+    units = c["units"]
+    parts = [f"<h2>Campaign {esc(dof)}: {esc(camp['rig']['test'])} rig, {esc(c['method'])}</h2>"]
+    parts.append(
+        f"<p>rig file <code>{esc(c['rig_file'])}</code>, launches <code>{esc(c['launches_pattern'])}</code> "
+        f"({len(camp['launches'])}); scale ratio {fmt(c['scale_ratio'])} (λ = {fmt(c['lambda'])}: "
+        "equal C_D at equal speed, not Reynolds similarity).</p>"
+    )
+    s = camp["summary"]
+    rows = []
+    for k in ("added_mass", "linear_damping", "quadratic_damping", "drag_coefficient", "added_mass_coefficient"):
+        e = s.get(k)
+        if not e:
+            continue
+        full = c["full_scale"].get(k)
+        truth = (c.get("truth") or {}).get(k)
+        rows.append(
+            [
+                k,
+                units.get(k, "–"),
+                fmt(e["mean"]) + _ci(e["ci"]),
+                fmt(e["std"]),
+                e["n"],
+                len(e["rejected"] or []),
+                fmt(truth["model"]) if truth else "–",
+                (fmt(full["mean"]) + _ci(full["ci"])) if full else "–",
+            ]
+        )
+    parts.append(
+        table(
+            [
+                "coefficient",
+                "unit (model)",
+                "model mean [95 % CI]",
+                "std",
+                "n",
+                "rejected",
+                "true (model)",
+                "full scale [95 % CI]",
+            ],
+            rows,
+            left_cols=2,
+        )
+    )
+    parts.append('<div class="grid">' + "".join(_img(f) for f in figures.get(f"summary:{dof}", [])) + "</div>")
+    pw = camp.get("pairwise", {})
+    test_rows = [
+        [k, " vs ".join(p["pair"]), fmt(p["u"]), fmt(p["z"], 3), fmt(p["p"], 3), fmt(p.get("p_exact"), 3)]
+        for k in ("added_mass", "linear_damping", "quadratic_damping")
+        for p in pw.get(k, [])
+    ]
+    if test_rows:
+        parts.append("<details><summary>Amplitude-group tests (two-sided rank-sum)</summary>")
+        parts.append(table(["coefficient", "groups", "U", "z (continuity)", "p (normal)", "p (exact)"], test_rows, 2))
+        parts.append("</details>")
+    se_u = {k: units.get(k, "") for k in ("added_mass", "linear_damping", "quadratic_damping")}
+    launch_rows = []
+    for L in camp["launches"]:
+        se = L.get("std_error") or {}
+        launch_rows.append(
+            [
+                L["file"],
+                fmt(L["amplitude"]),
+                fmt(L["added_mass"]),
+                fmt(se.get("added_mass"), 2),
+                fmt(L["linear_damping"]),
+                fmt(se.get("linear_damping"), 2),
+                fmt(L["quadratic_damping"]),
+                fmt(se.get("quadratic_damping"), 2),
+                fmt(L["drag_coefficient"]),
+                fmt(L["reynolds_max"], 3),
+                fmt(L["rms_residual"], 3),
+            ]
+        )
+    parts.append(f"<details><summary>Per-launch results and standard errors ({len(launch_rows)} launches)</summary>")
+    parts.append(
+        table(
+            [
+                "file",
+                f"amplitude ({units.get('amplitude', '')})",
+                f"m_a ({se_u['added_mass']})",
+                "SE",
+                f"K_L ({se_u['linear_damping']})",
+                "SE",
+                f"K_Q ({se_u['quadratic_damping']})",
+                "SE",
+                "C_D",
+                "Re_max",
+                f"RMS residual ({units.get('rms_residual', '')})",
+            ],
+            launch_rows,
+        )
+    )
+    parts.append("</details>")
+    launches = figures.get(f"launches:{dof}", [])
+    parts.append(f"<details><summary>Every launch's fit and residual ({len(launches)} figures)</summary>")
+    parts.append('<div class="grid">' + "".join(_img(f) for f in launches) + "</div></details>")
+    return parts
+
+
+def run_report(result: RunResult) -> str:
+    """The whole self-contained HTML document of a run."""
+    doc, figures = result.document, result.figures
+    parts = first_screen(doc, figures)
+    parts.append("<h2>Details</h2>")
+    for dof, c in doc["campaigns"].items():
+        parts += campaign_section(dof, c, figures)
+    if figures.get("missions"):
+        parts.append("<h2>Mission details</h2>")
+        parts += [_img(f) for f in figures["missions"]]
+    unc = doc["vehicle"].get("uncertainty", {})
+    parts.append("<h2>Vehicle written (vehicle.yaml)</h2>")
+    parts.append(
+        table(
+            ["coefficient", "surge", "sway", "heave", "roll", "pitch", "yaw"],
+            [
+                [f"{k}", *doc["vehicle"][k]]
+                if not isinstance(doc["vehicle"][k][0], list)
+                else [k, *[doc["vehicle"][k][i][i] for i in range(6)]]
+                for k in SYMBOL
+            ]
+            + [[f"{k} standard error", *unc.get(k, [None] * 6)] for k in SYMBOL],
+        )
+    )
+    parts.append("<details><summary>Steps, timings and inputs</summary>")
+    parts.append(
+        table(
+            ["step", "time (s)", "cached"],
+            [[t["step"], fmt(t["seconds"], 3), str(t["cached"])] for t in result.timings],
+        )
+    )
+    parts.append(f"<p>Engine: {esc(doc.get('engine', ''))}.</p>")
+    parts.append(table(["input file", "SHA-256"], [[k, v[:16] + "…"] for k, v in doc["project"]["inputs"].items()]))
+    parts.append("</details>")
+    html = page(f"hydrokit run: {doc['project']['name']}", parts)
+    return html.replace("</style>", EXTRA_CSS + "</style>", 1)
+
+
+def write_run(result: RunResult, out_dir: str | os.PathLike[str]) -> list[Path]:
+    """Write report.html, results.json, vehicle.yaml and mission/ (each file whole or not at all).
+
+    Everything is rendered in memory first, so a failure leaves the previous run's files as they were.
+    """
+    from hydrokit._atomic import write_bytes
+
+    out = Path(out_dir)
+    files: dict[str, str] = {
+        "report.html": run_report(result),
+        "results.json": json.dumps(result.to_dict(), indent=1, allow_nan=False, ensure_ascii=False) + "\n",
+        **result.files,
+    }
+    written = []
+    for name, text in files.items():
+        write_bytes(out / name, text.encode("utf-8"))
+        written.append(out / name)
+    return written

@@ -1,0 +1,241 @@
+"""``hydrokit run`` end to end on a tiny virtual project: numbers against independent
+recomputation, the cache, the written vehicle, the report in a browser, and bad input."""
+
+from __future__ import annotations
+
+import json
+import math
+import shutil
+from pathlib import Path
+
+import numpy as np
+import pytest
+import yaml
+
+import hydrokit
+from hydrokit.data import DATA_DIR
+from hydrokit.errors import InputError
+
+CAMPAIGN = DATA_DIR / "campaigns" / "udrobot"
+PROJECT = DATA_DIR / "projects" / "udrobot"
+# the spring-surge truth at model scale (campaign README: m_a = k/ω_n² − m, K_L, K_Q)
+TRUTH = {"added_mass": 0.286623, "linear_damping": 2.679292, "quadratic_damping": 5.595909}
+LAUNCHES = [f"spring_x_L{a}_{j}.csv" for a in (1, 2, 3, 4) for j in (1, 2)]
+
+
+def make_project(folder: Path, samples: int = 6, mission: bool = True) -> Path:
+    """8 spring-surge launches, the bundled base vehicle and a 12 s version of the mission."""
+    (folder / "launches").mkdir(parents=True, exist_ok=True)
+    for name in LAUNCHES:
+        shutil.copy(CAMPAIGN / "spring_x" / name, folder / "launches" / name)
+    shutil.copy(CAMPAIGN / "spring_x.yaml", folder / "spring_x.yaml")
+    shutil.copy(PROJECT / "base.yaml", folder / "base.yaml")
+    shutil.copy(PROJECT / "cfd_x.csv", folder / "cfd_x.csv")
+    m = yaml.safe_load((PROJECT / "mission.yaml").read_text())
+    m["duration"] = 12.0
+    (folder / "mission.yaml").write_text(yaml.safe_dump(m))
+    doc = {
+        "name": "tiny",
+        "virtual": True,
+        "vehicle": "base.yaml",
+        "scale_ratio": 0.3,
+        "campaigns": [{"dof": "surge", "rig": "spring_x.yaml", "launches": "launches/*.csv", "truth": TRUTH}],
+        "forces": {"surge": {"file": "cfd_x.csv", "area": 0.0495}},
+        "uncertainty": {"samples": samples, "seed": 4},
+    }
+    if mission:
+        doc["mission"] = "mission.yaml"
+    path = folder / "project.yaml"
+    path.write_text(yaml.safe_dump(doc))
+    return path
+
+
+@pytest.fixture(scope="module")
+def first_run(tmp_path_factory):
+    """(project file, run folder, exit code, seconds) of one CLI run, shared by the tests."""
+    from hydrokit.cli.main import main
+
+    folder = tmp_path_factory.mktemp("tiny")
+    project = make_project(folder)
+    out = folder / "run"
+    code = main(["run", str(project), "--out", str(out), "--workers", "1", "--quiet"])
+    return project, out, code
+
+
+def results(out: Path) -> dict:
+    return json.loads((out / "results.json").read_text())
+
+
+def test_the_run_writes_every_output(first_run):
+    _, out, code = first_run
+    assert code == 0
+    for name in (
+        "report.html",
+        "results.json",
+        "vehicle.yaml",
+        "mission/pid.csv",
+        "mission/s-plane.csv",
+        "mission/metrics.json",
+    ):
+        assert (out / name).is_file(), name
+    assert not list(out.glob("**/*.part"))
+
+
+def test_full_scale_values_are_the_launch_mean_scaled_with_lambda(first_run):
+    _, out, _ = first_run
+    doc = results(out)
+    camp = doc["campaigns"]["surge"]
+    lam = 1 / 0.3
+    exps = {"added_mass": 3, "linear_damping": 2, "quadratic_damping": 2}  # ENG2009 §II.D
+    for coef, e in exps.items():
+        s = camp["campaign"]["summary"][coef]
+        kept = [L[coef] for L in camp["campaign"]["launches"] if L["file"] not in (s["rejected"] or [])]
+        assert camp["full_scale"][coef]["mean"] == pytest.approx(np.mean(kept) * lam**e, rel=1e-12)
+        # the tank is chosen (rule "tank") and goes into the vehicle unchanged
+        assert doc["chosen"]["surge"][coef] == {
+            "value": camp["full_scale"][coef]["mean"],
+            "source": "tank",
+            "se": camp["full_scale"][coef]["se"],
+        }
+        # the virtual truth is recovered: within 3 % (8 launches with sensor lag and quantisation)
+        assert camp["full_scale"][coef]["mean"] == pytest.approx(TRUTH[coef] * lam**e, rel=0.03)
+
+
+def test_uncertainty_block_is_the_covariance_of_the_launch_means(first_run):
+    _, out, _ = first_run
+    doc = results(out)
+    camp = doc["campaigns"]["surge"]
+    summary = camp["campaign"]["summary"]
+    rejected = set().union(*(summary[c]["rejected"] or [] for c in TRUTH))
+    rows = np.array([[L[c] for c in TRUTH] for L in camp["campaign"]["launches"] if L["file"] not in rejected])
+    f = np.array([(1 / 0.3) ** e for e in (3, 2, 2)])
+    expected = np.cov(rows, rowvar=False) / len(rows) * np.outer(f, f)
+    veh = yaml.safe_load((out / "vehicle.yaml").read_text())
+    unc = veh["uncertainty"]
+    assert unc["parameters"] == ["added_mass.surge", "linear_damping.surge", "quadratic_damping.surge"]
+    assert np.allclose(unc["covariance"], expected, rtol=1e-9)
+    assert unc["added_mass"][0] == pytest.approx(math.sqrt(expected[0, 0]), rel=1e-9)
+    assert unc["quadratic_damping"][:3] == [pytest.approx(math.sqrt(expected[2, 2]), rel=1e-9), 0.0, 0.0]
+
+
+def test_written_vehicle_loads_and_simulates(first_run, run_cli, tmp_path):
+    _, out, _ = first_run
+    v = hydrokit.load_vehicle(out / "vehicle.yaml")
+    doc = results(out)
+    assert v.M_A[0, 0] == pytest.approx(doc["chosen"]["surge"]["added_mass"]["value"])
+    base = hydrokit.load_vehicle(PROJECT / "base.yaml")
+    # untested DOFs keep the base vehicle's values (no source has them)
+    assert v.M_A[3, 3] == base.M_A[3, 3] and v.D_Q[5] == base.D_Q[5]
+    assert len(v.thrusters) == len(base.thrusters)
+    code, _, err = run_cli(
+        "simulate", out / "vehicle.yaml", "--duration", "1", "--dt", "0.01", "--out", tmp_path / "sim"
+    )
+    assert code == 0, err
+
+
+def test_cfd_comparison_against_the_printed_fit(first_run):
+    _, out, _ = first_run
+    row = next(r for r in results(out)["comparison"] if r["coefficient"] == "quadratic_damping")
+    # cfd_x.csv is CELY2019 Table 5's x-axis Chin fit evaluated at 10 speeds: the fit returns it
+    assert row["cfd"] == pytest.approx(43.2322, rel=1e-5)  # the CSV holds 6 significant digits
+    assert row["relative_to_tank_percent"]["cfd"] == pytest.approx(
+        100 * (43.2322 - row["tank"]) / row["tank"], rel=1e-6
+    )
+
+
+def test_mission_metrics_match_flying_the_written_vehicle(first_run):
+    project, out, _ = first_run
+    doc = results(out)
+    run = hydrokit.fly(project.parent / "mission.yaml", "pid", vehicle=out / "vehicle.yaml")
+    assert doc["missions"]["controllers"]["pid"]["metrics"]["cross_track_rms"] == pytest.approx(
+        run.metrics["cross_track_rms"], rel=1e-12
+    )
+    mc = doc["monte_carlo"]
+    assert mc["samples"] == 6 and set(mc["controllers"]) == {"pid", "s-plane"}
+    x = mc["controllers"]["pid"]["metrics"]["cross_track_rms"]
+    assert x["p5"] <= x["median"] <= x["p95"]
+
+
+def test_a_second_run_takes_every_step_from_the_cache(first_run, run_cli):
+    project, out, _ = first_run
+    before = results(out)
+    code, _, err = run_cli("run", project, "--out", out, "--workers", "1", "--quiet")
+    assert code == 0, err
+    after = results(out)
+    assert all(t["cached"] for t in after["timings"] if t["step"] != "cfd fit")
+    strip = lambda d: {k: v for k, v in d.items() if k not in ("timings", "engine")}  # noqa: E731
+    assert strip(after) == strip(before)
+
+
+def test_a_changed_launch_recomputes_its_campaign_and_what_follows(tmp_path):
+    project = make_project(tmp_path, samples=2)
+    out = tmp_path / "run"
+    first = hydrokit.run_project(project, out, workers=1)
+    launch = tmp_path / "launches" / LAUNCHES[0]
+    launch.unlink()  # one launch fewer
+    second = hydrokit.run_project(project, out, workers=1)
+    cached = {t["step"]: t["cached"] for t in second.timings}
+    assert cached["identify surge"] is False and cached["mission"] is False and cached["monte carlo"] is False
+    assert len(second.document["campaigns"]["surge"]["campaign"]["launches"]) == len(LAUNCHES) - 1
+    assert second.chosen["surge"]["added_mass"]["value"] != first.chosen["surge"]["added_mass"]["value"]
+    forced = hydrokit.run_project(project, out, workers=1, force=True)
+    assert not any(t["cached"] for t in forced.timings)
+
+
+def test_dask_local_cluster_gives_the_serial_result(tmp_path):
+    pytest.importorskip("distributed")
+    project = make_project(tmp_path, samples=4)
+    serial = hydrokit.run_project(project, tmp_path / "serial", workers=1)
+    dask = hydrokit.run_project(project, tmp_path / "dask", workers=2)
+    assert dask.document["engine"].startswith("Dask LocalCluster, 2 workers (127.0.0.1)")
+    assert dask.chosen == serial.chosen
+    assert dask.document["monte_carlo"] == serial.document["monte_carlo"]
+
+
+def test_bad_project_exits_2_writes_nothing_and_keeps_the_cache(first_run, run_cli, tmp_path):
+    project, out, _ = first_run
+    report_before = (out / "report.html").read_bytes()
+    cache_before = sorted(p.name for p in (out / ".cache").iterdir())
+    bad = project.parent / "bad.yaml"
+    doc = yaml.safe_load(project.read_text())
+    doc["campaigns"][0]["launches"] = "launches/*.nothing"
+    bad.write_text(yaml.safe_dump(doc))
+    code, _, err = run_cli("run", bad, "--out", out, "--workers", "1")
+    assert code == 2
+    lines = err.strip().splitlines()
+    assert len(lines) == 1 and "campaigns[0].launches" in lines[0] and "matches no file" in lines[0]
+    assert "Traceback" not in err
+    assert (out / "report.html").read_bytes() == report_before
+    assert sorted(p.name for p in (out / ".cache").iterdir()) == cache_before
+
+
+def test_a_mission_for_a_vehicle_without_thrusters_is_refused(tmp_path, run_cli):
+    project = make_project(tmp_path)
+    base = yaml.safe_load((tmp_path / "base.yaml").read_text())
+    base.pop("thrusters")
+    (tmp_path / "base.yaml").write_text(yaml.safe_dump(base))
+    with pytest.raises(InputError, match=r"'mission'.*no 'thrusters:' block"):
+        hydrokit.run_project(project, tmp_path / "run", workers=1)
+    code, _, err = run_cli("run", project, "--out", tmp_path / "run2", "--workers", "1")
+    assert code == 2 and not (tmp_path / "run2" / "report.html").exists() and len(err.strip().splitlines()) == 1
+
+
+def test_an_unreachable_scheduler_is_one_line(tmp_path, run_cli):
+    pytest.importorskip("distributed")
+    project = make_project(tmp_path, samples=0, mission=False)
+    code, _, err = run_cli("run", project, "--out", tmp_path / "run", "--scheduler", "tcp://127.0.0.1:9")
+    assert code == 2 and "--scheduler" in err and len(err.strip().splitlines()) == 1
+    assert not (tmp_path / "run" / "report.html").exists()
+
+
+def test_report_renders_in_chromium_with_every_figure(first_run, open_in_chromium, figures_ok, tmp_path):
+    _, out, _ = first_run
+    source = (out / "report.html").read_text()
+    page = open_in_chromium(out / "report.html", tmp_path / "run.png")
+    assert page.console == [], page.console
+    assert figures_ok(page) == []
+    # per-launch fits (8), coefficient summaries (3 + C_D vs Re), mission (2), Monte Carlo (1)
+    assert len(page.images) == source.count("<img") == 8 + 4 + 2 + 1
+    assert page.text("h1") == ["hydrokit run: tiny"]
+    text = page.dom
+    assert "These launches are virtual" in text and "Choice rule" in text and "truth inside envelope" in text
