@@ -40,4 +40,9 @@ class MissingExtraError(HydrokitError, ImportError):
     """An optional dependency is not installed; the message says which extra to install."""
 
     def __init__(self, package: str, extra: str):
+        self.package, self.extra = package, extra
         super().__init__(f"this feature needs the optional package '{package}': pip install 'hydrokit[{extra}]'")
+
+    def __reduce__(self) -> tuple[type, tuple[str, str]]:
+        # rebuilt from its two arguments when a worker process sends it back (Dask pickles errors)
+        return (type(self), (self.package, self.extra))
