@@ -101,15 +101,21 @@ def test_full_scale_values_are_the_launch_mean_scaled_with_lambda(first_run):
         assert camp["full_scale"][coef]["mean"] == pytest.approx(TRUTH[coef] * lam**e, rel=0.03)
 
 
-def test_uncertainty_block_is_the_covariance_of_the_launch_means(first_run):
+def test_uncertainty_block_is_launch_scatter_plus_between_group_variance(first_run):
     _, out, _ = first_run
     doc = results(out)
     camp = doc["campaigns"]["surge"]
     summary = camp["campaign"]["summary"]
     rejected = set().union(*(summary[c]["rejected"] or [] for c in TRUTH))
-    rows = np.array([[L[c] for c in TRUTH] for L in camp["campaign"]["launches"] if L["file"] not in rejected])
+    kept = {L["file"]: [L[c] for c in TRUTH] for L in camp["campaign"]["launches"] if L["file"] not in rejected}
+    rows = np.array(list(kept.values()))
+    members = [[kept[f] for f in files if f in kept] for files in camp["campaign"]["groups"].values()]
+    groups = [np.mean(m, axis=0) for m in members if m]
+    assert len(groups) == 4  # 10, 20, 30, 40 mm
     f = np.array([(1 / 0.3) ** e for e in (3, 2, 2)])
-    expected = np.cov(rows, rowvar=False) / len(rows) * np.outer(f, f)
+    # random effects: launch scatter / n, plus the variance of the 4 group means / 4 on the diagonal
+    model = np.cov(rows, rowvar=False) / len(rows) + np.diag(np.var(groups, axis=0, ddof=1) / len(groups))
+    expected = model * np.outer(f, f)
     veh = yaml.safe_load((out / "vehicle.yaml").read_text())
     unc = veh["uncertainty"]
     assert unc["parameters"] == ["added_mass.surge", "linear_damping.surge", "quadratic_damping.surge"]

@@ -1,13 +1,14 @@
 """Step cache of ``hydrokit run``: each step's output stored as JSON under the hash of its inputs.
 
-A step's key is the SHA-256 of everything it reads — file bytes, options, the keys of the steps
-before it — and of the hydrokit version, so a re-run skips exactly what is up to date and redoes
+A step's key is the SHA-256 of everything it reads — file bytes, options, the outputs of the
+steps before it — and of hydrokit's own source, so a re-run skips exactly what is up to date and redoes
 what changed. Entries are plain JSON (never pickle) written atomically; a failed step leaves the
 entries of the steps before it in place.
 """
 
 from __future__ import annotations
 
+import functools
 import hashlib
 import json
 import os
@@ -29,11 +30,22 @@ def file_digest(path: str | os.PathLike[str]) -> str:
     return h.hexdigest()
 
 
-def digest(*parts: Any) -> str:
-    """SHA-256 (hex) of JSON-serialisable parts (sorted keys; paths as text)."""
-    from hydrokit import __version__
+@functools.lru_cache(maxsize=1)
+def code_fingerprint() -> str:
+    """SHA-256 of hydrokit's own source files: a changed or upgraded hydrokit redoes the steps
+    (a version number alone misses a developer's edits)."""
+    root = Path(__file__).resolve().parents[1]
+    h = hashlib.sha256()
+    for path in sorted(root.rglob("*.py")):
+        h.update(path.relative_to(root).as_posix().encode())
+        h.update(path.read_bytes())
+    return h.hexdigest()
 
-    text = json.dumps([CACHE_FORMAT, __version__, *parts], sort_keys=True, default=str, allow_nan=True)
+
+def digest(*parts: Any) -> str:
+    """SHA-256 (hex) of JSON-serialisable parts (sorted keys; paths as text), the cache format
+    and the code fingerprint."""
+    text = json.dumps([CACHE_FORMAT, code_fingerprint(), *parts], sort_keys=True, default=str, allow_nan=True)
     return hashlib.sha256(text.encode("utf-8")).hexdigest()
 
 
