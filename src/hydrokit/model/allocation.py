@@ -281,8 +281,6 @@ def allocate_constrained(
         DOF when τ is out of reach; None = identity (the plain residual). ``residual`` in
         the result is always the unweighted |T f − τ|.
     """
-    from scipy.optimize import lsq_linear
-
     T = np.asarray(T, dtype=float)
     tau = _check_tau(tau)
     m = T.shape[1]
@@ -292,31 +290,7 @@ def allocate_constrained(
     if lo.shape != (m,) or hi.shape != (m,) or np.any(lo > hi):
         raise InputError(f"thrust limits: expected {m} pairs with min ≤ max, got {lo} and {hi}")
     unc, warns = _uncontrollable_warning(T, tau)
-    # Degenerate bounds (min == max) are allowed by the maths but not by lsq_linear.
-    fixed = hi - lo <= 0
-    lo_s, hi_s = lo.copy(), hi.copy()
-    hi_s[fixed] = lo[fixed] + 1e-12
-
-    Q = np.ones(6) if dof_weights is None else np.asarray(dof_weights, dtype=float).reshape(6)
-    f1 = lsq_linear(Q[:, None] * T, Q * tau, bounds=(lo_s, hi_s), method="bvls", tol=1e-12).x
-    f1 = np.clip(f1, lo, hi)
-    a1 = T @ f1
-    r1 = float(np.linalg.norm(a1 - tau))
-
-    scale = max(float(np.linalg.norm(T, 2)), 1e-300)
-    A = np.vstack([_STAGE2_WEIGHT * T / scale, np.eye(m)])
-    b = np.concatenate([_STAGE2_WEIGHT * a1 / scale, np.zeros(m)])
-    f2 = np.clip(lsq_linear(A, b, bounds=(lo_s, hi_s), method="bvls", tol=1e-12).x, lo, hi)
-    f2 = _polish(T, a1, f2, lo, hi)
-    a2 = T @ f2
-    r2 = float(np.linalg.norm(a2 - tau))
-    thrust_scale = max(float(np.max(np.abs(np.concatenate([lo, hi])))), 1.0)
-    q1 = float(np.linalg.norm(Q * (a1 - tau)))
-    q2 = float(np.linalg.norm(Q * (a2 - tau)))
-    if q2 <= q1 + 1e-8 * thrust_scale * float(np.max(Q)):
-        f, a, r = f2, a2, r2
-    else:  # pragma: no cover - defensive; stage 2 is designed not to lose residual
-        f, a, r = f1, a1, r1
+    f, a, r = _ConstrainedSolver(T, lo, hi, dof_weights).solve(tau)
     return AllocationResult(
         thrust=f,
         achieved_tau=a,
@@ -328,18 +302,83 @@ def allocate_constrained(
     )
 
 
-def _polish(T: Array, target: Array, f: Array, lo: Array, hi: Array) -> Array:
+class _ConstrainedSolver:
+    """The two stages of :func:`allocate_constrained` for one T and one set of limits, with
+    everything that does not depend on τ computed once (the closed loop calls it with a new
+    τ every step it saturates). The arrays are computed by the same expressions as before,
+    so the solution is the same bit for bit."""
+
+    def __init__(self, T: Array, lo: Array, hi: Array, dof_weights: ArrayLike | None) -> None:
+        m = T.shape[1]
+        self.T, self.lo, self.hi = T, lo, hi
+        # Degenerate bounds (min == max) are allowed by the maths but not by lsq_linear.
+        fixed = hi - lo <= 0
+        lo_s, hi_s = lo.copy(), hi.copy()
+        hi_s[fixed] = lo[fixed] + 1e-12
+        self.bounds = (lo_s, hi_s)
+        self.Q = Q = np.ones(6) if dof_weights is None else np.asarray(dof_weights, dtype=float).reshape(6)
+        self.QT = Q[:, None] * T
+        self.scale = scale = max(float(np.linalg.norm(T, 2)), 1e-300)
+        self.A = np.vstack([_STAGE2_WEIGHT * T / scale, np.eye(m)])
+        self.zeros = np.zeros(m)
+        self.thrust_scale = max(float(np.max(np.abs(np.concatenate([lo, hi])))), 1.0)
+        self.q_max = float(np.max(Q))
+        self.polish_tol = 1e-7 * np.maximum(np.maximum(np.abs(lo), np.abs(hi)), 1.0)
+        self.pinvs: dict[bytes, Array] = {}
+
+    def solve(self, tau: Array) -> tuple[Array, Array, float]:
+        """(f, T f, |T f − τ|) for the demanded τ."""
+        from scipy.optimize import lsq_linear
+
+        T, lo, hi, Q = self.T, self.lo, self.hi, self.Q
+        f1 = lsq_linear(self.QT, Q * tau, bounds=self.bounds, method="bvls", tol=1e-12).x
+        f1 = np.clip(f1, lo, hi)
+        a1 = T @ f1
+        r1 = float(np.linalg.norm(a1 - tau))
+
+        b = np.concatenate([_STAGE2_WEIGHT * a1 / self.scale, self.zeros])
+        f2 = np.clip(lsq_linear(self.A, b, bounds=self.bounds, method="bvls", tol=1e-12).x, lo, hi)
+        f2 = _polish(T, a1, f2, lo, hi, self.polish_tol, self.pinvs)
+        a2 = T @ f2
+        r2 = float(np.linalg.norm(a2 - tau))
+        q1 = float(np.linalg.norm(Q * (a1 - tau)))
+        q2 = float(np.linalg.norm(Q * (a2 - tau)))
+        if q2 <= q1 + 1e-8 * self.thrust_scale * self.q_max:
+            return f2, a2, r2
+        return f1, a1, r1  # pragma: no cover - defensive; stage 2 is designed not to lose residual
+
+
+def _polish(
+    T: Array,
+    target: Array,
+    f: Array,
+    lo: Array,
+    hi: Array,
+    tol: Array | None = None,
+    pinvs: dict[bytes, Array] | None = None,
+) -> Array:
     """Remove the penalty's small bias: keep the thrusters found at a limit, give the others
     the exact minimum-norm solution of T f = target (the KKT point for that active set).
-    The polished point is used only if it stays within the limits."""
-    tol = 1e-7 * np.maximum(np.maximum(np.abs(lo), np.abs(hi)), 1.0)
+    The polished point is used only if it stays within the limits.
+
+    ``tol`` is the limit tolerance (computed from lo, hi when None); ``pinvs`` caches the
+    pseudo-inverse of T's free columns per active set (for repeated calls with one T)."""
+    if tol is None:
+        tol = 1e-7 * np.maximum(np.maximum(np.abs(lo), np.abs(hi)), 1.0)
     active = (f <= lo + tol) | (f >= hi - tol)
     if np.all(active):
         return f
     fixed = np.where(f <= lo + tol, lo, hi)
     g = np.where(active, fixed, 0.0)
     free = ~active
-    g[free] = np.linalg.pinv(T[:, free]) @ (target - T[:, active] @ fixed[active])
+    if pinvs is None:
+        Tp = np.linalg.pinv(T[:, free])
+    else:
+        key = free.tobytes()
+        Tp = pinvs.get(key)  # type: ignore[assignment]
+        if Tp is None:
+            Tp = pinvs[key] = np.linalg.pinv(T[:, free])
+    g[free] = Tp @ (target - T[:, active] @ fixed[active])
     if np.all(g >= lo) and np.all(g <= hi) and np.linalg.norm(T @ g - target) <= np.linalg.norm(T @ f - target):
         return g
     return f
@@ -383,13 +422,22 @@ class Allocator:
             self.Q: Array | None = np.where(reach > 0, 1.0 / np.where(reach > 0, reach, 1.0), 1.0)
         else:
             self.Q = None if dof_weights is None else np.asarray(dof_weights, dtype=float)
+        self._solver: _ConstrainedSolver | None = None  # built at the first saturated call
 
     def __call__(self, tau: ArrayLike) -> tuple[Array, bool]:
         """Thrust (N) for the demanded τ (N, N·m) and whether the limits were active."""
         tau = np.asarray(tau, dtype=float)
         f = self.P @ tau
-        if np.all(f <= self.f_max) and np.all(f >= self.f_min):
+        if (f <= self.f_max).all() and (f >= self.f_min).all():
             return f, False
-        tau_eff = np.where(self.unactuated, 0.0, tau)
-        res = allocate_constrained(self.T, tau_eff, self.f_min, self.f_max, dof_weights=self.Q)
-        return res.thrust, True
+        tau_eff = _check_tau(np.where(self.unactuated, 0.0, tau))
+        # what allocate_constrained(T, tau_eff, f_min, f_max, dof_weights=Q) computes, with
+        # its τ-independent parts kept between calls
+        solver = self._solver
+        if solver is None:
+            lo, hi = self.f_min.reshape(-1), self.f_max.reshape(-1)
+            m = self.T.shape[1]
+            if lo.shape != (m,) or hi.shape != (m,) or np.any(lo > hi):
+                raise InputError(f"thrust limits: expected {m} pairs with min ≤ max, got {lo} and {hi}")
+            solver = self._solver = _ConstrainedSolver(self.T, lo, hi, self.Q)
+        return solver.solve(tau_eff)[0], True

@@ -210,7 +210,8 @@ class SPlane:
     ) -> tuple[float, AxisState]:
         """One control step; arguments and returns as :meth:`PID.update`."""
         e, rate = _error_and_rate(state, measurement, setpoint, dt, rate, self.angle)
-        u = float(self.surface(e, rate, self.k1, self.k2))
+        # surface() on two floats: the same arithmetic without the 0-d arrays
+        u = float(np.tanh(0.5 * (self.k1 * e + self.k2 * rate)))
         return -self.scale * u, AxisState(integral=state.integral, previous=float(measurement))
 
 
@@ -242,8 +243,14 @@ class AutopilotState:
 
 def euler_rates(eta: ArrayLike, nu: ArrayLike) -> tuple[float, float, float, float]:
     """ż (m/s), φ̇, θ̇, ψ̇ (rad/s) from η and ν (zyx Euler angles, Fossen 2011 eq. 2.29)."""
-    _, _, _, phi, theta, _ = (float(x) for x in np.asarray(eta, dtype=float))
-    u, v, w, p, q, r = (float(x) for x in np.asarray(nu, dtype=float))
+    _, _, _, phi, theta, _ = np.asarray(eta, dtype=float).tolist()
+    u, v, w, p, q, r = np.asarray(nu, dtype=float).tolist()
+    return _euler_rates(phi, theta, u, v, w, p, q, r)
+
+
+def _euler_rates(
+    phi: float, theta: float, u: float, v: float, w: float, p: float, q: float, r: float
+) -> tuple[float, float, float, float]:
     cphi, sphi = math.cos(phi), math.sin(phi)
     cth, sth = math.cos(theta), math.sin(theta)
     zdot = -sth * u + cth * sphi * v + cth * cphi * w
@@ -292,17 +299,18 @@ class Autopilot:
 
         ``dt`` is the control period, s.
         """
-        eta = np.asarray(eta, dtype=float)
-        nu = np.asarray(nu, dtype=float)
-        zdot, phidot, thetadot, psidot = euler_rates(eta, nu)
+        # plain floats: the same values as the array elements, without numpy scalar overhead
+        _, _, z, phi, theta, psi = np.asarray(eta, dtype=float).tolist()
+        u, v, w, p, q, r = np.asarray(nu, dtype=float).tolist()
+        zdot, phidot, thetadot, psidot = _euler_rates(phi, theta, u, v, w, p, q, r)
         s = state.loops or self.initial_state().loops
-        tau = np.zeros(6)
+        tau = [0.0] * 6
         new = list(s)
-        tau[0], new[0] = self.speed.update(s[0], nu[0], reference.speed, dt, None)
-        tau[2], new[1] = self.depth.update(s[1], eta[2], reference.depth, dt, zdot)
-        tau[5], new[2] = self.heading.update(s[2], eta[5], reference.heading, dt, psidot)
+        tau[0], new[0] = self.speed.update(s[0], u, reference.speed, dt, None)
+        tau[2], new[1] = self.depth.update(s[1], z, reference.depth, dt, zdot)
+        tau[5], new[2] = self.heading.update(s[2], psi, reference.heading, dt, psidot)
         if self.roll is not None:
-            tau[3], new[3] = self.roll.update(s[3], eta[3], reference.roll, dt, phidot)
+            tau[3], new[3] = self.roll.update(s[3], phi, reference.roll, dt, phidot)
         if self.pitch is not None:
-            tau[4], new[4] = self.pitch.update(s[4], eta[4], reference.pitch, dt, thetadot)
-        return tau, AutopilotState(tuple(new))
+            tau[4], new[4] = self.pitch.update(s[4], theta, reference.pitch, dt, thetadot)
+        return np.array(tau, dtype=float), AutopilotState(tuple(new))

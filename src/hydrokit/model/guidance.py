@@ -78,6 +78,16 @@ class Path:
         object.__setattr__(self, "speeds", s)
         object.__setattr__(self, "acceptance_radius", R)
         object.__setattr__(self, "lookahead", L)
+        # Per-leg constants of update() (not fields: no effect on == or repr), computed by
+        # the same expressions update() used to evaluate at every call: for leg k (1-based)
+        # a, b, d = b − a (arrays), |d|² and |d| (floats), and a, d as plain floats.
+        legs = []
+        for k in range(1, p.shape[0]):
+            a, b = p[k - 1], p[k]
+            d = b - a
+            Ld = float(np.linalg.norm(d))
+            legs.append((a, b, d, float(d @ d), Ld, Ld * Ld, a.tolist(), d.tolist()))
+        object.__setattr__(self, "_legs", (None, *legs))
 
     @property
     def n_legs(self) -> int:
@@ -106,34 +116,36 @@ class Path:
         """
         p = np.asarray(position, dtype=float)[:3]
         k, heading = state.leg, state.heading
-        while k <= self.n_legs:
-            a, b = self.points[k - 1], self.points[k]
-            d = b - a
-            L2 = float(d @ d)
-            s = float((p - a) @ d) / L2  # along-track fraction
-            if np.linalg.norm(p - b) <= self.acceptance_radius or s >= 1.0:
+        n_legs = self.n_legs
+        legs = self._legs  # type: ignore[attr-defined]
+        pa_d = 0.0
+        while k <= n_legs:
+            a, b, d, L2 = legs[k][:4]
+            pa_d = float((p - a) @ d)
+            s = pa_d / L2  # along-track fraction
+            pb = p - b
+            if math.sqrt(pb.dot(pb)) <= self.acceptance_radius or s >= 1.0:  # |p − b|, as np.linalg.norm
                 k += 1
-                if k <= self.n_legs:
+                if k <= n_legs:
                     heading = self._leg_course(k, heading)
                 continue
             break
-        if k > self.n_legs:
+        if k > n_legs:
             end = self.points[-1]
             ref = Reference(speed=0.0, depth=float(end[2]), heading=heading)
             return ref, GuidanceState(leg=k, heading=heading)
-        a, b = self.points[k - 1], self.points[k]
-        d = b - a
-        L = float(np.linalg.norm(d))
-        s = float((p - a) @ d) / (L * L)
-        horiz = math.hypot(d[0], d[1])
+        L, LL, (a0, a1, a2), (d0, d1, d2) = legs[k][4:]
+        s = pa_d / LL  # (p − a)·d of the leg the loop stopped on
+        horiz = math.hypot(d0, d1)
         # Depth lookahead scaled by the leg's vertical share |dz|/L: a vertical leg needs the
         # full lookahead to make progress, a gently sloping one should not lead its ramp.
-        s_ahead = min(max(s + self.lookahead * abs(d[2]) / (L * L), 0.0), 1.0)
-        depth = float(a[2] + s_ahead * d[2])
+        s_ahead = min(max(s + self.lookahead * abs(d2) / LL, 0.0), 1.0)
+        depth = a2 + s_ahead * d2
         command = heading  # a vertical leg keeps the course of the last horizontal one
         if horiz >= _HORIZONTAL_EPS:
-            alpha = math.atan2(d[1], d[0])
-            e = -(p[0] - a[0]) * math.sin(alpha) + (p[1] - a[1]) * math.cos(alpha)
+            p0, p1 = p[:2].tolist()
+            alpha = math.atan2(d1, d0)
+            e = -(p0 - a0) * math.sin(alpha) + (p1 - a1) * math.cos(alpha)
             command = alpha + math.atan(-e / self.lookahead)
         speed = float(self.speeds[k - 1]) * horiz / L
         if vehicle_heading is not None:

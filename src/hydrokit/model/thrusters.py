@@ -26,8 +26,9 @@ from __future__ import annotations
 import abc
 import dataclasses
 import math
+from collections.abc import Sequence
 from dataclasses import InitVar, dataclass, field
-from typing import ClassVar, Literal
+from typing import Any, ClassVar, Literal, cast
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
@@ -57,6 +58,15 @@ def _horner(coeffs: tuple[float, ...], x: float) -> float:
     for c in coeffs:
         y = y * x + c
     return y
+
+
+def _pad_cubic(coeffs: tuple[float, ...]) -> tuple[float, ...]:
+    """Coefficients padded with leading zeros to four (a cubic), or unchanged if longer.
+
+    Horner's scheme from y = 0 keeps y = +0.0 through leading zero coefficients (for any
+    finite x), so the padded polynomial gives :func:`_horner`'s value bit for bit.
+    """
+    return (0.0,) * (4 - len(coeffs)) + tuple(coeffs) if len(coeffs) <= 4 else tuple(coeffs)
 
 
 # =========================================================================== thrust curves
@@ -100,6 +110,25 @@ class ThrustCurve(abc.ABC):
         on the density."""
         return self
 
+    # Batch evaluation. ThrusterSet groups its thrusters by curve class and calls these
+    # once per group and step; a subclass may override them with a faster computation that
+    # gives the same values as its scalar methods (tests/model/test_closed_loop_speed_refactor.py).
+    @classmethod
+    def thrust_batch(cls, curves: Sequence[ThrustCurve], command: Array, advance_speed: Array) -> Array:
+        """:meth:`thrust` of each of ``curves`` (all of this class) at the matching command
+        and advance speed (m/s), N."""
+        return np.array(
+            [cv.thrust(c, v) for cv, c, v in zip(curves, command.tolist(), advance_speed.tolist())], dtype=float
+        )
+
+    @classmethod
+    def command_batch(cls, curves: Sequence[ThrustCurve], thrust: Array, advance_speed: Array) -> Array:
+        """:meth:`command` of each of ``curves`` (all of this class) for the matching thrust
+        (N) and advance speed (m/s)."""
+        return np.array(
+            [cv.command(f, v) for cv, f, v in zip(curves, thrust.tolist(), advance_speed.tolist())], dtype=float
+        )
+
 
 @dataclass(frozen=True)
 class IdealCurve(ThrustCurve):
@@ -119,6 +148,16 @@ class IdealCurve(ThrustCurve):
     def limits(self) -> tuple[float, float]:
         """(−∞, ∞): the thruster's rated limits are the only ones."""
         return (-math.inf, math.inf)
+
+    @classmethod
+    def thrust_batch(cls, curves: Sequence[ThrustCurve], command: Array, advance_speed: Array) -> Array:
+        """The commands themselves, N."""
+        return np.array(command, dtype=float)
+
+    @classmethod
+    def command_batch(cls, curves: Sequence[ThrustCurve], thrust: Array, advance_speed: Array) -> Array:
+        """The thrusts themselves, N."""
+        return np.array(thrust, dtype=float)
 
 
 @dataclass(frozen=True)
@@ -153,6 +192,9 @@ class TableCurve(ThrustCurve):
             raise InputError(f"{label} thrust_table: command and thrust must both be strictly increasing")
         object.__setattr__(self, "commands", c)
         object.__setattr__(self, "thrusts", f)
+        # the table as arrays, for the batch interpolation (not fields: no effect on ==)
+        object.__setattr__(self, "_c_arr", np.array(c, dtype=float))
+        object.__setattr__(self, "_f_arr", np.array(f, dtype=float))
 
     def thrust(self, command: float, advance_speed: float = 0.0) -> float:
         """Interpolated thrust, N (the table holds for any advance speed)."""
@@ -169,6 +211,37 @@ class TableCurve(ThrustCurve):
     def command_limits(self) -> tuple[float, float]:
         """First and last command of the table (table unit)."""
         return (self.commands[0], self.commands[-1])
+
+    @staticmethod
+    def _interp_groups(curves: Sequence[ThrustCurve], x: Array, inverse: bool) -> Array:
+        # one np.interp per distinct table; np.interp gives the same value for an element
+        # of an array as for the same number alone
+        first: Any = curves[0]
+        if all(cv is first for cv in curves) or all(cv == first for cv in curves):
+            xp, fp = (first._f_arr, first._c_arr) if inverse else (first._c_arr, first._f_arr)
+            return np.interp(x, xp, fp)
+        out = np.empty(len(curves))
+        done = [False] * len(curves)
+        for i, cv in enumerate(curves):
+            if done[i]:
+                continue
+            idx = [j for j in range(i, len(curves)) if not done[j] and (curves[j] is cv or curves[j] == cv)]
+            for j in idx:
+                done[j] = True
+            t: Any = cv
+            xp, fp = (t._f_arr, t._c_arr) if inverse else (t._c_arr, t._f_arr)
+            out[idx] = np.interp(x[idx], xp, fp)
+        return out
+
+    @classmethod
+    def thrust_batch(cls, curves: Sequence[ThrustCurve], command: Array, advance_speed: Array) -> Array:
+        """Interpolated thrusts, N (one interpolation per distinct table)."""
+        return cls._interp_groups(curves, np.asarray(command, dtype=float), inverse=False)
+
+    @classmethod
+    def command_batch(cls, curves: Sequence[ThrustCurve], thrust: Array, advance_speed: Array) -> Array:
+        """Interpolated commands (table unit), one interpolation per distinct table."""
+        return cls._interp_groups(curves, np.asarray(thrust, dtype=float), inverse=True)
 
 
 @dataclass(frozen=True)
@@ -233,6 +306,29 @@ class PropellerCurve(ThrustCurve):
             )
         put("advance_ratio_range", rng)
         put("density", quantity(self.density, f"{label} density", positive=True, unit="kg/m³"))
+        # Per-curve constants of the batch methods (not fields: no effect on == or repr).
+        # Each is computed with the same expression, in the same order, as in thrust() and
+        # command(), so the batch methods reproduce them bit for bit.
+        D4 = self.diameter**4
+        den_f = self.thrust_loss_forward * _horner(kf, 0.0) * self.density * D4
+        den_r = self.thrust_loss_reverse * _horner(kr, 0.0) * self.density * D4
+        put(
+            "_fast",
+            (
+                self.diameter,
+                D4,
+                self.density,
+                rng[0],
+                rng[1],
+                _pad_cubic(kf),
+                _pad_cubic(kr),
+                self.thrust_loss_forward,
+                self.thrust_loss_reverse,
+                self.max_speed,
+                den_f,
+                den_r,
+            ),
+        )
 
     def in_fluid(self, density: float) -> PropellerCurve:
         """This curve with ρ = ``density`` (kg/m³)."""
@@ -314,6 +410,116 @@ class PropellerCurve(ThrustCurve):
     def command_limits(self) -> tuple[float, float]:
         """(−n_max, n_max), rev/s."""
         return (-self.max_speed, self.max_speed)
+
+    @classmethod
+    def thrust_batch(cls, curves: Sequence[ThrustCurve], command: Array, advance_speed: Array) -> Array:
+        """:meth:`thrust` of each curve, N (same values, less overhead)."""
+        props = cast("Sequence[PropellerCurve]", curves)
+        return np.array(
+            [cv._thrust_fast(c, v) for cv, c, v in zip(props, command.tolist(), advance_speed.tolist())], dtype=float
+        )
+
+    @classmethod
+    def command_batch(cls, curves: Sequence[ThrustCurve], thrust: Array, advance_speed: Array) -> Array:
+        """:meth:`command` of each curve, rev/s (same values, less overhead)."""
+        props = cast("Sequence[PropellerCurve]", curves)
+        return np.array(
+            [cv._command_fast(f, v) for cv, f, v in zip(props, thrust.tolist(), advance_speed.tolist())], dtype=float
+        )
+
+    def _thrust_fast(self, n: float, va: float) -> float:
+        """:meth:`thrust` for plain floats, with the constants precomputed; the same
+        operations in the same order, so the same value bit for bit."""
+        if n == 0.0:
+            return 0.0
+        D, D4, rho, jlo, jhi, kf, kr, lf, lr = self._fast[:9]  # type: ignore[attr-defined]
+        k, loss = (kf, lf) if n > 0 else (kr, lr)
+        if len(k) != 4:  # beyond a cubic: the reference method
+            return self.thrust(n, va)
+        nD = n * D
+        if abs(nD) * 1e6 > abs(va):
+            J = va / nD
+            J = jlo if jlo > J else J  # max(J, jlo)
+            J = jhi if jhi < J else J  # min(J, jhi)
+        else:
+            J = jhi if (va > 0) == (n > 0) else jlo
+        kt = (((0.0 * J + k[0]) * J + k[1]) * J + k[2]) * J + k[3]  # _horner, unrolled
+        kt = 0.0 if kt < 0.0 else kt  # max(kt, 0.0), NaN kept
+        return loss * kt * rho * D4 * abs(n) * n
+
+    def _command_fast(self, f: float, va: float) -> float:
+        """:meth:`command` for plain floats: the same closed form and the same regula-falsi
+        (Illinois) iterations, with :meth:`thrust` written inline (as in
+        :meth:`_thrust_fast`); the same value bit for bit."""
+        if f == 0.0:
+            return 0.0
+        D, D4, rho, jlo, jhi, kf, kr, lf, lr, n_max, den_f, den_r = self._fast  # type: ignore[attr-defined]
+        fwd = f > 0
+        if va == 0.0:
+            n = math.sqrt(abs(f) / (den_f if fwd else den_r))
+            return min(n, n_max) if fwd else -min(n, n_max)
+        if fwd:
+            lo, hi, k, loss = 0.0, n_max, kf, lf
+        else:
+            lo, hi, k, loss = -n_max, 0.0, kr, lr
+        if len(k) != 4:  # beyond a cubic: the reference method
+            return self.command(f, va)
+        k0, k1, k2, k3 = k
+        va_abs = abs(va)
+        # J where |n D| · 1e6 ≤ |V_a| (far outside the range: only the signs matter)
+        j_far = jhi if (va > 0) == fwd else jlo
+        # thrust at the end of the bracket away from 0 (thrust(0) = 0)
+        n = hi if fwd else lo
+        nD = n * D
+        if abs(nD) * 1e6 > va_abs:
+            J = va / nD
+            J = jlo if jlo > J else J
+            J = jhi if jhi < J else J
+        else:
+            J = j_far
+        kt = (((0.0 * J + k0) * J + k1) * J + k2) * J + k3
+        kt = 0.0 if kt < 0.0 else kt
+        t_end = loss * kt * rho * D4 * abs(n) * n
+        if fwd:
+            g_lo, g_hi = 0.0 - f, t_end - f
+        else:
+            g_lo, g_hi = t_end - f, 0.0 - f
+        if g_hi <= 0.0:  # even the speed limit does not give f (forward)
+            return hi
+        if g_lo >= 0.0:  # (reverse)
+            return lo
+        tol_g = 1e-12 * abs(f)
+        tol_n = 1e-12 * n_max
+        side = 0
+        n = 0.5 * (lo + hi)
+        for it in range(_BISECTION_STEPS):
+            n = (lo * g_hi - hi * g_lo) / (g_hi - g_lo) if it < 20 else 0.5 * (lo + hi)
+            if n == 0.0:
+                g = 0.0 - f
+            else:
+                nD = n * D
+                if abs(nD) * 1e6 > va_abs:
+                    J = va / nD
+                    J = jlo if jlo > J else J
+                    J = jhi if jhi < J else J
+                else:
+                    J = j_far
+                kt = (((0.0 * J + k0) * J + k1) * J + k2) * J + k3
+                kt = 0.0 if kt < 0.0 else kt
+                g = loss * kt * rho * D4 * abs(n) * n - f
+            if abs(g) <= tol_g or hi - lo <= tol_n:
+                break
+            if g < 0.0:
+                lo, g_lo = n, g
+                if side == -1:
+                    g_hi *= 0.5
+                side = -1
+            else:
+                hi, g_hi = n, g
+                if side == 1:
+                    g_lo *= 0.5
+                side = 1
+        return n
 
 
 # =============================================================================== thruster
@@ -477,6 +683,10 @@ class ThrusterSet:
     command_min: Array = field(init=False, repr=False, compare=False)
     _wake_factor: Array = field(init=False, repr=False, compare=False)
     _moment_arms: Array = field(init=False, repr=False, compare=False)
+    # thrusters grouped by curve class: (class, curves, indices or None when it is all of them)
+    _groups: tuple[tuple[type[ThrustCurve], tuple[ThrustCurve, ...], Array | None], ...] = field(
+        init=False, repr=False, compare=False
+    )
 
     def __post_init__(self) -> None:
         ths = tuple(self.thrusters)
@@ -492,7 +702,13 @@ class ThrusterSet:
         object.__setattr__(self, "density", rho)
         put = lambda k, v: object.__setattr__(self, k, v)
         # the fluid is the vehicle's: every curve works in the set's water
-        curves = tuple(t.curve.in_fluid(rho) for t in ths)  # type: ignore[union-attr]
+        curves_l: list[ThrustCurve] = []
+        for t in ths:
+            cv = t.curve.in_fluid(rho)  # type: ignore[union-attr]
+            # equal curves (e.g. one table for every thruster) share one object, so the batch
+            # methods can tell them alike by identity
+            curves_l.append(next((u for u in curves_l if type(u) is type(cv) and u == cv), cv))
+        curves = tuple(curves_l)
         put("curves", curves)
         put("positions", np.array([t.position for t in ths], dtype=float))
         put("directions", np.array([t.direction for t in ths], dtype=float))
@@ -513,6 +729,16 @@ class ThrusterSet:
         put("command_min", np.array(cmin, dtype=float))
         put("f_max", np.array(fmax, dtype=float))
         put("f_min", np.array(fmin, dtype=float))
+        kinds: dict[type[ThrustCurve], list[int]] = {}
+        for i, cv in enumerate(curves):
+            kinds.setdefault(type(cv), []).append(i)
+        put(
+            "_groups",
+            tuple(
+                (kind, tuple(curves[i] for i in idx), None if len(idx) == len(curves) else np.array(idx, dtype=np.intp))
+                for kind, idx in kinds.items()
+            ),
+        )
 
     # ------------------------------------------------------------------ description
     @property
@@ -557,10 +783,26 @@ class ThrusterSet:
         ``f = loss · K_T(J) ρ D⁴ |n| n``, ``J = V_a/(n D)`` (REHMAN eq. 1.12), with K_T
         clamped at ≥ 0 and J to the curve's validity range.
         """
-        c = np.clip(np.asarray(command, dtype=float), self.command_min, self.command_max)
+        c = np.asarray(command, dtype=float).clip(self.command_min, self.command_max)
         va = np.zeros(len(self)) if advance_speed is None else np.asarray(advance_speed, float)
-        out = np.array([cv.thrust(c[i], va[i]) for i, cv in enumerate(self.curves)], dtype=float)
-        return np.clip(out, self.f_min, self.f_max)
+        return self._batch(True, c, va).clip(self.f_min, self.f_max)
+
+    def _batch(self, forward: bool, x: Array, va: Array) -> Array:
+        """Each group's ``thrust_batch`` (forward) or ``command_batch`` on its thrusters."""
+        if x.shape != (len(self),) or va.shape != (len(self),):
+            raise InputError(
+                f"expected {len(self)} commands or thrusts and advance speeds, got {x.shape} and {va.shape}"
+            )
+        groups = self._groups
+        if len(groups) == 1:
+            kind, curves, _ = groups[0]
+            return kind.thrust_batch(curves, x, va) if forward else kind.command_batch(curves, x, va)
+        out = np.empty(len(self))
+        for kind, curves, idx in groups:
+            out[idx] = (
+                kind.thrust_batch(curves, x[idx], va[idx]) if forward else kind.command_batch(curves, x[idx], va[idx])
+            )
+        return out
 
     def command_for_thrust(self, thrust: ArrayLike, advance_speed: ArrayLike | None = None) -> Array:
         """Invert the thrust curves: the command giving each demanded thrust.
@@ -580,9 +822,9 @@ class ThrusterSet:
         See :meth:`PropellerCurve.command`: closed form at V_a = 0, a bracketed root search
         otherwise.
         """
-        f = np.clip(np.asarray(thrust, dtype=float), self.f_min, self.f_max)
+        f = np.asarray(thrust, dtype=float).clip(self.f_min, self.f_max)
         va = np.zeros(len(self)) if advance_speed is None else np.asarray(advance_speed, float)
-        return np.array([cv.command(f[i], va[i]) for i, cv in enumerate(self.curves)], dtype=float)
+        return self._batch(False, f, va)
 
     def rotor_step(self, command: ArrayLike, target: ArrayLike, dt: float) -> Array:
         """Advance the first-order rotor dynamics τ ċ = c_target − c by ``dt`` (s), exactly.

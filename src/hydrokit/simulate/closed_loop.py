@@ -157,53 +157,70 @@ def run_closed_loop(
     c = np.zeros(m)
     gstate = path.initial_state(heading=float(x[5]))
     astate = autopilot.initial_state()
-    arrivals: list[float | None] = [None] * path.n_legs
+    n_legs = path.n_legs
+    arrivals: list[float | None] = [None] * n_legs
     limited_any = False
     j = 0
     t = 0.0
     report_every = max(1, n_steps // 100)
+    # per-run constants and bound methods, hoisted out of the loop
+    cmd_min, cmd_max = thrusters.command_min, thrusters.command_max
+    sat_hi, sat_lo = cmd_max * (1 - 1e-9), cmd_min * (1 - 1e-9)
+    # without a current the relative velocity is ν itself (R^T 0 = 0)
+    still_water = not bool(np.any(vc))
+    guidance, control = path.update, autopilot.update
+    advance_speed, command_for_thrust, thrust = (
+        thrusters.advance_speed,
+        thrusters.command_for_thrust,
+        thrusters.thrust,
+    )
+    r_time, r_eta, r_nu, r_ref, r_tau = rec["time"], rec["eta"], rec["nu"], rec["reference"], rec["tau_demand"]
+    r_cmd_d, r_cmd, r_f_d, r_f = rec["command_demand"], rec["command"], rec["thrust_demand"], rec["thrust"]
+    r_lim, r_leg = rec["limited"], rec["leg"]
     for k in range(n_steps + 1):
         t = k * dt
         eta, nu = x[:6], x[6:]
-        ref, gnew = path.update(gstate, eta[:3], vehicle_heading=float(eta[5]))
-        for leg in range(gstate.leg, min(gnew.leg, path.n_legs + 1)):
-            arrivals[leg - 1] = t
+        psi = float(eta[5])
+        ref, gnew = guidance(gstate, eta[:3], vehicle_heading=psi)
+        if gnew.leg != gstate.leg:
+            for leg in range(gstate.leg, min(gnew.leg, n_legs + 1)):
+                arrivals[leg - 1] = t
         gstate = gnew
-        tau_d, astate = autopilot.update(astate, ref, eta, nu, dt)
+        tau_d, astate = control(astate, ref, eta, nu, dt)
         f_cmd, limited = allocator(tau_d)
         # advance speed from the velocity relative to the water
-        R = rotation_zyx(eta[3], eta[4], eta[5])
-        nu_r = nu.copy()
-        nu_r[:3] -= R.T @ vc
-        va = thrusters.advance_speed(nu_r)
-        c_cmd = thrusters.command_for_thrust(f_cmd, va)
-        c_cmd = np.clip(c_cmd, thrusters.command_min, thrusters.command_max)
+        if still_water:
+            va = advance_speed(nu)
+        else:
+            R = rotation_zyx(eta[3], eta[4], psi)
+            nu_r = nu.copy()
+            nu_r[:3] -= R.T @ vc
+            va = advance_speed(nu_r)
+        c_cmd = command_for_thrust(f_cmd, va).clip(cmd_min, cmd_max)
         c_mean = c_cmd + (c - c_cmd) * mean_w
-        f_act = thrusters.thrust(c_mean, va)
-        sat = limited or bool(
-            np.any(c_cmd >= thrusters.command_max * (1 - 1e-9)) or np.any(c_cmd <= thrusters.command_min * (1 - 1e-9))
-        )
+        f_act = thrust(c_mean, va)
+        sat = limited or bool((c_cmd >= sat_hi).any() or (c_cmd <= sat_lo).any())
         if k % output_every == 0:
-            rec["time"][j] = t
-            rec["eta"][j] = eta
-            rec["nu"][j] = nu
-            rec["reference"][j] = (ref.speed, ref.depth, ref.heading)
-            rec["tau_demand"][j] = tau_d
-            rec["command_demand"][j] = c_cmd
-            rec["command"][j] = c
-            rec["thrust_demand"][j] = f_cmd
-            rec["thrust"][j] = f_act
-            rec["limited"][j] = sat or limited_any
-            rec["leg"][j] = gstate.leg
+            r_time[j] = t
+            r_eta[j] = eta
+            r_nu[j] = nu
+            r_ref[j] = (ref.speed, ref.depth, ref.heading)
+            r_tau[j] = tau_d
+            r_cmd_d[j] = c_cmd
+            r_cmd[j] = c
+            r_f_d[j] = f_cmd
+            r_f[j] = f_act
+            r_lim[j] = sat or limited_any
+            r_leg[j] = gstate.leg
             limited_any = False
             j += 1
         else:
             limited_any = limited_any or sat
-        if k == n_steps or (stop_when_done and gstate.leg > path.n_legs):
+        if k == n_steps or (stop_when_done and gstate.leg > n_legs):
             break
         x = rk4_step(dynamics, t, x, dt, u=T @ f_act)
         c = c_cmd + (c - c_cmd) * decay
-        if not np.all(np.isfinite(x)):
+        if not np.isfinite(x).all():
             raise SimulationError(f"the state became non-finite at t = {t + dt:.6g} s")
         if progress is not None and k % report_every == 0:
             progress(t)
