@@ -245,3 +245,22 @@ def test_report_renders_in_chromium_with_every_figure(first_run, open_in_chromiu
     assert page.text("h1") == ["hydrokit run: tiny"]
     text = page.dom
     assert "These launches are virtual" in text and "Choice rule" in text and "truth inside envelope" in text
+
+
+@pytest.mark.bem
+def test_bem_source_is_compared_and_can_be_chosen(tmp_path):
+    pytest.importorskip("capytaine")
+    project = make_project(tmp_path, samples=0, mission=False)
+    shutil.copy(DATA_DIR / "geometry" / "sphere.yaml", tmp_path / "sphere.yaml")
+    doc = yaml.safe_load(project.read_text())
+    doc.update({"geometry": "sphere.yaml", "choose": {"surge": "bem", "default": "tank"}})
+    project.write_text(yaml.safe_dump(doc))
+    res = hydrokit.run_project(project, tmp_path / "run", workers=1, bem=True)
+    row = next(r for r in res.document["comparison"] if r["coefficient"] == "added_mass")
+    # a sphere's added mass is half the displaced fluid mass: ½ ρ π d³/6 (d = 0.5 m, ρ = 1025)
+    half = 0.5 * 1025 * math.pi * 0.5**3 / 6
+    assert row["geometry"] == pytest.approx(half, rel=0.01)
+    assert row["bem"] == pytest.approx(half, rel=0.02)
+    assert res.chosen["surge"]["added_mass"]["source"] == "bem"
+    # a source without damping (BEM gives added mass only) falls back to the tank for K_L, K_Q
+    assert res.chosen["surge"]["quadratic_damping"]["source"] == "tank"
