@@ -448,3 +448,56 @@ def _six(values: Any, what: str) -> Any:
     if a.shape != (6,) or not np.all(np.isfinite(a)):
         raise InputError(f"{what} = {values!r}: expected 6 finite numbers X, Y, Z (N), K, M, N (N·m)")
     return a
+
+
+def linearize(vehicle: Vehicle | PathLike, trim: Any = (0, 0, 0, 0, 0, 0)) -> Any:
+    """The 6-DOF model linearised at the body velocity ``trim`` (zero attitude): A, B, C, D.
+
+    Parameters
+    ----------
+    vehicle : Vehicle or name/path
+    trim : 6 floats — u, v, w (m/s), p, q, r (rad/s)
+
+    Returns
+    -------
+    Linearization — ``.A`` (12×12), ``.B`` (12×6), ``.eigenvalues`` (1/s),
+    ``.to_statespace()`` (a ``control.StateSpace``; ``pip install 'hydrokit[control]'``)
+
+    Examples
+    --------
+    >>> import hydrokit
+    >>> lin = hydrokit.linearize("minerva", trim=[0.5, 0, 0, 0, 0, 0])
+    >>> lin.A.shape, lin.B.shape, bool(lin.tau0[0] > 0)
+    ((12, 12), (12, 6), True)
+    """
+    from hydrokit.simulate.linearize import linearize as _linearize
+
+    return _linearize(_as_vehicle(vehicle), trim)
+
+
+def export_vehicle(vehicle: Vehicle | PathLike, format: str, trim: Any = (0, 0, 0, 0, 0, 0)) -> bytes:
+    """The vehicle as another tool reads it (the bytes ``hydrokit export`` writes).
+
+    Parameters
+    ----------
+    vehicle : Vehicle or name/path
+    format : str — "gazebo" (gz-sim SDF), "uuv-simulator" (fossen plugin block) or
+        "python-control" (``.npz`` of A, B, C, D at ``trim``)
+    trim : 6 floats — u, v, w (m/s), p, q, r (rad/s), for python-control
+    """
+    import io
+
+    import numpy as np
+
+    from hydrokit.io.export import gazebo_sdf, uuv_parameters
+
+    veh = _as_vehicle(vehicle)
+    if format == "gazebo":
+        return gazebo_sdf(veh).encode("utf-8")
+    if format == "uuv-simulator":
+        return uuv_parameters(veh).encode("utf-8")
+    if format == "python-control":
+        buf = io.BytesIO()
+        np.savez(buf, **linearize(veh, trim).npz_arrays())
+        return buf.getvalue()
+    raise InputError(f"format = {format!r}: expected gazebo, uuv-simulator or python-control")

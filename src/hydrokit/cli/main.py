@@ -29,6 +29,7 @@ COMMANDS: dict[str, tuple[str, str]] = {
     "mission": ("hydrokit.cli.mission:mission", "Run a closed-loop waypoint mission."),
     "estimate": ("hydrokit.cli.estimate:estimate", "Estimate coefficients from geometry."),
     "fit-forces": ("hydrokit.cli.estimate:fit_forces", "Fit damping models to a force-speed curve."),
+    "export": ("hydrokit.cli.export:export", "Export a vehicle to Gazebo, uuv_simulator or python-control."),
 }
 
 

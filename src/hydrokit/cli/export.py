@@ -1,0 +1,55 @@
+"""``hydrokit export VEHICLE``: the vehicle for Gazebo, uuv_simulator or python-control."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import click
+
+FORMATS = ("gazebo", "uuv-simulator", "python-control")
+
+
+@click.command()
+@click.argument("vehicle")
+@click.option(
+    "--format",
+    "fmt",
+    type=click.Choice(FORMATS),
+    required=True,
+    help="gazebo: gz-sim SDF (Hydrodynamics + Thruster systems, FLU); uuv-simulator: the fossen "
+    "plugin block (FLU); python-control: A, B, C, D linearised at --trim (.npz).",
+)
+@click.option("--out", "out", required=True, type=click.Path(dir_okay=False), help="Output file (path).")
+@click.option(
+    "--trim",
+    default="0,0,0,0,0,0",
+    show_default=True,
+    help="python-control: trim body velocity u,v,w (m/s), p,q,r (rad/s) to linearise about.",
+)
+def export(vehicle: str, fmt: str, out: str, trim: str) -> None:
+    """Write VEHICLE (a vehicle file or bundled name) for another tool.
+
+    Gazebo and uuv_simulator use body FLU / world ENU: hydrokit's FRD/NED values are converted
+    (y and z negated, 6x6 matrices T M T) and the file says so in a comment.
+    """
+    from hydrokit.api import export_vehicle
+    from hydrokit.cli._common import floats, write_all
+
+    nu = floats(trim, "--trim", n=6, unit="m/s and rad/s")
+    data = export_vehicle(vehicle, fmt, trim=nu)
+    write_all({Path(out): data})
+    if fmt == "python-control":
+        import io
+
+        import numpy as np
+
+        with np.load(io.BytesIO(data), allow_pickle=False) as z:
+            ev = np.linalg.eigvals(z["A"])
+        slow = ev.real[ev.real < -1e-9]
+        click.echo(
+            f"A: 12 states (eta, nu), B: 6 inputs (tau); slowest stable eigenvalue {slow.max():.4g} 1/s"
+            if slow.size
+            else "A: 12 states, B: 6 inputs; no stable eigenvalue",
+            err=True,
+        )
+    click.echo(f"wrote {out}", err=True)
