@@ -15,6 +15,52 @@ import yaml
 from hydrokit.errors import InputError
 
 
+#: largest YAML file read (characters) and most nodes once aliases are expanded: hydrokit's
+#: files are a few thousand nodes; an alias bomb of 1 KB expands to billions
+MAX_YAML_BYTES = 20_000_000
+MAX_YAML_NODES = 2_000_000
+
+
+def _expanded_nodes(node: yaml.Node, memo: dict[int, int], active: set[int], source: str) -> int:
+    """Nodes of ``node`` with every alias expanded (memoised, so linear in the file's size);
+    a node that contains itself (a recursive alias) is refused."""
+    key = id(node)
+    if key in active:
+        raise InputError("a YAML alias refers to a block that contains it (recursive); expected a tree", source)
+    if key in memo:
+        return memo[key]
+    active.add(key)
+    total = 1
+    if isinstance(node, yaml.SequenceNode):
+        total += sum(_expanded_nodes(n, memo, active, source) for n in node.value)
+    elif isinstance(node, yaml.MappingNode):
+        total += sum(
+            _expanded_nodes(k, memo, active, source) + _expanded_nodes(v, memo, active, source) for k, v in node.value
+        )
+    active.discard(key)
+    memo[key] = min(total, MAX_YAML_NODES + 1)
+    return memo[key]
+
+
+def _load_bounded(text: str, source: str) -> Any:
+    """``yaml.safe_load`` that first checks the document's size with aliases expanded."""
+    loader = yaml.SafeLoader(text)
+    try:
+        node = loader.get_single_node()
+        if node is None:
+            return None
+        n = _expanded_nodes(node, {}, set(), source)
+        if n > MAX_YAML_NODES:
+            raise InputError(
+                f"YAML aliases expand to more than {MAX_YAML_NODES} nodes (an alias bomb?); "
+                "expected a plain document (anchors and aliases only for small repeated blocks)",
+                source,
+            )
+        return loader.construct_document(node)
+    finally:
+        loader.dispose()
+
+
 def read_yaml(path: str | os.PathLike[str]) -> dict[str, Any]:
     """Read a YAML mapping from ``path``.
 
@@ -27,7 +73,10 @@ def read_yaml(path: str | os.PathLike[str]) -> dict[str, Any]:
     if not p.is_file():
         raise InputError("file not found", source=str(p))
     try:
-        data = yaml.safe_load(p.read_text(encoding="utf-8"))
+        text = p.read_text(encoding="utf-8")
+        if len(text) > MAX_YAML_BYTES:
+            raise InputError(f"file of {len(text)} characters; expected a YAML file under {MAX_YAML_BYTES}", str(p))
+        data = _load_bounded(text, str(p))
     except yaml.YAMLError as exc:
         mark = getattr(exc, "problem_mark", None)
         where = f" (line {mark.line + 1}, column {mark.column + 1})" if mark else ""
@@ -35,6 +84,8 @@ def read_yaml(path: str | os.PathLike[str]) -> dict[str, Any]:
         raise InputError(f"not valid YAML{where}: {problem}", source=str(p)) from None
     except UnicodeDecodeError:
         raise InputError("not a UTF-8 text file", source=str(p)) from None
+    except RecursionError:
+        raise InputError("YAML nested too deeply; expected a document a few levels deep", source=str(p)) from None
     if not isinstance(data, dict):
         raise InputError(
             f"expected a mapping of fields at the top level, got {type(data).__name__}",

@@ -1,0 +1,172 @@
+"""Readers that survive any file (issue #13 item 4): random bytes, truncations, wrong types,
+NaN/inf, huge numbers, YAML alias bombs and python tags. The only outcomes are a result or one
+``InputError`` line — never another exception. Examples are bounded so the suite stays fast;
+``-m slow`` is not needed (each reader gets ≤ 60 examples)."""
+
+from __future__ import annotations
+
+import math
+from pathlib import Path
+
+import pytest
+import yaml
+from hypothesis import HealthCheck, given, settings
+from hypothesis import strategies as st
+
+from hydrokit.data import DATA_DIR
+from hydrokit.errors import InputError
+
+FUZZ = settings(max_examples=60, deadline=None, suppress_health_check=[HealthCheck.function_scoped_fixture])
+
+# values a careless or hostile file holds where a number, list or mapping is expected
+NASTY = st.one_of(
+    st.none(),
+    st.booleans(),
+    st.integers(min_value=-(10**30), max_value=10**30),
+    st.floats(allow_nan=True, allow_infinity=True),
+    st.text(max_size=20),
+    st.lists(st.floats(allow_nan=True, allow_infinity=True), max_size=8),
+    st.dictionaries(st.text(max_size=8), st.integers(), max_size=3),
+)
+
+
+def _readers():
+    from hydrokit.api import load_geometry, load_mission, load_rig, load_vehicle
+    from hydrokit.io.project import load_project
+    from hydrokit.io.thrusters import load_thrusters
+
+    return {
+        "rig": (load_rig, DATA_DIR / "campaigns" / "udrobot" / "spring_x.yaml"),
+        "vehicle": (load_vehicle, DATA_DIR / "vehicles" / "minerva.yaml"),
+        "thrusters": (load_thrusters, DATA_DIR / "vehicles" / "bluerov2-heavy.yaml"),
+        "mission": (load_mission, DATA_DIR / "missions" / "minerva_square.yaml"),
+        "geometry": (load_geometry, DATA_DIR / "geometry" / "sphere.yaml"),
+        "project": (load_project, DATA_DIR / "projects" / "rov2" / "project.yaml"),
+    }
+
+
+def _survives(fn, path: Path) -> None:
+    try:
+        fn(path)
+    except InputError as exc:
+        assert "\n" not in str(exc)
+        assert len(str(exc)) < 2000, "a message must not echo unbounded input"
+
+
+@pytest.mark.parametrize("kind", ["rig", "vehicle", "thrusters", "mission", "geometry", "project"])
+def test_field_values_of_any_type_give_a_result_or_one_line(kind, tmp_path):
+    fn, original = _readers()[kind]
+    doc = yaml.safe_load(original.read_text())
+    keys = sorted(doc)
+
+    @FUZZ
+    @given(key=st.sampled_from(keys), value=NASTY)
+    def run(key, value):
+        bad = dict(doc)
+        bad[key] = value
+        path = tmp_path / original.name  # same folder layout is not needed: paths that go missing are errors too
+        path.write_text(yaml.safe_dump(bad))
+        _survives(fn, path)
+
+    run()
+
+
+@pytest.mark.parametrize("kind", ["rig", "vehicle", "mission", "geometry"])
+@FUZZ
+@given(data=st.binary(max_size=300))
+def test_random_bytes_and_truncations(kind, data, tmp_path_factory):
+    fn, original = _readers()[kind]
+    folder = tmp_path_factory.mktemp(kind)
+    (folder / "junk.yaml").write_bytes(data)
+    _survives(fn, folder / "junk.yaml")
+    text = original.read_bytes()
+    cut = len(data) % max(1, len(text))
+    (folder / "cut.yaml").write_bytes(text[:cut])
+    _survives(fn, folder / "cut.yaml")
+
+
+def test_alias_bomb_is_refused_quickly(tmp_path):
+    from hydrokit.api import load_vehicle
+
+    text = 'a: &a ["lol","lol","lol","lol","lol","lol","lol","lol","lol"]\n'
+    prev = "a"
+    for c in "bcdefghi":  # 9^9 ≈ 387 million strings once expanded, from 342 bytes
+        text += f"{c}: &{c} [" + ",".join(["*" + prev] * 9) + "]\n"
+        prev = c
+    (tmp_path / "bomb.yaml").write_text(text)
+    with pytest.raises(InputError, match="alias"):
+        load_vehicle(tmp_path / "bomb.yaml")
+
+
+def test_small_anchors_still_work_and_recursion_is_refused(tmp_path):
+    from hydrokit.io.yamlfile import read_yaml
+
+    (tmp_path / "ok.yaml").write_text("t: &t {command: [0, 1], thrust: [0, 5]}\nu: *t\n")
+    assert read_yaml(tmp_path / "ok.yaml")["u"] == {"command": [0, 1], "thrust": [0, 5]}
+    (tmp_path / "loop.yaml").write_text("x: &x [*x]\n")
+    with pytest.raises(InputError, match="recursive"):
+        read_yaml(tmp_path / "loop.yaml")
+    (tmp_path / "deep.yaml").write_text("a: " + "[" * 20000 + "]" * 20000 + "\n")
+    with pytest.raises(InputError, match="nested too deeply"):
+        read_yaml(tmp_path / "deep.yaml")
+
+
+def test_python_tags_are_not_constructed(tmp_path):
+    from hydrokit.io.yamlfile import read_yaml
+
+    marker = tmp_path / "pwned"
+    (tmp_path / "tag.yaml").write_text(f'a: !!python/object/apply:os.system ["touch {marker}"]\n')
+    with pytest.raises(InputError, match="not valid YAML"):
+        read_yaml(tmp_path / "tag.yaml")
+    assert not marker.exists()
+
+
+@FUZZ
+@given(
+    rows=st.lists(
+        st.tuples(st.floats(allow_nan=True, allow_infinity=True), st.floats(allow_nan=True, allow_infinity=True)),
+        max_size=30,
+    ),
+    header=st.sampled_from(["time,position", "time,angle", "t,x", "time;position", ""]),
+)
+def test_launch_csv_of_any_content(rows, header, tmp_path_factory):
+    from hydrokit.api import load_rig
+    from hydrokit.io.launch import read_launch
+
+    rig = load_rig(DATA_DIR / "campaigns" / "udrobot" / "spring_x.yaml")
+    folder = tmp_path_factory.mktemp("launch")
+    text = header + "\n" + "\n".join(f"{a!r},{b!r}" for a, b in rows) + "\n"
+    (folder / "l.csv").write_text(text)
+    try:
+        launch = read_launch(folder / "l.csv", rig)
+    except InputError as exc:
+        assert "\n" not in str(exc)
+        return
+    assert all(math.isfinite(v) for v in launch.t) and all(math.isfinite(v) for v in launch.y)
+
+
+@FUZZ
+@given(data=st.binary(max_size=400))
+def test_meshes_of_any_bytes(data, tmp_path_factory):
+    from hydrokit.estimate.mesh import read_mesh
+
+    folder = tmp_path_factory.mktemp("mesh")
+    for name in ("m.stl", "m.obj"):
+        (folder / name).write_bytes(data)
+        try:
+            read_mesh(folder / name)
+        except InputError as exc:
+            assert "\n" not in str(exc)
+
+
+@FUZZ
+@given(rows=st.lists(st.tuples(NASTY, NASTY), max_size=12))
+def test_force_curves_of_any_content(rows, tmp_path_factory):
+    from hydrokit.io.forces import read_forces
+
+    folder = tmp_path_factory.mktemp("forces")
+    (folder / "f.csv").write_text("speed,force\n" + "\n".join(f"{a},{b}" for a, b in rows) + "\n")
+    try:
+        read_forces(folder / "f.csv")
+    except InputError as exc:
+        assert "\n" not in str(exc)
