@@ -14,7 +14,6 @@ import yaml
 
 from hydrokit.errors import InputError
 
-
 #: largest YAML file read (characters) and most nodes once aliases are expanded: hydrokit's
 #: files are a few thousand nodes; an alias bomb of 1 KB expands to billions
 MAX_YAML_BYTES = 20_000_000
