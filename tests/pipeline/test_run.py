@@ -264,3 +264,12 @@ def test_bem_source_is_compared_and_can_be_chosen(tmp_path):
     assert res.chosen["surge"]["added_mass"]["source"] == "bem"
     # a source without damping (BEM gives added mass only) falls back to the tank for K_L, K_Q
     assert res.chosen["surge"]["quadratic_damping"]["source"] == "tank"
+
+
+def test_an_error_inside_a_step_is_the_only_stderr_line(tmp_path, run_cli):
+    project = make_project(tmp_path, samples=0, mission=False)
+    (tmp_path / "launches" / LAUNCHES[3]).write_text("time,position\n0,abc\n")
+    code, out, err = run_cli("run", project, "--out", tmp_path / "run", "--workers", "1")  # progress bars on
+    assert code == 2
+    assert err.splitlines() == [err.strip()] and LAUNCHES[3] in err and "'abc'" in err
+    assert not (tmp_path / "run" / "report.html").exists()

@@ -39,13 +39,16 @@ def progress_bar(*, time_based: bool = False) -> Any:
     )
 
     middle = (TextColumn("{task.percentage:>3.0f}%"), TimeRemainingColumn()) if time_based else (MofNCompleteColumn(),)
+    console = Console(stderr=True)
+    # not a terminal (a log, a pipe, CI): no bar at all, so an error stays the only stderr line
     return Progress(
         TextColumn("{task.description}"),
         BarColumn(),
         *middle,
         TimeElapsedColumn(),
-        console=Console(stderr=True),
+        console=console,
         transient=True,
+        disable=not console.is_terminal,
     )
 
 
