@@ -19,6 +19,8 @@ RIG = {
     "pendulum": {"length": 0.39},
 }
 
+INERTIA = {"body.inertia": 0.01}  # kg m², for floating-rig cases built from RIG
+
 
 def write_rig(path: Path, **changes) -> Path:
     doc = json.loads(json.dumps(RIG))
@@ -156,6 +158,25 @@ def _bad_cases(tmp_path, good):
             write_rig(tmp_path / "r5.yaml", **{"body.volume": 0.146 / 998.2}),
             files[0],
             "no restoring force",
+        ),
+        "GM ≤ 0 (floating)": (
+            write_rig(
+                tmp_path / "r6.yaml", test="floating", axis="roll", pendulum=None, floating={"gm": -0.3}, **INERTIA
+            ),
+            files[0],
+            "field 'floating.gm' = -0.3",
+        ),
+        "GZ table not from zero": (
+            write_rig(
+                tmp_path / "r7.yaml",
+                test="floating",
+                axis="roll",
+                pendulum=None,
+                floating={"gz": [[5, 0], [10, 0.01]]},
+                **INERTIA,
+            ),
+            files[0],
+            "field 'floating.gz' starts at [5.0, 0.0]",
         ),
         "missing file": (rig_path, tmp_path / "nope.csv", "no such file"),
     }

@@ -15,7 +15,7 @@ from hydrokit.errors import InputError
 def _sensor(rig_obj: Any, sample_rate: float | None, noise: float | None, resolution: float | None, hold: float) -> Any:
     from hydrokit.identify.virtual_rig import SensorModel
 
-    if rig_obj.test == "spring":
+    if rig_obj.translational_signal:
         base = SensorModel.encoder(hold_time=hold)
         noise_si = 0.0 if noise is None else noise * 1e-3
         res_si = base.resolution if resolution is None else resolution * 1e-3
@@ -24,19 +24,28 @@ def _sensor(rig_obj: Any, sample_rate: float | None, noise: float | None, resolu
         noise_si = base.noise_std if noise is None else math.radians(noise)
         res_si = 0.0 if resolution is None else math.radians(resolution)
     rate = base.sample_rate if sample_rate is None else sample_rate
-    unit = "mm" if rig_obj.test == "spring" else "°"
+    unit = "mm" if rig_obj.translational_signal else "°"
     name = f"{rate:g} Hz, noise {noise_si * (1e3 if unit == 'mm' else 180 / math.pi):.3g} {unit}, step {res_si * (1e3 if unit == 'mm' else 180 / math.pi):.3g} {unit}"
     return SensorModel(rate, noise_si, res_si, hold, name)
 
 
 _COMMON = [
-    click.option("--added-mass", type=float, required=True, help="True added mass m_a, kg (kg·m² torsion)."),
-    click.option("--linear-damping", type=float, required=True, help="True K_L, N·s/m (N·m·s/rad torsion)."),
-    click.option("--quadratic-damping", type=float, required=True, help="True K_Q, N·s²/m² (N·m·s²/rad² torsion)."),
+    click.option(
+        "--added-mass", type=float, required=True, help="True added mass m_a, kg (kg·m² torsion, floating roll/pitch)."
+    ),
+    click.option(
+        "--linear-damping", type=float, required=True, help="True K_L, N·s/m (N·m·s/rad torsion, floating roll/pitch)."
+    ),
+    click.option(
+        "--quadratic-damping",
+        type=float,
+        required=True,
+        help="True K_Q, N·s²/m² (N·m·s²/rad² torsion, floating roll/pitch).",
+    ),
     click.option(
         "--amplitudes",
         required=True,
-        help="Release displacements, comma-separated: mm (spring) or degrees (pendulum, torsion).",
+        help="Release displacements, comma-separated: mm (spring, floating heave) or degrees (otherwise).",
     ),
     click.option("--duration", type=float, default=20.0, show_default=True, help="Recorded time after the release, s."),
     click.option("--sample-rate", type=float, default=None, help="Sensor sample rate, Hz (default 100)."),
@@ -62,4 +71,4 @@ def _amplitudes(text: str, rig_obj: Any) -> list[float]:
     vals = floats(text, "--amplitudes", unit="mm or degrees")
     if any(v == 0 for v in vals):
         raise InputError(f"--amplitudes {text!r}: expected non-zero displacements")
-    return [v * 1e-3 for v in vals] if rig_obj.test == "spring" else [math.radians(v) for v in vals]
+    return [v * 1e-3 for v in vals] if rig_obj.translational_signal else [math.radians(v) for v in vals]

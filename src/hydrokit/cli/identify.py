@@ -47,6 +47,22 @@ METHOD_CHOICE = click.Choice(["output-error", "equation-error", "morison", "log-
     default=None,
     help="Also write a self-contained HTML report (file).",
 )
+@click.option(
+    "--damping-model",
+    type=click.Choice(["linear", "quadratic", "cubic"]),
+    default="quadratic",
+    show_default=True,
+    help="Damping fitted (no unit): B1 q̇, + B2 |q̇| q̇, + B3 q̇³ (cubic_damping: N·s³/m³ or N·m·s³/rad³). "
+    "Output-error; spring, torsion and floating rigs.",
+)
+@click.option(
+    "--restoring-terms",
+    type=click.Choice(["1", "3", "5"]),
+    default="1",
+    show_default=True,
+    help="1: the rig's restoring; 3, 5: also fit C3 q³ (and C5 q⁵) added to it (restoring_correction, SI). "
+    "Output-error; spring, torsion and floating rigs.",
+)
 @click.option("--release", type=float, default=None, help="Release time in every launch, s (default: detected).")
 @click.option("--end", type=float, default=None, help="Last useful time in every launch, s (default: detected).")
 def identify(
@@ -56,13 +72,16 @@ def identify(
     method: str,
     plots_dir: str | None,
     report_out: str | None,
+    damping_model: str,
+    restoring_terms: str,
     release: float | None,
     end: float | None,
 ) -> None:
     """Identify added mass, linear and quadratic damping from free-decay LAUNCH files.
 
-    RIG.yaml describes the rig and body (SI units; see docs/identify.md). Each LAUNCH.csv has
-    columns time (s) and position (m, spring) or angle (rad) / angle_deg (pendulum, torsion).
+    RIG.yaml describes the rig and body (SI units; see docs/identify.md): spring, pendulum,
+    torsion or floating (heave, roll, pitch). Each LAUNCH.csv has columns time (s) and position
+    (m: spring, floating heave) or angle (rad) / angle_deg (pendulum, torsion, floating roll/pitch).
     Nothing is written unless every launch is identified.
     """
     from hydrokit.api import identify_campaign, load_rig
@@ -71,7 +90,16 @@ def identify(
     rig = load_rig(rig_file)
     with progress_bar() as bar:
         task = bar.add_task(f"identifying ({method})", total=len(launches))
-        res = identify_campaign(rig, launches, method, release=release, end=end, progress=lambda f: bar.advance(task))
+        res = identify_campaign(
+            rig,
+            launches,
+            method,
+            release=release,
+            end=end,
+            progress=lambda f: bar.advance(task),
+            damping_model=damping_model,
+            restoring_terms=int(restoring_terms),
+        )
     doc = res.to_dict()
     files: dict[str | Path, Any] = {json_out: dumps(doc)}
     if plots_dir or report_out:

@@ -57,7 +57,7 @@ def rig_simulate(
     sensor = _sensor(r, sample_rate, noise, resolution, hold)
     rng = np.random.default_rng(seed)
     texts = {}
-    column = "position" if r.test == "spring" else "angle"
+    column = "position" if r.translational_signal else "angle"
     for i, a in enumerate(amps):
         for j in range(launches):
             L = simulate_launch(r, added_mass, linear_damping, quadratic_damping, a, duration, sensor, rng)
@@ -104,7 +104,7 @@ def rig_plan(
         tab.add_column(c, justify="right")
     for row, a in zip(plan, amplitudes.split(",")):
         tab.add_row(
-            a.strip() + (" mm" if r.test == "spring" else "°"),
+            a.strip() + (" mm" if r.translational_signal else "°"),
             f"{row['speed_max']:.3g}",
             f"{row['added_mass']:.3g} ({100 * row['added_mass_rel']:.2g} %)",
             f"{row['linear_damping']:.3g} ({100 * row['linear_damping_rel']:.2g} %)",

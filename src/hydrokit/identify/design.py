@@ -46,7 +46,7 @@ def cramer_rao(
     c = rig_constants(rig)
     w2, b, g = c.to_normalised(added_mass, linear_damping, quadratic_damping)
     t = np.arange(int(round(duration * sensor.sample_rate)) + 1) / sensor.sample_rate
-    _, v, J = simulate_normalised(t, w2, b, g, amplitude, 0.0, c.sine, 4, True)
+    _, v, J = simulate_normalised(t, w2, b, g, amplitude, 0.0, c.sine, 4, True, restoring=c.restoring)
     J = np.column_stack([J, np.ones(t.size)])
     fisher = J.T @ J / var
     cov = np.linalg.inv(fisher)[:3, :3]

@@ -33,10 +33,14 @@ import numpy as np
 
 from hydrokit.errors import InputError
 from hydrokit.identify.preprocess import check_record
-from hydrokit.identify.rig_model import RigConstants, rig_constants, simulate_normalised
+from hydrokit.identify.rig_model import RigConstants, rig_constants, simulate_extended, simulate_normalised
 from hydrokit.identify.types import METHODS, Launch, LaunchResult, Rig
 
 COEFFS = ("added_mass", "linear_damping", "quadratic_damping")
+#: ``--damping-model``: B1 only, B1 + B2 |q̇| q̇ (default), B1 + B2 |q̇| q̇ + B3 q̇³
+DAMPING_MODELS = ("linear", "quadratic", "cubic")
+#: ``--restoring-terms``: the rig's restoring (1), plus a fitted C3 q³ (3), plus C3 q³ + C5 q⁵ (5)
+RESTORING_TERMS = (1, 3, 5)
 #: gap ratio e / L_ref below which wall proximity is flagged (CELY2019 blames the tank floor for
 #: its z-axis scatter; wall effects on added mass become noticeable within about one body size)
 GAP_RATIO_WARNING = 1.0
@@ -126,7 +130,9 @@ class _DecayEstimator:
         """(q, q̇) of the fitted model at times t; integrates backwards for t before t0_."""
         tt = np.asarray(t, float) - self.t0_
         w2, b, g = self.p_
+        ext = getattr(self, "ext_", None)
         sine = self.constants_.sine
+        shape = self.constants_.restoring
         q = np.empty(tt.size)
         v = np.empty(tt.size)
         fwd = tt >= 0
@@ -136,7 +142,10 @@ class _DecayEstimator:
             part = tt[mask]
             order = np.argsort(sign * part)
             grid = np.concatenate([[0.0], part[order]])
-            qq, vv, _ = simulate_normalised(grid, w2, b, g, self.q0_, self.v0_, sine, 4)
+            if ext is not None:
+                qq, vv, _ = simulate_extended(grid, ext, self.q0_, self.v0_, shape, 4)
+            else:
+                qq, vv, _ = simulate_normalised(grid, w2, b, g, self.q0_, self.v0_, sine, 4, restoring=shape)
             idx = np.nonzero(mask)[0][order]
             q[idx] = qq[1:]
             v[idx] = vv[1:]
@@ -151,8 +160,16 @@ class _DecayEstimator:
         return self._replay(t)[1]
 
 
-def _rho(q: np.ndarray, sine: bool) -> np.ndarray:
-    return np.sin(q) if sine else q
+def _rho(q: np.ndarray, c: RigConstants) -> np.ndarray:
+    if c.restoring is not None:
+        return c.restoring(q)
+    return np.sin(q) if c.sine else q
+
+
+def _rho_slope(q: np.ndarray, c: RigConstants) -> np.ndarray:
+    if c.restoring is not None:
+        return c.restoring.slope(q)
+    return np.cos(q) if c.sine else np.ones_like(q)
 
 
 def _savgol_window(period: float, dt: float, n: int) -> int:
@@ -205,13 +222,13 @@ class EquationErrorEstimator(_DecayEstimator):
         edge = window // 2
         sl = slice(edge, y.size - edge)
         q, qd, qdd = q[sl], qd[sl], qdd[sl]
-        sine = self.constants_.sine
-        cols = [-_rho(q, sine)]
+        c = self.constants_
+        cols = [-_rho(q, c)]
         if self._linear:
             cols.append(-qd)
         cols.append(-np.abs(qd) * qd)
         # the rest value is fitted too: ρ(q − c) ≈ ρ(q) − c ρ'(q)
-        cols.append(np.cos(q) if sine else np.ones_like(q))
+        cols.append(_rho_slope(q, c))
         H = np.column_stack(cols)
         coef, *_ = np.linalg.lstsq(H, qdd, rcond=None)
         resid = qdd - H @ coef
@@ -292,6 +309,8 @@ class LogDecrementEstimator(_DecayEstimator):
                 a_mean = math.sqrt(a1 * a2)
                 if self.constants_.sine:
                     wn *= 1.0 + a_mean**2 / 16.0  # large-amplitude pendulum period correction
+                elif self.constants_.restoring is not None:
+                    wn /= self.constants_.restoring.frequency_ratio(a_mean)  # nonlinear restoring
                 rows.append((t1, a_mean, zeta, wn))
         if len(rows) < 2:
             raise InputError(
@@ -392,10 +411,28 @@ class OutputErrorEstimator(_DecayEstimator):
 
     method = "output-error"
 
-    def __init__(self, rig: Rig, substeps: int = 4, restarts: int = 3):
+    def __init__(
+        self,
+        rig: Rig,
+        substeps: int = 4,
+        restarts: int = 3,
+        damping_model: str = "quadratic",
+        restoring_terms: int = 1,
+    ):
         super().__init__(rig)
         self.substeps = substeps
         self.restarts = restarts
+        if damping_model not in DAMPING_MODELS:
+            raise InputError(f"--damping-model {damping_model!r}: expected one of {', '.join(DAMPING_MODELS)}")
+        if restoring_terms not in RESTORING_TERMS:
+            raise InputError(f"--restoring-terms {restoring_terms!r}: expected 1, 3 or 5")
+        if (damping_model, restoring_terms) != ("quadratic", 1) and rig.test == "pendulum":
+            raise InputError(
+                "--damping-model and --restoring-terms apply to the spring, torsion and floating rigs, "
+                "not to the pendulum (its restoring is sin θ and its damping acts along the path)"
+            )
+        self.damping_model = damping_model
+        self.restoring_terms = restoring_terms
 
     def _starts(self, t: np.ndarray, y: np.ndarray, facts: dict[str, float]) -> list[np.ndarray]:
         starts = []
@@ -417,17 +454,21 @@ class OutputErrorEstimator(_DecayEstimator):
         return starts
 
     def _fit(self, t: np.ndarray, y: np.ndarray, facts: dict[str, float]) -> None:
+        if (self.damping_model, self.restoring_terms) != ("quadratic", 1):
+            self._fit_extended(t, y, facts)
+            return
         from scipy.optimize import least_squares
 
         sine = self.constants_.sine
+        shape = self.constants_.restoring
         sub = self.substeps
 
         def resid(x: np.ndarray) -> np.ndarray:
-            q, _, _ = simulate_normalised(t, x[0], x[1], x[2], x[3], x[4], sine, sub)
+            q, _, _ = simulate_normalised(t, x[0], x[1], x[2], x[3], x[4], sine, sub, restoring=shape)
             return q + x[5] - y
 
         def jac(x: np.ndarray) -> np.ndarray:
-            _, _, J = simulate_normalised(t, x[0], x[1], x[2], x[3], x[4], sine, sub, True)
+            _, _, J = simulate_normalised(t, x[0], x[1], x[2], x[3], x[4], sine, sub, True, restoring=shape)
             return np.column_stack([J, np.ones(t.size)])
 
         noise = max(self.noise_, 1e-12)
@@ -443,11 +484,7 @@ class OutputErrorEstimator(_DecayEstimator):
         assert best is not None
         x = best.x
         rms = math.sqrt(2 * best.cost / t.size)
-        if rms > 3.0 * noise and rms > 1e-9 * max(1.0, float(np.max(np.abs(y)))):
-            self.warnings_.append(
-                f"RMS residual {rms:.3g} is {rms / noise:.1f}× the sensor noise floor: the rig model does not "
-                "explain the record fully (unmodelled dynamics, sensor drift or a bad trim)"
-            )
+        self._warn_residual(rms, noise, y)
         J = best.jac
         dof = max(1, t.size - x.size)
         s2 = 2 * best.cost / dof
@@ -460,6 +497,91 @@ class OutputErrorEstimator(_DecayEstimator):
         self.p_ = (float(x[0]), float(x[1]), float(x[2]))
         self.q0_, self.v0_, self.offset_ = float(x[3]), float(x[4]), float(x[5])
         self.nfev_ = int(best.nfev)
+
+    def _warn_residual(self, rms: float, noise: float, y: np.ndarray) -> None:
+        """Warn when the fit leaves much more than the sensor noise (model error, drift, bad trim)."""
+        if rms > 3.0 * noise and rms > 1e-9 * max(1.0, float(np.max(np.abs(y)))):
+            self.warnings_.append(
+                f"RMS residual {rms:.3g} is {rms / noise:.1f}× the sensor noise floor: the rig model does not "
+                "explain the record fully (unmodelled dynamics, sensor drift or a bad trim)"
+            )
+
+    def _fit_extended(self, t: np.ndarray, y: np.ndarray, facts: dict[str, float]) -> None:
+        """Fit with the extended ODE: free (ω², b, [g], [d], [a3], [a5], q0, v0, offset)."""
+        from scipy.optimize import least_squares
+
+        shape = self.constants_.restoring
+        sub = self.substeps
+        # indices into the extended parameter vector (ω², b, g, d, a3, a5) that are fitted
+        free = [0, 1]
+        if self.damping_model != "linear":
+            free.append(2)
+        if self.damping_model == "cubic":
+            free.append(3)
+        if self.restoring_terms >= 3:
+            free.append(4)
+        if self.restoring_terms == 5:
+            free.append(5)
+        cols = free + [6, 7]
+        k = len(free)
+
+        def full(x: np.ndarray) -> np.ndarray:
+            p = np.zeros(6)
+            p[free] = x[:k]
+            return p
+
+        def resid(x: np.ndarray) -> np.ndarray:
+            q, _, _ = simulate_extended(t, full(x), x[k], x[k + 1], shape, sub)
+            return q + x[k + 2] - y
+
+        def jac(x: np.ndarray) -> np.ndarray:
+            _, _, J = simulate_extended(t, full(x), x[k], x[k + 1], shape, sub, True)
+            return np.column_stack([J[:, cols], np.ones(t.size)])
+
+        noise = max(self.noise_, 1e-12)
+        best = None
+        for x0 in self._starts(t, y, facts)[: 1 + self.restarts]:
+            p0 = np.zeros(6)
+            p0[:3] = x0[:3]
+            start = np.concatenate([p0[free], x0[3:]])
+            sol = least_squares(resid, start, jac=jac, method="lm", x_scale="jac", xtol=1e-12, ftol=1e-12, max_nfev=600)
+            if best is None or sol.cost < best.cost:
+                best = sol
+            if math.sqrt(2 * best.cost / t.size) <= 2.0 * noise + 1e-12:
+                break
+        assert best is not None
+        x = best.x
+        rms = math.sqrt(2 * best.cost / t.size)
+        self._warn_residual(rms, noise, y)
+        p = full(x)
+        cov6 = np.zeros((6, 6))
+        try:
+            J = best.jac
+            cov = 2 * best.cost / max(1, t.size - x.size) * np.linalg.inv(J.T @ J)
+            cov6[np.ix_(free, free)] = cov[:k, :k]
+            self.pcov_ = cov6[:3, :3]
+        except np.linalg.LinAlgError:
+            cov6[:] = np.nan
+            self.pcov_ = None
+            self.warnings_.append("parameter covariance singular: coefficients not separately identifiable")
+        self.p_ = (float(p[0]), float(p[1]), float(p[2]))
+        self.ext_ = p
+        self.q0_, self.v0_, self.offset_ = float(x[k]), float(x[k + 1]), float(x[k + 2])
+        self.nfev_ = int(best.nfev)
+        # reported units: B3 = d A with A = S/ω² (N·s³/m³ or N·m·s³/rad³), C3 = S a3, C5 = S a5
+        S = self.constants_.S
+        w2, d = p[0], p[3]
+        grads = {
+            "cubic_damping": (d * S / w2, {0: -d * S / w2**2, 3: S / w2}),
+            "C3": (S * p[4], {4: S}),
+            "C5": (S * p[5], {5: S}),
+        }
+        self.extended_: dict[str, tuple[float, float]] = {}
+        for name, (value, grad) in grads.items():
+            gv = np.zeros(6)
+            for i, gi in grad.items():
+                gv[i] = gi
+            self.extended_[name] = (float(value), float(math.sqrt(max(float(gv @ cov6 @ gv), 0.0))))
 
 
 ESTIMATORS: dict[str, type[_DecayEstimator]] = {
@@ -477,6 +599,13 @@ def make_estimator(method: str, rig: Rig, **settings: Any) -> _DecayEstimator:
         cls = ESTIMATORS[method]
     except KeyError:
         raise InputError(f"method = {method!r}: expected one of {', '.join(METHODS)}") from None
+    if method != "output-error":
+        model, terms = settings.pop("damping_model", "quadratic"), settings.pop("restoring_terms", 1)
+        if (model, terms) != ("quadratic", 1):
+            raise InputError(
+                f"--damping-model {model} / --restoring-terms {terms}: expected --method output-error "
+                f"(the {method} method fits the quadratic model with the rig's restoring only)"
+            )
     return cls(rig, **settings)
 
 
@@ -545,6 +674,31 @@ def identify_launch(
         gap_ratio=gap,
         extra={"period": est.period_, "noise": est.noise_, "speed_max": u_max},
     )
+    ext = getattr(est, "extended_", None)
+    if ext is not None:
+        model, terms = getattr(est, "damping_model", "quadratic"), getattr(est, "restoring_terms", 1)
+        result.extra["damping_model"] = model
+        result.extra["restoring_terms"] = terms
+        if model == "linear":
+            result.std_error["quadratic_damping"] = None  # not fitted (held at zero)
+        if model == "cubic":
+            result.extra["cubic_damping"] = ext["cubic_damping"][0]
+            result.std_error["cubic_damping"] = ext["cubic_damping"][1]
+        if terms > 1:
+            names = ("C3", "C5") if terms == 5 else ("C3",)
+            result.extra["restoring_correction"] = {n: ext[n][0] for n in names}
+            result.extra["restoring_correction"]["std_error"] = {n: ext[n][1] for n in names}
+    if rig.floating is not None and rig.floating[0] == "gz":
+        last = float(rig.floating[1][-1][0])
+        if math.degrees(est.amplitude_) > last:
+            warnings.append(
+                f"launch angle {math.degrees(est.amplitude_):.1f}° is beyond the GZ table's last angle {last:g}°; "
+                "the righting arm is extrapolated straight from there"
+            )
+    if rig.test == "floating":
+        # the closed form a naval architect checks: ω0 = √(C1 / (I + I_a)), C1 the linear restoring
+        result.extra["restoring_stiffness"] = c.S
+        result.extra["total_inertia"] = c.inertia(est.added_mass_)
     if method == "log-decrement":
         result.extra["cycles"] = est.cycles_
     return (result, est) if return_estimator else result

@@ -36,7 +36,7 @@ def coefficient_units(rig: Rig) -> dict[str, str]:
             "amplitude": "rad",
             "rms_residual": "rad",
         }
-    sig = "m" if rig.test == "spring" else "rad"
+    sig = "m" if rig.translational_signal else "rad"
     return {
         "added_mass": "kg",
         "linear_damping": "N s/m",
@@ -102,6 +102,9 @@ class CampaignResult(Result):
         for r in self.results:
             d = r.to_dict()
             d["notes"] = d.get("extra", {}).pop("notes", [])
+            for key in ("damping_model", "restoring_terms", "cubic_damping", "restoring_correction"):
+                if key in d.get("extra", {}):
+                    d[key] = d["extra"].pop(key)
             launches.append(d)
         doc = {
             "hydrokit_result": "identify",
@@ -164,6 +167,7 @@ def identify_launches(
     launches: Sequence[Launch],
     method: str = "output-error",
     progress: Callable[[str], None] | None = None,
+    **settings: Any,
 ) -> CampaignResult:
     """Identify every trimmed launch of one rig and summarise the campaign.
 
@@ -173,6 +177,8 @@ def identify_launches(
     launches : trimmed Launches (release at t = 0; t in s, y in m or rad)
     method : str — "output-error" (default), "equation-error", "morison" or "log-decrement"
     progress : callable, optional — called with each launch's file name when it is done
+    **settings : estimator settings (output-error: ``damping_model`` "linear" | "quadratic" |
+        "cubic", ``restoring_terms`` 1 | 3 | 5)
 
     Returns
     -------
@@ -189,19 +195,23 @@ def identify_launches(
         raise InputError("no launches to identify; expected at least one launch")
     items = []
     for launch in launches:
-        items.append(fit_launch(rig, launch, method))
+        items.append(fit_launch(rig, launch, method, **settings))
         if progress is not None:
             progress(launch.file)
     return summarize_campaign(rig, method, items)
 
 
-def fit_launch(rig: Rig, launch: Launch, method: str = "output-error") -> IdentifiedLaunch:
-    """Fit one trimmed launch; the pieces a campaign is summarised from (one parallel task)."""
+def fit_launch(rig: Rig, launch: Launch, method: str = "output-error", **settings: Any) -> IdentifiedLaunch:
+    """Fit one trimmed launch; the pieces a campaign is summarised from (one parallel task).
+
+    ``settings`` go to the estimator (output-error: ``damping_model``, ``restoring_terms``)."""
     from hydrokit.identify.estimators import identify_launch, with_notes
 
     if method not in METHODS:
         raise InputError(f"method = {method!r}: expected one of {', '.join(METHODS)}")
-    result, est = cast("tuple[LaunchResult, Any]", identify_launch(rig, launch, method, return_estimator=True))
+    result, est = cast(
+        "tuple[LaunchResult, Any]", identify_launch(rig, launch, method, return_estimator=True, **settings)
+    )
     return IdentifiedLaunch(launch, with_notes(result, launch.notes), est)
 
 
@@ -212,7 +222,7 @@ def summarize_campaign(rig: Rig, method: str, items: Sequence[IdentifiedLaunch])
         raise InputError("no launches to identify; expected at least one launch")
     items = list(items)
     results = [it.result for it in items]
-    groups = group_by_amplitude(results, angles=rig.test != "spring")
+    groups = group_by_amplitude(results, angles=not rig.translational_signal)
     pairwise = {c: rank_sum_pairs({k: [getattr(r, c) for r in g] for k, g in groups.items()}) for c in COEFFS}
     summary = summarize(results)
     full = None

@@ -1,9 +1,11 @@
-"""Free-decay rig models (SPEC §1.1–1.3) and their compiled integrator.
+"""Free-decay rig models (SPEC §1.1–1.3, floating body: issue #16) and their compiled integrator.
 
-All three rigs reduce to one generalised equation in the recorded coordinate q (m for the
+All the rigs reduce to one generalised equation in the recorded coordinate q (m for the
 spring, rad for the pendulum and the torsion rig):
 
     A q̈ + c_L q̇ + c_Q |q̇| q̇ + S ρ(q) = 0,        ρ(q) = q (spring, torsion) or sin q (pendulum)
+
+(floating body: ρ(q) = C(q)/C1, the restoring over its linear part, so ρ'(0) = 1)
 
 with the rig constants
 
@@ -13,7 +15,13 @@ rig        A (inertia)                          c_L             c_Q             
 spring     m + m_a                               K_L             K_Q             k
 torsion    I + I_a                               K_L             K_Q             K
 pendulum   (m + m_a) r² + I_body + m_rod r²/3    K_L r²          K_Q r³          |(W − B) r + (W_rod − B_rod) r/2|
+floating   m + m_a (heave), I + I_a (roll/pitch) K_L             K_Q             C1
 =========  ===================================  ==============  ==============  =====================
+
+Floating body (issue #16): C1 = ρ g A_wp (heave), ρ g ∇ GM (roll, pitch), the given C1 of a
+polynomial C(φ) = C1 φ + C3 φ³ + C5 φ⁵, or ρ g ∇ GZ'(0) of a righting-arm curve (interpolated
+by a monotone cubic, PCHIP, mirrored to negative angles). GM and A_wp give a linear restoring, so
+the floating rig is then exactly the torsion (roll, pitch) or spring (heave) model.
 
 For the point-mass pendulum (no body inertia, massless rod) dividing by r gives SPEC P1:
 (m + m_a) r θ̈ = (B − W) sin θ − K_L r θ̇ − K_Q r² |θ̇| θ̇. A buoyant body (B > W) swings about
@@ -28,11 +36,84 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from typing import Any, cast
 
 import numpy as np
 
 from hydrokit.errors import InputError
 from hydrokit.identify.types import Rig
+
+#: restoring shape codes of the compiled integrator
+LINEAR, SINE, POLYNOMIAL, TABLE = 0, 1, 2, 3
+
+
+@dataclass(frozen=True)
+class Restoring:
+    """The shape ρ(q) of a restoring S ρ(q), with ρ(0) = 0 and ρ'(0) = 1 (sine: the pendulum).
+
+    kind : int — LINEAR (ρ = q), SINE (sin q), POLYNOMIAL (q + a3 q³ + a5 q⁵, params (a3, a5))
+        or TABLE (odd piecewise cubic Hermite; params (n, x_0..x_{n−1}, ρ_0.., ρ'_0..) with
+        x ≥ 0 increasing from 0, linear beyond the last knot)
+    params : tuple of float
+    """
+
+    kind: int = LINEAR
+    params: tuple[float, ...] = ()
+
+    @classmethod
+    def polynomial(cls, c1: float, c3: float, c5: float) -> Restoring:
+        """ρ(q) = q + (C3/C1) q³ + (C5/C1) q⁵; linear when C3 = C5 = 0."""
+        if c3 == 0 and c5 == 0:
+            return cls(LINEAR)
+        return cls(POLYNOMIAL, (c3 / c1, c5 / c1))
+
+    @classmethod
+    def table(cls, x: Any, y: Any) -> tuple[Restoring, float]:
+        """An odd monotone-cubic (PCHIP) curve through (x, y), x ≥ 0 from 0 (rad), y(0) = 0.
+
+        Returns the shape normalised to unit slope at 0 and that slope (y per rad).
+        """
+        from scipy.interpolate import PchipInterpolator
+
+        x = np.asarray(x, float)
+        y = np.asarray(y, float)
+        xs = np.concatenate([-x[:0:-1], x])
+        ys = np.concatenate([-y[:0:-1], y])
+        d = PchipInterpolator(xs, ys).derivative()(x)
+        slope = float(d[0])
+        params = (float(x.size), *x.tolist(), *(y / slope).tolist(), *(d / slope).tolist())
+        return cls(TABLE, params), slope
+
+    def array(self) -> np.ndarray:
+        """The parameters as the float array the integrator takes."""
+        return np.asarray(self.params if self.params else (0.0,), float)
+
+    def __call__(self, q: Any) -> np.ndarray:
+        """ρ(q) (vectorised)."""
+        return _restoring_values(np.asarray(q, float), self)[0]
+
+    def slope(self, q: Any) -> np.ndarray:
+        """ρ'(q) (vectorised)."""
+        return _restoring_values(np.asarray(q, float), self)[1]
+
+    def frequency_ratio(self, amplitude: float) -> float:
+        """ω(a)/ω0 of the undamped oscillation of amplitude a by harmonic balance (first Fourier
+        term): ω(a)²/ω0² = (1/(π a)) ∫ ρ(a cos θ) cos θ dθ over one cycle."""
+        if self.kind == LINEAR or amplitude == 0:
+            return 1.0
+        th = np.linspace(0.0, 2.0 * math.pi, 257)[:-1]
+        r = float(np.mean(self(amplitude * np.cos(th)) * np.cos(th))) * 2.0 / amplitude
+        return math.sqrt(max(r, 0.0))
+
+
+def _restoring_values(q: np.ndarray, shape: Restoring) -> tuple[np.ndarray, np.ndarray]:
+    flat = np.atleast_1d(q).ravel()
+    par = shape.array()
+    rho = np.empty(flat.size)
+    drho = np.empty(flat.size)
+    for i, x in enumerate(flat):
+        rho[i], drho[i] = _restore(float(x), shape.kind, par)
+    return rho.reshape(np.shape(q)), drho.reshape(np.shape(q))
 
 
 @dataclass(frozen=True)
@@ -48,6 +129,7 @@ class RigConstants:
     speed_factor : float — translational speed of the body per unit q̇: 1 (spring), r
         (pendulum), L_ref/2 (torsion: speed of the body's tip, for Re and KC)
     sine : bool — ρ(q) = sin q (pendulum) instead of q
+    restoring : Restoring or None — a nonlinear restoring shape (floating rig); None: q or sin q
     """
 
     S: float
@@ -57,6 +139,14 @@ class RigConstants:
     quadratic_factor: float
     speed_factor: float
     sine: bool
+    restoring: Restoring | None = None
+
+    @property
+    def shape(self) -> Restoring:
+        """ρ(q) of this rig."""
+        if self.restoring is not None:
+            return self.restoring
+        return Restoring(SINE if self.sine else LINEAR)
 
     def inertia(self, added_mass: float) -> float:
         """A = base + factor·m_a."""
@@ -120,7 +210,42 @@ def rig_constants(rig: Rig) -> RigConstants:
             )
         base = rig.mass * r * r + rig.inertia + rig.rod_mass * r * r / 3.0
         return RigConstants(abs(net), base, r * r, r * r, r**3, r, True)
-    raise InputError(f"test = {rig.test!r}: expected spring, pendulum or torsion", rig.source)
+    if rig.test == "floating":
+        return _floating_constants(rig)
+    raise InputError(f"test = {rig.test!r}: expected spring, pendulum, torsion or floating", rig.source)
+
+
+def _floating_constants(rig: Rig) -> RigConstants:
+    """Constants of the floating-body rig (issue #16): base inertia m (heave) or I, and C1."""
+    heave = rig.axis == "heave"
+    base = rig.mass if heave else rig.inertia
+    if base <= 0:
+        raise InputError(
+            f"body.inertia = {rig.inertia}: expected the dry inertia about the axis (kg·m², > 0)", rig.source
+        )
+    speed = 1.0 if heave else 0.5 * rig.reference_length
+    kind, value = rig.floating if rig.floating is not None else ("stiffness", 0.0)
+    value = cast(Any, value)
+    rho_g = rig.density * rig.gravity
+    shape = Restoring()
+    if kind == "gm":
+        S = rho_g * rig.volume * float(value)
+    elif kind == "waterplane_area":
+        S = rho_g * float(value)
+    elif kind == "restoring":
+        c1, c3, c5 = value
+        S = float(c1)
+        shape = Restoring.polynomial(c1, c3, c5)
+    elif kind == "gz":
+        ang = np.radians([row[0] for row in value])
+        arm = np.asarray([row[1] for row in value], dtype=float)
+        shape, gm0 = Restoring.table(ang, arm)
+        S = rho_g * rig.volume * gm0
+    else:
+        S = float(rig.stiffness or 0.0)
+    if not (S > 0 and math.isfinite(S)):
+        raise InputError(f"floating restoring C1 = {S}: expected a positive number", rig.source)
+    return RigConstants(S, base, 1.0, 1.0, 1.0, speed, False, shape)
 
 
 def _numba():
@@ -136,7 +261,39 @@ def _rhs(q: float, v: float, w2: float, b: float, g: float, sine: bool) -> tuple
     return v, -w2 * rho - b * v - g * abs(v) * v
 
 
-def _simulate_py(t, q0, v0, w2, b, g, sine, substeps, want_jac):  # noqa: ANN001
+def _restore_py(q, kind, par):  # noqa: ANN001, ANN202
+    """(ρ(q), ρ'(q)) for a shape code and its parameters (see :class:`Restoring`)."""
+    if kind == 0:
+        return q, 1.0
+    if kind == 1:
+        return math.sin(q), math.cos(q)
+    if kind == 2:
+        q2 = q * q
+        return q * (1.0 + q2 * (par[0] + par[1] * q2)), 1.0 + q2 * (3.0 * par[0] + 5.0 * par[1] * q2)
+    n = int(par[0])
+    s = 1.0 if q >= 0.0 else -1.0
+    x = abs(q)
+    xe = par[n]
+    if x >= xe:  # linear beyond the last knot
+        return s * (par[2 * n] + par[3 * n] * (x - xe)), par[3 * n]
+    i = 0
+    while i < n - 2 and x >= par[2 + i]:
+        i += 1
+    x0 = par[1 + i]
+    h = par[2 + i] - x0
+    y0 = par[1 + n + i]
+    y1 = par[2 + n + i]
+    d0 = par[1 + 2 * n + i] * h
+    d1 = par[2 + 2 * n + i] * h
+    u = (x - x0) / h
+    u2 = u * u
+    u3 = u2 * u
+    val = (2 * u3 - 3 * u2 + 1) * y0 + (u3 - 2 * u2 + u) * d0 + (3 * u2 - 2 * u3) * y1 + (u3 - u2) * d1
+    der = ((6 * u2 - 6 * u) * y0 + (3 * u2 - 4 * u + 1) * d0 + (6 * u - 6 * u2) * y1 + (3 * u2 - 2 * u) * d1) / h
+    return s * val, der
+
+
+def _simulate_py(t, q0, v0, w2, b, g, kind, par, substeps, want_jac):  # noqa: ANN001
     """Fixed-step RK4 of the normalised rig ODE with forward sensitivities.
 
     Integrates from t[0] through each sample interval with ``substeps`` RK4 steps and
@@ -167,16 +324,16 @@ def _simulate_py(t, q0, v0, w2, b, g, sine, substeps, want_jac):  # noqa: ANN001
     for i in range(1, n):
         h = (t[i] - t[i - 1]) / substeps
         for _ in range(substeps):
-            _deriv(z, k1, w2, b, g, sine, m)
+            _deriv(z, k1, w2, b, g, kind, par, m)
             for c in range(m):
                 tmp[c] = z[c] + 0.5 * h * k1[c]
-            _deriv(tmp, k2, w2, b, g, sine, m)
+            _deriv(tmp, k2, w2, b, g, kind, par, m)
             for c in range(m):
                 tmp[c] = z[c] + 0.5 * h * k2[c]
-            _deriv(tmp, k3, w2, b, g, sine, m)
+            _deriv(tmp, k3, w2, b, g, kind, par, m)
             for c in range(m):
                 tmp[c] = z[c] + h * k3[c]
-            _deriv(tmp, k4, w2, b, g, sine, m)
+            _deriv(tmp, k4, w2, b, g, kind, par, m)
             for c in range(m):
                 z[c] += h / 6.0 * (k1[c] + 2.0 * k2[c] + 2.0 * k3[c] + k4[c])
         out_q[i] = z[0]
@@ -187,15 +344,10 @@ def _simulate_py(t, q0, v0, w2, b, g, sine, substeps, want_jac):  # noqa: ANN001
     return out_q, out_v, jac
 
 
-def _deriv_py(z, dz, w2, b, g, sine, m):  # noqa: ANN001
+def _deriv_py(z, dz, w2, b, g, kind, par, m):  # noqa: ANN001
     q = z[0]
     v = z[1]
-    if sine:
-        rho = math.sin(q)
-        drho = math.cos(q)
-    else:
-        rho = q
-        drho = 1.0
+    rho, drho = _restore(q, kind, par)
     av = abs(v)
     dz[0] = v
     dz[1] = -w2 * rho - b * v - g * av * v
@@ -210,12 +362,100 @@ def _deriv_py(z, dz, w2, b, g, sine, m):  # noqa: ANN001
             dz[3 + 2 * j] = a_q * sq + a_v * sv + forcing[j]
 
 
+def _deriv_ext_py(z, dz, p, kind, par, m):  # noqa: ANN001
+    """Extended rig ODE q̈ = −ω² (ρ(q) + a3 q³ + a5 q⁵) − b q̇ − g |q̇| q̇ − d q̇³, p = (ω², b, g, d, a3, a5),
+    with the sensitivities to p and to (q0, v0) in z[2:18] when m > 2."""
+    q = z[0]
+    v = z[1]
+    w2 = p[0]
+    rho, drho = _restore(q, kind, par)
+    q2 = q * q
+    q3 = q2 * q
+    q5 = q3 * q2
+    av = abs(v)
+    r_all = rho + p[4] * q3 + p[5] * q5
+    dz[0] = v
+    dz[1] = -w2 * r_all - p[1] * v - p[2] * av * v - p[3] * v * v * v
+    if m > 2:
+        a_q = -w2 * (drho + 3.0 * p[4] * q2 + 5.0 * p[5] * q2 * q2)
+        a_v = -p[1] - 2.0 * p[2] * av - 3.0 * p[3] * v * v
+        for j in range(8):
+            if j == 0:
+                forcing = -r_all
+            elif j == 1:
+                forcing = -v
+            elif j == 2:
+                forcing = -av * v
+            elif j == 3:
+                forcing = -v * v * v
+            elif j == 4:
+                forcing = -w2 * q3
+            elif j == 5:
+                forcing = -w2 * q5
+            else:
+                forcing = 0.0
+            sq = z[2 + 2 * j]
+            sv = z[3 + 2 * j]
+            dz[2 + 2 * j] = sv
+            dz[3 + 2 * j] = a_q * sq + a_v * sv + forcing
+
+
+def _simulate_ext_py(t, q0, v0, p, kind, par, substeps, want_jac):  # noqa: ANN001
+    """RK4 of the extended ODE (see :func:`_deriv_ext_py`); J is ∂q/∂(ω², b, g, d, a3, a5, q0, v0)."""
+    n = t.shape[0]
+    out_q = np.empty(n)
+    out_v = np.empty(n)
+    jac = np.zeros((n, 8))
+    z = np.zeros(18)
+    z[0] = q0
+    z[1] = v0
+    z[2 + 2 * 6] = 1.0  # ∂q/∂q0
+    z[2 + 2 * 7 + 1] = 1.0  # ∂v/∂v0
+    k1 = np.empty(18)
+    k2 = np.empty(18)
+    k3 = np.empty(18)
+    k4 = np.empty(18)
+    tmp = np.empty(18)
+    m = 18 if want_jac else 2
+    out_q[0] = z[0]
+    out_v[0] = z[1]
+    for j in range(8):
+        jac[0, j] = z[2 + 2 * j]
+    for i in range(1, n):
+        h = (t[i] - t[i - 1]) / substeps
+        for _ in range(substeps):
+            _deriv_ext(z, k1, p, kind, par, m)
+            for c in range(m):
+                tmp[c] = z[c] + 0.5 * h * k1[c]
+            _deriv_ext(tmp, k2, p, kind, par, m)
+            for c in range(m):
+                tmp[c] = z[c] + 0.5 * h * k2[c]
+            _deriv_ext(tmp, k3, p, kind, par, m)
+            for c in range(m):
+                tmp[c] = z[c] + h * k3[c]
+            _deriv_ext(tmp, k4, p, kind, par, m)
+            for c in range(m):
+                z[c] += h / 6.0 * (k1[c] + 2.0 * k2[c] + 2.0 * k3[c] + k4[c])
+        out_q[i] = z[0]
+        out_v[i] = z[1]
+        if want_jac:
+            for j in range(8):
+                jac[i, j] = z[2 + 2 * j]
+    return out_q, out_v, jac
+
+
 _nb = _numba()
 if _nb is not None:
+    _restore = _nb.njit(cache=True)(_restore_py)
     _deriv = _nb.njit(cache=True)(_deriv_py)
+    _deriv_ext = _nb.njit(cache=True)(_deriv_ext_py)
+    _simulate_ext = _nb.njit(cache=True)(_simulate_ext_py)
     _simulate = _nb.njit(cache=True)(_simulate_py)
 else:  # pragma: no cover
+    _restore = _restore_py
     _deriv = _deriv_py
+    _deriv_ext = _deriv_ext_py
+    _simulate_ext = _simulate_ext_py
     _simulate = _simulate_py
 
 
@@ -229,6 +469,7 @@ def simulate_normalised(
     sine: bool = False,
     substeps: int = 4,
     jacobian: bool = False,
+    restoring: Restoring | None = None,
 ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """Integrate q̈ = −ω² ρ(q) − b q̇ − g |q̇| q̇ on the sample times ``t`` (compiled RK4).
 
@@ -242,6 +483,7 @@ def simulate_normalised(
     sine : bool — pendulum restoring sin q instead of q
     substeps : int — RK4 steps per sample interval
     jacobian : bool — also integrate the forward sensitivities
+    restoring : Restoring, optional — the shape ρ(q) (overrides ``sine``; floating rig)
 
     Returns
     -------
@@ -249,7 +491,42 @@ def simulate_normalised(
     J : (n, 5) array — ∂q/∂(ω², b, g, q0, v0) (zeros unless ``jacobian``)
     """
     t = np.ascontiguousarray(t, dtype=float)
-    return _simulate(t, float(q0), float(v0), float(w2), float(b), float(g), bool(sine), int(substeps), bool(jacobian))
+    shape = restoring if restoring is not None else Restoring(SINE if sine else LINEAR)
+    return _simulate(
+        t, float(q0), float(v0), float(w2), float(b), float(g), shape.kind, shape.array(), int(substeps), bool(jacobian)
+    )
+
+
+def simulate_extended(
+    t: np.ndarray,
+    p: Any,
+    q0: float,
+    v0: float = 0.0,
+    restoring: Restoring | None = None,
+    substeps: int = 4,
+    jacobian: bool = False,
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Integrate q̈ = −ω² (ρ(q) + a3 q³ + a5 q⁵) − b q̇ − g |q̇| q̇ − d q̇³ (cubic damping and
+    restoring corrections, ``--damping-model cubic`` / ``--restoring-terms``).
+
+    Parameters
+    ----------
+    t : (n,) array — sample times, s
+    p : 6 floats — (ω² 1/s², b 1/s, g 1/unit, d s/unit², a3 1/unit², a5 1/unit⁴), unit = m or rad
+    q0, v0 : float — initial state at t[0]
+    restoring : Restoring, optional — ρ(q) (default linear)
+    substeps : int — RK4 steps per sample interval
+    jacobian : bool — also integrate the forward sensitivities
+
+    Returns
+    -------
+    q, qdot : (n,) arrays
+    J : (n, 8) array — ∂q/∂(ω², b, g, d, a3, a5, q0, v0) (zeros unless ``jacobian``)
+    """
+    t = np.ascontiguousarray(t, dtype=float)
+    shape = restoring if restoring is not None else Restoring()
+    pp = np.ascontiguousarray(np.asarray(p, float).reshape(6))
+    return _simulate_ext(t, float(q0), float(v0), pp, shape.kind, shape.array(), int(substeps), bool(jacobian))
 
 
 def simulate_rig(
@@ -283,5 +560,5 @@ def simulate_rig(
     if c.inertia(added_mass) <= 0:
         raise InputError(f"added_mass = {added_mass}: total inertia must be positive")
     w2, b, g = c.to_normalised(added_mass, linear_damping, quadratic_damping)
-    q, _, _ = simulate_normalised(np.asarray(t, float), w2, b, g, y0, v0, c.sine, substeps)
+    q, _, _ = simulate_normalised(np.asarray(t, float), w2, b, g, y0, v0, c.sine, substeps, restoring=c.restoring)
     return q

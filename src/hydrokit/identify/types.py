@@ -5,6 +5,8 @@ These are the contract between ``identify/`` (estimators), ``io/`` (rig and laun
 (rad) and the hydrodynamic force acts along the path, ẋ = r θ̇; coefficients are reported in
 translational units (kg, N·s/m, N·s²/m²). For the torsion rig they are rotational
 (kg·m², N·m·s/rad, N·m·s²/rad²). For the spring rig the coordinate is the position (m).
+The floating-body rig (issue #16) is rotational in roll and pitch (rad) and translational in
+heave (m), with a restoring that may be nonlinear (polynomial or a righting-arm curve).
 """
 
 from __future__ import annotations
@@ -15,7 +17,10 @@ from typing import Any, Literal
 
 from hydrokit._result import jsonable
 
-TestKind = Literal["spring", "pendulum", "torsion"]
+TestKind = Literal["spring", "pendulum", "torsion", "floating"]
+TESTS = ("spring", "pendulum", "torsion", "floating")
+#: axes a floating body can be released in
+FLOATING_AXES = ("heave", "roll", "pitch")
 AXES = ("surge", "sway", "heave", "roll", "pitch", "yaw")
 METHODS = ("output-error", "equation-error", "morison", "log-decrement")
 
@@ -26,7 +31,7 @@ class Rig:
 
     Parameters
     ----------
-    test : {"spring", "pendulum", "torsion"}
+    test : {"spring", "pendulum", "torsion", "floating"}
     axis : str — one of surge, sway, heave, roll, pitch, yaw
     gravity : float — m/s²
     density : float — fluid density ρ, kg/m³
@@ -35,16 +40,21 @@ class Rig:
     volume : float — displaced volume V, m³
     reference_area : float — projected area normal to the motion, m² (for C_D)
     reference_length : float — characteristic size, m (for Re and KC)
-    inertia : float — body inertia, kg·m²: about the rotation axis (torsion) or about the
-        body's own centre (physical pendulum; 0 = point body, SPEC P1)
+    inertia : float — body inertia, kg·m²: about the rotation axis (torsion, floating roll or
+        pitch: the dry inertia) or about the body's own centre (physical pendulum; 0 = point
+        body, SPEC P1)
     pendulum_length : float or None — pivot to body centre, m (pendulum only)
-    stiffness : float or None — spring N/m (spring) or N·m/rad (torsion)
+    stiffness : float or None — spring N/m (spring) or N·m/rad (torsion); for the floating rig
+        the linear restoring C1 (N/m heave, N·m/rad roll/pitch), worked out by the parser
     rod_mass : float — pendulum rod mass, kg (physical pendulum; 0 = massless rod)
     rod_volume : float — pendulum rod displaced volume, m³ (0 = no rod buoyancy)
     tare_linear_damping, tare_quadratic_damping : float — rig (pivot/bearing/air) damping
         measured in a tare test, in the same units as the reported K_L, K_Q; subtracted
     wall_distance : float or None — gap from the body to the nearest wall, m
     scale : float or None — model/full-scale length ratio (e.g. 0.3 for a 30 % model)
+    floating : tuple or None — the floating rig's restoring as given in the rig file (issue #16):
+        ``("gm", GM)`` (m), ``("waterplane_area", A_wp)`` (m²), ``("restoring", (C1, C3, C5))``
+        (SI polynomial) or ``("gz", ((deg, m), ...))`` (righting-arm curve)
     source : str — where the rig came from (file name), for messages
     """
 
@@ -67,11 +77,17 @@ class Rig:
     wall_distance: float | None = None
     scale: float | None = None
     source: str = ""
+    floating: tuple[str, Any] | None = None
 
     @property
     def rotational(self) -> bool:
-        """True for the torsion rig (coefficients about an axis)."""
-        return self.test == "torsion"
+        """True for the torsion rig and a floating body in roll or pitch (coefficients about an axis)."""
+        return self.test == "torsion" or (self.test == "floating" and self.axis != "heave")
+
+    @property
+    def translational_signal(self) -> bool:
+        """True when the recorded coordinate is a position in m (spring, floating heave), not an angle."""
+        return self.test == "spring" or (self.test == "floating" and self.axis == "heave")
 
     @property
     def buoyancy(self) -> float:
@@ -149,6 +165,13 @@ def rig_document(rig: Rig) -> dict[str, Any]:
         out["pendulum"] = {"length": rig.pendulum_length, "rod_mass": rig.rod_mass, "rod_volume": rig.rod_volume}
     elif rig.test == "spring":
         out["spring"] = {"stiffness": rig.stiffness}
+    elif rig.test == "floating" and rig.floating is not None:
+        kind, value = rig.floating
+        if kind == "restoring":
+            value = list(value)
+        elif kind == "gz":
+            value = [list(row) for row in value]
+        out["floating"] = {kind: value}
     else:
         out["torsion"] = {"stiffness": rig.stiffness}
     if rig.tare_linear_damping or rig.tare_quadratic_damping:

@@ -150,7 +150,7 @@ def simulate_launch(
         )
     a0 = float(amplitude) * (1.0 + amplitude_jitter * rng.standard_normal()) if amplitude_jitter else float(amplitude)
     v0 = release_rate_std * rng.standard_normal() if release_rate_std else 0.0
-    q, _, _ = simulate_normalised(t_run, w2, b, g, a0, v0, c.sine, 8)
+    q, _, _ = simulate_normalised(t_run, w2, b, g, a0, v0, c.sine, 8, restoring=c.restoring)
     y = np.concatenate([np.full(n_hold, a0), q])
     t = np.arange(n_hold + n_run) * dt
     return Launch(t=t, y=sensor.measure(y, rng), file=file, notes=(f"virtual rig, {sensor.name}",))

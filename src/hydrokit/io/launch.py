@@ -46,11 +46,11 @@ def read_launch(path: str | os.PathLike[str], rig: Rig) -> Launch:
         raise InputError("no header row; expected a CSV with columns time and position/angle/angle_deg", src)
     rows = list(csv.reader(io.StringIO("\n".join(lines))))
     header = [h.strip().lower() for h in rows[0]]
-    want = "position" if rig.test == "spring" else ("angle" if "angle" in header else "angle_deg")
+    want = "position" if rig.translational_signal else ("angle" if "angle" in header else "angle_deg")
     if "time" not in header:
         raise InputError(f"missing column 'time' (header: {', '.join(header)})", src)
     if want not in header:
-        expected = "'position' (m)" if rig.test == "spring" else "'angle' (rad) or 'angle_deg'"
+        expected = "'position' (m)" if rig.translational_signal else "'angle' (rad) or 'angle_deg'"
         raise InputError(f"missing column {expected} for a {rig.test} rig (header: {', '.join(header)})", src)
     it, iy = header.index("time"), header.index(want)
     t = np.empty(len(rows) - 1)

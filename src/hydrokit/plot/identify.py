@@ -180,7 +180,7 @@ def campaign_figures(campaign: Any, per_launch: bool = True) -> dict[str, tuple[
     from hydrokit.plot._mpl import to_png
 
     rig, method, items = campaign.rig, campaign.method, campaign.launches
-    unit = "m" if rig.test == "spring" else "rad"
+    unit = "m" if rig.translational_signal else "rad"
     out: dict[str, tuple[bytes, str]] = {}
     chosen = items if per_launch else items[:: max(1, len(items) // 4)][:4]
     for it in chosen:

@@ -1,0 +1,377 @@
+"""Floating-body rig (issue #16 item 1): parsing, bad input, closed-form acceptance, CLI end to end.
+
+(I + I_a) φ̈ + B1 φ̇ + B2 |φ̇| φ̇ + C(φ) = 0 with C = ρ g ∇ GM (roll, pitch), ρ g A_wp (heave),
+C1 φ + C3 φ³ + C5 φ⁵ or ρ g ∇ GZ(φ).
+"""
+
+from __future__ import annotations
+
+import json
+import math
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+import pytest
+import yaml
+
+from hydrokit.errors import InputError
+from hydrokit.identify.estimators import identify_launch
+from hydrokit.identify.preprocess import trim_launch
+from hydrokit.identify.rig_model import rig_constants, simulate_rig
+from hydrokit.identify.types import Rig, rig_document
+from hydrokit.identify.virtual_rig import SensorModel, simulate_launch
+from hydrokit.io.rig import parse_rig
+
+RHO, G, VOL = 1000.0, 9.81, 0.1
+BODY = {"mass": 100.0, "volume": VOL, "reference_area": 0.5, "reference_length": 1.0, "inertia": 8.0}
+
+
+def doc(axis: str, floating: dict[str, Any] | None, **body: float) -> dict[str, Any]:
+    d: dict[str, Any] = {
+        "test": "floating",
+        "axis": axis,
+        "gravity": G,
+        "fluid": {"density": RHO, "kinematic_viscosity": 1.0e-6},
+        "body": {**BODY, **body},
+    }
+    if floating is not None:
+        d["floating"] = floating
+    return d
+
+
+def rig_of(axis: str, floating: dict[str, Any], **body: float) -> Rig:
+    return parse_rig(doc(axis, floating, **body), "float.yaml")
+
+
+# -- parsing ---------------------------------------------------------------------------------
+
+
+def test_parse_gm_is_the_torsion_model() -> None:
+    rig = rig_of("pitch", {"gm": 0.3})
+    C = RHO * G * VOL * 0.3
+    assert rig.test == "floating" and rig.rotational and not rig.translational_signal
+    assert rig.stiffness == pytest.approx(C)
+    assert rig.floating == ("gm", 0.3)
+    c = rig_constants(rig)
+    assert (c.S, c.base_inertia, c.restoring.kind if c.restoring else 0) == (pytest.approx(C), 8.0, 0)
+    torsion = Rig("torsion", "pitch", G, RHO, 1e-6, 100.0, VOL, 0.5, 1.0, inertia=8.0, stiffness=C)
+    t = np.linspace(0.0, 10.0, 501)
+    a = simulate_rig(rig, t, 2.0, 1.0, 3.0, 0.2)
+    b = simulate_rig(torsion, t, 2.0, 1.0, 3.0, 0.2)
+    np.testing.assert_array_equal(a, b)
+
+
+def test_parse_waterplane_area_is_the_spring_model() -> None:
+    rig = rig_of("heave", {"waterplane_area": 0.2})
+    assert not rig.rotational and rig.translational_signal
+    c = rig_constants(rig)
+    assert c.S == pytest.approx(RHO * G * 0.2)
+    assert c.base_inertia == 100.0  # heave: body.mass
+    spring = Rig("spring", "heave", G, RHO, 1e-6, 100.0, VOL, 0.5, 1.0, stiffness=RHO * G * 0.2)
+    t = np.linspace(0.0, 10.0, 501)
+    np.testing.assert_array_equal(simulate_rig(rig, t, 50, 10, 200, 0.05), simulate_rig(spring, t, 50, 10, 200, 0.05))
+
+
+def test_parse_restoring_polynomial_and_gz() -> None:
+    lin = rig_of("roll", {"restoring": [300.0, 0.0, 0.0]})
+    assert rig_constants(lin).restoring.kind == 0  # type: ignore[union-attr]  # C3 = C5 = 0: linear
+    short = rig_of("heave", {"restoring": [2000.0]})
+    assert short.floating == ("restoring", (2000.0, 0.0, 0.0))
+    quint = rig_of("roll", {"restoring": [300.0, -200.0, 50.0]})
+    c = rig_constants(quint)
+    q = np.array([-0.4, 0.1, 0.3])
+    np.testing.assert_allclose(c.S * c.shape(q), 300 * q - 200 * q**3 + 50 * q**5, rtol=1e-12)
+    np.testing.assert_allclose(c.S * c.shape.slope(q), 300 - 600 * q**2 + 250 * q**4, rtol=1e-12)
+    table = [[0, 0], [10, 0.05], [20, 0.09], [30, 0.11], [40, 0.10]]
+    gz = rig_of("roll", {"gz": table})
+    c = rig_constants(gz)
+    gm0 = 0.05 / math.radians(10)
+    assert c.S == pytest.approx(RHO * G * VOL * gm0)
+    angles = np.radians([0.0, 10.0, 20.0, 30.0, 40.0, -20.0])
+    np.testing.assert_allclose(c.S * c.shape(angles), RHO * G * VOL * np.array([0, 0.05, 0.09, 0.11, 0.10, -0.09]))
+    for r in (rig_of("pitch", {"gm": 0.3}), short, quint, gz):
+        assert parse_rig(rig_document(r), "float.yaml") == r  # the JSON's rig reads back
+
+
+BAD = {
+    "gm zero": (doc("roll", {"gm": 0.0}), "floating.gm"),
+    "gm negative": (doc("pitch", {"gm": -0.1}), "floating.gm"),
+    "waterplane area zero": (doc("heave", {"waterplane_area": 0.0}), "floating.waterplane_area"),
+    "waterplane area negative": (doc("heave", {"waterplane_area": -1.0}), "floating.waterplane_area"),
+    "gz not starting at zero angle": (doc("roll", {"gz": [[5, 0.0], [10, 0.05]]}), "floating.gz"),
+    "gz not starting at zero arm": (doc("roll", {"gz": [[0, 0.01], [10, 0.05]]}), "floating.gz"),
+    "gz angles not increasing": (doc("roll", {"gz": [[0, 0], [20, 0.09], [10, 0.05]]}), "floating.gz"),
+    "gz one row": (doc("roll", {"gz": [[0, 0]]}), "floating.gz"),
+    "gz bad row": (doc("roll", {"gz": [[0, 0, 1], [10, 0.05, 1]]}), "floating.gz"),
+    "two restorings": (doc("roll", {"gm": 0.3, "gz": [[0, 0], [10, 0.05]]}), "field 'floating'"),
+    "gm for heave": (doc("heave", {"gm": 0.3}), "floating.gm"),
+    "waterplane area for roll": (doc("roll", {"waterplane_area": 0.2}), "floating.waterplane_area"),
+    "gz for heave": (doc("heave", {"gz": [[0, 0], [10, 0.05]]}), "floating.gz"),
+    "restoring C1 not positive": (doc("roll", {"restoring": [0.0, 1.0, 0.0]}), "floating.restoring"),
+    "restoring too long": (doc("roll", {"restoring": [1.0, 0.0, 0.0, 0.0]}), "floating.restoring"),
+    "no restoring": (doc("roll", None), "field 'floating'"),
+    "empty floating": (doc("roll", {}), "field 'floating'"),
+    "surge axis": (doc("surge", {"gm": 0.3}), "field 'axis'"),
+    "roll without inertia": (doc("roll", {"gm": 0.3}, inertia=0.0), "body.inertia"),
+    "floating on a spring rig": (
+        {**doc("heave", {"waterplane_area": 0.2}), "test": "spring", "spring": {"stiffness": 10.0}},
+        "field 'floating'",
+    ),
+}
+
+
+@pytest.mark.parametrize("name", list(BAD))
+def test_bad_floating_rig_names_the_field(name: str) -> None:
+    data, field = BAD[name]
+    with pytest.raises(InputError) as exc:
+        parse_rig(data, "float.yaml")
+    msg = str(exc.value)
+    assert "\n" not in msg and msg.startswith("float.yaml: ")
+    assert field in msg, msg
+
+
+@pytest.mark.parametrize("floating", [{"restoring": [300.0, -200.0, 50.0]}, {"gz": [[0, 0], [10, 0.05], [25, 0.1]]}])
+def test_nonlinear_restoring_sensitivities_match_finite_differences(floating: dict[str, Any]) -> None:
+    from hydrokit.identify.rig_model import simulate_normalised
+
+    shape = rig_constants(rig_of("roll", floating)).shape
+    t = np.linspace(0.0, 6.0, 301)
+    p = np.array([30.0, 0.1, 0.3, 0.6, 0.2])  # ω², b, g, q0, v0: out past the table's last row
+    _, _, J = simulate_normalised(t, *p[:3], p[3], p[4], False, 8, True, restoring=shape)
+    for k in range(5):
+        h = 1e-6 * max(1.0, abs(p[k]))
+        up, dn = p.copy(), p.copy()
+        up[k] += h
+        dn[k] -= h
+        qu, _, _ = simulate_normalised(t, *up[:3], up[3], up[4], False, 8, restoring=shape)
+        qd, _, _ = simulate_normalised(t, *dn[:3], dn[3], dn[4], False, 8, restoring=shape)
+        np.testing.assert_allclose(J[:, k], (qu - qd) / (2 * h), atol=2e-5 * np.max(np.abs(J[:, k])) + 1e-9)
+
+
+# -- closed-form acceptance on generated data --------------------------------------------------
+
+
+def _fit_launches(rig: Rig, truth: tuple[float, float, float], amplitudes, sensor, duration, seed=0):
+    rng = np.random.default_rng(seed)
+    out = []
+    for a in amplitudes:
+        L = simulate_launch(rig, *truth, a, duration, sensor, rng, file=f"a{a:g}")
+        out.append(identify_launch(rig, trim_launch(L)))
+    return out
+
+
+def _check(results, rig: Rig, truth, c_closed: float, base: float, tol: float = 0.03) -> float:
+    """Every launch: ω0 within 0.5 % of √(C/(I + I_a)), coefficients within ``tol``; worst ω0 error."""
+    ma, b1, b2 = truth
+    w0 = math.sqrt(c_closed / (base + ma))
+    worst = 0.0
+    for r in results:
+        assert not r.warnings, r.warnings
+        err = abs(r.natural_frequency / w0 - 1.0)
+        worst = max(worst, err)
+        assert err < 0.005, (r.file, r.natural_frequency, w0)
+        assert r.added_mass == pytest.approx(ma, rel=tol)
+        assert r.linear_damping == pytest.approx(b1, rel=tol)
+        assert r.quadratic_damping == pytest.approx(b2, rel=tol)
+        assert r.extra["restoring_stiffness"] == pytest.approx(c_closed)
+        assert r.extra["total_inertia"] == pytest.approx(c_closed / r.natural_frequency**2)
+    return worst
+
+
+def test_heave_waterplane_area_recovers_closed_form() -> None:
+    awp = 0.2
+    rig = rig_of("heave", {"waterplane_area": awp}, mass=50.0)
+    truth = (25.0, 10.0, 200.0)  # kg, N·s/m, N·s²/m²
+    sensor = SensorModel(50.0, 0.2e-3, 0.0, 1.0, "heave probe 0.2 mm")
+    res = _fit_launches(rig, truth, (0.03, 0.05, 0.08), sensor, 20.0)
+    worst = _check(res, rig, truth, RHO * G * awp, 50.0)
+    assert worst < 0.005
+
+
+def test_pitch_gm_recovers_closed_form() -> None:
+    gm = 0.3
+    rig = rig_of("pitch", {"gm": gm})
+    truth = (2.0, 1.0, 3.0)  # kg·m², N·m·s/rad, N·m·s²/rad²
+    sensor = SensorModel(50.0, math.radians(0.02), 0.0, 1.0, "IMU 0.02°")
+    res = _fit_launches(rig, truth, np.radians([5.0, 10.0, 15.0]), sensor, 30.0)
+    _check(res, rig, truth, RHO * G * VOL * gm, 8.0)
+
+
+def test_quintic_restoring_is_recovered_only_with_the_matching_rig() -> None:
+    coef = [300.0, -200.0, 50.0]  # N·m/rad, N·m/rad³, N·m/rad⁵: softening roll restoring
+    rig = rig_of("roll", {"restoring": coef})
+    truth = (2.0, 1.0, 3.0)
+    sensor = SensorModel(50.0, math.radians(0.02), 0.0, 1.0, "IMU 0.02°")
+    L = simulate_launch(rig, *truth, math.radians(25.0), 30.0, sensor, 3)
+    r = identify_launch(rig, trim_launch(L))
+    assert not r.warnings, r.warnings
+    assert r.natural_frequency == pytest.approx(math.sqrt(300.0 / 10.0), rel=0.005)  # ω0 of C1
+    for got, want in zip((r.added_mass, r.linear_damping, r.quadratic_damping), truth):
+        assert got == pytest.approx(want, rel=0.03)
+    # the same record fitted as a linear restoring (C1 only) misreads the softening as inertia
+    lin = identify_launch(rig_of("roll", {"restoring": coef[:1]}), trim_launch(L))
+    assert abs(lin.added_mass / truth[0] - 1.0) > 0.04
+    assert lin.rms_residual > 3.0 * r.rms_residual
+
+
+def test_gz_curve_restoring_is_recovered() -> None:
+    table = [[0, 0], [10, 0.05], [20, 0.09], [30, 0.11], [40, 0.10]]
+    rig = rig_of("roll", {"gz": table})
+    truth = (2.0, 1.0, 3.0)
+    sensor = SensorModel(50.0, math.radians(0.02), 0.0, 1.0, "IMU 0.02°")
+    L = simulate_launch(rig, *truth, math.radians(30.0), 40.0, sensor, 4)
+    r = identify_launch(rig, trim_launch(L))
+    assert not r.warnings, r.warnings
+    for got, want in zip((r.added_mass, r.linear_damping, r.quadratic_damping), truth):
+        assert got == pytest.approx(want, rel=0.03)
+    short = rig_of("roll", {"gz": table[:3]})  # the table ends at 20°, the launch starts at 30°
+    assert any("beyond the GZ table" in w for w in identify_launch(short, trim_launch(L)).warnings)
+
+
+@pytest.mark.parametrize("method", ["equation-error", "log-decrement"])
+def test_other_methods_use_the_nonlinear_restoring(method: str) -> None:
+    rig = rig_of("roll", {"restoring": [300.0, -200.0, 50.0]})
+    L = simulate_launch(rig, 2.0, 1.0, 3.0, math.radians(25.0), 30.0, SensorModel(50.0), 0)
+    r = identify_launch(rig, trim_launch(L), method)
+    assert r.added_mass == pytest.approx(2.0, rel=0.03)
+
+
+# -- CLI ---------------------------------------------------------------------------------------
+
+
+def _write(path: Path, data: dict[str, Any]) -> Path:
+    path.write_text(yaml.safe_dump(data))
+    return path
+
+
+def test_cli_floating_heave_end_to_end(run_cli, tmp_path: Path) -> None:
+    rig_path = _write(tmp_path / "float.yaml", doc("heave", {"waterplane_area": 0.2}, mass=50.0))
+    code, _, err = run_cli(
+        "rig", "simulate", rig_path, "--added-mass", 25, "--linear-damping", 10, "--quadratic-damping", 200,
+        "--amplitudes", "40,60", "--launches", 2, "--noise", 0.2, "--resolution", 0, "--out", tmp_path / "launches",
+    )  # fmt: skip
+    assert code == 0, err
+    files = sorted((tmp_path / "launches").glob("*.csv"))
+    assert len(files) == 4 and "position" in files[0].read_text()
+    out = tmp_path / "out.json"
+    code, _, err = run_cli("identify", rig_path, *files, "--json", out)
+    assert code == 0, err
+    d = json.loads(out.read_text())
+    assert d["rig"]["floating"] == {"waterplane_area": 0.2}
+    assert d["units"]["added_mass"] == "kg" and d["units"]["amplitude"] == "m"
+    w0 = math.sqrt(RHO * G * 0.2 / 75.0)
+    for L in d["launches"]:
+        assert L["natural_frequency"] == pytest.approx(w0, rel=0.005)
+        assert L["added_mass"] == pytest.approx(25.0, rel=0.03)
+        assert {"linear_damping", "quadratic_damping", "std_error"} <= set(L)
+
+
+def test_cli_floating_pitch_and_bad_rig(run_cli, tmp_path: Path) -> None:
+    rig_path = _write(tmp_path / "float.yaml", doc("pitch", {"gm": 0.3}))
+    rig = parse_rig(doc("pitch", {"gm": 0.3}), "x")
+    L = simulate_launch(rig, 2.0, 1.0, 3.0, math.radians(10), 30.0, SensorModel.imu(50.0, 0.02), 0)
+    f = tmp_path / "pitch.csv"
+    f.write_text("time,angle_deg\n" + "\n".join(f"{a:.4f},{math.degrees(b):.6f}" for a, b in zip(L.t, L.y)) + "\n")
+    out = tmp_path / "p.json"
+    code, _, err = run_cli("identify", rig_path, f, "--json", out)
+    assert code == 0, err
+    launch = json.loads(out.read_text())["launches"][0]
+    assert launch["added_mass"] == pytest.approx(2.0, rel=0.03)
+    assert json.loads(out.read_text())["units"]["added_mass"] == "kg m^2"
+    bad = _write(tmp_path / "bad.yaml", doc("pitch", {"gm": -0.3}))
+    code, _, err = run_cli("identify", bad, f, "--json", tmp_path / "bad.json")
+    assert code == 2
+    lines = [ln for ln in err.strip().splitlines() if ln.strip()]
+    assert len(lines) == 1 and "floating.gm" in lines[0] and "Traceback" not in err
+    assert not (tmp_path / "bad.json").exists()
+
+
+# -- optional fits: --damping-model cubic, --restoring-terms 3|5 ---------------------------------
+
+
+def _extended_launch(rig: Rig, truth: dict[str, float], a0: float, seed: int, duration: float = 30.0):
+    """A launch whose truth has cubic damping B3 q̇³ and restoring corrections C3 q³ + C5 q⁵."""
+    from hydrokit.identify.rig_model import simulate_extended
+    from hydrokit.identify.types import Launch
+
+    c = rig_constants(rig)
+    A, S = c.inertia(truth["I_a"]), c.S
+    p = [S / A, truth["B1"] / A, truth["B2"] / A, truth.get("B3", 0.0) / A]
+    p += [truth.get("C3", 0.0) / S, truth.get("C5", 0.0) / S]
+    t = np.arange(int(duration * 50) + 1) / 50.0
+    q, _, _ = simulate_extended(t, p, a0, 0.0, c.restoring, 8)
+    y = np.concatenate([np.full(50, a0), q]) + np.random.default_rng(seed).normal(0, math.radians(0.02), 50 + t.size)
+    return trim_launch(Launch(np.arange(y.size) / 50.0, y, f"ext{seed}"))
+
+
+def test_cubic_damping_model_recovers_b3() -> None:
+    rig = rig_of("pitch", {"gm": 0.3})
+    L = _extended_launch(rig, {"I_a": 2.0, "B1": 1.0, "B2": 3.0, "B3": 5.0}, math.radians(15), 0)
+    r = identify_launch(rig, L, damping_model="cubic")
+    assert not r.warnings, r.warnings
+    assert (r.added_mass, r.linear_damping, r.quadratic_damping) == (
+        pytest.approx(2.0, rel=0.01),
+        pytest.approx(1.0, rel=0.03),
+        pytest.approx(3.0, rel=0.03),
+    )
+    assert r.extra["cubic_damping"] == pytest.approx(5.0, rel=0.03)
+    assert 0 < r.std_error["cubic_damping"] < 0.1  # type: ignore[operator]
+    quad = identify_launch(rig, L)  # the quadratic model lacks B3: biased, and says so
+    assert abs(quad.linear_damping - 1.0) > 0.3 and quad.warnings
+
+
+def test_restoring_terms_recover_c3_and_c5() -> None:
+    rig = rig_of("pitch", {"gm": 0.3})
+    truth = {"I_a": 2.0, "B1": 1.0, "B2": 3.0, "C3": -200.0, "C5": 50.0}
+    L = _extended_launch(rig, truth, math.radians(30), 1)
+    r5 = identify_launch(rig, L, restoring_terms=5)
+    assert not r5.warnings, r5.warnings
+    corr = r5.extra["restoring_correction"]
+    assert corr["C3"] == pytest.approx(-200.0, rel=0.03)
+    assert abs(corr["C5"] - 50.0) < 3.0 * corr["std_error"]["C5"]
+    for got, want in zip((r5.added_mass, r5.linear_damping, r5.quadratic_damping), (2.0, 1.0, 3.0)):
+        assert got == pytest.approx(want, rel=0.01)
+    r1 = identify_launch(rig, L)  # the rig's linear restoring alone misreads the softening
+    assert abs(r1.added_mass / 2.0 - 1.0) > 0.05 and r1.warnings
+
+
+def test_linear_damping_model_holds_b2_at_zero() -> None:
+    rig = rig_of("heave", {"waterplane_area": 0.2}, mass=50.0)
+    L = simulate_launch(rig, 25.0, 40.0, 0.0, 0.05, 20.0, SensorModel(50.0, 0.2e-3, 0.0, 1.0), 0)
+    r = identify_launch(rig, trim_launch(L), damping_model="linear")
+    assert r.linear_damping == pytest.approx(40.0, rel=0.02)
+    assert r.quadratic_damping == 0.0 and r.std_error["quadratic_damping"] is None
+
+
+def test_optional_fits_reject_what_they_cannot_do(pendulum_rig: Rig) -> None:
+    rig = rig_of("pitch", {"gm": 0.3})
+    L = trim_launch(simulate_launch(rig, 2.0, 1.0, 3.0, 0.2, 20.0, SensorModel(50.0), 0))
+    with pytest.raises(InputError, match="--method output-error"):
+        identify_launch(rig, L, "equation-error", damping_model="cubic")
+    with pytest.raises(InputError, match="not to the pendulum"):
+        identify_launch(pendulum_rig, L, restoring_terms=3)
+    with pytest.raises(InputError, match="--restoring-terms"):
+        identify_launch(rig, L, restoring_terms=4)
+
+
+def test_cli_optional_fits(run_cli, tmp_path: Path) -> None:
+    rig_path = _write(tmp_path / "float.yaml", doc("pitch", {"gm": 0.3}))
+    rig = parse_rig(doc("pitch", {"gm": 0.3}), "x")
+    L = _extended_launch(rig, {"I_a": 2.0, "B1": 1.0, "B2": 3.0, "B3": 5.0, "C3": -200.0}, math.radians(25), 2)
+    f = tmp_path / "ext.csv"
+    f.write_text("time,angle\n" + "\n".join(f"{a:.4f},{b:.8f}" for a, b in zip(L.t, L.y)) + "\n")
+    out = tmp_path / "ext.json"
+    code, _, err = run_cli(
+        "identify", rig_path, f, "--json", out, "--damping-model", "cubic", "--restoring-terms", "3"
+    )  # fmt: skip
+    assert code == 0, err
+    launch = json.loads(out.read_text())["launches"][0]
+    assert launch["damping_model"] == "cubic" and launch["restoring_terms"] == 3
+    assert launch["cubic_damping"] == pytest.approx(5.0, rel=0.05)
+    assert launch["restoring_correction"]["C3"] == pytest.approx(-200.0, rel=0.03)
+    assert launch["std_error"]["cubic_damping"] > 0
+    code, _, err = run_cli(
+        "identify", rig_path, f, "--json", tmp_path / "x.json", "--method", "log-decrement", "--damping-model", "cubic"
+    )  # fmt: skip
+    assert code == 2 and len(err.strip().splitlines()) == 1 and "--method output-error" in err
