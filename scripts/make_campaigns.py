@@ -9,10 +9,12 @@ campaign's README.md (written by this script).
 from __future__ import annotations
 
 import math
+from dataclasses import replace
 from pathlib import Path
 
 import numpy as np
 import yaml
+from scipy.integrate import solve_ivp
 
 from hydrokit.identify.rig_model import rig_constants
 from hydrokit.identify.virtual_rig import SensorModel, simulate_launch
@@ -194,6 +196,57 @@ def udrobot() -> list[str]:
     return readme
 
 
+#: rov2 pivot friction (our choice): θ̈ gets −β_p θ̇ − γ_p |θ̇| θ̇ from the pivot, in air and in water
+PIVOT_BETA = 0.004  # 1/s
+PIVOT_GAMMA = 0.01  # 1/rad
+#: rov2 effective pendulum length: ENG2009 §IV.A's air tare, α = −25.128 1/s² → r = 0.3904 m
+#: (their measured rod length, 0.39 m, is what the rig file holds)
+R_EFFECTIVE = 0.3904
+#: folder of the rov2 in-air launches; it must sort after "surge", because
+#: hydrokit.data.campaign_files takes the first folder of a one-rig campaign as its launches
+AIR_FOLDER = "tare"
+
+
+def air_launches(folder: Path, rig, amplitudes_deg, duration, sensor, seed, digits) -> None:
+    """In-air launches of the pendulum (B ≈ 0, m_a ≈ 0, ENG2009 §IV.A):
+    θ̈ = −(g/r) sin θ − β_p θ̇ − γ_p |θ̇| θ̇, integrated with solve_ivp, then the same hand
+    release and sensor as the in-water launches."""
+    rng = np.random.default_rng(seed)
+    folder.mkdir(parents=True, exist_ok=True)
+    for old in folder.glob("*.csv"):
+        old.unlink()
+    w2 = rig.gravity / rig.pendulum_length
+    n_hold = int(round(sensor.hold_time * sensor.sample_rate))
+    t_run = np.arange(int(round(duration * sensor.sample_rate)) + 1) / sensor.sample_rate
+    for i, deg in enumerate(amplitudes_deg):
+        a = math.radians(deg)
+        # the hand release of simulate_launch: amplitude scatter and a small push
+        a0 = a * (1.0 + AMPLITUDE_JITTER * rng.standard_normal())
+        v0 = PUSH * a * rng.standard_normal()
+        sol = solve_ivp(
+            lambda _t, z: (z[1], -w2 * math.sin(z[0]) - PIVOT_BETA * z[1] - PIVOT_GAMMA * abs(z[1]) * z[1]),
+            (0.0, t_run[-1]),
+            (a0, v0),
+            method="DOP853",
+            t_eval=t_run,
+            rtol=1e-11,
+            atol=1e-13,
+        )
+        y_true = np.concatenate([np.full(n_hold, a0), sol.y[0]])
+        t = np.arange(y_true.size) / sensor.sample_rate
+        y = np.round(sensor.measure(y_true, rng), digits)
+        text = launch_csv(
+            t,
+            y,
+            "angle",
+            [
+                f"virtual in-air launch (tare) #{i + 1}: release at {sensor.hold_time} s from {a:.5g} rad",
+                f"sensor: {sensor.name}",
+            ],
+        )
+        (folder / f"air_{i + 1}.csv").write_text(text)
+
+
 def rov2() -> None:
     base = ROOT / "rov2"
     # ENG2009 Table II means: m_a 0.58 kg, K_L 1.5515 N s/m, K_Q 9.5439 N s²/m²; r = 0.39 m
@@ -208,11 +261,18 @@ def rov2() -> None:
         "scale": 0.3,
     }
     rig = write_rig(base, "pendulum_surge", doc, "ENG2009-like ROV II surge pendulum (see README.md)")
+    # the true rig swings on the effective length; the pivot friction torque (β_p m r² θ̇ and
+    # γ_p m r² |θ̇|θ̇, the in-air values) adds K_L = β_p m and K_Q = γ_p m / r in the units of
+    # the rig equation (c_L = K_L r², c_Q = K_Q r³), which is what the tare subtracts
+    true_rig = replace(rig, pendulum_length=R_EFFECTIVE)
+    KL_p = PIVOT_BETA * true_rig.mass
+    KQ_p = PIVOT_GAMMA * true_rig.mass / R_EFFECTIVE
+    ma, KL, KQ = 0.58, 1.5515, 9.5439
     campaign(
         base / "surge",
         "surge",
-        rig,
-        (0.58, 1.5515, 9.5439),
+        true_rig,
+        (ma, KL + KL_p, KQ + KQ_p),
         [math.radians(a) for a in (10, 20, 30)],
         3,
         12.0,
@@ -221,12 +281,29 @@ def rov2() -> None:
         column="angle",
         digits=5,
     )
+    air_launches(base / AIR_FOLDER, true_rig, (20, 30, 40), 20.0, CAMERA, seed=301, digits=5)
     (base / "README.md").write_text(
         "# ROV II surge campaign (ENG2009-like, virtual rig)\n\n" + VIRTUAL + "\n\n"
-        "True values: ENG2009 Table II means, m_a = 0.58 kg, K_L = 1.5515 N·s/m, K_Q = 9.5439 N·s²/m²; rod\n"
-        "length 0.39 m (ENG2009). Our choices (not printed): m = 5.0 kg, V = 3.0 L, A_ref = 0.040 m²,\n"
-        "L_ref = 0.30 m. Camera 30 fps with 0.2° noise and 8 ms lag; 3 amplitudes (10, 20, 30°) × 3 launches, 12 s.\n"
-        "Full scale with λ = 1/0.3: m_a × λ³ = 21.48 kg, K_Q × λ² = 106.04 N·s²/m² (ENG2009 Table III/IV).\n"
+        "True values: ENG2009 Table II means, m_a = 0.58 kg, K_L = 1.5515 N·s/m, K_Q = 9.5439 N·s²/m². Our\n"
+        "choices (not printed): m = 5.0 kg, V = 3.0 L, A_ref = 0.040 m², L_ref = 0.30 m. Camera 30 fps with\n"
+        "0.2° noise and 8 ms lag; 3 amplitudes (10, 20, 30°) × 3 launches, 12 s (`surge/`).\n"
+        "Full scale with λ = 1/0.3: m_a × λ³ = 21.48 kg, K_Q × λ² = 106.04 N·s²/m² (ENG2009 Table III/IV).\n\n"
+        "## Pivot friction and the air tare\n\n"
+        f"The rig has pivot friction (our choice): θ̈ gets −β_p θ̇ − γ_p |θ̇| θ̇ with β_p = {PIVOT_BETA} 1/s and\n"
+        f"γ_p = {PIVOT_GAMMA} 1/rad, i.e. K_L,p = β_p m = {KL_p:.4f} N·s/m and K_Q,p = γ_p m / r = {KQ_p:.4f} N·s²/m²\n"
+        "in the units of the result. The pendulum swings on its effective length r = 0.3904 m (ENG2009 §IV.A:\n"
+        "α = −25.128 1/s² in air); `pendulum_surge.yaml` holds the measured 0.39 m and no tare block. So the\n"
+        f"in-water launches carry K_L = {KL + KL_p:.4f} N·s/m and K_Q = {KQ + KQ_p:.4f} N·s²/m² in total, and\n"
+        "identified without a tare they come out high by the pivot friction (and m_a about 1 % high from the\n"
+        "length).\n\n"
+        f"`{AIR_FOLDER}/air_1.csv … air_3.csv`: **virtual** in-air launches (B ≈ 0, m_a ≈ 0) of the same pendulum,\n"
+        "θ̈ = −(g/r) sin θ − β_p θ̇ − γ_p |θ̇| θ̇ with r = 0.3904 m, released from about 20, 30 and 40° (same hand\n"
+        "release as the water launches), 20 s, same camera. Fit them with\n"
+        "`hydrokit.identify.tare.fit_air_tare` and identify the water launches with `apply_tare(rig, tare)`.\n"
+        "With this camera (30 fps, 0.2° noise) the equation-error air tare of the three launches measures r\n"
+        "to about 0.2 mm, but β_p and γ_p only to about ±0.027 1/s and ±0.012 1/rad (standard errors; K_L,p\n"
+        "± 0.13 N·s/m, K_Q,p ± 0.16 N·s²/m²): the pivot friction is smaller than what it resolves, so the\n"
+        "tared K_L and K_Q carry that uncertainty.\n"
     )
 
 

@@ -15,7 +15,8 @@ uncertainty: {samples: 200, seed: 1}   # Monte Carlo over the coefficient covari
 ```
 
 Extra fields (all optional): a campaign's own ``scale_ratio`` (its model may differ from the
-project's), ``truth`` (model-scale ``added_mass``, ``linear_damping``, ``quadratic_damping``
+project's), ``tare`` (a glob or list of in-air launches of a pendulum rig: the ENG2009 §IV.A air
+tare is fitted to them and subtracted), ``truth`` (model-scale ``added_mass``, ``linear_damping``, ``quadratic_damping``
 of virtual data, shown as identified vs true), ``forces`` entries as
 ``{file, area (m²), density (kg/m³)}``, ``published`` (per DOF, full-scale values printed by a
 source with a ``source`` text, shown in the comparison), ``choose`` as a mapping
@@ -60,6 +61,7 @@ class _Campaign(BaseModel):
     method: str = "output-error"
     scale_ratio: float | None = Field(None, gt=0)
     truth: _Truth | None = None
+    tare: str | list[str] | None = None
 
 
 class _Force(BaseModel):
@@ -105,6 +107,7 @@ class CampaignSpec:
     scale_ratio: float
     pattern: str
     truth: dict[str, float] | None = None
+    tare: tuple[Path, ...] = ()
 
 
 @dataclass(frozen=True)
@@ -146,7 +149,7 @@ class Project:
         """Every file the project reads (for hashing and for the report)."""
         files = [self.source, self.vehicle]
         for c in self.campaigns:
-            files += [c.rig, *c.launches]
+            files += [c.rig, *c.launches, *c.tare]
         files += [f.file for f in self.forces.values()]
         files += [p for p in (self.geometry, self.mission) if p is not None]
         return files
@@ -243,6 +246,7 @@ def parse_project(data: dict[str, Any], path: Path) -> Project:
                 scale_ratio=c.scale_ratio if c.scale_ratio is not None else f.scale_ratio,
                 pattern=c.launches if isinstance(c.launches, str) else ", ".join(c.launches),
                 truth=c.truth.model_dump() if c.truth is not None else None,
+                tare=_launches(root, c.tare, f"{where}.tare", source) if c.tare is not None else (),
             )
         )
     forces = {}

@@ -90,6 +90,7 @@ class Runner:
                 spec.truth,
                 self.digests[str(spec.rig)],
                 [(p.name, self.digests[str(p)]) for p in spec.launches],
+                [(p.name, self.digests[str(p)]) for p in spec.tare],
             )
 
             def compute(spec: Any = spec) -> dict[str, Any]:

@@ -45,7 +45,7 @@ def fit_task(task: tuple[Any, str, str]) -> tuple[Any, Any, np.ndarray, str]:
     item = fit_launch(rig, read_launch(path, rig), method)
     fitted = predict(item)
     name = Path(path).stem
-    unit = "m" if rig.test == "spring" else "rad"
+    unit = "m" if rig.translational_signal else "rad"
     fig = launch_fit(np.asarray(item.launch.t), np.asarray(item.launch.y), fitted, name, unit, compact=True)
     return item.launch, item.result, fitted, _png64(to_png(fig, LAUNCH_DPI))
 
@@ -54,7 +54,43 @@ def _png64(png: bytes) -> str:
     return base64.b64encode(png).decode("ascii")
 
 
-def _covariance(results: list[Any], summary: dict[str, Any], groups: dict[str, list[str]]) -> dict[str, Any]:
+def t95(n: int) -> float:
+    """Two-sided 95 % Student-t quantile for the mean of ``n`` values (normal when n is large)."""
+    from scipy import stats
+
+    return float(stats.t.ppf(0.975, max(n - 1, 1)))
+
+
+def air_tare_step(spec: CampaignSpec, rig: Any, relative: Callable[[str], str] = str) -> dict[str, Any]:
+    """The ENG2009 §IV.A air tare fitted to the campaign's in-air launches: effective length (m)
+    and pivot friction as K_L (N·s/m) and K_Q (N·s²/m²) with standard errors, to subtract."""
+    from hydrokit.api import read_launch
+    from hydrokit.errors import InputError
+    from hydrokit.identify.tare import fit_air_tare
+
+    if rig.test != "pendulum":
+        raise InputError(
+            f"campaigns ({spec.dof}).tare: an air tare is for a pendulum rig; {relative(str(spec.rig))} is a {rig.test} rig"
+        )
+    air = [read_launch(p, rig) for p in spec.tare]
+    fit, info = fit_air_tare(air, rig.mass, rig.gravity)
+    se = info["std_error"]
+    return {
+        "files": [relative(str(p)) for p in spec.tare],
+        "effective_length": fit.effective_length,
+        "linear_damping": fit.linear_damping,
+        "quadratic_damping": fit.quadratic_damping,
+        "std_error": {
+            "linear_damping": se["beta"] * rig.mass,
+            "quadratic_damping": se["gamma"] * rig.mass / fit.effective_length,
+        },
+        "alpha": info["alpha"],
+        "rms_residual": info.get("rms_residual"),
+        "rig_length": rig.pendulum_length,
+    }
+
+
+def campaign_covariance(results: list[Any], summary: dict[str, Any], groups: dict[str, list[str]]) -> dict[str, Any]:
     """Covariance of the campaign means of (m_a, K_L, K_Q), model scale, from the launches no rule
     rejected: the launch-to-launch part (sample covariance / n) plus, on the diagonal, the
     between-amplitude-group variance of the group means / k (random effects: the launches of one
@@ -100,6 +136,11 @@ def identify_campaign_step(
     from hydrokit.plot._mpl import to_png
     from hydrokit.plot.identify import drag_vs_reynolds
 
+    tare = air_tare_step(spec, rig, relative) if spec.tare else None
+    if tare is not None:
+        from hydrokit.identify.tare import AirTare, apply_tare
+
+        rig = apply_tare(rig, AirTare(tare["effective_length"], tare["linear_damping"], tare["quadratic_damping"]))
     fitted = mapper(fit_task, [(rig, str(p), spec.method) for p in spec.launches], advance)
     items = [IdentifiedLaunch(launch, result, None, pred) for launch, result, pred, _ in fitted]
     campaign = summarize_campaign(rig, spec.method, items)
@@ -114,17 +155,27 @@ def identify_campaign_step(
     lam = 1.0 / spec.scale_ratio
     exps = EXPONENTS[bool(rig.rotational)]
     factor = {c: lam ** exps[c] for c in COEFFS}
-    parts = _covariance(campaign.results, summary, campaign.groups)
+    parts = campaign_covariance(campaign.results, summary, campaign.groups)
+    tare_var = np.zeros((3, 3))
+    if tare is not None:
+        # the subtracted tare is one number for every launch: its error does not average out
+        se = tare["std_error"]
+        tare_var = np.diag([0.0, se["linear_damping"] ** 2, se["quadratic_damping"] ** 2])
     f = np.array([factor[c] for c in COEFFS])
-    full_cov = parts["total"] * np.outer(f, f)
+    full_cov = (parts["total"] + tare_var) * np.outer(f, f)
     full: dict[str, Any] = {}
     for i, c in enumerate(COEFFS):
         s = summary[c]
         ci = s["ci"] or [None, None]
+        mean = None if s["mean"] is None else s["mean"] * factor[c]
+        se = math.sqrt(full_cov[i, i]) if math.isfinite(full_cov[i, i]) else None
         full[c] = {
-            "mean": None if s["mean"] is None else s["mean"] * factor[c],
-            "ci": [None if v is None else v * factor[c] for v in ci],
-            "se": math.sqrt(full_cov[i, i]) if math.isfinite(full_cov[i, i]) else None,
+            "mean": mean,
+            # 95 % interval of the stated uncertainty (launch scatter, amplitude groups, tare):
+            # Student-t with the launches' degrees of freedom
+            "ci": [mean - t95(s["n"]) * se, mean + t95(s["n"]) * se] if mean is not None and se else [None, None],
+            "ci_launches": [None if v is None else v * factor[c] for v in ci],
+            "se": se,
             "n": s["n"],
         }
     units = coefficient_units(rig)
@@ -178,10 +229,12 @@ def identify_campaign_step(
             "covariance_parts": {
                 "launches": parts["launches"] * np.outer(f, f),
                 "between_groups": parts["between_groups"] * np.outer(f, f),
+                "tare": tare_var * np.outer(f, f),
                 "n_launches": parts["n"],
                 "n_groups": parts["groups"],
             },
             "truth": truth,
+            "tare": tare,
             "warnings": warnings,
             "summary_figures": summary_figs,
             "launch_figures": figures,

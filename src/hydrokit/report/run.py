@@ -69,7 +69,8 @@ def first_screen(doc: dict[str, Any], figures: dict[str, list[dict[str, str]]]) 
     )
     parts.append(
         "; a coefficient the preferred source lacks falls back along tank → CFD → BEM → geometry → base vehicle. "
-        "Tank values: mean over launches scaled with λ, [95 % CI]. In parentheses: difference from the tank value.</p>"
+        "Tank values: mean over launches scaled with λ, [95 % interval of the stated uncertainty: launch scatter, "
+        "amplitude-group spread and the air tare's error]. In parentheses: difference from the tank value.</p>"
     )
     has_truth = any(r.get("truth") is not None for r in doc["comparison"])
     header = ["DOF", "coefficient", "unit", "tank [95 % CI]"] + (["true"] if has_truth else [])
@@ -140,6 +141,16 @@ def campaign_section(dof: str, c: dict[str, Any], figures: dict[str, list[dict[s
         f"({len(camp['launches'])}); scale ratio {fmt(c['scale_ratio'])} (λ = {fmt(c['lambda'])}: "
         "equal C_D at equal speed, not Reynolds similarity).</p>"
     )
+    tare = c.get("tare")
+    if tare:
+        se = tare["std_error"]
+        parts.append(
+            f"<p>Air tare (ENG2009 §IV.A) from {len(tare['files'])} in-air launches: effective length "
+            f"{fmt(tare['effective_length'], 5)} m (rig file {fmt(tare['rig_length'], 5)} m); pivot friction "
+            f"K_L {fmt(tare['linear_damping'], 3)} ± {fmt(se['linear_damping'], 2)}, "
+            f"K_Q {fmt(tare['quadratic_damping'], 3)} ± {fmt(se['quadratic_damping'], 2)} (model units) subtracted from "
+            "every launch; its standard error is part of the uncertainty.</p>"
+        )
     s = camp["summary"]
     rows = []
     for k in ("added_mass", "linear_damping", "quadratic_damping", "drag_coefficient", "added_mass_coefficient"):

@@ -1,0 +1,143 @@
+"""In-air tare (ENG2009 §IV.A): fit α, β, γ to in-air launches, then take the pivot friction off
+the in-water result and use the effective pendulum length."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+from scipy.integrate import solve_ivp
+
+import hydrokit
+from hydrokit.data import DATA_DIR
+from hydrokit.errors import InputError
+from hydrokit.identify.tare import AirTare, air_tare, apply_tare, fit_air_tare
+from hydrokit.identify.types import Launch
+
+G = 9.81
+R = 0.3904  # m, ENG2009's effective length
+MASS = 5.0  # kg
+
+
+def in_air(r, beta, gamma, amplitude, rate, noise, rng, duration=20.0, rest=0.0):
+    """θ̈ = −(g/r) sin θ − β θ̇ − γ |θ̇| θ̇ from rest at ``amplitude`` (rad), sampled at ``rate``
+    (Hz) for ``duration`` s, plus white noise (rad) and a sensor zero ``rest`` (rad)."""
+    t = np.arange(int(round(duration * rate)) + 1) / rate
+    sol = solve_ivp(
+        lambda _t, z: (z[1], -(G / r) * math.sin(z[0]) - beta * z[1] - gamma * abs(z[1]) * z[1]),
+        (0.0, t[-1]),
+        (amplitude, 0.0),
+        method="DOP853",
+        t_eval=t,
+        rtol=1e-11,
+        atol=1e-13,
+    )
+    return Launch(t=t, y=sol.y[0] + rest + rng.normal(0.0, noise, t.size), file=f"air {amplitude:.3f} rad")
+
+
+def test_fit_recovers_length_and_pivot_friction() -> None:
+    # a stiff pivot (β = 0.02 1/s, γ = 0.05 1/rad) seen by a 100 Hz, 0.005° sensor
+    beta, gamma = 0.02, 0.05
+    rng = np.random.default_rng(11)
+    launches = [
+        in_air(R, beta, gamma, math.radians(a), 100.0, math.radians(0.005), rng, rest=z)
+        for a, z in ((20, 1e-3), (30, -2e-3), (40, 0.0))
+    ]
+    tare, fit = fit_air_tare(launches, MASS, G)
+    assert tare.effective_length == pytest.approx(R, rel=0.002)
+    assert fit["beta"] == pytest.approx(beta, rel=0.05)
+    assert fit["gamma"] == pytest.approx(gamma, rel=0.03)
+    # (the standard errors cover the sensor noise only; at this little noise the differentiator's
+    # own bias, +0.01 % on r and about +1 % on β, is larger)
+    assert all(0 < v < 0.02 * abs(fit[k]) for k, v in fit["std_error"].items()), fit["std_error"]
+    # conversion to the in-water units: K_L = β m, K_Q = γ m / r
+    assert tare.linear_damping == pytest.approx(fit["beta"] * MASS)
+    assert tare.quadratic_damping == pytest.approx(fit["gamma"] * MASS / tare.effective_length)
+    assert fit["rest_values"] == pytest.approx([1e-3, -2e-3, 0.0], abs=2e-5)
+    assert fit["launches"] == 3 and fit["n"] > 5000 and fit["rms_residual"] > 0
+    assert fit["noise_std"] == pytest.approx([math.radians(0.005)] * 3, rel=0.1)
+
+
+def test_noise_correction_removes_the_length_bias() -> None:
+    # at 30 fps and 0.2° the smoothed θ and the filtered θ̈ share noise: plain least squares
+    # makes |α| about 0.15 % too large (r 0.6 mm short), several standard errors
+    rng = np.random.default_rng(5)
+    launches = [in_air(R, 0.004, 0.01, math.radians(a), 30.0, math.radians(0.2), rng) for a in (20, 30, 40)]
+    _, fit = fit_air_tare(launches, MASS, G)
+    _, plain = fit_air_tare(launches, MASS, G, noise_correction=False)
+    se = fit["std_error"]["alpha"]
+    assert abs(fit["alpha"] + G / R) < 3 * se
+    assert plain["alpha"] - fit["alpha"] < -3 * se
+
+
+def test_standard_errors_match_the_scatter() -> None:
+    # the smoothing correlates the residuals: σ̂²(HᵀH)⁻¹ would be 5× off for β here
+    rng = np.random.default_rng(2)
+    fits = [
+        fit_air_tare([in_air(R, 0.004, 0.01, math.radians(30), 30.0, math.radians(0.2), rng)], MASS, G)[1]
+        for _ in range(12)
+    ]
+    for key in ("alpha", "beta", "gamma"):
+        scatter = float(np.std([f[key] for f in fits], ddof=1))
+        se = float(np.mean([f["std_error"][key] for f in fits]))
+        assert 0.6 < scatter / se < 1.5, (key, scatter, se)
+
+
+def test_eng2009_printed_alpha_gives_the_effective_length() -> None:
+    # ENG2009 §IV.A: in air α = −25.128 1/s², hence r = g/|α| = 0.3904 m (0.39 m measured)
+    tare = air_tare(-25.128, 0.0, 0.0, MASS, 9.81)
+    assert tare.effective_length == pytest.approx(0.3904, abs=5e-5)
+    assert tare == AirTare(tare.effective_length, 0.0, 0.0)
+
+
+def test_errors_name_the_problem() -> None:
+    with pytest.raises(InputError, match="no in-air launches"):
+        fit_air_tare([], MASS, G)
+    rng = np.random.default_rng(0)
+    good = in_air(R, 0.004, 0.01, math.radians(20), 30.0, 1e-4, rng)
+    short = Launch(t=good.t[:10], y=good.y[:10], file="air_short.csv")
+    with pytest.raises(InputError, match="air_short.csv: only 10 samples"):
+        fit_air_tare([good, short], MASS, G)
+    with pytest.raises(InputError, match="mass = 0"):
+        fit_air_tare([good], 0.0, G)
+    # a record whose angles are not radians of a hanging pendulum: θ̈ against sin θ is not restoring
+    t = np.arange(0.0, 20.0, 1 / 30)
+    y = 5.0 * np.exp(-0.01 * t) * np.cos(2 * math.pi * t / 1.25)
+    with pytest.raises(InputError, match="fitted alpha = .* expected a negative"):
+        fit_air_tare([Launch(t=t, y=y, file="deg.csv")], MASS, G)
+
+
+def test_rov2_air_tare_takes_the_pivot_friction_off() -> None:
+    """The bundled rov2 campaign: water launches made with ENG2009 Table II means plus the pivot
+    friction (README: β_p = 0.004 1/s, γ_p = 0.01 1/rad, r = 0.3904 m), air launches in tare/."""
+    base = DATA_DIR / "campaigns" / "rov2"
+    rig = hydrokit.load_rig(base / "pendulum_surge.yaml")
+    assert rig.pendulum_length == 0.39 and rig.tare_linear_damping == 0 == rig.tare_quadratic_damping
+    air = [hydrokit.read_launch(f, rig) for f in sorted((base / "tare").glob("air_*.csv"))]
+    assert len(air) == 3
+    tare, fit = fit_air_tare(air, rig.mass, rig.gravity)
+    KL_p, KQ_p = 0.004 * rig.mass, 0.01 * rig.mass / 0.3904
+    se_KL = fit["std_error"]["beta"] * rig.mass
+    se_KQ = fit["std_error"]["gamma"] * rig.mass / tare.effective_length
+    assert tare.effective_length == pytest.approx(0.3904, rel=0.001)
+    assert abs(tare.linear_damping - KL_p) < 2 * se_KL
+    assert abs(tare.quadratic_damping - KQ_p) < 2 * se_KQ
+
+    files = sorted((base / "surge").glob("*.csv"))
+    raw = hydrokit.identify_campaign(rig, files)
+    tared = hydrokit.identify_campaign(apply_tare(rig, tare), files)
+    # ENG2009 Table II means
+    ma, KL, KQ = 0.58, 1.5515, 9.5439
+    # without the tare K_L and K_Q come out high by about the pivot friction (and by 0.1 %, 0.2 %
+    # more from the 0.39 m length instead of 0.3904 m, which also puts m_a 1 % high)
+    assert raw.mean("linear_damping") - KL == pytest.approx(KL_p, abs=0.01)
+    assert raw.mean("quadratic_damping") - KQ == pytest.approx(KQ_p, abs=0.05)
+    assert raw.mean("added_mass") == pytest.approx(ma * 1.01, rel=0.005)
+    # with it: the length is right, so is m_a; the damping is as good as the tare, whose β, γ
+    # carry the camera noise (at 30 fps, 0.2°, three launches: K_L ± 0.13, K_Q ± 0.16, i.e.
+    # larger than the friction itself)
+    assert tared.mean("added_mass") == pytest.approx(ma, rel=0.01)
+    assert tared.mean("quadratic_damping") == pytest.approx(KQ, rel=0.02)
+    assert abs(tared.mean("linear_damping") - KL) < 0.03 * KL + 2 * se_KL
+    assert abs(tared.mean("quadratic_damping") - KQ) < 0.01 * KQ + 2 * se_KQ
