@@ -279,3 +279,29 @@ def test_demo_writes_report(run_cli, tmp_path):
     # the effective length 0.3904 m (ENG2009 §IV.A air tare) while the rig file holds the measured
     # 0.39 m, and without the tare m + m_a ∝ 1/r comes out 0.1 % high: m_a 0.5857 kg
     assert oe["added_mass"]["mean"] == pytest.approx((5.0 + 0.58) * 0.3904 / 0.39 - 5.0, rel=0.01)
+
+
+def test_scale_reports_cely2019_cm_convention_beside_similitude(run_cli, published):
+    """CELY2019 Table 10 prints full-scale added masses equal to C_m × 9.2006 kg (an implied
+    9.2 L reference), not λ³ × the 22 % model's added mass: `scale` shows both."""
+    t10 = published["cely2019"]["table10_pendulum"]
+    rho, v_model = 998.2, 107597e-9  # CELY2019 §3.3 model volume, water at 20 °C
+    m_a_model = t10["C_m"][0] * rho * v_model
+    code, out, err = run_cli(
+        "scale",
+        "--ratio",
+        "0.22",
+        "--added-mass",
+        m_a_model,
+        "--model-volume",
+        v_model,
+        "--full-volume",
+        9.2006 / rho,
+    )
+    assert code == 0, err
+    cm_form = float(out.split("Table 10 convention): ")[1].split(";")[0])
+    assert cm_form == pytest.approx(t10["added_mass_kg"][0], rel=1e-4)  # 8.3027 kg as printed
+    lam3 = float(out.split("λ³ similitude gives ")[1].split(" ")[0])
+    assert lam3 == pytest.approx(m_a_model / 0.22**3, rel=1e-5) and lam3 > 1.05 * cm_form
+    code, _, err = run_cli("scale", "--ratio", "0.22", "--added-mass", "0.1", "--model-volume", "1e-4")
+    assert code == 2 and "--full-volume" in err

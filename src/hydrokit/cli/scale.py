@@ -17,12 +17,26 @@ from hydrokit.errors import InputError
     "--quadratic-damping", type=float, default=None, help="Model K_Q, N·s²/m² (N·m·s²/rad² with --rotational)."
 )
 @click.option("--rotational", is_flag=True, help="Coefficients of a rotational DOF (added inertia and damping ∝ λ⁵).")
+@click.option(
+    "--model-volume",
+    type=float,
+    default=None,
+    help="Model displaced volume, m³ (with --full-volume: CELY2019's C_m form).",
+)
+@click.option(
+    "--full-volume",
+    type=float,
+    default=None,
+    help="Full-scale displaced volume, m³: also print the added mass as C_m ρ V_full, CELY2019's convention.",
+)
 def scale(
     ratio: float,
     added_mass: float | None,
     linear_damping: float | None,
     quadratic_damping: float | None,
     rotational: bool,
+    model_volume: float | None,
+    full_volume: float | None,
 ) -> None:
     """Scale model-test coefficients to full size (ENG2009 similitude) and print the assumptions."""
     from hydrokit.identify.scaling import SCALING_ASSUMPTIONS, scale_coefficients, scale_factor
@@ -43,6 +57,19 @@ def scale(
     click.echo(f"λ = L_full / L_model = {lam:.6g}")
     for k, v in vals.items():
         click.echo(f"{k}: model {v:.6g} → full scale {full[k]:.6g}")
+    if (model_volume is None) != (full_volume is None):
+        raise InputError("--model-volume and --full-volume go together (m³): give both or neither")
+    if model_volume is not None and full_volume is not None and added_mass is not None and not rotational:
+        if not (model_volume > 0 and full_volume > 0):
+            raise InputError(
+                f"--model-volume {model_volume}, --full-volume {full_volume}: expected positive volumes (m³)"
+            )
+        cm_form = added_mass * full_volume / model_volume  # C_m ρ V_full with C_m = m_a / (ρ V_model)
+        click.echo(
+            f"added_mass as C_m ρ V_full (CELY2019 Table 10 convention): {cm_form:.6g}; "
+            f"λ³ similitude gives {full['added_mass']:.6g} ({100 * (cm_form / full['added_mass'] - 1):+.1f} %): "
+            f"they agree only when V_full = λ³ V_model = {model_volume * lam**3:.6g} m³"
+        )
     click.echo("assumptions:")
     for a in SCALING_ASSUMPTIONS:
         click.echo(f"  - {a}")
