@@ -22,6 +22,7 @@ COMMANDS: dict[str, tuple[str, str]] = {
     "run": ("hydrokit.cli.run:run", "The main job: tank launches to an identified, flown vehicle and one report."),
     "demo": ("hydrokit.cli.demo:demo", "Identify the bundled UDrobot campaign and write an HTML report."),
     "identify": ("hydrokit.cli.identify:identify", "Identify coefficients from free-decay launches."),
+    "ingest": ("hydrokit.cli.ingest:ingest", "Real recordings (CSV, ROS bag, ArduPilot log) to launch files."),
     "scale": ("hydrokit.cli.scale:scale", "Scale model-test coefficients to full size (similitude)."),
     "rig": ("hydrokit.cli.rig:rig", "Virtual rig: simulate launches, plan an experiment."),
     "simulate": ("hydrokit.cli.simulate:simulate", "Simulate a vehicle under a constant or tabulated force."),

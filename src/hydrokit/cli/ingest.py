@@ -1,0 +1,79 @@
+"""``hydrokit ingest``: a real recording (CSV/TSV, ROS bag, ArduPilot log) → launch files.
+
+Heavy imports stay inside the command function so ``hydrokit --help`` starts fast.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+from typing import Any
+
+import click
+
+from hydrokit.cli._common import write_all
+
+
+@click.command()
+@click.argument("source", metavar="SOURCE", type=click.Path())
+@click.option("--rig", "rig_file", required=True, type=click.Path(dir_okay=False), help="Rig file (RIG.yaml).")
+@click.option("--out", "out_dir", required=True, type=click.Path(file_okay=False), help="Output directory.")
+@click.option(
+    "--format",
+    "fmt",
+    type=click.Choice(["csv", "rosbag", "ardupilot"]),
+    default=None,
+    help="Default: from the extension.",
+)
+@click.option(
+    "--time", "time_field", default=None, help="Time column (name or number), or bag/log field (default: see docs)."
+)
+@click.option("--signal", default=None, help="Signal column, bag field path (roll/pitch/yaw for Imu) or MESSAGE.FIELD.")
+@click.option("--time-unit", type=click.Choice(["s", "ms", "us", "ns"]), default=None, help="Unit of the time column.")
+@click.option("--signal-unit", default=None, help="rad, deg, m, mm or counts:SCALE (SCALE = m or rad per count).")
+@click.option("--topic", default=None, help="ROS topic (default: the bag's only topic).")
+@click.option("--split", is_flag=True, help="One launch per release (hold → free decay) in a long recording.")
+@click.option("--plots", is_flag=True, help="Also write DIR/ingest.png (the recording and the launches cut).")
+def ingest(
+    source: str,
+    rig_file: str,
+    out_dir: str,
+    fmt: str | None,
+    time_field: str | None,
+    signal: str | None,
+    time_unit: str | None,
+    signal_unit: str | None,
+    topic: str | None,
+    split: bool,
+    plots: bool,
+) -> None:
+    """Read SOURCE and write DIR/launch_001.csv, … (the launch format of hydrokit identify) and
+    DIR/ingest.json. Time in s (the source's time base), signal in m or rad. Nothing is written
+    unless everything could be read."""
+    from hydrokit.api import load_rig
+    from hydrokit.io.ingest import detect_format, ingest_files, read_recording
+
+    rig = load_rig(rig_file)
+    fmt = fmt or detect_format(source)
+    rec = read_recording(
+        source,
+        rig,
+        fmt=fmt,
+        time=time_field,
+        signal=signal,
+        time_unit=time_unit,
+        signal_unit=signal_unit,
+        topic=topic,
+    )
+    texts, doc = ingest_files(rec, rig, out_dir, split=split, fmt=fmt)
+    files: dict[str | Path, Any] = {p: text for p, text in texts.items()}
+    if plots:
+        from hydrokit.plot._mpl import to_png
+        from hydrokit.plot.ingest import recording_overview
+
+        unit = "m" if rig.test == "spring" else "rad"
+        files[Path(out_dir) / "ingest.png"] = to_png(recording_overview(rec.t, rec.y, doc["launches"], unit))
+    write_all(files)
+    for w in doc["warnings"]:
+        click.echo(f"warning: {w}", err=True)
+    n = len(doc["launches"])
+    click.echo(f"wrote {n} launch file(s) and ingest.json to {out_dir}", err=True)
