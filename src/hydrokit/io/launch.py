@@ -17,6 +17,7 @@ import numpy as np
 
 from hydrokit.errors import InputError
 from hydrokit.identify.types import Launch, Rig
+from hydrokit.io.yamlfile import read_text
 
 #: an ``angle`` column whose largest magnitude exceeds this (rad) is almost surely in degrees
 #: (a pendulum launched beyond 90°, or a torsion rig past a full turn, is not a free-decay test)
@@ -35,12 +36,7 @@ def read_launch(path: str | os.PathLike[str], rig: Rig) -> Launch:
     """
     p = Path(path)
     src = str(p)
-    try:
-        text = p.read_text(encoding="utf-8-sig")
-    except FileNotFoundError:
-        raise InputError("no such file", src) from None
-    except (OSError, UnicodeDecodeError) as exc:
-        raise InputError(f"cannot read the file ({exc.__class__.__name__}); expected a UTF-8 CSV", src) from None
+    text = read_text(p, "a UTF-8 CSV")
     lines = [ln for ln in text.splitlines() if ln.strip() and not ln.lstrip().startswith("#")]
     if not lines:
         raise InputError("no header row; expected a CSV with columns time and position/angle/angle_deg", src)

@@ -20,6 +20,7 @@ import numpy as np
 from hydrokit.errors import InputError
 from hydrokit.identify.types import Rig
 from hydrokit.io.recording import TIME_UNITS, Recording
+from hydrokit.io.yamlfile import read_text
 
 _DEG = re.compile(r"deg|°|degree", re.I)
 _RAD = re.compile(r"rad", re.I)
@@ -75,12 +76,7 @@ def read_table(
 
     p = Path(path)
     src = str(p)
-    try:
-        text = p.read_text(encoding="utf-8-sig")
-    except FileNotFoundError:
-        raise InputError("no such file", src) from None
-    except (OSError, UnicodeDecodeError) as exc:
-        raise InputError(f"cannot read the file ({exc.__class__.__name__}); expected a UTF-8 text table", src) from None
+    text = read_text(p, "a UTF-8 text table")
     rows = _rows(text, src)
     has_header = not all(_is_number(c) for c in rows[0])
     header = [c.strip() for c in rows[0]] if has_header else [str(k + 1) for k in range(len(rows[0]))]

@@ -16,6 +16,7 @@ import numpy as np
 
 from hydrokit.core.names import FORCE_COLUMNS, STATE_COLUMNS
 from hydrokit.errors import InputError
+from hydrokit.io.yamlfile import read_text
 
 COLUMNS = STATE_COLUMNS
 
@@ -39,10 +40,7 @@ def read_force_table(path: str | os.PathLike[str]) -> np.ndarray:
     """Rows [t, X, Y, Z, K, M, N] from a force CSV (``#`` comments allowed)."""
     p = Path(path)
     src = str(p)
-    try:
-        text = p.read_text(encoding="utf-8-sig")
-    except FileNotFoundError:
-        raise InputError("no such file", src) from None
+    text = read_text(p, "a UTF-8 CSV")
     lines = [ln for ln in text.splitlines() if ln.strip() and not ln.lstrip().startswith("#")]
     if len(lines) < 2:
         raise InputError("expected a header time,X,Y,Z,K,M,N and at least one row", src)

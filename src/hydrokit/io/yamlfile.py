@@ -60,6 +60,17 @@ def _load_bounded(text: str, source: str) -> Any:
         loader.dispose()
 
 
+def read_text(path: str | os.PathLike[str], expected: str = "a UTF-8 text file") -> str:
+    """A text file's content (UTF-8, BOM dropped), or one line naming the file and ``expected``."""
+    p = Path(path)
+    try:
+        return p.read_text(encoding="utf-8-sig")
+    except FileNotFoundError:
+        raise InputError("no such file", str(p)) from None
+    except (OSError, UnicodeDecodeError) as exc:
+        raise InputError(f"cannot read the file ({exc.__class__.__name__}); expected {expected}", str(p)) from None
+
+
 def read_yaml(path: str | os.PathLike[str]) -> dict[str, Any]:
     """Read a YAML mapping from ``path``.
 
