@@ -145,6 +145,8 @@ def identify_campaign(
     release: float | None = None,
     end: float | None = None,
     progress: Callable[[str], None] | None = None,
+    damping_model: str = "quadratic",
+    restoring_terms: int = 1,
 ) -> CampaignResult:
     """Identify added mass, linear and quadratic damping from many launches of one rig.
 
@@ -155,6 +157,10 @@ def identify_campaign(
     method : str — "output-error" (default), "equation-error", "morison" or "log-decrement"
     release, end : float, optional — release and last useful time of path launches, s
     progress : callable, optional — called with each launch's file name when it is done
+    damping_model : str — "linear" (B1), "quadratic" (B1, B2; default) or "cubic" (B1, B2, B3 q̇³);
+        output-error only, spring/torsion/floating rigs
+    restoring_terms : int — 1 (the rig's restoring, default), 3 or 5: also fit C3 q³ (and C5 q⁵)
+        added to the rig's restoring; output-error only, spring/torsion/floating rigs
 
     Returns
     -------
@@ -177,7 +183,10 @@ def identify_campaign(
     launches = [
         x if isinstance(x, Launch) else read_launch(x, rig_obj, release=release, end=end) for x in launches_or_paths
     ]
-    return identify_launches(rig_obj, launches, method, progress=progress)
+    settings: dict[str, Any] = {}
+    if (damping_model, restoring_terms) != ("quadratic", 1):
+        settings = {"damping_model": damping_model, "restoring_terms": restoring_terms}
+    return identify_launches(rig_obj, launches, method, progress=progress, **settings)
 
 
 def simulate(
@@ -239,6 +248,7 @@ def fly(
     gains: dict[str, dict[str, dict[str, float]]] | None = None,
     duration: float | None = None,
     progress: Callable[[float], None] | None = None,
+    loop: str = "compiled",
     **mission_options: Any,
 ) -> MissionResult:
     """Fly a closed-loop waypoint mission (guidance, PID or S-plane autopilot, allocation,
@@ -256,6 +266,8 @@ def fly(
     gains : dict — controller → loop → gains, as in a mission file (with a Vehicle)
     duration : float, optional — s
     progress : callable, optional — called with the simulated time, s
+    loop : str — "compiled" (numba, default) or "python" (the reference loop); the same
+        run to ~1e-12 (dimensionless choice)
 
     Returns
     -------
@@ -293,7 +305,7 @@ def fly(
             )
         mission = mission_or_vehicle if isinstance(mission_or_vehicle, Mission) else load_mission(mission_or_vehicle)
         veh = _as_vehicle(vehicle) if vehicle is not None else load_vehicle(mission.vehicle)
-    return fly_mission(mission, veh, controller, duration=duration, progress=progress)
+    return fly_mission(mission, veh, controller, duration=duration, progress=progress, loop=loop)
 
 
 def estimate_geometry(geometry: Geometry | PathLike, bem: bool = False, resolution: int | None = None) -> Estimate:
