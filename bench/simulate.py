@@ -89,8 +89,12 @@ def main() -> None:
     sys.path.insert(0, str(Path(__file__).parent))
     from closed_loop import closed_loop_speed
 
-    cl = closed_loop_speed("lingyun_path", "pid", 20.0 if args.quick else 60.0)
-    print(f"Closed loop (guidance + PID + allocation + thrusters + Lingyun model), dt = 0.05 s: {cl:,.0f} steps/s")
+    for loop in ("compiled", "python"):
+        cl = closed_loop_speed("lingyun_path", "pid", 20.0 if args.quick else 60.0, loop=loop)
+        print(
+            f"Closed loop ({loop}: guidance + PID + allocation + thrusters + Lingyun model), dt = 0.05 s: "
+            f"{cl:,.0f} steps/s"
+        )
 
 
 if __name__ == "__main__":

@@ -31,7 +31,16 @@ from hydrokit.cli._common import json_text, progress_bar, write_all
 )
 @click.option("--duration", type=float, default=None, help="Override the mission duration, s.")
 @click.option("--no-plots", is_flag=True, help="Skip the PNG figures (no unit).")
-def mission(mission_file: str, out_dir: str, controller: str, duration: float | None, no_plots: bool) -> None:
+@click.option(
+    "--loop",
+    type=click.Choice(["compiled", "python"]),
+    default="compiled",
+    show_default=True,
+    help="Closed-loop implementation (no unit): compiled (numba) or python (the reference).",
+)
+def mission(
+    mission_file: str, out_dir: str, controller: str, duration: float | None, no_plots: bool, loop: str
+) -> None:
     """Fly MISSION (a mission YAML file or bundled name) in closed loop and write results.
 
     Writes trajectory.csv (time,x,y,z,phi,theta,psi,u,v,w,p,q,r in m, rad, m/s, rad/s, then
@@ -59,7 +68,7 @@ def mission(mission_file: str, out_dir: str, controller: str, duration: float | 
     with progress_bar(time_based=True) as bar:
         for kind in kinds:
             task = bar.add_task(f"{kind} mission", total=duration if duration is not None else mis.duration)
-            results[kind] = fly(mis, kind, vehicle=vehicle, duration=duration, progress=_advance(bar, task))
+            results[kind] = fly(mis, kind, vehicle=vehicle, duration=duration, progress=_advance(bar, task), loop=loop)
     thrusters = vehicle.thrusters
     metrics = {r.label: r.metrics for r in results.values()}
     # everything computed: build the outputs in memory, then write them

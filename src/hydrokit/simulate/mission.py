@@ -1,6 +1,8 @@
 """Fly a mission with a vehicle object: the library's closed loop, no file needed.
 
-:func:`fly_mission` runs :func:`hydrokit.simulate.closed_loop.run_closed_loop` for a
+:func:`fly_mission` runs the closed loop — compiled
+(:func:`hydrokit.simulate.compiled_loop.run_closed_loop_compiled`, the default) or the Python
+reference (:func:`hydrokit.simulate.closed_loop.run_closed_loop`) — for a
 :class:`hydrokit.model.mission.Mission` and a :class:`hydrokit.model.vehicle.Vehicle` that
 carries its thrusters, and returns a :class:`MissionResult`.
 """
@@ -9,6 +11,7 @@ from __future__ import annotations
 
 import html
 import math
+import warnings
 from collections.abc import Callable
 from dataclasses import dataclass
 from typing import Any
@@ -23,6 +26,8 @@ from hydrokit.model.thrusters import ThrusterSet
 from hydrokit.model.vehicle import Vehicle
 from hydrokit.simulate.closed_loop import ClosedLoopResult, run_closed_loop
 
+#: the closed-loop implementations :func:`fly_mission` can use
+LOOPS = ("compiled", "python")
 #: how each controller kind is labelled in tables, JSON and figures
 CONTROLLER_LABEL = {"pid": "PID", "s-plane": "S-plane"}
 #: units of the tracking and effort metrics (what metrics.json states)
@@ -147,6 +152,7 @@ def fly_mission(
     duration: float | None = None,
     current_ned: Any = None,
     progress: Callable[[float], None] | None = None,
+    loop: str = "compiled",
 ) -> MissionResult:
     """Fly ``mission`` with ``vehicle`` (which must carry its thrusters) in closed loop.
 
@@ -158,6 +164,11 @@ def fly_mission(
     duration : float, optional — s, overrides the mission's
     current_ned : 3 floats, optional — m/s, overrides the mission's current
     progress : callable, optional — called with the simulated time, s
+    loop : str — "compiled" (default: the numba loop of
+        :mod:`hydrokit.simulate.compiled_loop`) or "python" (the reference,
+        :func:`~hydrokit.simulate.closed_loop.run_closed_loop`); both give the same run to
+        ~1e-12. A setup the compiled loop does not know (a custom controller or thrust
+        curve) is flown by the Python loop, with a warning.
 
     Returns
     -------
@@ -167,10 +178,13 @@ def fly_mission(
     ------
     InputError
         A vehicle without thrusters, an unknown controller or one without gains, allocation
-        weights that do not match the thrusters, a duration shorter than one step.
+        weights that do not match the thrusters, a duration shorter than one step, an
+        unknown ``loop``.
     """
     from hydrokit.simulate.compiled import make_dynamics
 
+    if loop not in LOOPS:
+        raise InputError(f"loop = {loop!r}: expected one of {', '.join(LOOPS)}")
     kind = controller or mission.controller
     if kind not in CONTROLLER_KINDS:
         raise InputError(f"controller = {kind!r}: expected one of {', '.join(CONTROLLER_KINDS)}")
@@ -187,18 +201,27 @@ def fly_mission(
         raise InputError(f"duration = {T}: expected a time ≥ the step dt = {mission.dt} s")
     current = mission.current if current_ned is None else np.asarray(current_ned, dtype=float)
     autopilot = mission.autopilot(kind)
-    run = run_closed_loop(
-        make_dynamics(vehicle, current),
-        thrusters,
-        autopilot,
-        mission.path,
-        mission.eta0,
-        mission.nu0,
-        duration=T,
-        dt=mission.dt,
-        current_ned=current,
-        weights=mission.weights,
-        output_every=mission.output_every,
-        progress=progress,
-    )
+    common: dict[str, Any] = {
+        "duration": T,
+        "dt": mission.dt,
+        "current_ned": current,
+        "weights": mission.weights,
+        "output_every": mission.output_every,
+        "progress": progress,
+    }
+    run = None
+    if loop == "compiled":
+        from hydrokit.simulate.compiled_loop import run_closed_loop_compiled, unsupported_reason
+
+        why = unsupported_reason(thrusters, autopilot)
+        if why is None:
+            run = run_closed_loop_compiled(
+                vehicle, thrusters, autopilot, mission.path, mission.eta0, mission.nu0, **common
+            )
+        else:
+            warnings.warn(f"compiled closed loop: {why}; flying the Python loop instead", stacklevel=2)
+    if run is None:
+        run = run_closed_loop(
+            make_dynamics(vehicle, current), thrusters, autopilot, mission.path, mission.eta0, mission.nu0, **common
+        )
     return MissionResult(mission, kind, run, thrusters, run.metrics(thrusters))

@@ -1,0 +1,994 @@
+"""Compiled (numba) closed loop: guidance, autopilot, allocation, thrusters and vehicle in one
+compiled step.
+
+A compiled *copy* of :func:`hydrokit.simulate.closed_loop.run_closed_loop`, kept for speed
+only; the Python loop is the definition and tests/simulate/test_compiled_loop.py flies every
+bundled mission both ways (agreement to 1e-9 of each column's scale). Every block below is a
+scalar transcription of its numpy source, in the same order of operations where that is
+cheap:
+
+- guidance: :meth:`hydrokit.model.guidance.Path.update` (LOS heading, depth lookahead,
+  speed profile, waypoint switching), with the per-leg constants the Path precomputes;
+- autopilot: :class:`hydrokit.model.control.Autopilot` with :class:`~hydrokit.model.control.PID`
+  (derivative on measurement, limits, clamping anti-windup) or
+  :class:`~hydrokit.model.control.SPlane` loops;
+- allocation: :class:`hydrokit.model.allocation.Allocator` — the cached (weighted)
+  pseudo-inverse, and when a limit would be broken the two-stage constrained solution of
+  :func:`~hydrokit.model.allocation.allocate_constrained` with a line-by-line port of
+  scipy's BVLS (:func:`scipy.optimize.lsq_linear`, ``method="bvls"``) and the polishing step;
+- thrusters: :class:`hydrokit.model.thrusters.ThrusterSet` — advance speed, the ideal, table
+  and propeller K_T(J) curves (forward/reverse, Illinois inversion), limits and the exact
+  first-order rotor lag;
+- vehicle: :func:`hydrokit.simulate.compiled.deriv` (the compiled right-hand side) in a
+  classical RK4 step with the thrust held.
+
+Agreement is to round-off, not bit for bit: the small matrix–vector products (P τ, T f,
+advance speeds, guidance dot products) are plain loops here, where numpy calls BLAS (calling
+BLAS from the loop made it three times slower), the S-plane uses the C library's tanh where
+numpy has its own SIMD one, and the constrained allocation's least-squares solves go through
+numba's LAPACK. States, τ and thrusts then agree to ~1e-13 of their scale. Two places turn
+round-off into more, in both loops alike: a propeller command n = ±√(|f|/k) for a thrust
+demand that is zero up to round-off (±1e-14 N gives ±5e-7 rev/s), and the allocation's
+polishing step, kept only if it stays within the limits, when a thruster lands exactly on
+its limit (seen with 16 random thrusters, not in the bundled missions).
+
+Everything is packed into arrays of fixed dtypes, so there is one compiled specialization
+(cached on disk: ``cache=True``). The run goes in chunks of about 1 % so that a progress
+callback can be called between them.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable
+from typing import Any
+
+import numba
+import numpy as np
+from numpy.typing import ArrayLike
+
+from hydrokit.errors import InputError, SimulationError
+from hydrokit.model.allocation import Allocator, _ConstrainedSolver
+from hydrokit.model.control import PID, Autopilot, SPlane
+from hydrokit.model.guidance import _HORIZONTAL_EPS, Path
+from hydrokit.model.thrusters import IdealCurve, PropellerCurve, TableCurve, ThrusterSet
+from hydrokit.simulate.closed_loop import ClosedLoopResult
+from hydrokit.simulate.compiled import deriv
+
+_EPS = float(np.finfo(float).eps)
+# status codes of _loop
+_RUNNING, _DONE, _DIVERGED = 0, 1, 2
+
+
+# ============================================================================ small helpers
+@numba.njit(cache=True, inline="always")
+def _wrap(a):  # noqa: ANN001, ANN202
+    return (a + math.pi) % (2.0 * math.pi) - math.pi
+
+
+@numba.njit(cache=True, inline="always")
+def _horner(k, row, x):  # noqa: ANN001, ANN202
+    y = 0.0
+    for i in range(k.shape[1]):
+        y = y * x + k[row, i]
+    return y
+
+
+@numba.njit(cache=True, inline="always")
+def _interp(x, xp, fp, n):  # noqa: ANN001, ANN202
+    """np.interp(x, xp[:n], fp[:n]) for one x."""
+    if x <= xp[0]:
+        return fp[0]
+    if x >= xp[n - 1]:
+        return fp[n - 1]
+    lo, hi = 0, n - 1
+    while hi - lo > 1:
+        mid = (lo + hi) // 2
+        if xp[mid] <= x:
+            lo = mid
+        else:
+            hi = mid
+    slope = (fp[hi] - fp[lo]) / (xp[hi] - xp[lo])
+    return slope * (x - xp[lo]) + fp[lo]
+
+
+# ============================================================================ thrust curves
+# kinds: 0 ideal, 1 table, 2 propeller
+# prop rows: D, D4, rho, jlo, jhi, loss_f, loss_r, n_max, den_f, den_r
+@numba.njit(cache=True)
+def _prop_thrust(i, n, va, prop, kf, kr):  # noqa: ANN001, ANN202
+    if n == 0.0:
+        return 0.0
+    D, D4, rho, jlo, jhi = prop[i, 0], prop[i, 1], prop[i, 2], prop[i, 3], prop[i, 4]
+    nD = n * D
+    if abs(nD) * 1e6 > abs(va):
+        J = va / nD
+        J = jlo if jlo > J else J
+        J = jhi if jhi < J else J
+    else:
+        J = jhi if (va > 0) == (n > 0) else jlo
+    if n > 0:
+        kt, loss = _horner(kf, i, J), prop[i, 5]
+    else:
+        kt, loss = _horner(kr, i, J), prop[i, 6]
+    kt = 0.0 if kt < 0.0 else kt
+    return loss * kt * rho * D4 * abs(n) * n
+
+
+@numba.njit(cache=True)
+def _prop_command(i, f, va, prop, kf, kr):  # noqa: ANN001, ANN202
+    if f == 0.0:
+        return 0.0
+    n_max = prop[i, 7]
+    fwd = f > 0
+    if va == 0.0:
+        n = math.sqrt(abs(f) / (prop[i, 8] if fwd else prop[i, 9]))
+        return min(n, n_max) if fwd else -min(n, n_max)
+    if fwd:
+        lo, hi = 0.0, n_max
+        g_lo, g_hi = 0.0 - f, _prop_thrust(i, hi, va, prop, kf, kr) - f
+    else:
+        lo, hi = -n_max, 0.0
+        g_lo, g_hi = _prop_thrust(i, lo, va, prop, kf, kr) - f, 0.0 - f
+    if g_hi <= 0.0:
+        return hi
+    if g_lo >= 0.0:
+        return lo
+    tol_g = 1e-12 * abs(f)
+    tol_n = 1e-12 * n_max
+    side = 0
+    n = 0.5 * (lo + hi)
+    for it in range(80):
+        n = (lo * g_hi - hi * g_lo) / (g_hi - g_lo) if it < 20 else 0.5 * (lo + hi)
+        g = _prop_thrust(i, n, va, prop, kf, kr) - f
+        if abs(g) <= tol_g or hi - lo <= tol_n:
+            break
+        if g < 0.0:
+            lo, g_lo = n, g
+            if side == -1:
+                g_hi *= 0.5
+            side = -1
+        else:
+            hi, g_hi = n, g
+            if side == 1:
+                g_lo *= 0.5
+            side = 1
+    return n
+
+
+@numba.njit(cache=True)
+def _thrust(i, c, va, kind, tab_c, tab_f, tab_n, prop, kf, kr):  # noqa: ANN001, ANN202
+    """Unclipped thrust of thruster i at command c, N."""
+    k = kind[i]
+    if k == 0:
+        return c
+    if k == 1:
+        return _interp(c, tab_c[i], tab_f[i], tab_n[i])
+    return _prop_thrust(i, c, va, prop, kf, kr)
+
+
+@numba.njit(cache=True)
+def _command(i, f, va, kind, tab_c, tab_f, tab_n, prop, kf, kr):  # noqa: ANN001, ANN202
+    """Command of thruster i giving thrust f (already clipped to its limits)."""
+    k = kind[i]
+    if k == 0:
+        return f
+    if k == 1:
+        return _interp(f, tab_f[i], tab_c[i], tab_n[i])
+    return _prop_command(i, f, va, prop, kf, kr)
+
+
+# ============================================================================ BVLS (scipy port)
+@numba.njit(cache=True)
+def _cols(A, idx, nf):  # noqa: ANN001, ANN202
+    out = np.empty((A.shape[0], nf))
+    for jj in range(nf):
+        for r in range(A.shape[0]):
+            out[r, jj] = A[r, idx[jj]]
+    return out
+
+
+@numba.njit(cache=True)
+def _on_bound_part(x, on_bound):  # noqa: ANN001, ANN202
+    out = np.zeros_like(x)
+    for i in range(x.shape[0]):
+        if on_bound[i] != 0:
+            out[i] = x[i]
+    return out
+
+
+@numba.njit(cache=True, inline="always")
+def _mv(A, x, out):  # noqa: ANN001, ANN202
+    for i in range(A.shape[0]):
+        s = 0.0
+        for j in range(A.shape[1]):
+            s += A[i, j] * x[j]
+        out[i] = s
+
+
+@numba.njit(cache=True)
+def _kkt(g, on_bound):  # noqa: ANN001, ANN202
+    best = -np.inf
+    for i in range(g.shape[0]):
+        v = abs(g[i]) if on_bound[i] == 0 else g[i] * on_bound[i]
+        if v > best:
+            best = v
+    return best
+
+
+@numba.njit(cache=True)
+def _lsq_bvls(A, b, lb, ub, tol):  # noqa: ANN001, ANN202
+    """scipy.optimize.lsq_linear(A, b, bounds=(lb, ub), method="bvls", tol=tol).x"""
+    m, n = A.shape
+    x = np.linalg.lstsq(A, b, rcond=-1.0)[0]
+    inside = True
+    for i in range(n):
+        if not (x[i] >= lb[i] and x[i] <= ub[i]):
+            inside = False
+    if inside:
+        return x
+    rc = _EPS * max(m, n)
+    on_bound = np.zeros(n)
+    for i in range(n):
+        if x[i] <= lb[i]:
+            x[i] = lb[i]
+            on_bound[i] = -1.0
+        if x[i] >= ub[i]:
+            x[i] = ub[i]
+            on_bound[i] = 1.0
+    free = np.empty(n, dtype=np.int64)
+    nf = 0
+    for i in range(n):
+        if on_bound[i] == 0:
+            free[nf] = i
+            nf += 1
+    r = A @ x - b
+    cost = 0.5 * np.dot(r, r)
+    g = A.T @ r
+    iteration = 0
+    # initialisation loop
+    while nf > 0:
+        iteration += 1
+        b_free = b - A @ _on_bound_part(x, on_bound)
+        z = np.linalg.lstsq(_cols(A, free, nf), b_free, rcond=rc)[0]
+        any_v = False
+        keep = 0
+        for jj in range(nf):
+            i = free[jj]
+            if z[jj] < lb[i]:
+                x[i] = lb[i]
+                on_bound[i] = -1.0
+                any_v = True
+            elif z[jj] > ub[i]:
+                x[i] = ub[i]
+                on_bound[i] = 1.0
+                any_v = True
+            else:
+                x[i] = z[jj]
+        r = A @ x - b
+        cost = 0.5 * np.dot(r, r)
+        g = A.T @ r
+        if any_v:
+            for jj in range(nf):
+                i = free[jj]
+                if on_bound[i] == 0:
+                    free[keep] = i
+                    keep += 1
+            nf = keep
+        else:
+            break
+    max_iter = n + iteration
+    optimality = _kkt(g, on_bound)
+    lbv = np.empty(n, dtype=np.int64)
+    ubv = np.empty(n, dtype=np.int64)
+    for _ in range(iteration, max_iter):
+        if optimality < tol:
+            break
+        best = -np.inf
+        move = 0
+        for i in range(n):
+            v = g[i] * on_bound[i]
+            if v > best:
+                best = v
+                move = i
+        on_bound[move] = 0.0
+        while True:
+            nf = 0
+            for i in range(n):
+                if on_bound[i] == 0:
+                    free[nf] = i
+                    nf += 1
+            if nf == 0:  # every variable at a bound: lstsq of no columns changes nothing
+                break
+            b_free = b - A @ _on_bound_part(x, on_bound)
+            z = np.linalg.lstsq(_cols(A, free, nf), b_free, rcond=rc)[0]
+            nl = 0
+            nu_ = 0
+            for jj in range(nf):
+                i = free[jj]
+                if z[jj] < lb[i]:
+                    lbv[nl] = jj
+                    nl += 1
+            for jj in range(nf):
+                i = free[jj]
+                if z[jj] > ub[i]:
+                    ubv[nu_] = jj
+                    nu_ += 1
+            if nl + nu_ > 0:
+                alpha = np.inf
+                pick = -1
+                pick_lower = True
+                for q in range(nl + nu_):
+                    if q < nl:
+                        jj = lbv[q]
+                        a = (lb[free[jj]] - x[free[jj]]) / (z[jj] - x[free[jj]])
+                    else:
+                        jj = ubv[q - nl]
+                        a = (ub[free[jj]] - x[free[jj]]) / (z[jj] - x[free[jj]])
+                    if a < alpha:  # np.argmin: the first minimum
+                        alpha = a
+                        pick = jj
+                        pick_lower = q < nl
+                for jj in range(nf):
+                    i = free[jj]
+                    x[i] = x[i] * (1 - alpha) + alpha * z[jj]
+                on_bound[free[pick]] = -1.0 if pick_lower else 1.0
+            else:
+                for jj in range(nf):
+                    x[free[jj]] = z[jj]
+                break
+        r = A @ x - b
+        cost_new = 0.5 * np.dot(r, r)
+        cost_change = cost - cost_new
+        stop = cost_change < tol * cost
+        cost = cost_new
+        g = A.T @ r
+        optimality = _kkt(g, on_bound)
+        if stop:
+            break
+    return x
+
+
+@numba.njit(cache=True)
+def _clip_vec(x, lo, hi):  # noqa: ANN001, ANN202
+    out = np.empty_like(x)
+    for i in range(x.shape[0]):
+        out[i] = min(max(x[i], lo[i]), hi[i])
+    return out
+
+
+@numba.njit(cache=True)
+def _norm_diff(a, b):  # noqa: ANN001, ANN202
+    s = 0.0
+    for i in range(a.shape[0]):
+        s += (a[i] - b[i]) * (a[i] - b[i])
+    return math.sqrt(s)
+
+
+@numba.njit(cache=True)
+def _polish(T, target, f, lo, hi, tol):  # noqa: ANN001, ANN202
+    m = f.shape[0]
+    active = np.empty(m, dtype=np.bool_)
+    n_free = 0
+    for i in range(m):
+        active[i] = f[i] <= lo[i] + tol[i] or f[i] >= hi[i] - tol[i]
+        if not active[i]:
+            n_free += 1
+    if n_free == 0:
+        return f
+    g = np.zeros(m)
+    free = np.empty(n_free, dtype=np.int64)
+    k = 0
+    for i in range(m):
+        if active[i]:
+            g[i] = lo[i] if f[i] <= lo[i] + tol[i] else hi[i]
+        else:
+            free[k] = i
+            k += 1
+    rhs = target - T @ g  # g is zero on the free thrusters here
+    # pinv(T_free) @ rhs as the minimum-norm least-squares solution (the same singular-value
+    # cut-off, 1e-15 of the largest; one LAPACK routine less to compile)
+    gf = np.linalg.lstsq(_cols(T, free, n_free), rhs, rcond=1e-15)[0]
+    for jj in range(n_free):
+        g[free[jj]] = gf[jj]
+    for i in range(m):
+        if not (g[i] >= lo[i] and g[i] <= hi[i]):
+            return f
+    if _norm_diff(T @ g, target) <= _norm_diff(T @ f, target):
+        return g
+    return f
+
+
+@numba.njit(cache=True)
+def _constrained(tau, T, lo, hi, lo_s, hi_s, Q, QT, A2, scale, thrust_scale, q_max, ptol):  # noqa: ANN001, ANN202
+    """_ConstrainedSolver.solve(tau)[0]."""
+    m = T.shape[1]
+    f1 = _clip_vec(_lsq_bvls(QT, Q * tau, lo_s, hi_s, 1e-12), lo, hi)
+    a1 = T @ f1
+    b2 = np.zeros(6 + m)
+    for i in range(6):
+        b2[i] = 1e5 * a1[i] / scale
+    f2 = _clip_vec(_lsq_bvls(A2, b2, lo_s, hi_s, 1e-12), lo, hi)
+    f2 = _polish(T, a1, f2, lo, hi, ptol)
+    a2 = T @ f2
+    q1 = 0.0
+    q2 = 0.0
+    for i in range(6):
+        q1 += (Q[i] * (a1[i] - tau[i])) ** 2
+        q2 += (Q[i] * (a2[i] - tau[i])) ** 2
+    if math.sqrt(q2) <= math.sqrt(q1) + 1e-8 * thrust_scale * q_max:
+        return f2
+    return f1
+
+
+# ============================================================================ the loop
+@numba.njit(cache=True)
+def _loop(
+    k0,
+    k1,
+    n_steps,
+    dt,
+    every,
+    stop_when_done,
+    # guidance: points, speeds, leg a (N+1,3 from row 1), d, L2, L, LL, course, horizontal; R, lookahead
+    pts,
+    speeds,
+    leg_a,
+    leg_d,
+    leg_L2,
+    leg_L,
+    leg_LL,
+    course,
+    horiz,
+    gpar,
+    # autopilot: (5, 6) rows [kind, p1..p5], angle flags (5,)
+    ctl,
+    ctl_angle,
+    # allocation
+    P,
+    f_min,
+    f_max,
+    unact,
+    T,
+    lo_s,
+    hi_s,
+    Q,
+    QT,
+    A2,
+    apar,
+    ptol,
+    # thrusters
+    kind,
+    dirs,
+    arms,
+    wake,
+    cmd_min,
+    cmd_max,
+    decay,
+    mean_w,
+    tab_c,
+    tab_f,
+    tab_n,
+    prop,
+    kf,
+    kr,
+    vc,
+    # vehicle
+    ctab,
+    Minv,
+    Mc,
+    DL,
+    DQ,
+    scal,
+    t_dof,
+    t_coef,
+    t_kind,
+    t_idx,
+    # state (in/out): x (12), c (m), fstate [heading, integral×5, previous×5], istate
+    # [leg, j, limited_any, has_prev×5], arrivals (N,)
+    x,
+    c,
+    fstate,
+    istate,
+    arrivals,
+    # records
+    r_time,
+    r_eta,
+    r_nu,
+    r_ref,
+    r_tau,
+    r_cmd_d,
+    r_cmd,
+    r_f_d,
+    r_f,
+    r_lim,
+    r_leg,
+):  # noqa: ANN001, ANN201
+    """Steps k0 … k1−1; returns (status, k): _RUNNING, _DONE at step k, or _DIVERGED at k."""
+    m = T.shape[1]
+    n_legs = speeds.shape[0]
+    R_acc, look = gpar[0], gpar[1]
+    scale, thrust_scale, q_max = apar[0], apar[1], apar[2]
+    still = vc[0] == 0.0 and vc[1] == 0.0 and vc[2] == 0.0
+    tau_tab = np.zeros((1, 7))
+    buf = np.empty(40)
+    k1v = np.empty(12)
+    k2v = np.empty(12)
+    k3v = np.empty(12)
+    k4v = np.empty(12)
+    tmp = np.empty(12)
+    tau_d = np.zeros(6)
+    f_cmd = np.empty(m)
+    va = np.empty(m)
+    pa = np.empty(3)
+    c_cmd = np.empty(m)
+    f_act = np.empty(m)
+    meas = np.empty(5)
+    setp = np.empty(5)
+    rate = np.empty(5)
+    out = np.zeros(5)
+    for k in range(k0, k1):
+        t = k * dt
+        px, py, pz = x[0], x[1], x[2]
+        phi, theta, psi = x[3], x[4], x[5]
+        u, v, w, p, q, r = x[6], x[7], x[8], x[9], x[10], x[11]
+        # ---------------------------------------------------------------- guidance
+        leg0 = istate[0]
+        kk = leg0
+        heading = fstate[0]
+        pa_d = 0.0
+        while kk <= n_legs:
+            a0, a1_, a2_ = leg_a[kk, 0], leg_a[kk, 1], leg_a[kk, 2]
+            pa[0], pa[1], pa[2] = px - a0, py - a1_, pz - a2_
+            pa_d = pa[0] * leg_d[kk, 0] + pa[1] * leg_d[kk, 1] + pa[2] * leg_d[kk, 2]
+            s = pa_d / leg_L2[kk]
+            pa[0], pa[1], pa[2] = px - pts[kk, 0], py - pts[kk, 1], pz - pts[kk, 2]
+            dist = math.sqrt(pa[0] * pa[0] + pa[1] * pa[1] + pa[2] * pa[2])
+            if dist <= R_acc or s >= 1.0:
+                kk += 1
+                if kk <= n_legs and horiz[kk]:
+                    heading = course[kk]
+                continue
+            break
+        if kk > n_legs:
+            ref_speed, ref_depth, ref_heading = 0.0, pts[n_legs, 2], heading
+        else:
+            L, LL = leg_L[kk], leg_LL[kk]
+            a0, a1_, a2_ = leg_a[kk, 0], leg_a[kk, 1], leg_a[kk, 2]
+            d0, d1, d2 = leg_d[kk, 0], leg_d[kk, 1], leg_d[kk, 2]
+            s = pa_d / LL
+            hz = math.hypot(d0, d1)
+            s_ahead = min(max(s + look * abs(d2) / LL, 0.0), 1.0)
+            ref_depth = a2_ + s_ahead * d2
+            ref_heading = heading
+            if hz >= _HORIZONTAL_EPS:
+                alpha = math.atan2(d1, d0)
+                e = -(px - a0) * math.sin(alpha) + (py - a1_) * math.cos(alpha)
+                ref_heading = alpha + math.atan(-e / look)
+            ref_speed = speeds[kk - 1] * hz / L
+            ref_speed *= max(0.0, math.cos(ref_heading - psi))
+        if kk != leg0:
+            for lg in range(leg0, min(kk, n_legs + 1)):
+                arrivals[lg - 1] = t
+        istate[0] = kk
+        fstate[0] = heading
+        # ---------------------------------------------------------------- autopilot
+        cphi, sphi = math.cos(phi), math.sin(phi)
+        cth, sth = math.cos(theta), math.sin(theta)
+        zdot = -sth * u + cth * sphi * v + cth * cphi * w
+        cth = cth if abs(cth) > 1e-9 else math.copysign(1e-9, cth)
+        phidot = p + (sphi * q + cphi * r) * sth / cth
+        thetadot = cphi * q - sphi * r
+        psidot = (sphi * q + cphi * r) / cth
+        meas[0], meas[1], meas[2], meas[3], meas[4] = u, pz, psi, phi, theta
+        setp[0], setp[1], setp[2], setp[3], setp[4] = ref_speed, ref_depth, ref_heading, 0.0, 0.0
+        rate[1], rate[2], rate[3], rate[4] = zdot, psidot, phidot, thetadot
+        for L_ in range(5):
+            kd_ = ctl[L_, 0]
+            if kd_ == 0.0:
+                out[L_] = 0.0
+                continue
+            y = meas[L_]
+            e = y - setp[L_]
+            if ctl_angle[L_]:
+                e = _wrap(e)
+            if L_ == 0:  # the speed loop differentiates u itself
+                if istate[3] == 0 or dt <= 0:
+                    rr = 0.0
+                else:
+                    dd = y - fstate[6]
+                    rr = (_wrap(dd) if ctl_angle[0] else dd) / dt
+            else:
+                rr = rate[L_]
+            if kd_ == 1.0:  # PID
+                kp, ki, kdv, omin, omax = ctl[L_, 1], ctl[L_, 2], ctl[L_, 3], ctl[L_, 4], ctl[L_, 5]
+                integ0 = fstate[1 + L_]
+                integral = integ0 + e * dt
+                if ki > 0:
+                    bound = max(abs(omin), abs(omax)) / ki
+                    integral = min(max(integral, -bound), bound)
+                pd = -kp * e - kdv * rr
+                raw = pd - ki * integral
+                if ki > 0 and raw > omax and e < 0:
+                    at_limit = (pd - omax) / ki
+                    integral = max(integral, min(integ0, at_limit))
+                elif ki > 0 and raw < omin and e > 0:
+                    at_limit = (pd - omin) / ki
+                    integral = min(integral, max(integ0, at_limit))
+                raw = pd - ki * integral
+                out[L_] = min(max(raw, omin), omax)
+                fstate[1 + L_] = integral
+            else:  # S-plane
+                k1g, k2g, sc = ctl[L_, 1], ctl[L_, 2], ctl[L_, 3]
+                out[L_] = -sc * math.tanh(0.5 * (k1g * e + k2g * rr))
+            fstate[6 + L_] = y
+            istate[3 + L_] = 1
+        tau_d[0], tau_d[1], tau_d[2] = out[0], 0.0, out[1]
+        tau_d[3], tau_d[4], tau_d[5] = out[3], out[4], out[2]
+        # ---------------------------------------------------------------- allocation
+        # matrix products through BLAS, as numpy's (the same rounding as the Python loop)
+        _mv(P, tau_d, f_cmd)
+        limited = False
+        for i in range(m):
+            if not (f_cmd[i] <= f_max[i] and f_cmd[i] >= f_min[i]):
+                limited = True
+        if limited:
+            tau_eff = tau_d.copy()
+            for jd in range(6):
+                if unact[jd]:
+                    tau_eff[jd] = 0.0
+            f_c = _constrained(tau_eff, T, f_min, f_max, lo_s, hi_s, Q, QT, A2, scale, thrust_scale, q_max, ptol)
+            f_cmd[:] = f_c
+        # ---------------------------------------------------------------- thrusters
+        if still:
+            ur, vr, wr = u, v, w
+        else:
+            cf, sf = math.cos(phi), math.sin(phi)
+            ct, st = math.cos(theta), math.sin(theta)
+            cp, sp = math.cos(psi), math.sin(psi)
+            R00 = cp * ct
+            R01 = -sp * cf + cp * st * sf
+            R02 = sp * sf + cp * cf * st
+            R10 = sp * ct
+            R11 = cp * cf + sf * st * sp
+            R12 = -cp * sf + st * sp * cf
+            R20 = -st
+            R21 = ct * sf
+            R22 = ct * cf
+            # ν_r = ν − [Rᵀ v_c; 0] (R = rotation_zyx, as deriv)
+            ur = u - (R00 * vc[0] + R10 * vc[1] + R20 * vc[2])
+            vr = v - (R01 * vc[0] + R11 * vc[1] + R21 * vc[2])
+            wr = w - (R02 * vc[0] + R12 * vc[1] + R22 * vc[2])
+        for i in range(m):
+            va[i] = wake[i] * (
+                (dirs[i, 0] * ur + dirs[i, 1] * vr + dirs[i, 2] * wr)
+                + (arms[i, 0] * p + arms[i, 1] * q + arms[i, 2] * r)
+            )
+        sat = limited
+        for i in range(m):
+            fi = min(max(f_cmd[i], f_min[i]), f_max[i])
+            ci = _command(i, fi, va[i], kind, tab_c, tab_f, tab_n, prop, kf, kr)
+            ci = min(max(ci, cmd_min[i]), cmd_max[i])
+            c_cmd[i] = ci
+            cm = ci + (c[i] - ci) * mean_w[i]
+            cm = min(max(cm, cmd_min[i]), cmd_max[i])
+            fa = _thrust(i, cm, va[i], kind, tab_c, tab_f, tab_n, prop, kf, kr)
+            f_act[i] = min(max(fa, f_min[i]), f_max[i])
+            if ci >= cmd_max[i] * (1 - 1e-9) or ci <= cmd_min[i] * (1 - 1e-9):
+                sat = True
+        # ---------------------------------------------------------------- record
+        if k % every == 0:
+            j = istate[1]
+            r_time[j] = t
+            for i in range(6):
+                r_eta[j, i] = x[i]
+                r_nu[j, i] = x[6 + i]
+                r_tau[j, i] = tau_d[i]
+            r_ref[j, 0], r_ref[j, 1], r_ref[j, 2] = ref_speed, ref_depth, ref_heading
+            for i in range(m):
+                r_cmd_d[j, i] = c_cmd[i]
+                r_cmd[j, i] = c[i]
+                r_f_d[j, i] = f_cmd[i]
+                r_f[j, i] = f_act[i]
+            r_lim[j] = sat or istate[2] != 0
+            r_leg[j] = kk
+            istate[2] = 0
+            istate[1] = j + 1
+        elif sat:
+            istate[2] = 1
+        if k == n_steps or (stop_when_done and kk > n_legs):
+            return _DONE, k
+        # ---------------------------------------------------------------- vehicle (RK4)
+        for jd in range(6):
+            s_ = 0.0
+            for i in range(m):
+                s_ += T[jd, i] * f_act[i]
+            tau_tab[0, 1 + jd] = s_
+        deriv(t, x, False, tau_tab, ctab, Minv, Mc, DL, DQ, scal, t_dof, t_coef, t_kind, t_idx, buf, k1v)
+        for i in range(12):
+            tmp[i] = x[i] + 0.5 * dt * k1v[i]
+        deriv(t + 0.5 * dt, tmp, False, tau_tab, ctab, Minv, Mc, DL, DQ, scal, t_dof, t_coef, t_kind, t_idx, buf, k2v)
+        for i in range(12):
+            tmp[i] = x[i] + 0.5 * dt * k2v[i]
+        deriv(t + 0.5 * dt, tmp, False, tau_tab, ctab, Minv, Mc, DL, DQ, scal, t_dof, t_coef, t_kind, t_idx, buf, k3v)
+        for i in range(12):
+            tmp[i] = x[i] + dt * k3v[i]
+        deriv(t + dt, tmp, False, tau_tab, ctab, Minv, Mc, DL, DQ, scal, t_dof, t_coef, t_kind, t_idx, buf, k4v)
+        finite = True
+        for i in range(12):
+            x[i] = x[i] + dt / 6.0 * (k1v[i] + 2 * k2v[i] + 2 * k3v[i] + k4v[i])
+            if not math.isfinite(x[i]):
+                finite = False
+        for i in range(m):
+            c[i] = c_cmd[i] + (c[i] - c_cmd[i]) * decay[i]
+        if not finite:
+            return _DIVERGED, k
+    return _RUNNING, k1 - 1
+
+
+# ============================================================================ packing
+def unsupported_reason(thrusters: ThrusterSet, autopilot: Autopilot) -> str | None:
+    """Why the compiled loop cannot fly this setup (None: it can)."""
+    for name in ("speed", "depth", "heading", "roll", "pitch"):
+        ctl = getattr(autopilot, name)
+        if ctl is not None and type(ctl) not in (PID, SPlane):
+            return f"the {name} loop is a {type(ctl).__name__} (the compiled loop knows PID and SPlane)"
+    for th, cv in zip(thrusters.thrusters, thrusters.curves):
+        if type(cv) not in (IdealCurve, TableCurve, PropellerCurve):
+            return f"thruster '{th.name}' has a {type(cv).__name__} curve (compiled: ideal, table, propeller)"
+    return None
+
+
+def _pack_autopilot(autopilot: Autopilot) -> tuple[np.ndarray, np.ndarray]:
+    ctl = np.zeros((5, 6))
+    ang = np.zeros(5, dtype=np.bool_)
+    for i, name in enumerate(("speed", "depth", "heading", "roll", "pitch")):
+        c = getattr(autopilot, name)
+        if c is None:
+            continue
+        ang[i] = bool(c.angle)
+        if isinstance(c, PID):
+            ctl[i] = (1.0, c.kp, c.ki, c.kd, c.output_min, c.output_max)
+        else:
+            ctl[i] = (2.0, c.k1, c.k2, c.scale, 0.0, 0.0)
+    return ctl, ang
+
+
+def _pack_path(path: Path) -> tuple[np.ndarray, ...]:
+    n = path.n_legs
+    legs = path._legs  # type: ignore[attr-defined]
+    leg_a = np.zeros((n + 1, 3))
+    leg_d = np.zeros((n + 1, 3))
+    L2, L, LL = np.ones(n + 1), np.ones(n + 1), np.ones(n + 1)
+    course = np.zeros(n + 1)
+    horiz = np.zeros(n + 1, dtype=np.bool_)
+    for k in range(1, n + 1):
+        a, _, d, l2, ld, ll = legs[k][:6]
+        leg_a[k], leg_d[k], L2[k], L[k], LL[k] = a, d, l2, ld, ll
+        dd = path.points[k] - path.points[k - 1]
+        horiz[k] = math.hypot(dd[0], dd[1]) >= _HORIZONTAL_EPS
+        course[k] = math.atan2(dd[1], dd[0]) if horiz[k] else 0.0
+    gpar = np.array([path.acceptance_radius, path.lookahead])
+    return (
+        np.ascontiguousarray(path.points, dtype=float),
+        path.speeds.astype(float),
+        leg_a,
+        leg_d,
+        L2,
+        L,
+        LL,
+        course,
+        horiz,
+        gpar,
+    )
+
+
+def _pack_thrusters(thrusters: ThrusterSet) -> tuple[np.ndarray, ...]:
+    m = len(thrusters)
+    kind = np.zeros(m, dtype=np.int64)
+    n_tab = max([len(cv.commands) for cv in thrusters.curves if isinstance(cv, TableCurve)] or [1])
+    n_poly = max(
+        [max(len(cv.kt_forward), len(cv.kt_reverse or ())) for cv in thrusters.curves if isinstance(cv, PropellerCurve)]
+        or [1]
+    )
+    tab_c = np.zeros((m, n_tab))
+    tab_f = np.zeros((m, n_tab))
+    tab_n = np.ones(m, dtype=np.int64)
+    prop = np.zeros((m, 10))
+    kf = np.zeros((m, n_poly))
+    kr = np.zeros((m, n_poly))
+    for i, cv in enumerate(thrusters.curves):
+        if isinstance(cv, TableCurve):
+            kind[i] = 1
+            nt = len(cv.commands)
+            tab_c[i, :nt], tab_f[i, :nt], tab_n[i] = cv.commands, cv.thrusts, nt
+        elif isinstance(cv, PropellerCurve):
+            kind[i] = 2
+            D, D4, rho, jlo, jhi, kfw, krv, lf, lr, n_max, den_f, den_r = cv._fast  # type: ignore[attr-defined]
+            prop[i] = (D, D4, rho, jlo, jhi, lf, lr, n_max, den_f, den_r)
+            # leading zeros keep Horner's value bit for bit (see thrusters._pad_cubic)
+            kf[i, n_poly - len(cv.kt_forward) :] = cv.kt_forward
+            kr[i, n_poly - len(cv.kt_reverse) :] = cv.kt_reverse  # type: ignore[arg-type]
+    return kind, tab_c, tab_f, tab_n, prop, kf, kr
+
+
+def run_closed_loop_compiled(
+    vehicle: Any,
+    thrusters: ThrusterSet,
+    autopilot: Autopilot,
+    path: Path,
+    eta0: ArrayLike,
+    nu0: ArrayLike,
+    duration: float,
+    dt: float,
+    current_ned: ArrayLike | None = None,
+    weights: ArrayLike | None = None,
+    output_every: int = 1,
+    progress: Callable[[float], None] | None = None,
+    stop_when_done: bool = False,
+) -> ClosedLoopResult:
+    """:func:`hydrokit.simulate.closed_loop.run_closed_loop`, compiled.
+
+    The arguments are those of the Python loop, except that the vehicle enters as a
+    :class:`hydrokit.model.vehicle.Vehicle` (its full 6-DOF model with Euler angles, the
+    same as ``make_dynamics(vehicle, current_ned)``) instead of a ``dynamics`` callable;
+    ``current_ned`` (3 floats, m/s NED, constant) acts on both the vehicle and the
+    thrusters' advance speed.
+
+    Raises
+    ------
+    InputError
+        Bad duration/step/decimation, or a controller or thrust curve the compiled loop does
+        not know (see :func:`unsupported_reason`; use the Python loop for those).
+    SimulationError
+        The state became non-finite.
+    """
+    from hydrokit.model.dynamics import current_table, pack
+
+    if not (math.isfinite(duration) and duration > 0 and math.isfinite(dt) and 0 < dt <= duration):
+        raise InputError(f"duration = {duration}, dt = {dt}: expected 0 < dt ≤ duration (s)")
+    if output_every < 1:
+        raise InputError(f"output_every = {output_every}: expected a whole number ≥ 1")
+    why = unsupported_reason(thrusters, autopilot)
+    if why is not None:
+        raise InputError(f"compiled closed loop: {why}; use loop='python'")
+    vc = np.zeros(3) if current_ned is None else np.asarray(current_ned, dtype=float).reshape(-1)
+    if vc.shape != (3,):
+        raise InputError(f"current of shape {vc.shape}: the compiled loop takes a constant (3,) NED current, m/s")
+    n_steps = int(math.floor(duration / dt + 1e-9))
+    m = len(thrusters)
+    T = thrusters.configuration_matrix()
+    # T (and Q T) in the layout numpy has them (Fortran order): the same BLAS kernels, the
+    # same rounding as the Python loop
+    Tf = np.asfortranarray(T, dtype=np.float64)
+    allocator = Allocator(T, thrusters.f_min, thrusters.f_max, weights)
+    lo = np.ascontiguousarray(allocator.f_min.reshape(-1))
+    hi = np.ascontiguousarray(allocator.f_max.reshape(-1))
+    if np.any(lo > hi):
+        raise InputError(f"thrust limits: expected {m} pairs with min ≤ max, got {lo} and {hi}")
+    solver = _ConstrainedSolver(T, lo, hi, allocator.Q)
+    lo_s, hi_s = solver.bounds
+    apar = np.array([solver.scale, solver.thrust_scale, solver.q_max])
+    tc = thrusters.time_constants
+    with np.errstate(divide="ignore"):
+        decay = np.where(tc > 0, np.exp(-dt / np.where(tc > 0, tc, 1.0)), 0.0)
+        mean_w = np.where(tc > 0, tc / dt * (1.0 - decay), 0.0)
+    p = pack(vehicle)
+    ctab = current_table(vc)
+    ctl, ctl_angle = _pack_autopilot(autopilot)
+    kind, tab_c, tab_f, tab_n, prop, kf, kr = _pack_thrusters(thrusters)
+    gp = _pack_path(path)
+
+    n_out = n_steps // output_every + 1
+    r_time = np.empty(n_out)
+    r_eta = np.empty((n_out, 6))
+    r_nu = np.empty((n_out, 6))
+    r_ref = np.empty((n_out, 3))
+    r_tau = np.empty((n_out, 6))
+    r_cmd_d = np.empty((n_out, m))
+    r_cmd = np.empty((n_out, m))
+    r_f_d = np.empty((n_out, m))
+    r_f = np.empty((n_out, m))
+    r_lim = np.zeros(n_out, dtype=np.bool_)
+    r_leg = np.empty(n_out, dtype=np.int64)
+    x = np.concatenate([np.asarray(eta0, float).reshape(6), np.asarray(nu0, float).reshape(6)])
+    c = np.zeros(m)
+    fstate = np.zeros(11)
+    gs = path.initial_state(heading=float(x[5]))
+    fstate[0] = gs.heading
+    istate = np.zeros(8, dtype=np.int64)
+    istate[0] = gs.leg
+    arrivals = np.full(path.n_legs, np.nan)
+    f64 = lambda a: np.ascontiguousarray(a, dtype=np.float64)  # noqa: E731
+    args = (
+        *gp,
+        ctl,
+        ctl_angle,
+        f64(allocator.P),
+        lo,
+        hi,
+        np.ascontiguousarray(allocator.unactuated, dtype=np.bool_),
+        Tf,
+        f64(lo_s),
+        f64(hi_s),
+        f64(solver.Q),
+        np.asfortranarray(solver.QT, dtype=np.float64),
+        np.asfortranarray(solver.A, dtype=np.float64),  # Fortran order like Q T: one _lsq_bvls
+        apar,
+        f64(solver.polish_tol),
+        kind,
+        f64(thrusters.directions),
+        f64(thrusters._moment_arms),
+        f64(thrusters._wake_factor),
+        f64(thrusters.command_min),
+        f64(thrusters.command_max),
+        f64(decay),
+        f64(mean_w),
+        tab_c,
+        tab_f,
+        tab_n,
+        prop,
+        kf,
+        kr,
+        f64(vc),
+        f64(ctab),
+        p.Minv,
+        p.Mc,
+        p.DL,
+        p.DQ,
+        p.scal,
+        p.t_dof,
+        p.t_coef,
+        p.t_kind,
+        p.t_idx,
+        x,
+        c,
+        fstate,
+        istate,
+        arrivals,
+        r_time,
+        r_eta,
+        r_nu,
+        r_ref,
+        r_tau,
+        r_cmd_d,
+        r_cmd,
+        r_f_d,
+        r_f,
+        r_lim,
+        r_leg,
+    )
+    chunk = max(1, (n_steps + 1) // 100) if progress is not None else n_steps + 1
+    k0 = 0
+    t = 0.0
+    while k0 <= n_steps:
+        k1 = min(k0 + chunk, n_steps + 1)
+        status, k = _loop(k0, k1, n_steps, float(dt), int(output_every), bool(stop_when_done), *args)
+        t = k * dt
+        if status == _DIVERGED:
+            raise SimulationError(f"the state became non-finite at t = {t + dt:.6g} s")
+        if status == _DONE:
+            break
+        if progress is not None:
+            progress(t)
+        k0 = k1
+    if progress is not None:
+        progress(t)
+    j = int(istate[1])
+    return ClosedLoopResult(
+        time=r_time[:j],
+        eta=r_eta[:j],
+        nu=r_nu[:j],
+        reference=r_ref[:j],
+        tau_demand=r_tau[:j],
+        command_demand=r_cmd_d[:j],
+        command=r_cmd[:j],
+        thrust_demand=r_f_d[:j],
+        thrust=r_f[:j],
+        limited=r_lim[:j],
+        leg=r_leg[:j].astype(int),
+        waypoint_times=[None if math.isnan(a) else float(a) for a in arrivals],
+        thruster_names=thrusters.names,
+        dt=dt * output_every,
+        path=path,
+    )
