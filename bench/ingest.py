@@ -1,8 +1,10 @@
 """Ingest benchmark: samples/s read from a rosbag2 (sqlite3 and mcap, sensor_msgs/msg/Imu →
 roll), a MAVLink tlog (ATTITUDE.roll) and a CSV, each written on the fly with the format's own
-library (``hydrokit[ros]``, ``hydrokit[ardupilot]``), and of ``--split`` on a long recording.
+library (``hydrokit[ros]``, ``hydrokit[ardupilot]``), of ``--split`` on a long recording, and
+frames/s of video marker tracking at 640×480 (MJPG .avi rendered with ``hydrokit[video]``;
+issue #12 acceptance: ≥ 200 frames/s on 2 cores).
 
-    .venv/bin/python bench/ingest.py [SAMPLES]   (default 50 000)
+    .venv/bin/python bench/ingest.py [SAMPLES [FRAMES]]   (default 50 000 and 1 200)
 """
 
 from __future__ import annotations
@@ -54,13 +56,29 @@ def _tlog(path: Path, t: np.ndarray, roll: np.ndarray) -> None:
     conn.close()
 
 
+def _video(path: Path, frames: int, fps: float = 30.0) -> None:
+    """A 640×480 MJPG video of a dark 9 px disc swinging 383 px below a pivot, blurred and noisy."""
+    import cv2
+
+    writer = cv2.VideoWriter(str(path), cv2.VideoWriter_fourcc(*"MJPG"), fps, (640, 480))
+    noise = np.empty((480, 640), np.float32)
+    for k in range(frames):
+        th = math.radians(20.0) * math.exp(-0.1 * k / fps) * math.cos(5.6 * k / fps)
+        img = np.full((480, 640), 165.0, np.float32)
+        cv2.circle(img, (round(318 + 383 * math.sin(th)), round(37 + 383 * math.cos(th))), 9, 55.0, -1, cv2.LINE_AA)
+        cv2.randn(noise, 0.0, 3.0)
+        frame = np.clip(cv2.GaussianBlur(img, (0, 0), 1.2) + noise, 0, 255).astype(np.uint8)
+        writer.write(cv2.cvtColor(frame, cv2.COLOR_GRAY2BGR))
+    writer.release()
+
+
 def _rate(n: int, fn) -> float:  # noqa: ANN001
     t0 = time.perf_counter()
     fn()
     return n / (time.perf_counter() - t0)
 
 
-def main(n: int = 50_000) -> None:
+def main(n: int = 50_000, frames: int = 1200) -> None:
     import hydrokit
     from hydrokit.identify.split import split_launches
     from hydrokit.io.ingest import read_recording
@@ -87,8 +105,14 @@ def main(n: int = 50_000) -> None:
             print(f"tlog          {r:>12,.0f} samples/s (ATTITUDE.roll)")
         except ImportError:
             print("tlog          skipped: pip install 'hydrokit[ardupilot]'")
+        try:
+            _video(tmp / "swing.avi", frames)
+            r = _rate(frames, lambda: read_recording(tmp / "swing.avi", rig))
+            print(f"video         {r:>12,.0f} frames/s (640×480 MJPG, dark marker; acceptance ≥ 200)")
+        except ImportError:
+            print("video         skipped: pip install 'hydrokit[video]'")
     print(f"--split       {_rate(n, lambda: split_launches(t, y)):>12,.0f} samples/s")
 
 
 if __name__ == "__main__":
-    main(int(sys.argv[1]) if len(sys.argv) > 1 else 50_000)
+    main(*(int(a) for a in sys.argv[1:3]))

@@ -1,4 +1,4 @@
-"""``hydrokit ingest``: a real recording (CSV/TSV, ROS bag, ArduPilot log) → launch files.
+"""``hydrokit ingest``: a real recording (CSV/TSV, ROS bag, ArduPilot log, video) → launch files.
 
 Heavy imports stay inside the command function so ``hydrokit --help`` starts fast.
 """
@@ -20,7 +20,7 @@ from hydrokit.cli._common import write_all
 @click.option(
     "--format",
     "fmt",
-    type=click.Choice(["csv", "rosbag", "ardupilot"]),
+    type=click.Choice(["csv", "rosbag", "ardupilot", "video"]),
     default=None,
     help="Default: from the extension.",
 )
@@ -31,8 +31,14 @@ from hydrokit.cli._common import write_all
 @click.option("--time-unit", type=click.Choice(["s", "ms", "us", "ns"]), default=None, help="Unit of the time column.")
 @click.option("--signal-unit", default=None, help="rad, deg, m, mm or counts:SCALE (SCALE = m or rad per count).")
 @click.option("--topic", default=None, help="ROS topic (default: the bag's only topic).")
+@click.option("--marker", type=click.Choice(["dark", "bright"]), default="dark", help="Video: the marker's shade.")
+@click.option("--roi", default=None, help="Video: search only in x,y,w,h (pixels).")
+@click.option("--pivot", default=None, help="Video: pivot x,y (pixels; default: circle fit of the arc).")
+@click.option("--fps", type=float, default=None, help="Video: frame rate (default: the container's frame times).")
 @click.option("--split", is_flag=True, help="One launch per release (hold → free decay) in a long recording.")
-@click.option("--plots", is_flag=True, help="Also write DIR/ingest.png (the recording and the launches cut).")
+@click.option(
+    "--plots", is_flag=True, help="Also write DIR/ingest.png (the launches cut) and, for a video, DIR/tracking.png."
+)
 def ingest(
     source: str,
     rig_file: str,
@@ -43,6 +49,10 @@ def ingest(
     time_unit: str | None,
     signal_unit: str | None,
     topic: str | None,
+    marker: str,
+    roi: str | None,
+    pivot: str | None,
+    fps: float | None,
     split: bool,
     plots: bool,
 ) -> None:
@@ -63,6 +73,10 @@ def ingest(
         time_unit=time_unit,
         signal_unit=signal_unit,
         topic=topic,
+        marker=marker,
+        roi=roi,
+        pivot=pivot,
+        fps=fps,
     )
     texts, doc = ingest_files(rec, rig, out_dir, split=split, fmt=fmt)
     files: dict[str | Path, Any] = {p: text for p, text in texts.items()}
@@ -72,6 +86,10 @@ def ingest(
 
         unit = "m" if rig.test == "spring" else "rad"
         files[Path(out_dir) / "ingest.png"] = to_png(recording_overview(rec.t, rec.y, doc["launches"], unit))
+        if rec.image is not None and "tracking" in doc:
+            from hydrokit.plot.ingest import video_tracking
+
+            files[Path(out_dir) / "tracking.png"] = to_png(video_tracking(rec.image, doc["tracking"]))
     write_all(files)
     for w in doc["warnings"]:
         click.echo(f"warning: {w}", err=True)

@@ -1,4 +1,5 @@
-"""Real recordings in (issue #12): a CSV/TSV table, a ROS bag or an ArduPilot log → launch files.
+"""Real recordings in (issue #12): a CSV/TSV table, a ROS bag, an ArduPilot log or a pendulum
+video → launch files.
 
 :func:`read_recording` reads one signal against time from any supported source (SI units,
 the file's own time base); :func:`ingest_files` cuts it into launches (one, or one per
@@ -8,6 +9,7 @@ release with ``split``) and returns every output — launch CSVs in the format
 
 from __future__ import annotations
 
+import dataclasses
 import json
 import math
 import os
@@ -22,7 +24,7 @@ from hydrokit.io.recording import TIME_UNITS, Recording, check_times, signal_sca
 
 __all__ = ["FORMATS", "Recording", "detect_format", "ingest_files", "read_recording"]
 
-FORMATS = ("csv", "rosbag", "ardupilot")
+FORMATS = ("csv", "rosbag", "ardupilot", "video")
 EXTENSIONS = {
     ".csv": "csv",
     ".tsv": "csv",
@@ -32,11 +34,15 @@ EXTENSIONS = {
     ".bag": "rosbag",
     ".bin": "ardupilot",
     ".tlog": "ardupilot",
+    ".mp4": "video",
+    ".avi": "video",
+    ".mov": "video",
+    ".mkv": "video",
 }
 
 
 def detect_format(path: str | os.PathLike[str]) -> str:
-    """``csv``, ``rosbag`` or ``ardupilot`` from the extension (a folder is a rosbag2 bag)."""
+    """``csv``, ``rosbag``, ``ardupilot`` or ``video`` from the extension (a folder is a rosbag2 bag)."""
     p = Path(path)
     if not p.exists():
         raise InputError("no such file or folder", str(p))
@@ -59,8 +65,13 @@ def read_recording(
     time_unit: str | None = None,
     signal_unit: str | None = None,
     topic: str | None = None,
+    marker: str = "dark",
+    roi: str | tuple[float, ...] | None = None,
+    pivot: str | tuple[float, ...] | None = None,
+    fps: float | None = None,
 ) -> Recording:
-    """Read the signal of ``source`` in SI (see docs/ingest.md for each format's defaults)."""
+    """Read the signal of ``source`` in SI (see docs/ingest.md for each format's defaults).
+    ``marker``, ``roi``, ``pivot`` (pixels, ``"x,y,w,h"`` / ``"x,y"``) and ``fps`` are for video."""
     fmt = fmt or detect_format(source)
     if fmt not in FORMATS:
         raise InputError(f"--format {fmt!r}: expected one of {', '.join(FORMATS)}")
@@ -71,6 +82,12 @@ def read_recording(
         from hydrokit.io.table import read_table
 
         rec = read_table(source, rig, time=time, signal=signal, time_unit=time_unit or "s", unit=unit)
+    elif fmt == "video":
+        from hydrokit.io.video import read_video
+
+        if rig.test == "spring":
+            raise InputError("video tracks a rod angle: a spring rig records a position", str(source))
+        rec = read_video(source, marker=marker, roi=roi, pivot=pivot, fps=fps)
     elif fmt == "rosbag":
         from hydrokit.io.rosbag import read_bag
 
@@ -82,7 +99,7 @@ def read_recording(
     check_times(rec.t, rec.source)
     if rig.test != "spring" and float(np.max(np.abs(rec.y))) > math.pi / 2:
         msg = f"the signal reaches {float(np.max(np.abs(rec.y))):.4g} rad (> 90°): is it really in the unit given?"
-        rec = Recording(rec.t, rec.y, rec.source, rec.signal, rec.notes, (*rec.warnings, msg))
+        rec = dataclasses.replace(rec, warnings=(*rec.warnings, msg))
     return rec
 
 
@@ -168,6 +185,7 @@ def ingest_files(
         "split": split,
         "recording": {"samples": int(t.size), "start_time": float(t[0]), "end_time": float(t[-1]), "rate": rate},
         "launches": launches,
+        **({"tracking": rec.details} if rec.details is not None else {}),
         "warnings": sorted({w for d in launches for w in d["warnings"]}),
     }
     files[out / "ingest.json"] = json.dumps(doc, indent=2, allow_nan=False, ensure_ascii=False) + "\n"

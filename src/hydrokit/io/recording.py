@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
 
@@ -22,6 +23,8 @@ class Recording:
 
     t : s, strictly increasing, in the source's own time base (not re-based)
     y : m (spring) or rad (pendulum, torsion)
+    details : source-specific facts for ``ingest.json`` (video: pivot, tracking quality), or None
+    image : a frame of the source for plots (video), or None
     """
 
     t: np.ndarray
@@ -30,6 +33,8 @@ class Recording:
     signal: str
     notes: tuple[str, ...] = ()
     warnings: tuple[str, ...] = ()
+    details: dict[str, Any] | None = None
+    image: np.ndarray | None = None
 
 
 def signal_scale(unit: str, rig: Rig) -> tuple[float, str]:

@@ -28,3 +28,32 @@ def recording_overview(
     ax.set_title(title or f"{len(launches)} launch(es): shaded = written, dashed = release", fontsize=9)
     fig.tight_layout()
     return fig
+
+
+def video_tracking(frame: np.ndarray, tracking: dict[str, Any]) -> Any:
+    """The first video frame with the tracked marker positions, the fitted circle and the pivot.
+    ``tracking`` is the ``ingest.json`` ``tracking`` entry (pixels)."""
+    pv, r = tracking["pivot"], tracking["radius_px"]
+    pf = tracking["per_frame"]
+    h, w = frame.shape[:2]
+    fig = new_figure((7, 7 * h / w + 0.4))
+    ax = fig.add_subplot(1, 1, 1)
+    ax.imshow(frame, cmap="gray", vmin=0, vmax=255)
+    a = np.linspace(0, 2 * np.pi, 721)
+    ax.plot(pv["x"] + r * np.sin(a), pv["y"] + r * np.cos(a), "-", color="C1", lw=0.8, label=f"circle r = {r:.1f} px")
+    ax.plot([pv["x"]], [pv["y"]], "+", color="C1", ms=12, mew=2, label=f"pivot ({pv['x']:.1f}, {pv['y']:.1f})")
+    ax.plot([pv["x"], pv["x"]], [pv["y"], pv["y"] + r], ":", color="C1", lw=0.8)
+    if pf.get("x_px"):
+        lost = np.asarray(pf["lost"], bool)
+        xs, ys = (np.array([np.nan if v is None else v for v in pf[k]]) for k in ("x_px", "y_px"))
+        ax.plot(xs[~lost], ys[~lost], ".", color="C0", ms=2, label="marker")
+        if lost.any():
+            ax.plot(xs[lost], ys[lost], "x", color="C3", ms=4, label=f"lost ({int(lost.sum())})")
+    ax.set_xlim(0, w)
+    ax.set_ylim(h, 0)
+    ax.legend(loc="upper right", fontsize=8)
+    ax.set_title(
+        f"θ = 0 along the dotted vertical, + to the right; circle RMS {tracking['circle_rms_px']:.3f} px", fontsize=9
+    )
+    fig.tight_layout()
+    return fig
