@@ -114,7 +114,14 @@ def load_geometry(path: PathLike) -> Geometry:
 
 
 def read_launch(
-    path: PathLike, rig: Rig | PathLike, *, release: float | None = None, end: float | None = None, trim: bool = True
+    path: PathLike,
+    rig: Rig | PathLike,
+    *,
+    release: float | None = None,
+    end: float | None = None,
+    trim: bool = True,
+    detrend: str = "mean",
+    amplitude_window: tuple[float, float] | None = None,
 ) -> Launch:
     """Read one launch CSV of ``rig`` and (by default) trim it to the free decay.
 
@@ -122,8 +129,12 @@ def read_launch(
     ----------
     path : launch CSV (time s; position m, or angle rad / angle_deg)
     rig : Rig or rig-file path
-    release, end : float, optional — release and last useful time, s (default: detected)
+    release, end : float, optional — release (start of free motion) and last useful time, s in
+        the file's time base (default: detected, after any forced motion such as a hand heel)
     trim : bool — cut the record at the release (t = 0 there) and the end
+    detrend : str — "none", "mean" (default) or "linear": remove a constant or drifting rest value
+    amplitude_window : (HI, LO), optional — m or rad: keep from the first extreme ≤ HI until the
+        amplitude falls below LO
 
     Returns
     -------
@@ -134,7 +145,9 @@ def read_launch(
 
     rig_obj = _as_rig(rig)
     raw = _read(path, rig_obj)
-    return trim_launch(raw, release=release, end=end) if trim else raw
+    if not trim:
+        return raw
+    return trim_launch(raw, release=release, end=end, detrend=detrend, amplitude_window=amplitude_window)
 
 
 def identify_campaign(
@@ -147,6 +160,9 @@ def identify_campaign(
     progress: Callable[[str], None] | None = None,
     damping_model: str = "quadratic",
     restoring_terms: int = 1,
+    detrend: str = "mean",
+    amplitude_window: tuple[float, float] | None = None,
+    equivalent_at: Sequence[float] = (),
 ) -> CampaignResult:
     """Identify added mass, linear and quadratic damping from many launches of one rig.
 
@@ -161,6 +177,9 @@ def identify_campaign(
         output-error only, spring/torsion/floating rigs
     restoring_terms : int — 1 (the rig's restoring, default), 3 or 5: also fit C3 q³ (and C5 q⁵)
         added to the rig's restoring; output-error only, spring/torsion/floating rigs
+    detrend, amplitude_window : how path launches are trimmed (see :func:`read_launch`)
+    equivalent_at : amplitudes, m or rad: add per launch ``equivalent_damping`` B_e(a) with its
+        standard error (spring, torsion and floating rigs)
 
     Returns
     -------
@@ -181,11 +200,16 @@ def identify_campaign(
 
     rig_obj = _as_rig(rig)
     launches = [
-        x if isinstance(x, Launch) else read_launch(x, rig_obj, release=release, end=end) for x in launches_or_paths
+        x
+        if isinstance(x, Launch)
+        else read_launch(x, rig_obj, release=release, end=end, detrend=detrend, amplitude_window=amplitude_window)
+        for x in launches_or_paths
     ]
     settings: dict[str, Any] = {}
     if (damping_model, restoring_terms) != ("quadratic", 1):
         settings = {"damping_model": damping_model, "restoring_terms": restoring_terms}
+    if equivalent_at:
+        settings["equivalent_at"] = tuple(equivalent_at)
     return identify_launches(rig_obj, launches, method, progress=progress, **settings)
 
 

@@ -72,3 +72,68 @@ def _amplitudes(text: str, rig_obj: Any) -> list[float]:
     if any(v == 0 for v in vals):
         raise InputError(f"--amplitudes {text!r}: expected non-zero displacements")
     return [v * 1e-3 for v in vals] if rig_obj.translational_signal else [math.radians(v) for v in vals]
+
+
+_TRIM = [
+    click.option(
+        "--start",
+        "--release",
+        "release",
+        type=float,
+        default=None,
+        help="Start of free motion (release) in every launch, s in the file's time base "
+        "(default: detected after any forced motion, at the first extreme of the free decay).",
+    ),
+    click.option("--end", type=float, default=None, help="Last useful time in every launch, s (default: detected)."),
+    click.option(
+        "--detrend",
+        type=click.Choice(["none", "mean", "linear"]),
+        default="mean",
+        show_default=True,
+        help="Remove a constant (mean) or straight drifting (linear) rest value from each launch (no unit).",
+    ),
+    click.option(
+        "--amplitude-window",
+        default=None,
+        metavar="HI,LO",
+        help="Fit only while the amplitude is inside the window: from the first extreme ≤ HI until the "
+        "amplitude falls below LO; degrees as 20deg,3.5deg or SI (m or rad).",
+    ),
+    click.option(
+        "--equivalent-at",
+        default=None,
+        metavar="A[,A...]",
+        help="Add the equivalent linear damping B_e at these amplitudes with its standard error: "
+        "degrees as 5deg or SI (m or rad). Spring, torsion and floating rigs.",
+    ),
+]
+
+
+def trim_options(f):  # noqa: ANN001, ANN201
+    """``hydrokit identify``'s record options: --start, --end, --detrend, --amplitude-window,
+    --equivalent-at."""
+    for opt in reversed(_TRIM):
+        f = opt(f)
+    return f
+
+
+def trim_settings(
+    rig_obj: Any, window_text: str | None, equivalent_text: str | None
+) -> tuple[tuple[float, float] | None, tuple[float, ...]]:
+    """--amplitude-window and --equivalent-at in SI (m or rad)."""
+    from hydrokit.identify.preprocess import parse_amplitude
+
+    tr = bool(rig_obj.translational_signal)
+    window = None
+    if window_text is not None:
+        parts = window_text.split(",")
+        if len(parts) != 2:
+            raise InputError(f"--amplitude-window {window_text!r}: expected HI,LO such as 20deg,3.5deg")
+        hi, lo = (parse_amplitude(p, tr, "--amplitude-window") for p in parts)
+        if not hi > lo:
+            raise InputError(f"--amplitude-window {window_text!r}: expected HI > LO")
+        window = (hi, lo)
+    amps: tuple[float, ...] = ()
+    if equivalent_text is not None:
+        amps = tuple(parse_amplitude(p, tr, "--equivalent-at") for p in equivalent_text.split(","))
+    return window, amps

@@ -11,6 +11,7 @@ from typing import Any
 import click
 
 from hydrokit.cli._common import progress_bar, write_all
+from hydrokit.cli._rig_options import trim_options, trim_settings
 
 METHOD_CHOICE = click.Choice(["output-error", "equation-error", "morison", "log-decrement"])
 
@@ -63,8 +64,7 @@ METHOD_CHOICE = click.Choice(["output-error", "equation-error", "morison", "log-
     help="1: the rig's restoring; 3, 5: also fit C3 q³ (and C5 q⁵) added to it (restoring_correction, SI). "
     "Output-error; spring, torsion and floating rigs.",
 )
-@click.option("--release", type=float, default=None, help="Release time in every launch, s (default: detected).")
-@click.option("--end", type=float, default=None, help="Last useful time in every launch, s (default: detected).")
+@trim_options
 def identify(
     rig_file: str,
     launches: tuple[str, ...],
@@ -74,8 +74,7 @@ def identify(
     report_out: str | None,
     damping_model: str,
     restoring_terms: str,
-    release: float | None,
-    end: float | None,
+    **record: Any,
 ) -> None:
     """Identify added mass, linear and quadratic damping from free-decay LAUNCH files.
 
@@ -88,17 +87,20 @@ def identify(
     from hydrokit.io.results import dumps
 
     rig = load_rig(rig_file)
+    # --start/--end/--detrend as given; the amplitudes converted to SI
+    window, amps = trim_settings(rig, record.pop("amplitude_window"), record.pop("equivalent_at"))
     with progress_bar() as bar:
         task = bar.add_task(f"identifying ({method})", total=len(launches))
         res = identify_campaign(
             rig,
             launches,
             method,
-            release=release,
-            end=end,
             progress=lambda f: bar.advance(task),
             damping_model=damping_model,
             restoring_terms=int(restoring_terms),
+            **record,
+            amplitude_window=window,
+            equivalent_at=amps,
         )
     doc = res.to_dict()
     files: dict[str | Path, Any] = {json_out: dumps(doc)}

@@ -83,7 +83,12 @@ class _DecayEstimator:
         self.noise_ = facts["noise"]
         self.warnings_: list[str] = []
         self.t0_ = float(t[0])
+        self.pcov4_: np.ndarray | None = None
         self._fit(t - t[0], y, facts)
+        if self.pcov4_ is None and self.pcov_ is not None:
+            # (ω², b, g, d): the cubic-damping d is held at zero outside the cubic model
+            self.pcov4_ = np.zeros((4, 4))
+            self.pcov4_[:3, :3] = self.pcov_
         w2, b, g = self.p_
         if not (w2 > 0 and math.isfinite(w2)):
             raise InputError(f"fitted ω² = {w2:.4g} 1/s²: not a restoring oscillation; check the rig file", file)
@@ -560,6 +565,7 @@ class OutputErrorEstimator(_DecayEstimator):
             cov = 2 * best.cost / max(1, t.size - x.size) * np.linalg.inv(J.T @ J)
             cov6[np.ix_(free, free)] = cov[:k, :k]
             self.pcov_ = cov6[:3, :3]
+            self.pcov4_ = cov6[:4, :4]
         except np.linalg.LinAlgError:
             cov6[:] = np.nan
             self.pcov_ = None

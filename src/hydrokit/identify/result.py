@@ -102,7 +102,18 @@ class CampaignResult(Result):
         for r in self.results:
             d = r.to_dict()
             d["notes"] = d.get("extra", {}).pop("notes", [])
-            for key in ("damping_model", "restoring_terms", "cubic_damping", "restoring_correction"):
+            for key in (
+                "damping_model",
+                "restoring_terms",
+                "cubic_damping",
+                "restoring_correction",
+                "release_time",
+                "release",
+                "detrend",
+                "amplitude_window",
+                "equivalent_damping",
+                "damping_curve",
+            ):
                 if key in d.get("extra", {}):
                     d[key] = d["extra"].pop(key)
             launches.append(d)
@@ -201,18 +212,33 @@ def identify_launches(
     return summarize_campaign(rig, method, items)
 
 
-def fit_launch(rig: Rig, launch: Launch, method: str = "output-error", **settings: Any) -> IdentifiedLaunch:
+def fit_launch(
+    rig: Rig, launch: Launch, method: str = "output-error", equivalent_at: Sequence[float] = (), **settings: Any
+) -> IdentifiedLaunch:
     """Fit one trimmed launch; the pieces a campaign is summarised from (one parallel task).
 
-    ``settings`` go to the estimator (output-error: ``damping_model``, ``restoring_terms``)."""
+    ``equivalent_at`` (m or rad) adds ``equivalent_damping`` at those amplitudes; every launch
+    of a spring, torsion or floating rig gets its model-free ``damping_curve``; what trimming
+    found (``release_time``, ``detrend``, ``amplitude_window``) is carried over from
+    ``launch.info``. ``settings`` go to the estimator (output-error: ``damping_model``,
+    ``restoring_terms``)."""
+    from hydrokit.identify.damping import check_rig, damping_curve, equivalent_damping
     from hydrokit.identify.estimators import identify_launch, with_notes
 
     if method not in METHODS:
         raise InputError(f"method = {method!r}: expected one of {', '.join(METHODS)}")
+    if equivalent_at:
+        check_rig(rig)
     result, est = cast(
         "tuple[LaunchResult, Any]", identify_launch(rig, launch, method, return_estimator=True, **settings)
     )
-    return IdentifiedLaunch(launch, with_notes(result, launch.notes), est)
+    result = with_notes(result, launch.notes)
+    result.extra.update(launch.info)
+    if rig.test != "pendulum":
+        result.extra["damping_curve"] = damping_curve(launch.t, launch.y, est, rig)
+        if equivalent_at:
+            result.extra["equivalent_damping"] = equivalent_damping(est, rig, equivalent_at)
+    return IdentifiedLaunch(launch, result, est)
 
 
 def summarize_campaign(rig: Rig, method: str, items: Sequence[IdentifiedLaunch]) -> CampaignResult:

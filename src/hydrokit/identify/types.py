@@ -106,12 +106,16 @@ class Launch:
 
     t : s, strictly increasing; y : m (spring) or rad (pendulum, torsion).
     notes : what the reader did (trimmed samples, release time), human-readable.
+    info : what trimming found (release time, detrend, amplitude window), for the JSON.
     """
 
     t: Any
     y: Any
     file: str = ""
     notes: tuple[str, ...] = ()
+    #: what trimming found, for the JSON (``release_time`` s in the file's time base, ``detrend``,
+    #: ``amplitude_window``); empty for an untrimmed launch
+    info: dict[str, Any] = field(default_factory=dict, compare=False)
 
 
 @dataclass

@@ -168,6 +168,53 @@ def campaign_axes(
     return ax
 
 
+def damping_curve(result: Any, unit: str, title: str = "", ax: Any = None) -> Any:
+    """Model-free equivalent damping of each half cycle against its mean amplitude, with the
+    fitted model's B_e(a) = B1 + 8/(3π)·ω0·a·B2 (+ 3/4·ω0²·a²·B3) and the ``equivalent_damping``
+    points (±1.96 standard error). Returns the figure.
+
+    Parameters
+    ----------
+    result : LaunchResult with ``extra['damping_curve']`` (amplitude m or rad, value in reported
+        damping units), ``linear_damping``, ``quadratic_damping``, ``natural_frequency``
+    unit : "m" or "rad" (amplitude shown in mm or degrees)
+    """
+    from hydrokit.identify.damping import model_curve
+
+    scale, label = (1e3, "amplitude (mm)") if unit == "m" else (180 / np.pi, "amplitude (°)")
+    ax = axes_or_new(ax, (6, 3.8))
+    pts = result.extra.get("damping_curve") or []
+    if pts:
+        a = np.array([p["amplitude"] for p in pts])
+        v = np.array([p["value"] for p in pts])
+        ax.plot(a * scale, v, "o", ms=3.5, color="0.35", label="half cycles (energy decrement)")
+        grid = np.linspace(0.0, float(np.max(a)) * 1.05, 200)
+        b3 = result.extra.get("cubic_damping") or 0.0
+        model = model_curve(grid, result.linear_damping, result.quadratic_damping, b3, result.natural_frequency)
+        ax.plot(grid * scale, model, "-", lw=1.4, color="C0", label="fitted model B_e(a)")
+    eq = result.extra.get("equivalent_damping") or []
+    if eq:
+        ax.errorbar(
+            [e["amplitude"] * scale for e in eq],
+            [e["value"] for e in eq],
+            yerr=[1.96 * (e["std_error"] or 0.0) for e in eq],
+            fmt="s",
+            ms=5,
+            color="C3",
+            capsize=3,
+            label="B_e at stated amplitude (±1.96 SE)",
+        )
+    ax.set_xlabel(label)
+    ax.set_ylabel("equivalent linear damping B_e (" + ("N·s/m" if unit == "m" else "N·m·s/rad") + ")")
+    ax.set_xlim(left=0)
+    ax.grid(alpha=0.3)
+    ax.legend(fontsize=7)
+    if title:
+        ax.set_title(title, fontsize=9)
+    ax.figure.tight_layout()
+    return ax.figure
+
+
 def campaign_figures(campaign: Any, per_launch: bool = True) -> dict[str, tuple[bytes, str]]:
     """PNG figures of a CampaignResult: name → (png bytes, caption).
 
@@ -187,6 +234,12 @@ def campaign_figures(campaign: Any, per_launch: bool = True) -> dict[str, tuple[
         stem = Path(it.result.file).stem
         fig = launch_fit(np.asarray(it.launch.t), np.asarray(it.launch.y), predict(it), f"{stem} ({method})", unit)
         out[f"{stem}_fit.png"] = (to_png(fig), f"{stem}: measured and fitted signal, residual")
+        if per_launch and it.result.extra.get("damping_curve"):
+            fig = damping_curve(it.result, unit, f"{stem}: damping curve ({method})")
+            out[f"{stem}_damping.png"] = (
+                to_png(fig),
+                f"{stem}: equivalent damping per half cycle against amplitude, with the fitted model's curve",
+            )
     fig = coefficients_vs_reynolds({f"{rig.axis} ({method})": campaign.results})
     out["coefficients_vs_reynolds.png"] = (to_png(fig), "coefficients against peak Reynolds number")
     cycles = [c for r in campaign.results for c in r.extra.get("cycles", [])]

@@ -8,6 +8,7 @@ warnings; at the end coefficients against Reynolds number for all runs.
 
 from __future__ import annotations
 
+import math
 from collections.abc import Sequence
 from dataclasses import dataclass, field
 from typing import Any
@@ -53,6 +54,46 @@ def _units(rig: Any) -> dict[str, str]:
     if rig.rotational:
         return {"added_mass": "kg·m²", "linear_damping": "N·m·s/rad", "quadratic_damping": "N·m·s²/rad²"}
     return {"added_mass": "kg", "linear_damping": "N·s/m", "quadratic_damping": "N·s²/m²"}
+
+
+def _record_table(launches: list[dict[str, Any]], rig: Any) -> str:
+    """Release, detrend, amplitude window and equivalent damping per launch (issue #16), when given."""
+    if not any("release_time" in L for L in launches):
+        return ""
+    deg = not rig.translational_signal
+    unit = "°" if deg else "m"
+    damp = "N·m·s/rad" if deg else "N·s/m"
+
+    def amp(a: float) -> str:
+        return fmt(math.degrees(a) if deg else a, 3)
+
+    rows = []
+    for L in launches:
+        w = L.get("amplitude_window")
+        win = (
+            f"{amp(w['high'])}–{amp(w['low'])} {unit}: {fmt(w['start_time'])}–{fmt(w['end_time'])} s, {fmt(w['cycles'], 3)} cycles"
+            if w
+            else "whole decay"
+        )
+        eq = "; ".join(
+            f"{amp(e['amplitude'])} {unit}: {fmt(e['value'])} ± {fmt(e['std_error'], 2)}"
+            for e in L.get("equivalent_damping") or []
+        )
+        det = L.get("detrend") or {}
+        rows.append(
+            [
+                L["file"].split("/")[-1],
+                f"{fmt(L.get('release_time'))} ({L.get('release', '')})",
+                det.get("method", ""),
+                win,
+                eq or "–",
+            ]
+        )
+    return "<h3>Records: release, drift and amplitude window</h3>" + table(
+        ["file", "release (s, file time)", "detrend", "amplitude window", f"B_e at amplitude ({damp}, ± formal SE)"],
+        rows,
+        left_cols=1,
+    )
 
 
 def run_section(run: Run) -> str:
@@ -125,6 +166,7 @@ def run_section(run: Run) -> str:
         )
     )
     parts.append("</details>")
+    parts.append(_record_table(launches, run.rig))
     for png, cap in run.figures:
         parts.append(figure(png, cap))
     if warn:

@@ -1,0 +1,229 @@
+"""Records as people record them (issue #16 items 2, 3): a hand heel before the release, a slow
+drift, coloured noise and cubic damping in the truth; release detection, --detrend,
+--amplitude-window, --start, equivalent damping B_e(a) and the damping curve."""
+
+from __future__ import annotations
+
+import json
+import math
+from pathlib import Path
+
+import numpy as np
+import pytest
+import yaml
+
+from hydrokit.errors import InputError
+from hydrokit.identify.damping import model_curve
+from hydrokit.identify.preprocess import detect_release, trim_launch
+from hydrokit.identify.rig_model import rig_constants, simulate_extended
+from hydrokit.identify.types import Launch, Rig
+from hydrokit.io.launch import launch_csv
+from hydrokit.io.rig import parse_rig
+
+FS = 50.0  # Hz
+RIG_DOC = {
+    "test": "floating",
+    "axis": "roll",
+    "gravity": 9.81,
+    "fluid": {"density": 1000.0, "kinematic_viscosity": 1.14e-6},
+    # a 1:68 tanker model in roll (KVLCC2-like): C44 = ρ g ∇ GM ≈ 822 N·m/rad
+    "body": {"mass": 994.3, "volume": 0.99434, "inertia": 115.6, "reference_area": 1.4, "reference_length": 0.85},
+    "floating": {"gm": 0.08426},
+}
+TRUTH = {"I_a": 19.0, "B1": 1.5, "B2": 12.0, "B3": 20.0}  # kg m², N m s/rad, N m s²/rad², N m s³/rad³
+T_RELEASE = 6.013  # s, between samples
+HEEL = math.radians(10.0)
+
+
+def rig() -> Rig:
+    return parse_rig(RIG_DOC, "kvlcc2-like.yaml")
+
+
+def true_equivalent(a: float) -> float:
+    c = rig_constants(rig())
+    w0 = math.sqrt(c.S / c.inertia(TRUTH["I_a"]))
+    return TRUTH["B1"] + 8 / (3 * math.pi) * w0 * a * TRUTH["B2"] + 0.75 * w0 * w0 * a * a * TRUTH["B3"]
+
+
+def free_decay(t: np.ndarray, q0: float, v0: float) -> np.ndarray:
+    c = rig_constants(rig())
+    A, S = c.inertia(TRUTH["I_a"]), c.S
+    p = [S / A, TRUTH["B1"] / A, TRUTH["B2"] / A, TRUTH["B3"] / A, 0.0, 0.0]
+    q, _, _ = simulate_extended(t, p, q0, v0, c.restoring, 8)
+    return q
+
+
+def hand_heel_record(seed: int = 0, duration: float = 70.0, drift: float = 0.3, noise: float = 0.02) -> Launch:
+    """Rest 2 s, a hand heel ramped to 10° over 1.5 s, held 2.5 s with a 0.1° wobble, released at
+    T_RELEASE, free decay with cubic damping; a drift of ``drift`` degrees per minute and AR(1)
+    (coloured) noise of ``noise`` degrees std, all in radians."""
+    t = np.arange(int(duration * FS)) / FS
+    y = np.zeros(t.size)
+    ramp = (t >= 2.0) & (t < 3.5)
+    y[ramp] = HEEL * 0.5 * (1 - np.cos(math.pi * (t[ramp] - 2.0) / 1.5))
+    wob = math.radians(0.1)
+    f_w = 0.6  # Hz: a hand's slow wobble, moving inwards at the release
+    hold = (t >= 3.5) & (t < T_RELEASE)
+    y[hold] = HEEL + wob * np.sin(2 * math.pi * f_w * (T_RELEASE - t[hold]))
+    free = t >= T_RELEASE
+    tf = np.concatenate([[T_RELEASE], t[free]])
+    v0 = -wob * 2 * math.pi * f_w
+    y[free] = free_decay(tf - T_RELEASE, HEEL, v0)[1:]
+    rng = np.random.default_rng(seed)
+    e = rng.normal(0.0, 1.0, t.size)
+    ar = np.empty(t.size)
+    ar[0] = e[0]
+    for i in range(1, t.size):
+        ar[i] = 0.9 * ar[i - 1] + math.sqrt(1 - 0.81) * e[i]
+    y = y + math.radians(drift / 60.0) * t + math.radians(noise) * ar
+    return Launch(t, y, f"heel{seed}.csv")
+
+
+def test_release_found_after_hand_heel_within_one_sample() -> None:
+    for seed in range(3):
+        L = hand_heel_record(seed)
+        tr = detect_release(L.t, L.y)
+        assert abs(tr - T_RELEASE) <= 1.0 / FS, (seed, tr)
+        trimmed = trim_launch(L, detrend="linear")
+        assert abs(trimmed.info["release_time"] - T_RELEASE) <= 1.0 / FS
+        assert trimmed.info["release"] == "detected"
+        assert trimmed.info["detrend"]["method"] == "linear"
+        # the drift (0.3°/min) is found
+        assert math.degrees(trimmed.info["detrend"]["slope"]) * 60 == pytest.approx(0.3, abs=0.1)
+
+
+def test_equivalent_damping_within_two_percent_of_truth() -> None:
+    from hydrokit.api import identify_campaign
+
+    launches = [trim_launch(hand_heel_record(seed), detrend="linear") for seed in (0, 1)]
+    a = math.radians(5.0)
+    res = identify_campaign(rig(), launches, damping_model="cubic", equivalent_at=[a])
+    doc = res.to_dict()
+    truth = true_equivalent(a)
+    for launch in doc["launches"]:
+        (be,) = launch["equivalent_damping"]
+        assert be["amplitude"] == pytest.approx(a)
+        assert be["value"] == pytest.approx(truth, rel=0.02), (be, truth)
+        assert 0 < be["std_error"] < 0.1 * be["value"]
+        assert launch["release_time"] == pytest.approx(T_RELEASE, abs=1.0 / FS)
+        # the model-free curve scatters about the true B_e(a) without bias (the noise moves each
+        # half cycle's decrement; the scatter grows as the decrement shrinks with the amplitude)
+        curve = launch["damping_curve"]
+        assert len(curve) > 20
+        amps = np.array([p["amplitude"] for p in curve])
+        ratio = np.array([p["value"] for p in curve]) / np.array([true_equivalent(x) for x in amps])
+        assert float(np.median(ratio)) == pytest.approx(1.0, abs=0.05)
+        assert float(np.median(np.abs(ratio[amps > math.radians(6)] - 1))) < 0.12
+    # the model curve helper is the closed form
+    r = res.results[0]
+    assert model_curve(a, r.linear_damping, r.quadratic_damping, r.extra["cubic_damping"], r.natural_frequency) == (
+        pytest.approx(doc["launches"][0]["equivalent_damping"][0]["value"], rel=1e-9)
+    )
+
+
+def test_amplitude_window_cuts_where_stated() -> None:
+    L = hand_heel_record(0, drift=0.0, noise=0.005)
+    hi, lo = math.radians(8.0), math.radians(4.0)
+    trimmed = trim_launch(L, amplitude_window=(hi, lo))
+    w = trimmed.info["amplitude_window"]
+    # the noise-free truth: extremes of the free decay
+    t = np.arange(int(70 * FS * 4)) / (FS * 4)
+    q = free_decay(t, HEEL, -math.radians(0.1) * 2 * math.pi * 0.6)
+    k = np.nonzero((np.abs(q[1:-1]) >= np.abs(q[:-2])) & (np.abs(q[1:-1]) >= np.abs(q[2:])))[0] + 1
+    ext_t, ext_a = t[k] + T_RELEASE, np.abs(q[k])
+    start = ext_t[np.argmax(ext_a <= hi)]
+    end = ext_t[np.argmax(ext_a < lo)]
+    assert w["start_time"] == pytest.approx(start, abs=1.5 / FS)
+    assert w["end_time"] == pytest.approx(end, abs=1.5 / FS)
+    assert (w["high"], w["low"]) == (hi, lo)
+    assert w["start_amplitude"] <= hi and w["end_amplitude"] < lo
+    assert w["cycles"] >= 2
+    assert float(np.max(np.abs(trimmed.y))) <= hi + math.radians(0.05)
+    assert any("amplitude window" in n for n in trimmed.notes)
+
+
+def test_no_free_decay_is_rejected() -> None:
+    t = np.arange(3000) / FS
+    rng = np.random.default_rng(0)
+    still = Launch(t, rng.normal(0, 1e-4, t.size), "still.csv")
+    with pytest.raises(InputError, match="free decay"):
+        trim_launch(still)
+    # a hand rocking the body steadily: forced throughout
+    forced = Launch(t, 0.1 * np.sin(2 * math.pi * 0.4 * t) + rng.normal(0, 1e-4, t.size), "forced.csv")
+    with pytest.raises(InputError, match="no free decay"):
+        trim_launch(forced)
+    with pytest.raises(InputError, match="amplitude window .*only .* cycles"):
+        trim_launch(hand_heel_record(0), amplitude_window=(math.radians(10), math.radians(9)))
+
+
+# -- the command line -------------------------------------------------------------------------
+
+
+@pytest.fixture
+def files(tmp_path: Path) -> tuple[Path, Path]:
+    rig_path = tmp_path / "rig.yaml"
+    rig_path.write_text(yaml.safe_dump(RIG_DOC))
+    L = hand_heel_record(0)
+    csv = tmp_path / "heel.csv"
+    csv.write_text(launch_csv(L.t, np.degrees(L.y), "angle_deg"))
+    return rig_path, csv
+
+
+def test_cli_window_equivalent_and_plots(run_cli, files, tmp_path) -> None:
+    rig_path, csv = files
+    out = tmp_path / "out.json"
+    code, _, err = run_cli(
+        "identify", rig_path, csv, "--json", out, "--damping-model", "cubic", "--detrend", "linear",
+        "--amplitude-window", "20deg,3.5deg", "--equivalent-at", "5deg,0.1", "--plots", tmp_path / "plots",
+    )  # fmt: skip
+    assert code == 0, err
+    (launch,) = json.loads(out.read_text())["launches"]
+    assert launch["release_time"] == pytest.approx(T_RELEASE, abs=1.0 / FS)
+    assert launch["amplitude_window"]["high"] == pytest.approx(math.radians(20))
+    assert launch["detrend"]["method"] == "linear"
+    assert [e["amplitude"] for e in launch["equivalent_damping"]] == [pytest.approx(math.radians(5)), 0.1]
+    assert launch["equivalent_damping"][0]["value"] == pytest.approx(true_equivalent(math.radians(5)), rel=0.02)
+    assert (tmp_path / "plots" / "heel_damping.png").stat().st_size > 1000
+
+
+def test_cli_start_overrides_the_detector(run_cli, files, tmp_path) -> None:
+    rig_path, csv = files
+    out = tmp_path / "start.json"
+    code, _, err = run_cli("identify", rig_path, csv, "--json", out, "--start", "5.0")
+    assert code == 0, err
+    (launch,) = json.loads(out.read_text())["launches"]
+    assert launch["release_time"] == 5.0
+    assert any("release given at t = 5.000" in n for n in launch["notes"])
+
+
+@pytest.mark.parametrize(
+    ("kind", "expected"),
+    [("still", "free decay"), ("forced", "no free decay"), ("window", "amplitude window")],
+)
+def test_cli_bad_records_one_line_exit_2(run_cli, files, tmp_path, kind, expected) -> None:
+    rig_path, csv = files
+    args: list[object] = []
+    if kind == "window":
+        args = ["--amplitude-window", "10deg,9deg"]
+    else:
+        t = np.arange(3000) / FS
+        y = np.zeros(t.size) if kind == "still" else 5.0 * np.sin(2 * math.pi * 0.4 * t)
+        y = y + np.random.default_rng(1).normal(0, 0.005, t.size)
+        csv = tmp_path / f"{kind}.csv"
+        csv.write_text(launch_csv(t, y, "angle_deg"))
+    out = tmp_path / "bad.json"
+    code, _, err = run_cli("identify", rig_path, csv, "--json", out, *args)
+    lines = [ln for ln in err.strip().splitlines() if ln.strip()]
+    assert code == 2 and len(lines) == 1 and expected in lines[0], err
+    assert "Traceback" not in err and not out.exists()
+
+
+def test_cli_equivalent_at_rejects_degrees_for_positions(run_cli, tmp_path) -> None:
+    doc = dict(RIG_DOC, axis="heave", floating={"waterplane_area": 1.0})
+    p = tmp_path / "heave.yaml"
+    p.write_text(yaml.safe_dump(doc))
+    csv = tmp_path / "h.csv"
+    t = np.arange(500) / FS
+    csv.write_text(launch_csv(t, 0.01 * np.cos(2 * t) * np.exp(-0.05 * t), "position"))
+    code, _, err = run_cli("identify", p, csv, "--json", tmp_path / "h.json", "--equivalent-at", "5deg")
+    assert code == 2 and "--equivalent-at" in err and "metres" in err
