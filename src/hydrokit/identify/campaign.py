@@ -90,6 +90,44 @@ def summarize(results: Sequence[LaunchResult], confidence: float = 0.95) -> dict
     return out
 
 
+def consistency(values: Sequence[float | None], std_errors: Sequence[float | None]) -> dict[str, Any]:
+    """Do repeats of one condition agree within their stated uncertainties?
+
+    χ² = Σ (x_i − x̄_w)² / σ_i² about the inverse-variance weighted mean x̄_w, with n − 1
+    degrees of freedom; p is the chance of a χ² at least this large if every σ_i were right
+    (a small p: the repeats differ by more than their errors say). The Birge ratio
+    √(χ²/(n − 1)) is the factor by which the errors would have to grow to explain the scatter.
+
+    Parameters
+    ----------
+    values : the coefficient of each launch (any unit)
+    std_errors : each launch's standard error (same unit); launches without one are skipped
+    """
+    from scipy import stats
+
+    pairs = [
+        (float(x), float(s))
+        for x, s in zip(values, std_errors)
+        if x is not None and s is not None and math.isfinite(x) and math.isfinite(s) and s > 0
+    ]
+    n = len(pairs)
+    if n < 2:
+        return {"n": n, "chi2": None, "dof": 0, "p": None, "birge_ratio": None, "weighted_mean": None}
+    x = np.array([a for a, _ in pairs])
+    w = 1.0 / np.array([b for _, b in pairs]) ** 2
+    mean = float(np.sum(w * x) / np.sum(w))
+    chi2 = float(np.sum(w * (x - mean) ** 2))
+    dof = n - 1
+    return {
+        "n": n,
+        "chi2": chi2,
+        "dof": dof,
+        "p": float(stats.chi2.sf(chi2, dof)),
+        "birge_ratio": math.sqrt(chi2 / dof),
+        "weighted_mean": mean,
+    }
+
+
 def amplitude_label(amplitude: float, rotational_units: bool) -> str:
     """A readable group label: mm for positions, degrees for angles."""
     return f"{math.degrees(amplitude):.3g}°" if rotational_units else f"{amplitude * 1e3:.3g} mm"

@@ -16,7 +16,7 @@ import numpy as np
 
 from hydrokit._result import Result, html_table, jsonable
 from hydrokit.errors import InputError
-from hydrokit.identify.campaign import SUMMARY_FIELDS, group_by_amplitude, rank_sum_pairs, summarize
+from hydrokit.identify.campaign import SUMMARY_FIELDS, consistency, group_by_amplitude, rank_sum_pairs, summarize
 from hydrokit.identify.scaling import scale_coefficients
 from hydrokit.identify.types import METHODS, Launch, LaunchResult, Rig, rig_document
 
@@ -251,6 +251,14 @@ def summarize_campaign(rig: Rig, method: str, items: Sequence[IdentifiedLaunch])
     groups = group_by_amplitude(results, angles=not rig.translational_signal)
     pairwise = {c: rank_sum_pairs({k: [getattr(r, c) for r in g] for k, g in groups.items()}) for c in COEFFS}
     summary = summarize(results)
+    # repeats of one condition (an amplitude group) against their own standard errors
+    summary["consistency"] = {
+        c: {
+            label: consistency([getattr(r, c) for r in g], [(r.std_error or {}).get(c) for r in g])
+            for label, g in groups.items()
+        }
+        for c in COEFFS
+    }
     full = None
     if rig.scale:
         lam = 1.0 / rig.scale

@@ -62,7 +62,8 @@ def coefficients_vs_reynolds(groups: Mapping[str, Sequence[Any]], title: str = "
         ax.set_ylabel(label)
         ax.set_xlabel("peak Reynolds number")
         ax.grid(alpha=0.3)
-    axes.flat[0].legend(fontsize=7)
+    if axes.flat[0].get_legend_handles_labels()[0]:
+        axes.flat[0].legend(fontsize=7)
     if title:
         fig.suptitle(title, fontsize=10)
     fig.tight_layout()

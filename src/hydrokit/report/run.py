@@ -194,6 +194,21 @@ def campaign_section(dof: str, c: dict[str, Any], figures: dict[str, list[dict[s
         for k in ("added_mass", "linear_damping", "quadratic_damping")
         for p in pw.get(k, [])
     ]
+    cons = s.get("consistency") or {}
+    cons_rows = [
+        [k, label, g["n"], fmt(g["chi2"], 3), g["dof"], fmt(g["p"], 3), fmt(g["birge_ratio"], 3)]
+        for k in ("added_mass", "linear_damping", "quadratic_damping")
+        for label, g in (cons.get(k) or {}).items()
+        if g.get("chi2") is not None
+    ]
+    if cons_rows:
+        low = sum(1 for r in cons_rows if r[5] != "–" and float(r[5]) < 0.01)
+        parts.append(
+            f"<details><summary>Repeats against their stated errors (χ² per amplitude group; {low} of "
+            f"{len(cons_rows)} with p &lt; 0.01: repeats differ by more than their standard errors say)</summary>"
+        )
+        parts.append(table(["coefficient", "group", "n", "χ²", "dof", "p", "Birge ratio"], cons_rows, 2))
+        parts.append("</details>")
     if test_rows:
         parts.append("<details><summary>Amplitude-group tests (two-sided rank-sum)</summary>")
         parts.append(table(["coefficient", "groups", "U", "z (continuity)", "p (normal)", "p (exact)"], test_rows, 2))
