@@ -66,22 +66,29 @@ def equivalent_damping(est: Any, rig: Rig, amplitudes: Sequence[float]) -> list[
     A = c.S / w2
     w = math.sqrt(w2)
     cov = getattr(est, "pcov4_", None)
+    formal = getattr(est, "pcov4_formal_", None)
+
+    def delta(m: Any, grad: np.ndarray) -> float | None:
+        if m is None or not np.all(np.isfinite(m)):
+            return None
+        return math.sqrt(max(float(grad @ m @ grad), 0.0))
+
     out: list[dict[str, float | None]] = []
     for a in amplitudes:
         inner = b + K2 * w * a * g + K3 * w2 * a * a * d
         value = A * inner - rig.tare_linear_damping - K2 * w * a * rig.tare_quadratic_damping
-        se: float | None = None
-        if cov is not None and np.all(np.isfinite(cov)):
-            grad = np.array(
-                [
-                    -c.S / w2**2 * inner + A * (K2 * a * g / (2.0 * w) + K3 * a * a * d),
-                    A,
-                    A * K2 * w * a,
-                    A * K3 * w2 * a * a,
-                ]
-            )
-            se = math.sqrt(max(float(grad @ cov @ grad), 0.0))
-        out.append({"amplitude": float(a), "value": float(value), "std_error": se})
+        grad = np.array(
+            [
+                -c.S / w2**2 * inner + A * (K2 * a * g / (2.0 * w) + K3 * a * a * d),
+                A,
+                A * K2 * w * a,
+                A * K3 * w2 * a * a,
+            ]
+        )
+        entry: dict[str, float | None] = {"amplitude": float(a), "value": float(value), "std_error": delta(cov, grad)}
+        if formal is not None:
+            entry["std_error_formal"] = delta(formal, grad)
+        out.append(entry)
     return out
 
 

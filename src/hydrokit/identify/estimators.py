@@ -46,6 +46,43 @@ RESTORING_TERMS = (1, 3, 5)
 GAP_RATIO_WARNING = 1.0
 
 
+#: how the output-error standard errors are computed (named in every launch's JSON)
+UNCERTAINTY_METHOD = "cycle-clustered sandwich (scores summed per oscillation cycle), never below the formal"
+
+
+def cycle_sandwich(J: np.ndarray, r: np.ndarray, cycle: np.ndarray, formal: np.ndarray) -> np.ndarray:
+    """Parameter covariance that holds when the residuals are correlated within a cycle.
+
+    The formal s² (JᵀJ)⁻¹ assumes independent residuals; on real records the residual is
+    model error that repeats every cycle, and the formal errors understate the scatter (issue
+    #16). Here the scores g_t = J_tᵀ r_t are summed per oscillation cycle b, and the sandwich
+    (JᵀJ)⁻¹ [B/(B−1) Σ_b S_b S_bᵀ] (JᵀJ)⁻¹ (clusters = cycles; a cycle-wise jackknife to first
+    order) replaces the white-noise meat. Least squares makes Σ_b S_b = 0, so the sum is the
+    scatter of the cycle scores, with B/(B − 1) for that. Per parameter the larger of this and
+    the formal variance is kept: with few cycles the sandwich is itself uncertain, and model
+    error never makes a fit more precise than white noise would.
+
+    Parameters
+    ----------
+    J : (n, p) — Jacobian of the residuals at the solution
+    r : (n,) — residuals
+    cycle : (n,) int — cycle of each sample
+    formal : (p, p) — the white-noise covariance
+    """
+    g = J * r[:, None]
+    labels, index = np.unique(cycle, return_inverse=True)
+    B = labels.size
+    if B < 3:
+        return formal
+    S = np.zeros((B, J.shape[1]))
+    np.add.at(S, index, g)
+    bread = np.linalg.inv(J.T @ J)
+    cov = B / (B - 1.0) * bread @ (S.T @ S) @ bread
+    sd = np.sqrt(np.maximum(np.diag(cov), np.diag(formal)))
+    corr = cov / np.sqrt(np.outer(np.diag(cov), np.diag(cov)).clip(1e-300))
+    return corr * np.outer(sd, sd)
+
+
 class _DecayEstimator:
     """Common machinery: validation, conversion to reported units, prediction."""
 
@@ -89,6 +126,10 @@ class _DecayEstimator:
             # (ω², b, g, d): the cubic-damping d is held at zero outside the cubic model
             self.pcov4_ = np.zeros((4, 4))
             self.pcov4_[:3, :3] = self.pcov_
+        formal3 = getattr(self, "pcov_formal_", None)
+        if getattr(self, "pcov4_formal_", None) is None and formal3 is not None:
+            self.pcov4_formal_ = np.zeros((4, 4))
+            self.pcov4_formal_[:3, :3] = formal3
         w2, b, g = self.p_
         if not (w2 > 0 and math.isfinite(w2)):
             raise InputError(f"fitted ω² = {w2:.4g} 1/s²: not a restoring oscillation; check the rig file", file)
@@ -106,6 +147,12 @@ class _DecayEstimator:
         else:
             self.covariance_ = None
             self.std_error_ = dict.fromkeys(COEFFS)
+        formal = getattr(self, "pcov_formal_", None)
+        self.std_error_formal_: dict[str, float | None] = dict(self.std_error_)
+        if formal is not None and self.pcov_ is not None:
+            Jt = c.jacobian_from_normalised(w2, b, g)
+            sef = np.sqrt(np.clip(np.diag(Jt @ formal @ Jt.T), 0.0, None))
+            self.std_error_formal_ = {k: float(v) for k, v in zip(COEFFS, sef)}
         self.natural_frequency_ = math.sqrt(w2)
         a0 = abs(float(y[0]) - self.offset_)
         # equivalent linear damping ratio at the launch amplitude (Fossen-style linearisation
@@ -495,13 +542,18 @@ class OutputErrorEstimator(_DecayEstimator):
         s2 = 2 * best.cost / dof
         try:
             cov = s2 * np.linalg.inv(J.T @ J)
-            self.pcov_ = cov[:3, :3]
+            self.pcov_formal_ = cov[:3, :3]
+            self.pcov_ = cycle_sandwich(J, best.fun, self._cycles(t), cov)[:3, :3]
         except np.linalg.LinAlgError:
             self.pcov_ = None
             self.warnings_.append("parameter covariance singular: coefficients not separately identifiable")
         self.p_ = (float(x[0]), float(x[1]), float(x[2]))
         self.q0_, self.v0_, self.offset_ = float(x[3]), float(x[4]), float(x[5])
         self.nfev_ = int(best.nfev)
+
+    def _cycles(self, t: np.ndarray) -> np.ndarray:
+        """Cycle number of every sample (one oscillation period each, from the release)."""
+        return np.floor((t - t[0]) / self.period_).astype(int)
 
     def _warn_residual(self, rms: float, noise: float, y: np.ndarray) -> None:
         """Warn when the fit leaves much more than the sensor noise (model error, drift, bad trim)."""
@@ -563,6 +615,11 @@ class OutputErrorEstimator(_DecayEstimator):
         try:
             J = best.jac
             cov = 2 * best.cost / max(1, t.size - x.size) * np.linalg.inv(J.T @ J)
+            formal6 = np.zeros((6, 6))
+            formal6[np.ix_(free, free)] = cov[:k, :k]
+            self.pcov_formal_ = formal6[:3, :3]
+            self.pcov4_formal_ = formal6[:4, :4]
+            cov = cycle_sandwich(J, best.fun, self._cycles(t), cov)
             cov6[np.ix_(free, free)] = cov[:k, :k]
             self.pcov_ = cov6[:3, :3]
             self.pcov4_ = cov6[:4, :4]
@@ -678,7 +735,13 @@ def identify_launch(
         warnings=warnings,
         amplitude=est.amplitude_,
         gap_ratio=gap,
-        extra={"period": est.period_, "noise": est.noise_, "speed_max": u_max},
+        extra={
+            "period": est.period_,
+            "noise": est.noise_,
+            "speed_max": u_max,
+            "std_error_formal": dict(est.std_error_formal_),
+            "uncertainty_method": UNCERTAINTY_METHOD if getattr(est, "pcov_formal_", None) is not None else "formal",
+        },
     )
     ext = getattr(est, "extended_", None)
     if ext is not None:

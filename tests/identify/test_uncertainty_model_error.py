@@ -1,0 +1,75 @@
+"""Standard errors that survive model error (issue #16 item 4): the cycle-clustered sandwich
+against the formal white-noise errors, on records whose truth the fitted model lacks."""
+
+from __future__ import annotations
+
+import importlib.util
+import math
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from hydrokit.identify.estimators import cycle_sandwich
+
+
+def _generator():
+    spec = importlib.util.spec_from_file_location("gen", Path(__file__).parent / "test_release_window.py")
+    gen = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(gen)
+    return gen
+
+
+def test_cycle_sandwich_reduces_to_the_formal_errors_for_white_noise():
+    # linear regression y = X β + e, white e: the clustered sandwich estimates σ² (XᵀX)⁻¹
+    rng = np.random.default_rng(1)
+    n, B = 4000, 40
+    X = np.column_stack([np.ones(n), np.sin(np.linspace(0, 60, n)), np.linspace(-1, 1, n)])
+    ratios = []
+    for _ in range(30):
+        e = rng.normal(0, 0.3, n)
+        beta, *_ = np.linalg.lstsq(X, e, rcond=None)
+        r = e - X @ beta
+        formal = r @ r / (n - 3) * np.linalg.inv(X.T @ X)
+        cyc = np.repeat(np.arange(B), n // B)
+        ratios.append(np.diag(cycle_sandwich(-X, r, cyc, 0 * formal)) / np.diag(formal))
+    assert np.allclose(np.mean(ratios, axis=0), 1.0, atol=0.12)
+
+
+def test_cycle_sandwich_sees_residuals_correlated_within_a_cycle():
+    # residual = a random level per cycle (model error repeating over a cycle) + white noise
+    rng = np.random.default_rng(2)
+    n, B = 4000, 40
+    X = np.column_stack([np.ones(n), np.linspace(-1, 1, n)])
+    cyc = np.repeat(np.arange(B), n // B)
+    e = rng.normal(0, 0.3, B)[cyc] + rng.normal(0, 0.05, n)
+    beta, *_ = np.linalg.lstsq(X, e, rcond=None)
+    r = e - X @ beta
+    formal = r @ r / (n - 2) * np.linalg.inv(X.T @ X)
+    clustered = cycle_sandwich(-X, r, cyc, formal)
+    # the mean of 40 independent levels of sd 0.3 has sd 0.3/√40 = 0.047; formal says ~0.005
+    assert math.sqrt(clustered[0, 0]) > 5 * math.sqrt(formal[0, 0])
+    assert math.sqrt(clustered[0, 0]) == pytest.approx(0.3 / math.sqrt(B), rel=0.35)
+
+
+def test_equivalent_damping_sigma_covers_the_truth_under_model_error():
+    """Cubic damping in the truth, quadratic model fitted, coloured noise, drift, hand heel:
+    the formal σ covers the truth of B_e(5°) in about a third of records, the stated σ in
+    about all (bench/uncertainty_coverage.py: 98.5 % vs 31.5 % over 200 records)."""
+    from hydrokit.identify.preprocess import trim_launch
+    from hydrokit.identify.result import identify_launches
+
+    gen = _generator()
+    a = math.radians(5.0)
+    truth = gen.true_equivalent(a)
+    hit = hit_formal = 0
+    n = 30
+    for seed in range(n):
+        res = identify_launches(gen.rig(), [trim_launch(gen.hand_heel_record(seed=seed))], equivalent_at=[a])
+        be = res.results[0].extra["equivalent_damping"][0]
+        hit += abs(be["value"] - truth) <= 1.96 * be["std_error"]
+        hit_formal += abs(be["value"] - truth) <= 1.96 * be["std_error_formal"]
+        assert res.results[0].extra["uncertainty_method"].startswith("cycle-clustered")
+    # binomial: 30 records at 95 % → at least 24 covered with probability > 0.99
+    assert hit >= 24
+    assert hit_formal <= 20  # the formal σ is overconfident here: that is what the issue is about
