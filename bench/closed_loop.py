@@ -11,7 +11,15 @@ separately and excluded.
 Then both controllers' tracking metrics side by side (LI2021 claims S-plane tracks a
 pre-planned 3-D path better than PID; this reports what hydrokit measures).
 
-    .venv/bin/python bench/closed_loop.py [--steps N] [--python-steps N] [MISSION ...]
+Then fleets (``hydrokit.fly_batch``: N copies in one compiled call, numba prange over the
+copies): vehicle-steps/s for N = 1, 100 and 10 000 (the last flown for a short duration),
+copies with ±20 % surge and yaw damping. And gain tuning (``hydrokit tune``'s search,
+:func:`hydrokit.simulate.tune.tune_gains`, with its defaults): the time, cost and
+cross-track RMS before/after for both controllers on the bundled Lingyun mission and the
+udrobot project mission, and which controller wins after tuning.
+
+    .venv/bin/python bench/closed_loop.py [--steps N] [--python-steps N] [--no-fleet]
+        [--no-tune] [MISSION ...]
         (default: 200 000 steps for both loops; both bundled missions for the metrics)
 """
 
@@ -105,12 +113,71 @@ def main(mission_name: str = "lingyun_path") -> None:
     print(f"lower cross-track RMS: {'PID' if better == 'pid' else 'S-plane'}")
 
 
+def fleet_speed(mission_name: str = "lingyun_path", sizes: tuple[int, ...] = (1, 100, 10_000)) -> dict[int, float]:
+    """Vehicle-steps/s of fleets of N copies (damping ±20 %); prints and returns them."""
+    import numpy as np
+
+    from hydrokit import fly_batch, load_mission, load_vehicle
+
+    mis = load_mission(mission_name)
+    veh = load_vehicle(mis.vehicle)
+    fly_batch(mis, veh, n=2, duration=mis.dt)  # start-up: load (or compile) the fleet kernel
+    out = {}
+    rng = np.random.default_rng(0)
+    for n in sizes:
+        duration = mis.duration if n <= 100 else 10.0
+        var = {
+            "linear_damping.surge": veh.D_L[0, 0] * rng.uniform(0.8, 1.2, n),
+            "linear_damping.yaw": veh.D_L[5, 5] * rng.uniform(0.8, 1.2, n),
+        }
+        t0 = time.perf_counter()
+        fleet = fly_batch(mis, var, "pid", vehicle=veh, duration=duration)
+        total = time.perf_counter() - t0
+        out[n] = n * fleet.steps / fleet.elapsed
+        print(
+            f"fleet N = {n:6d} x {fleet.steps:5d} steps: {out[n]:10.0f} vehicle-steps/s in the compiled call "
+            f"({fleet.elapsed:.2f} s; {n * fleet.steps / total:10.0f} with packing, {total:.2f} s)"
+        )
+    return out
+
+
+def tuning(missions: tuple[str, ...] = ("lingyun_path", "src/hydrokit/data/projects/udrobot/mission.yaml")) -> None:
+    """Tune both controllers of each mission with the CLI defaults; print time, cost and
+    cross-track RMS before/after (the full mission flown with the hand-picked and tuned gains)."""
+    from hydrokit import fly, load_mission, load_vehicle
+    from hydrokit.simulate.tune import tune_gains
+
+    for name in missions:
+        mis = load_mission(name)
+        veh = load_vehicle(mis.vehicle)
+        fly(mis, "pid", vehicle=veh, duration=mis.dt)  # start-up
+        rms = {}
+        for kind in ("pid", "s-plane"):
+            res = tune_gains(mis, veh, kind)
+            before = fly(mis, kind, vehicle=veh).metrics["cross_track_rms"]
+            after = fly(res.mission, kind, vehicle=veh).metrics["cross_track_rms"]
+            rms[kind] = (before, after)
+            print(
+                f"tune {mis.name} {kind:8s}: {res.elapsed:6.1f} s, {res.evaluations} runs, cost "
+                f"{res.cost_before:.4f} -> {res.cost_after:.4f}; cross-track RMS {before:.4f} -> {after:.4f} m"
+            )
+        for when, i in (("hand-picked", 0), ("tuned", 1)):
+            p, s_ = rms["pid"][i], rms["s-plane"][i]
+            win = "PID" if p < s_ else "S-plane"
+            print(
+                f"  {when:11s}: {win} wins, cross-track RMS {min(p, s_):.4f} vs {max(p, s_):.4f} m "
+                f"({(max(p, s_) - min(p, s_)) / max(p, s_):.0%} lower)"
+            )
+
+
 if __name__ == "__main__":
     import argparse
 
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--steps", type=int, default=200_000, help="steps of the speed run (compiled)")
     ap.add_argument("--python-steps", type=int, default=None, help="steps for the Python loop (default: --steps)")
+    ap.add_argument("--no-fleet", action="store_true", help="skip the fleet speeds")
+    ap.add_argument("--no-tune", action="store_true", help="skip the gain tuning")
     ap.add_argument("missions", nargs="*", default=["lingyun_path", "minerva_square"])
     args = ap.parse_args()
     compiled_vs_python("lingyun_path", args.steps, args.python_steps)
@@ -118,3 +185,8 @@ if __name__ == "__main__":
     for name in args.missions:
         main(name)
         print()
+    if not args.no_fleet:
+        fleet_speed()
+        print()
+    if not args.no_tune:
+        tuning()

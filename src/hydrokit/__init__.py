@@ -31,6 +31,7 @@ _LAZY = {
     "simulate": "hydrokit",  # the subpackage hydrokit.simulate, callable as hydrokit.api.simulate
     "simulate_batch": "hydrokit.api",
     "fly": "hydrokit.api",
+    "fly_batch": "hydrokit.api",
     "identify_campaign": "hydrokit.api",
     "estimate_geometry": "hydrokit.api",
     "fit_forces": "hydrokit.api",
@@ -48,6 +49,7 @@ _LAZY = {
     "Trajectory": "hydrokit.simulate.driver",
     "BatchTrajectory": "hydrokit.simulate.batch",
     "MissionResult": "hydrokit.simulate.mission",
+    "FleetResult": "hydrokit.simulate.fleet",
     "CampaignResult": "hydrokit.identify.result",
     "Estimate": "hydrokit.estimate.geometry",
     "ForceFit": "hydrokit.estimate.forces",
@@ -63,6 +65,7 @@ if TYPE_CHECKING:  # pragma: no cover - for type checkers and IDEs only
         export_vehicle,
         fit_forces,
         fly,
+        fly_batch,
         identify_campaign,
         linearize,
         load_geometry,

@@ -27,6 +27,7 @@ if TYPE_CHECKING:  # pragma: no cover - imports for annotations only
     from hydrokit.model.vehicle import Vehicle
     from hydrokit.simulate.batch import BatchTrajectory
     from hydrokit.simulate.driver import Trajectory
+    from hydrokit.simulate.fleet import FleetResult
     from hydrokit.simulate.mission import MissionResult
 
 PathLike = str | os.PathLike[str]
@@ -330,6 +331,79 @@ def fly(
         mission = mission_or_vehicle if isinstance(mission_or_vehicle, Mission) else load_mission(mission_or_vehicle)
         veh = _as_vehicle(vehicle) if vehicle is not None else load_vehicle(mission.vehicle)
     return fly_mission(mission, veh, controller, duration=duration, progress=progress, loop=loop)
+
+
+def fly_batch(
+    mission: Mission | PathLike,
+    vehicles_or_variations: Any = None,
+    controller: str | None = None,
+    *,
+    vehicle: Vehicle | PathLike | None = None,
+    gains: Sequence[dict[str, dict[str, float]]] | None = None,
+    currents: Any = None,
+    eta0: Any = None,
+    nu0: Any = None,
+    n: int | None = None,
+    duration: float | None = None,
+    paths_every: int | None = None,
+) -> FleetResult:
+    """Fly N copies of a mission in one compiled, parallel call (a fleet) and return each
+    copy's tracking metrics (and, with ``paths_every``, its path every that many steps).
+
+    Parameters
+    ----------
+    mission : Mission or mission name/path
+    vehicles_or_variations : None (the mission's vehicle, or ``vehicle``), a Vehicle or
+        name/path, N Vehicles (same thrusters and model terms), or a mapping
+        ``"<coefficient>.<dof>"`` → N values (added_mass, linear_damping, quadratic_damping;
+        SI) applied to ``vehicle`` or the mission's vehicle
+    controller : str, optional — "pid" or "s-plane" (default: the mission's)
+    vehicle : Vehicle or name/path, optional — the base vehicle of a variations mapping
+    gains : N mappings, optional — loop → gains of the controller per copy (as in a mission file)
+    currents : (3,) or (N, 3), optional — NED current, m/s
+    eta0, nu0 : (6,) or (N, 6), optional — start pose (m, rad) and body velocity (m/s, rad/s)
+    n : int, optional — copies, when nothing else gives N
+    duration : float, optional — s
+    paths_every : int, optional — keep η every this many steps (memory ∝ steps / paths_every)
+
+    Returns
+    -------
+    FleetResult — per-run metrics (``metrics[name]`` arrays, ``table()``, ``to_dict()``)
+
+    Examples
+    --------
+    >>> import hydrokit
+    >>> fleet = hydrokit.fly_batch("minerva_square", {"linear_damping.surge": [5.0, 50.0]}, duration=5.0)
+    >>> fleet.n, bool(fleet.metrics["final_time"][0] == 5.0)
+    (2, True)
+    """
+    from hydrokit.model.mission import Mission
+    from hydrokit.model.vehicle import Vehicle
+    from hydrokit.simulate.fleet import fly_fleet
+
+    mis = mission if isinstance(mission, Mission) else load_mission(mission)
+    arg = vehicles_or_variations
+    variations = None
+    if arg is None or isinstance(arg, dict):
+        variations = arg
+        vehicles: Any = _as_vehicle(vehicle) if vehicle is not None else load_vehicle(mis.vehicle)
+    elif isinstance(arg, (Vehicle, str, os.PathLike)):
+        vehicles = _as_vehicle(arg)
+    else:
+        vehicles = [_as_vehicle(v) for v in arg]
+    return fly_fleet(
+        mis,
+        vehicles,
+        controller,
+        variations=variations,
+        gains=gains,
+        currents=currents,
+        eta0=eta0,
+        nu0=nu0,
+        n=n,
+        duration=duration,
+        paths_every=paths_every,
+    )
 
 
 def estimate_geometry(geometry: Geometry | PathLike, bem: bool = False, resolution: int | None = None) -> Estimate:

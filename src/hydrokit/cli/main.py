@@ -28,6 +28,7 @@ COMMANDS: dict[str, tuple[str, str]] = {
     "simulate": ("hydrokit.cli.simulate:simulate", "Simulate a vehicle under a constant or tabulated force."),
     "allocate": ("hydrokit.cli.control:allocate", "Allocate a demanded force/moment to thrusters."),
     "mission": ("hydrokit.cli.mission:mission", "Run a closed-loop waypoint mission."),
+    "tune": ("hydrokit.cli.tune:tune", "Tune a mission's controller gains (differential evolution over fleets)."),
     "estimate": ("hydrokit.cli.estimate:estimate", "Estimate coefficients from geometry."),
     "fit-forces": ("hydrokit.cli.estimate:fit_forces", "Fit damping models to a force-speed curve."),
     "export": ("hydrokit.cli.export:export", "Export a vehicle to Gazebo, uuv_simulator or python-control."),

@@ -169,3 +169,42 @@ def envelope_figure(
     fig.suptitle(title or "Mission under coefficient uncertainty (Monte Carlo)")
     fig.tight_layout()
     return fig
+
+
+def fleet_axes(waypoints: np.ndarray, paths: np.ndarray | None, cross_track_rms: np.ndarray, ax: Any = None) -> Any:
+    """A fleet on ``ax`` (or new axes): the kept paths (N, k, 6; plan view, m) over the
+    planned path, or without paths the histogram of the copies' cross-track RMS (m)."""
+    ax = axes_or_new(ax)
+    if paths is None:
+        v = np.asarray(cross_track_rms, float)
+        ax.hist(v[np.isfinite(v)], bins=min(30, max(5, v.size // 5)), color="C0", alpha=0.8)
+        ax.set_xlabel("cross-track RMS (m)")
+        ax.set_ylabel("copies")
+        ax.grid(alpha=0.3)
+        return ax
+    for k, p in enumerate(paths[:200]):
+        ax.plot(p[:, 1], p[:, 0], color="C0", lw=0.6, alpha=0.5, label="copies" if k == 0 else None)
+    ax.plot(waypoints[:, 1], waypoints[:, 0], "k--", lw=1.0, label="planned")
+    ax.plot(waypoints[:, 1], waypoints[:, 0], "ko", ms=3)
+    ax.set_xlabel("east y (m)")
+    ax.set_ylabel("north x (m)")
+    ax.set_aspect("equal", adjustable="datalim")
+    ax.grid(alpha=0.3)
+    ax.legend(fontsize=8)
+    return ax
+
+
+def convergence_figure(best: Any, before: float, title: str = "") -> Any:
+    """Gain tuning: the best cost after each generation (sequence of floats, m-equivalent) and
+    the hand-picked gains' cost."""
+    fig = new_figure((6.4, 4.0))
+    ax = fig.add_subplot(1, 1, 1)
+    ax.plot(np.arange(len(best)), best, "o-", ms=3, label="best so far")
+    ax.axhline(before, color="k", ls="--", lw=1.0, label="hand-picked gains")
+    ax.set_xlabel("generation (0: the initial population)")
+    ax.set_ylabel("cost (m-equivalent)")
+    ax.set_title(title, fontsize=10)
+    ax.grid(alpha=0.3)
+    ax.legend(fontsize=8)
+    fig.tight_layout()
+    return fig

@@ -423,259 +423,259 @@ def _constrained(tau, T, lo, hi, lo_s, hi_s, Q, QT, A2, scale, thrust_scale, q_m
 
 # ============================================================================ the loop
 @numba.njit(cache=True)
-def _loop(
-    k0,
-    k1,
-    n_steps,
-    dt,
-    every,
-    stop_when_done,
-    # guidance: points, speeds, leg a (N+1,3 from row 1), d, L2, L, LL, course, horizontal; R, lookahead
-    pts,
-    speeds,
-    leg_a,
-    leg_d,
-    leg_L2,
-    leg_L,
-    leg_LL,
-    course,
-    horiz,
-    gpar,
-    # autopilot: (5, 6) rows [kind, p1..p5], angle flags (5,)
-    ctl,
-    ctl_angle,
-    # allocation
-    P,
-    f_min,
-    f_max,
-    unact,
-    T,
-    lo_s,
-    hi_s,
-    Q,
-    QT,
-    A2,
-    apar,
-    ptol,
-    # thrusters
-    kind,
-    dirs,
-    arms,
-    wake,
-    cmd_min,
-    cmd_max,
-    decay,
-    mean_w,
-    tab_c,
-    tab_f,
-    tab_n,
-    prop,
-    kf,
-    kr,
-    vc,
-    # vehicle
-    ctab,
-    Minv,
-    Mc,
-    DL,
-    DQ,
-    scal,
-    t_dof,
-    t_coef,
-    t_kind,
-    t_idx,
-    # state (in/out): x (12), c (m), fstate [heading, integral×5, previous×5], istate
-    # [leg, j, limited_any, has_prev×5], arrivals (N,)
-    x,
-    c,
-    fstate,
-    istate,
-    arrivals,
-    # records
-    r_time,
-    r_eta,
-    r_nu,
-    r_ref,
-    r_tau,
-    r_cmd_d,
-    r_cmd,
-    r_f_d,
-    r_f,
-    r_lim,
-    r_leg,
-):  # noqa: ANN001, ANN201
-    """Steps k0 … k1−1; returns (status, k): _RUNNING, _DONE at step k, or _DIVERGED at k."""
+def _work(m):  # noqa: ANN001, ANN202
+    """Scratch arrays of one flight (one set per fleet member)."""
+    return (
+        np.zeros((1, 7)),  # tau_tab
+        np.empty(40),  # buf
+        np.empty(12),  # k1v
+        np.empty(12),  # k2v
+        np.empty(12),  # k3v
+        np.empty(12),  # k4v
+        np.empty(12),  # tmp
+        np.zeros(6),  # tau_d
+        np.empty(m),  # f_cmd
+        np.empty(m),  # va
+        np.empty(3),  # pa
+        np.empty(m),  # c_cmd
+        np.empty(m),  # f_act
+        np.empty(5),  # meas
+        np.empty(5),  # setp
+        np.empty(5),  # rate
+        np.zeros(5),  # out
+    )
+
+
+# The per-step kernel, shared by the single run (_loop) and the fleet (_fleet_member):
+# _control (guidance → autopilot → allocation → thrusters at step k, with the state x at t = k dt)
+# then _integrate (RK4 of the vehicle with the thrust held, and the rotor lag).
+# Argument groups (tuples of arrays, packed by _pack):
+#   G guidance: points, speeds, leg a (N+1,3 from row 1), d, L2, L, LL, course, horizontal,
+#     [R, lookahead]
+#   A allocation: P, f_min, f_max, unactuated, T, lo_s, hi_s, Q, QT, A2, [scale, thrust_scale,
+#     q_max], polish tol
+#   H thrusters: kind, dirs, arms, wake, cmd_min, cmd_max, decay, mean_w, tab_c, tab_f, tab_n,
+#     prop, kf, kr
+#   ctl (5, 6) rows [kind, p1..p5] and angle flags (5,); vc (3,) NED current, m/s
+#   V vehicle: current table, Minv, Mc, DL, DQ, scal, t_dof, t_coef, t_kind, t_idx
+#   state (in/out): x (12), c (m), fstate [heading, integral×5, previous×5], istate
+#     [leg, j, limited_any, has_prev×5], arrivals (N,)
+#   W scratch (_work)
+@numba.njit(cache=True)
+def _control(k, dt, G, A, H, ctl, ctl_angle, vc, x, c, fstate, istate, arrivals, W):  # noqa: ANN001, ANN202
+    """Guidance, autopilot, allocation and thrusters at step k; fills W's τ_d, f_cmd, c_cmd,
+    f_act and returns (leg, saturated, speed, depth and heading references)."""
+    pts, speeds, leg_a, leg_d, leg_L2, leg_L, leg_LL, course, horiz, gpar = G
+    P, f_min, f_max, unact, T, lo_s, hi_s, Q, QT, A2, apar, ptol = A
+    kind, dirs, arms, wake, cmd_min, cmd_max, decay, mean_w, tab_c, tab_f, tab_n, prop, kf, kr = H
+    _tt, _b, _k1, _k2, _k3, _k4, _tmp, tau_d, f_cmd, va, pa, c_cmd, f_act, meas, setp, rate, out = W
     m = T.shape[1]
     n_legs = speeds.shape[0]
     R_acc, look = gpar[0], gpar[1]
     scale, thrust_scale, q_max = apar[0], apar[1], apar[2]
     still = vc[0] == 0.0 and vc[1] == 0.0 and vc[2] == 0.0
-    tau_tab = np.zeros((1, 7))
-    buf = np.empty(40)
-    k1v = np.empty(12)
-    k2v = np.empty(12)
-    k3v = np.empty(12)
-    k4v = np.empty(12)
-    tmp = np.empty(12)
-    tau_d = np.zeros(6)
-    f_cmd = np.empty(m)
-    va = np.empty(m)
-    pa = np.empty(3)
-    c_cmd = np.empty(m)
-    f_act = np.empty(m)
-    meas = np.empty(5)
-    setp = np.empty(5)
-    rate = np.empty(5)
-    out = np.zeros(5)
+
+    t = k * dt
+    px, py, pz = x[0], x[1], x[2]
+    phi, theta, psi = x[3], x[4], x[5]
+    u, v, w, p, q, r = x[6], x[7], x[8], x[9], x[10], x[11]
+    # ---------------------------------------------------------------- guidance
+    leg0 = istate[0]
+    kk = leg0
+    heading = fstate[0]
+    pa_d = 0.0
+    while kk <= n_legs:
+        a0, a1_, a2_ = leg_a[kk, 0], leg_a[kk, 1], leg_a[kk, 2]
+        pa[0], pa[1], pa[2] = px - a0, py - a1_, pz - a2_
+        pa_d = pa[0] * leg_d[kk, 0] + pa[1] * leg_d[kk, 1] + pa[2] * leg_d[kk, 2]
+        s = pa_d / leg_L2[kk]
+        pa[0], pa[1], pa[2] = px - pts[kk, 0], py - pts[kk, 1], pz - pts[kk, 2]
+        dist = math.sqrt(pa[0] * pa[0] + pa[1] * pa[1] + pa[2] * pa[2])
+        if dist <= R_acc or s >= 1.0:
+            kk += 1
+            if kk <= n_legs and horiz[kk]:
+                heading = course[kk]
+            continue
+        break
+    if kk > n_legs:
+        ref_speed, ref_depth, ref_heading = 0.0, pts[n_legs, 2], heading
+    else:
+        L, LL = leg_L[kk], leg_LL[kk]
+        a0, a1_, a2_ = leg_a[kk, 0], leg_a[kk, 1], leg_a[kk, 2]
+        d0, d1, d2 = leg_d[kk, 0], leg_d[kk, 1], leg_d[kk, 2]
+        s = pa_d / LL
+        hz = math.hypot(d0, d1)
+        s_ahead = min(max(s + look * abs(d2) / LL, 0.0), 1.0)
+        ref_depth = a2_ + s_ahead * d2
+        ref_heading = heading
+        if hz >= _HORIZONTAL_EPS:
+            alpha = math.atan2(d1, d0)
+            e = -(px - a0) * math.sin(alpha) + (py - a1_) * math.cos(alpha)
+            ref_heading = alpha + math.atan(-e / look)
+        ref_speed = speeds[kk - 1] * hz / L
+        ref_speed *= max(0.0, math.cos(ref_heading - psi))
+    if kk != leg0:
+        for lg in range(leg0, min(kk, n_legs + 1)):
+            arrivals[lg - 1] = t
+    istate[0] = kk
+    fstate[0] = heading
+    # ---------------------------------------------------------------- autopilot
+    cphi, sphi = math.cos(phi), math.sin(phi)
+    cth, sth = math.cos(theta), math.sin(theta)
+    zdot = -sth * u + cth * sphi * v + cth * cphi * w
+    cth = cth if abs(cth) > 1e-9 else math.copysign(1e-9, cth)
+    phidot = p + (sphi * q + cphi * r) * sth / cth
+    thetadot = cphi * q - sphi * r
+    psidot = (sphi * q + cphi * r) / cth
+    meas[0], meas[1], meas[2], meas[3], meas[4] = u, pz, psi, phi, theta
+    setp[0], setp[1], setp[2], setp[3], setp[4] = ref_speed, ref_depth, ref_heading, 0.0, 0.0
+    rate[1], rate[2], rate[3], rate[4] = zdot, psidot, phidot, thetadot
+    for L_ in range(5):
+        kd_ = ctl[L_, 0]
+        if kd_ == 0.0:
+            out[L_] = 0.0
+            continue
+        y = meas[L_]
+        e = y - setp[L_]
+        if ctl_angle[L_]:
+            e = _wrap(e)
+        if L_ == 0:  # the speed loop differentiates u itself
+            if istate[3] == 0 or dt <= 0:
+                rr = 0.0
+            else:
+                dd = y - fstate[6]
+                rr = (_wrap(dd) if ctl_angle[0] else dd) / dt
+        else:
+            rr = rate[L_]
+        if kd_ == 1.0:  # PID
+            kp, ki, kdv, omin, omax = ctl[L_, 1], ctl[L_, 2], ctl[L_, 3], ctl[L_, 4], ctl[L_, 5]
+            integ0 = fstate[1 + L_]
+            integral = integ0 + e * dt
+            if ki > 0:
+                bound = max(abs(omin), abs(omax)) / ki
+                integral = min(max(integral, -bound), bound)
+            pd = -kp * e - kdv * rr
+            raw = pd - ki * integral
+            if ki > 0 and raw > omax and e < 0:
+                at_limit = (pd - omax) / ki
+                integral = max(integral, min(integ0, at_limit))
+            elif ki > 0 and raw < omin and e > 0:
+                at_limit = (pd - omin) / ki
+                integral = min(integral, max(integ0, at_limit))
+            raw = pd - ki * integral
+            out[L_] = min(max(raw, omin), omax)
+            fstate[1 + L_] = integral
+        else:  # S-plane
+            k1g, k2g, sc = ctl[L_, 1], ctl[L_, 2], ctl[L_, 3]
+            out[L_] = -sc * math.tanh(0.5 * (k1g * e + k2g * rr))
+        fstate[6 + L_] = y
+        istate[3 + L_] = 1
+    tau_d[0], tau_d[1], tau_d[2] = out[0], 0.0, out[1]
+    tau_d[3], tau_d[4], tau_d[5] = out[3], out[4], out[2]
+    # ---------------------------------------------------------------- allocation
+    # matrix products through BLAS, as numpy's (the same rounding as the Python loop)
+    _mv(P, tau_d, f_cmd)
+    limited = False
+    for i in range(m):
+        if not (f_cmd[i] <= f_max[i] and f_cmd[i] >= f_min[i]):
+            limited = True
+    if limited:
+        tau_eff = tau_d.copy()
+        for jd in range(6):
+            if unact[jd]:
+                tau_eff[jd] = 0.0
+        f_c = _constrained(tau_eff, T, f_min, f_max, lo_s, hi_s, Q, QT, A2, scale, thrust_scale, q_max, ptol)
+        f_cmd[:] = f_c
+    # ---------------------------------------------------------------- thrusters
+    if still:
+        ur, vr, wr = u, v, w
+    else:
+        cf, sf = math.cos(phi), math.sin(phi)
+        ct, st = math.cos(theta), math.sin(theta)
+        cp, sp = math.cos(psi), math.sin(psi)
+        R00 = cp * ct
+        R01 = -sp * cf + cp * st * sf
+        R02 = sp * sf + cp * cf * st
+        R10 = sp * ct
+        R11 = cp * cf + sf * st * sp
+        R12 = -cp * sf + st * sp * cf
+        R20 = -st
+        R21 = ct * sf
+        R22 = ct * cf
+        # ν_r = ν − [Rᵀ v_c; 0] (R = rotation_zyx, as deriv)
+        ur = u - (R00 * vc[0] + R10 * vc[1] + R20 * vc[2])
+        vr = v - (R01 * vc[0] + R11 * vc[1] + R21 * vc[2])
+        wr = w - (R02 * vc[0] + R12 * vc[1] + R22 * vc[2])
+    for i in range(m):
+        va[i] = wake[i] * (
+            (dirs[i, 0] * ur + dirs[i, 1] * vr + dirs[i, 2] * wr) + (arms[i, 0] * p + arms[i, 1] * q + arms[i, 2] * r)
+        )
+    sat = limited
+    for i in range(m):
+        fi = min(max(f_cmd[i], f_min[i]), f_max[i])
+        ci = _command(i, fi, va[i], kind, tab_c, tab_f, tab_n, prop, kf, kr)
+        ci = min(max(ci, cmd_min[i]), cmd_max[i])
+        c_cmd[i] = ci
+        cm = ci + (c[i] - ci) * mean_w[i]
+        cm = min(max(cm, cmd_min[i]), cmd_max[i])
+        fa = _thrust(i, cm, va[i], kind, tab_c, tab_f, tab_n, prop, kf, kr)
+        f_act[i] = min(max(fa, f_min[i]), f_max[i])
+        if ci >= cmd_max[i] * (1 - 1e-9) or ci <= cmd_min[i] * (1 - 1e-9):
+            sat = True
+    return kk, sat, ref_speed, ref_depth, ref_heading
+
+
+@numba.njit(cache=True)
+def _integrate(t, dt, x, c, T, decay, V, W):  # noqa: ANN001, ANN202
+    """One RK4 step of the vehicle with W's thrust f_act held, then the rotor lag; False when
+    the state became non-finite."""
+    ctab, Minv, Mc, DL, DQ, scal, t_dof, t_coef, t_kind, t_idx = V
+    tau_tab, buf, k1v, k2v, k3v, k4v, tmp, _td, _fc, _va, _pa, c_cmd, f_act, _me, _se, _ra, _ou = W
+    m = T.shape[1]
+    for jd in range(6):
+        s_ = 0.0
+        for i in range(m):
+            s_ += T[jd, i] * f_act[i]
+        tau_tab[0, 1 + jd] = s_
+    deriv(t, x, False, tau_tab, ctab, Minv, Mc, DL, DQ, scal, t_dof, t_coef, t_kind, t_idx, buf, k1v)
+    for i in range(12):
+        tmp[i] = x[i] + 0.5 * dt * k1v[i]
+    deriv(t + 0.5 * dt, tmp, False, tau_tab, ctab, Minv, Mc, DL, DQ, scal, t_dof, t_coef, t_kind, t_idx, buf, k2v)
+    for i in range(12):
+        tmp[i] = x[i] + 0.5 * dt * k2v[i]
+    deriv(t + 0.5 * dt, tmp, False, tau_tab, ctab, Minv, Mc, DL, DQ, scal, t_dof, t_coef, t_kind, t_idx, buf, k3v)
+    for i in range(12):
+        tmp[i] = x[i] + dt * k3v[i]
+    deriv(t + dt, tmp, False, tau_tab, ctab, Minv, Mc, DL, DQ, scal, t_dof, t_coef, t_kind, t_idx, buf, k4v)
+    finite = True
+    for i in range(12):
+        x[i] = x[i] + dt / 6.0 * (k1v[i] + 2 * k2v[i] + 2 * k3v[i] + k4v[i])
+        if not math.isfinite(x[i]):
+            finite = False
+    for i in range(m):
+        c[i] = c_cmd[i] + (c[i] - c_cmd[i]) * decay[i]
+    return finite
+
+
+@numba.njit(cache=True)
+def _loop(
+    k0, k1, n_steps, dt, every, stop_when_done, G, A, H, ctl, ctl_angle, vc, V, x, c, fstate, istate, arrivals, R
+):  # noqa: ANN001, ANN201, E501
+    """Steps k0 … k1−1 of one run, recording every ``every``-th step into R (time, η, ν,
+    references, τ_d, command demand, command, thrust demand, thrust, limited, leg); returns
+    (status, k): _RUNNING, _DONE at step k, or _DIVERGED at k."""
+    r_time, r_eta, r_nu, r_ref, r_tau, r_cmd_d, r_cmd, r_f_d, r_f, r_lim, r_leg = R
+    T = A[4]
+    decay = H[6]
+    m = T.shape[1]
+    n_legs = G[1].shape[0]
+    W = _work(m)
+    tau_d, f_cmd, c_cmd, f_act = W[7], W[8], W[11], W[12]
     for k in range(k0, k1):
         t = k * dt
-        px, py, pz = x[0], x[1], x[2]
-        phi, theta, psi = x[3], x[4], x[5]
-        u, v, w, p, q, r = x[6], x[7], x[8], x[9], x[10], x[11]
-        # ---------------------------------------------------------------- guidance
-        leg0 = istate[0]
-        kk = leg0
-        heading = fstate[0]
-        pa_d = 0.0
-        while kk <= n_legs:
-            a0, a1_, a2_ = leg_a[kk, 0], leg_a[kk, 1], leg_a[kk, 2]
-            pa[0], pa[1], pa[2] = px - a0, py - a1_, pz - a2_
-            pa_d = pa[0] * leg_d[kk, 0] + pa[1] * leg_d[kk, 1] + pa[2] * leg_d[kk, 2]
-            s = pa_d / leg_L2[kk]
-            pa[0], pa[1], pa[2] = px - pts[kk, 0], py - pts[kk, 1], pz - pts[kk, 2]
-            dist = math.sqrt(pa[0] * pa[0] + pa[1] * pa[1] + pa[2] * pa[2])
-            if dist <= R_acc or s >= 1.0:
-                kk += 1
-                if kk <= n_legs and horiz[kk]:
-                    heading = course[kk]
-                continue
-            break
-        if kk > n_legs:
-            ref_speed, ref_depth, ref_heading = 0.0, pts[n_legs, 2], heading
-        else:
-            L, LL = leg_L[kk], leg_LL[kk]
-            a0, a1_, a2_ = leg_a[kk, 0], leg_a[kk, 1], leg_a[kk, 2]
-            d0, d1, d2 = leg_d[kk, 0], leg_d[kk, 1], leg_d[kk, 2]
-            s = pa_d / LL
-            hz = math.hypot(d0, d1)
-            s_ahead = min(max(s + look * abs(d2) / LL, 0.0), 1.0)
-            ref_depth = a2_ + s_ahead * d2
-            ref_heading = heading
-            if hz >= _HORIZONTAL_EPS:
-                alpha = math.atan2(d1, d0)
-                e = -(px - a0) * math.sin(alpha) + (py - a1_) * math.cos(alpha)
-                ref_heading = alpha + math.atan(-e / look)
-            ref_speed = speeds[kk - 1] * hz / L
-            ref_speed *= max(0.0, math.cos(ref_heading - psi))
-        if kk != leg0:
-            for lg in range(leg0, min(kk, n_legs + 1)):
-                arrivals[lg - 1] = t
-        istate[0] = kk
-        fstate[0] = heading
-        # ---------------------------------------------------------------- autopilot
-        cphi, sphi = math.cos(phi), math.sin(phi)
-        cth, sth = math.cos(theta), math.sin(theta)
-        zdot = -sth * u + cth * sphi * v + cth * cphi * w
-        cth = cth if abs(cth) > 1e-9 else math.copysign(1e-9, cth)
-        phidot = p + (sphi * q + cphi * r) * sth / cth
-        thetadot = cphi * q - sphi * r
-        psidot = (sphi * q + cphi * r) / cth
-        meas[0], meas[1], meas[2], meas[3], meas[4] = u, pz, psi, phi, theta
-        setp[0], setp[1], setp[2], setp[3], setp[4] = ref_speed, ref_depth, ref_heading, 0.0, 0.0
-        rate[1], rate[2], rate[3], rate[4] = zdot, psidot, phidot, thetadot
-        for L_ in range(5):
-            kd_ = ctl[L_, 0]
-            if kd_ == 0.0:
-                out[L_] = 0.0
-                continue
-            y = meas[L_]
-            e = y - setp[L_]
-            if ctl_angle[L_]:
-                e = _wrap(e)
-            if L_ == 0:  # the speed loop differentiates u itself
-                if istate[3] == 0 or dt <= 0:
-                    rr = 0.0
-                else:
-                    dd = y - fstate[6]
-                    rr = (_wrap(dd) if ctl_angle[0] else dd) / dt
-            else:
-                rr = rate[L_]
-            if kd_ == 1.0:  # PID
-                kp, ki, kdv, omin, omax = ctl[L_, 1], ctl[L_, 2], ctl[L_, 3], ctl[L_, 4], ctl[L_, 5]
-                integ0 = fstate[1 + L_]
-                integral = integ0 + e * dt
-                if ki > 0:
-                    bound = max(abs(omin), abs(omax)) / ki
-                    integral = min(max(integral, -bound), bound)
-                pd = -kp * e - kdv * rr
-                raw = pd - ki * integral
-                if ki > 0 and raw > omax and e < 0:
-                    at_limit = (pd - omax) / ki
-                    integral = max(integral, min(integ0, at_limit))
-                elif ki > 0 and raw < omin and e > 0:
-                    at_limit = (pd - omin) / ki
-                    integral = min(integral, max(integ0, at_limit))
-                raw = pd - ki * integral
-                out[L_] = min(max(raw, omin), omax)
-                fstate[1 + L_] = integral
-            else:  # S-plane
-                k1g, k2g, sc = ctl[L_, 1], ctl[L_, 2], ctl[L_, 3]
-                out[L_] = -sc * math.tanh(0.5 * (k1g * e + k2g * rr))
-            fstate[6 + L_] = y
-            istate[3 + L_] = 1
-        tau_d[0], tau_d[1], tau_d[2] = out[0], 0.0, out[1]
-        tau_d[3], tau_d[4], tau_d[5] = out[3], out[4], out[2]
-        # ---------------------------------------------------------------- allocation
-        # matrix products through BLAS, as numpy's (the same rounding as the Python loop)
-        _mv(P, tau_d, f_cmd)
-        limited = False
-        for i in range(m):
-            if not (f_cmd[i] <= f_max[i] and f_cmd[i] >= f_min[i]):
-                limited = True
-        if limited:
-            tau_eff = tau_d.copy()
-            for jd in range(6):
-                if unact[jd]:
-                    tau_eff[jd] = 0.0
-            f_c = _constrained(tau_eff, T, f_min, f_max, lo_s, hi_s, Q, QT, A2, scale, thrust_scale, q_max, ptol)
-            f_cmd[:] = f_c
-        # ---------------------------------------------------------------- thrusters
-        if still:
-            ur, vr, wr = u, v, w
-        else:
-            cf, sf = math.cos(phi), math.sin(phi)
-            ct, st = math.cos(theta), math.sin(theta)
-            cp, sp = math.cos(psi), math.sin(psi)
-            R00 = cp * ct
-            R01 = -sp * cf + cp * st * sf
-            R02 = sp * sf + cp * cf * st
-            R10 = sp * ct
-            R11 = cp * cf + sf * st * sp
-            R12 = -cp * sf + st * sp * cf
-            R20 = -st
-            R21 = ct * sf
-            R22 = ct * cf
-            # ν_r = ν − [Rᵀ v_c; 0] (R = rotation_zyx, as deriv)
-            ur = u - (R00 * vc[0] + R10 * vc[1] + R20 * vc[2])
-            vr = v - (R01 * vc[0] + R11 * vc[1] + R21 * vc[2])
-            wr = w - (R02 * vc[0] + R12 * vc[1] + R22 * vc[2])
-        for i in range(m):
-            va[i] = wake[i] * (
-                (dirs[i, 0] * ur + dirs[i, 1] * vr + dirs[i, 2] * wr)
-                + (arms[i, 0] * p + arms[i, 1] * q + arms[i, 2] * r)
-            )
-        sat = limited
-        for i in range(m):
-            fi = min(max(f_cmd[i], f_min[i]), f_max[i])
-            ci = _command(i, fi, va[i], kind, tab_c, tab_f, tab_n, prop, kf, kr)
-            ci = min(max(ci, cmd_min[i]), cmd_max[i])
-            c_cmd[i] = ci
-            cm = ci + (c[i] - ci) * mean_w[i]
-            cm = min(max(cm, cmd_min[i]), cmd_max[i])
-            fa = _thrust(i, cm, va[i], kind, tab_c, tab_f, tab_n, prop, kf, kr)
-            f_act[i] = min(max(fa, f_min[i]), f_max[i])
-            if ci >= cmd_max[i] * (1 - 1e-9) or ci <= cmd_min[i] * (1 - 1e-9):
-                sat = True
+        kk, sat, ref_speed, ref_depth, ref_heading = _control(
+            k, dt, G, A, H, ctl, ctl_angle, vc, x, c, fstate, istate, arrivals, W
+        )
         # ---------------------------------------------------------------- record
         if k % every == 0:
             j = istate[1]
@@ -698,32 +698,228 @@ def _loop(
             istate[2] = 1
         if k == n_steps or (stop_when_done and kk > n_legs):
             return _DONE, k
-        # ---------------------------------------------------------------- vehicle (RK4)
-        for jd in range(6):
-            s_ = 0.0
-            for i in range(m):
-                s_ += T[jd, i] * f_act[i]
-            tau_tab[0, 1 + jd] = s_
-        deriv(t, x, False, tau_tab, ctab, Minv, Mc, DL, DQ, scal, t_dof, t_coef, t_kind, t_idx, buf, k1v)
-        for i in range(12):
-            tmp[i] = x[i] + 0.5 * dt * k1v[i]
-        deriv(t + 0.5 * dt, tmp, False, tau_tab, ctab, Minv, Mc, DL, DQ, scal, t_dof, t_coef, t_kind, t_idx, buf, k2v)
-        for i in range(12):
-            tmp[i] = x[i] + 0.5 * dt * k2v[i]
-        deriv(t + 0.5 * dt, tmp, False, tau_tab, ctab, Minv, Mc, DL, DQ, scal, t_dof, t_coef, t_kind, t_idx, buf, k3v)
-        for i in range(12):
-            tmp[i] = x[i] + dt * k3v[i]
-        deriv(t + dt, tmp, False, tau_tab, ctab, Minv, Mc, DL, DQ, scal, t_dof, t_coef, t_kind, t_idx, buf, k4v)
-        finite = True
-        for i in range(12):
-            x[i] = x[i] + dt / 6.0 * (k1v[i] + 2 * k2v[i] + 2 * k3v[i] + k4v[i])
-            if not math.isfinite(x[i]):
-                finite = False
-        for i in range(m):
-            c[i] = c_cmd[i] + (c[i] - c_cmd[i]) * decay[i]
-        if not finite:
+        if not _integrate(t, dt, x, c, T, decay, V, W):
             return _DIVERGED, k
     return _RUNNING, k1 - 1
+
+
+# ============================================================================ the fleet
+# per-member metric accumulators (acc columns), over the recorded steps (every ``every``-th):
+# 0 recorded, 1 following the path, 2 Σd², 3 max d, 4 Σ depth error², 5 Σ heading error²
+# (while following), 6–9 the same over all recorded steps (used when none follows),
+# 10 Σ|f|, 11 Σ actuator-disk power, 12 limited count, 13 last recorded time
+N_ACC = 14
+
+
+@numba.njit(cache=True)
+def _path_distance(px, py, pz, pts):  # noqa: ANN001, ANN202
+    """hydrokit.model.guidance.path_distance for one position."""
+    best = np.inf
+    for kk in range(pts.shape[0] - 1):
+        a0, a1, a2 = pts[kk, 0], pts[kk, 1], pts[kk, 2]
+        d0, d1, d2 = pts[kk + 1, 0] - a0, pts[kk + 1, 1] - a1, pts[kk + 1, 2] - a2
+        L2 = d0 * d0 + d1 * d1 + d2 * d2
+        s = ((px - a0) * d0 + (py - a1) * d1 + (pz - a2) * d2) / L2
+        s = min(max(s, 0.0), 1.0)
+        e0, e1, e2 = px - (a0 + s * d0), py - (a1 + s * d1), pz - (a2 + s * d2)
+        dist = math.sqrt(e0 * e0 + e1 * e1 + e2 * e2)
+        if dist < best:
+            best = dist
+    return best
+
+
+@numba.njit(cache=True)
+def _fleet_member(
+    n_steps, dt, every, stop_when_done, path_every, G, A, H, ctl, ctl_angle, vc, V, x, edenom, acc, arrivals, p_eta
+):  # noqa: ANN001, ANN201, E501
+    """Fly one member from x (12) for steps 0 … n_steps with the shared kernel, accumulating
+    its metrics in acc and every ``path_every``-th η in p_eta (path_every 0: none); returns
+    (status, k) as _loop."""
+    T = A[4]
+    decay = H[6]
+    m = T.shape[1]
+    pts = G[0]
+    n_legs = G[1].shape[0]
+    W = _work(m)
+    f_act = W[12]
+    c = np.zeros(m)
+    fstate = np.zeros(11)
+    istate = np.zeros(8, dtype=np.int64)
+    # Path.initial_state: the first leg; its course, or the vehicle's heading on a vertical leg
+    istate[0] = 1
+    fstate[0] = G[7][1] if G[8][1] else x[5]
+    limited_any = False
+    for k in range(n_steps + 1):
+        t = k * dt
+        kk, sat, _rs, ref_depth, ref_heading = _control(
+            k, dt, G, A, H, ctl, ctl_angle, vc, x, c, fstate, istate, arrivals, W
+        )
+        if path_every > 0 and k % path_every == 0:
+            jp = k // path_every
+            for i in range(6):
+                p_eta[jp, i] = x[i]
+        if k % every == 0:
+            d = _path_distance(x[0], x[1], x[2], pts)
+            ze = x[2] - ref_depth
+            pe = _wrap(x[5] - ref_heading)
+            if kk <= n_legs:
+                acc[1] += 1.0
+                acc[2] += d * d
+                acc[3] = max(acc[3], d)
+                acc[4] += ze * ze
+                acc[5] += pe * pe
+            acc[0] += 1.0
+            acc[6] += d * d
+            acc[7] = max(acc[7], d)
+            acc[8] += ze * ze
+            acc[9] += pe * pe
+            for i in range(m):
+                af = abs(f_act[i])
+                acc[10] += af
+                acc[11] += af**1.5 / edenom[i]
+            if sat or limited_any:
+                acc[12] += 1.0
+            acc[13] = t
+            limited_any = False
+        elif sat:
+            limited_any = True
+        if k == n_steps or (stop_when_done and kk > n_legs):
+            return _DONE, k
+        if not _integrate(t, dt, x, c, T, decay, V, W):
+            return _DIVERGED, k
+    return _DONE, n_steps
+
+
+@numba.njit(cache=True)
+def _fcopy(a):  # noqa: ANN001, ANN202
+    """A Fortran-ordered copy of a 2-D Fortran-ordered array."""
+    out = np.empty((a.shape[1], a.shape[0])).T
+    out[:, :] = a
+    return out
+
+
+@numba.njit(cache=True)
+def _own_g(G):  # noqa: ANN001, ANN202
+    return (
+        G[0].copy(),
+        G[1].copy(),
+        G[2].copy(),
+        G[3].copy(),
+        G[4].copy(),
+        G[5].copy(),
+        G[6].copy(),
+        G[7].copy(),
+        G[8].copy(),
+        G[9].copy(),
+    )
+
+
+@numba.njit(cache=True)
+def _own_a(A):  # noqa: ANN001, ANN202
+    return (
+        A[0].copy(),
+        A[1].copy(),
+        A[2].copy(),
+        A[3].copy(),
+        _fcopy(A[4]),
+        A[5].copy(),
+        A[6].copy(),
+        A[7].copy(),
+        _fcopy(A[8]),
+        _fcopy(A[9]),
+        A[10].copy(),
+        A[11].copy(),
+    )
+
+
+@numba.njit(cache=True)
+def _own_h(H):  # noqa: ANN001, ANN202
+    return (
+        H[0].copy(),
+        H[1].copy(),
+        H[2].copy(),
+        H[3].copy(),
+        H[4].copy(),
+        H[5].copy(),
+        H[6].copy(),
+        H[7].copy(),
+        H[8].copy(),
+        H[9].copy(),
+        H[10].copy(),
+        H[11].copy(),
+        H[12].copy(),
+        H[13].copy(),
+    )
+
+
+@numba.njit(cache=True, parallel=True)
+def _fleet(
+    n_steps,
+    dt,
+    every,
+    stop_when_done,
+    path_every,
+    G,
+    A,
+    H,
+    ctl_angle,
+    ctl_all,
+    vc_all,
+    V_all,
+    x_all,
+    edenom,
+    acc,
+    arrivals,
+    p_eta,
+    status,
+    k_end,
+):  # noqa: ANN001, ANN201, E501
+    """_fleet_member for every member i (numba.prange): gains ctl_all[i], current vc_all[i],
+    vehicle V_all[·][i], start x_all[i]; status and the last step in status[i], k_end[i]."""
+    ctab_a, Minv_a, Mc_a, DL_a, DQ_a, scal_a, t_dof, t_coef_a, t_kind, t_idx = V_all
+    for i in numba.prange(x_all.shape[0]):
+        # Every member flies on its own copies of the arrays it reads (and writes its own
+        # buffers, copied out at the end): arrays shared between threads would share their
+        # reference counts, which every kernel call updates atomically.
+        V = (
+            ctab_a[i].copy(),
+            Minv_a[i].copy(),
+            Mc_a[i].copy(),
+            DL_a[i].copy(),
+            DQ_a[i].copy(),
+            scal_a[i].copy(),
+            t_dof.copy(),
+            t_coef_a[i].copy(),
+            t_kind.copy(),
+            t_idx.copy(),
+        )
+        acc_i = acc[i].copy()
+        arr_i = arrivals[i].copy()
+        p_i = p_eta[i].copy()
+        st, k = _fleet_member(
+            n_steps,
+            dt,
+            every,
+            stop_when_done,
+            path_every,
+            _own_g(G),
+            _own_a(A),
+            _own_h(H),
+            ctl_all[i].copy(),
+            ctl_angle.copy(),
+            vc_all[i].copy(),
+            V,
+            x_all[i].copy(),
+            edenom.copy(),
+            acc_i,
+            arr_i,
+            p_i,
+        )
+        acc[i] = acc_i
+        arrivals[i] = arr_i
+        p_eta[i] = p_i
+        status[i] = st
+        k_end[i] = k
 
 
 # ============================================================================ packing
@@ -812,6 +1008,87 @@ def _pack_thrusters(thrusters: ThrusterSet) -> tuple[np.ndarray, ...]:
     return kind, tab_c, tab_f, tab_n, prop, kf, kr
 
 
+def _pack_vehicle(vehicle: Any, vc: np.ndarray) -> tuple[np.ndarray, ...]:
+    """V: the vehicle group of the kernel (current table and the packed model)."""
+    from hydrokit.model.dynamics import current_table, pack
+
+    p = pack(vehicle)
+    ctab = np.ascontiguousarray(current_table(vc), dtype=np.float64)
+    return (ctab, p.Minv, p.Mc, p.DL, p.DQ, p.scal, p.t_dof, p.t_coef, p.t_kind, p.t_idx)
+
+
+def _check_current(current_ned: ArrayLike | None) -> np.ndarray:
+    vc = np.zeros(3) if current_ned is None else np.asarray(current_ned, dtype=float).reshape(-1)
+    if vc.shape != (3,):
+        raise InputError(f"current of shape {vc.shape}: the compiled loop takes a constant (3,) NED current, m/s")
+    return np.ascontiguousarray(vc, dtype=np.float64)
+
+
+def _check_steps(duration: float, dt: float, output_every: int) -> int:
+    if not (math.isfinite(duration) and duration > 0 and math.isfinite(dt) and 0 < dt <= duration):
+        raise InputError(f"duration = {duration}, dt = {dt}: expected 0 < dt ≤ duration (s)")
+    if output_every < 1:
+        raise InputError(f"output_every = {output_every}: expected a whole number ≥ 1")
+    return int(math.floor(duration / dt + 1e-9))
+
+
+def _pack_common(
+    thrusters: ThrusterSet, path: Path, dt: float, weights: ArrayLike | None
+) -> tuple[tuple[Any, ...], tuple[Any, ...], tuple[Any, ...]]:
+    """G, A, H: the guidance, allocation and thruster groups of the kernel (shared by a fleet)."""
+    m = len(thrusters)
+    T = thrusters.configuration_matrix()
+    # T (and Q T) in the layout numpy has them (Fortran order): the same BLAS kernels, the
+    # same rounding as the Python loop
+    Tf = np.asfortranarray(T, dtype=np.float64)
+    allocator = Allocator(T, thrusters.f_min, thrusters.f_max, weights)
+    lo = np.ascontiguousarray(allocator.f_min.reshape(-1))
+    hi = np.ascontiguousarray(allocator.f_max.reshape(-1))
+    if np.any(lo > hi):
+        raise InputError(f"thrust limits: expected {m} pairs with min ≤ max, got {lo} and {hi}")
+    solver = _ConstrainedSolver(T, lo, hi, allocator.Q)
+    lo_s, hi_s = solver.bounds
+    apar = np.array([solver.scale, solver.thrust_scale, solver.q_max])
+    tc = thrusters.time_constants
+    with np.errstate(divide="ignore"):
+        decay = np.where(tc > 0, np.exp(-dt / np.where(tc > 0, tc, 1.0)), 0.0)
+        mean_w = np.where(tc > 0, tc / dt * (1.0 - decay), 0.0)
+    kind, tab_c, tab_f, tab_n, prop, kf, kr = _pack_thrusters(thrusters)
+    f64 = lambda a: np.ascontiguousarray(a, dtype=np.float64)  # noqa: E731
+    G = _pack_path(path)
+    A = (
+        f64(allocator.P),
+        lo,
+        hi,
+        np.ascontiguousarray(allocator.unactuated, dtype=np.bool_),
+        Tf,
+        f64(lo_s),
+        f64(hi_s),
+        f64(solver.Q),
+        np.asfortranarray(solver.QT, dtype=np.float64),
+        np.asfortranarray(solver.A, dtype=np.float64),  # Fortran order like Q T: one _lsq_bvls
+        apar,
+        f64(solver.polish_tol),
+    )
+    H = (
+        kind,
+        f64(thrusters.directions),
+        f64(thrusters._moment_arms),
+        f64(thrusters._wake_factor),
+        f64(thrusters.command_min),
+        f64(thrusters.command_max),
+        f64(decay),
+        f64(mean_w),
+        tab_c,
+        tab_f,
+        tab_n,
+        prop,
+        kf,
+        kr,
+    )
+    return G, A, H
+
+
 def run_closed_loop_compiled(
     vehicle: Any,
     thrusters: ThrusterSet,
@@ -843,41 +1120,15 @@ def run_closed_loop_compiled(
     SimulationError
         The state became non-finite.
     """
-    from hydrokit.model.dynamics import current_table, pack
-
-    if not (math.isfinite(duration) and duration > 0 and math.isfinite(dt) and 0 < dt <= duration):
-        raise InputError(f"duration = {duration}, dt = {dt}: expected 0 < dt ≤ duration (s)")
-    if output_every < 1:
-        raise InputError(f"output_every = {output_every}: expected a whole number ≥ 1")
+    n_steps = _check_steps(duration, dt, output_every)
     why = unsupported_reason(thrusters, autopilot)
     if why is not None:
         raise InputError(f"compiled closed loop: {why}; use loop='python'")
-    vc = np.zeros(3) if current_ned is None else np.asarray(current_ned, dtype=float).reshape(-1)
-    if vc.shape != (3,):
-        raise InputError(f"current of shape {vc.shape}: the compiled loop takes a constant (3,) NED current, m/s")
-    n_steps = int(math.floor(duration / dt + 1e-9))
+    vc = _check_current(current_ned)
     m = len(thrusters)
-    T = thrusters.configuration_matrix()
-    # T (and Q T) in the layout numpy has them (Fortran order): the same BLAS kernels, the
-    # same rounding as the Python loop
-    Tf = np.asfortranarray(T, dtype=np.float64)
-    allocator = Allocator(T, thrusters.f_min, thrusters.f_max, weights)
-    lo = np.ascontiguousarray(allocator.f_min.reshape(-1))
-    hi = np.ascontiguousarray(allocator.f_max.reshape(-1))
-    if np.any(lo > hi):
-        raise InputError(f"thrust limits: expected {m} pairs with min ≤ max, got {lo} and {hi}")
-    solver = _ConstrainedSolver(T, lo, hi, allocator.Q)
-    lo_s, hi_s = solver.bounds
-    apar = np.array([solver.scale, solver.thrust_scale, solver.q_max])
-    tc = thrusters.time_constants
-    with np.errstate(divide="ignore"):
-        decay = np.where(tc > 0, np.exp(-dt / np.where(tc > 0, tc, 1.0)), 0.0)
-        mean_w = np.where(tc > 0, tc / dt * (1.0 - decay), 0.0)
-    p = pack(vehicle)
-    ctab = current_table(vc)
+    G, A, H = _pack_common(thrusters, path, dt, weights)
     ctl, ctl_angle = _pack_autopilot(autopilot)
-    kind, tab_c, tab_f, tab_n, prop, kf, kr = _pack_thrusters(thrusters)
-    gp = _pack_path(path)
+    V = _pack_vehicle(vehicle, vc)
 
     n_out = n_steps // output_every + 1
     r_time = np.empty(n_out)
@@ -899,65 +1150,8 @@ def run_closed_loop_compiled(
     istate = np.zeros(8, dtype=np.int64)
     istate[0] = gs.leg
     arrivals = np.full(path.n_legs, np.nan)
-    f64 = lambda a: np.ascontiguousarray(a, dtype=np.float64)  # noqa: E731
-    args = (
-        *gp,
-        ctl,
-        ctl_angle,
-        f64(allocator.P),
-        lo,
-        hi,
-        np.ascontiguousarray(allocator.unactuated, dtype=np.bool_),
-        Tf,
-        f64(lo_s),
-        f64(hi_s),
-        f64(solver.Q),
-        np.asfortranarray(solver.QT, dtype=np.float64),
-        np.asfortranarray(solver.A, dtype=np.float64),  # Fortran order like Q T: one _lsq_bvls
-        apar,
-        f64(solver.polish_tol),
-        kind,
-        f64(thrusters.directions),
-        f64(thrusters._moment_arms),
-        f64(thrusters._wake_factor),
-        f64(thrusters.command_min),
-        f64(thrusters.command_max),
-        f64(decay),
-        f64(mean_w),
-        tab_c,
-        tab_f,
-        tab_n,
-        prop,
-        kf,
-        kr,
-        f64(vc),
-        f64(ctab),
-        p.Minv,
-        p.Mc,
-        p.DL,
-        p.DQ,
-        p.scal,
-        p.t_dof,
-        p.t_coef,
-        p.t_kind,
-        p.t_idx,
-        x,
-        c,
-        fstate,
-        istate,
-        arrivals,
-        r_time,
-        r_eta,
-        r_nu,
-        r_ref,
-        r_tau,
-        r_cmd_d,
-        r_cmd,
-        r_f_d,
-        r_f,
-        r_lim,
-        r_leg,
-    )
+    R = (r_time, r_eta, r_nu, r_ref, r_tau, r_cmd_d, r_cmd, r_f_d, r_f, r_lim, r_leg)
+    args = (G, A, H, ctl, ctl_angle, vc, V, x, c, fstate, istate, arrivals, R)
     chunk = max(1, (n_steps + 1) // 100) if progress is not None else n_steps + 1
     k0 = 0
     t = 0.0
