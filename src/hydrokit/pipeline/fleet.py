@@ -41,20 +41,11 @@ def task_count(samples: int, controllers: Sequence[str]) -> int:
 
 
 def with_coefficients(vehicle: Any, values: dict[str, float]) -> Any:
-    """``vehicle`` with diagonal entries replaced; keys ``"<coefficient>.<dof>"``, SI."""
-    from dataclasses import replace
+    """``vehicle`` with diagonal entries replaced; keys ``"<coefficient>.<dof>"``, SI
+    (:func:`hydrokit.simulate.fleet.vary`)."""
+    from hydrokit.simulate.fleet import vary
 
-    M_A, D_L, D_Q = vehicle.M_A.copy(), vehicle.D_L.copy(), np.array(vehicle.D_Q, float)
-    for key, v in values.items():
-        coef, dof = key.split(".")
-        i = DOF_NAMES.index(dof)
-        if coef == "added_mass":
-            M_A[i, i] = v
-        elif coef == "linear_damping":
-            D_L[i, i] = v
-        else:
-            D_Q[i] = v
-    return replace(vehicle, M_A=M_A, D_L=D_L, D_Q=D_Q)
+    return vary(vehicle, values)
 
 
 def fly_one(mission: Any, vehicle: Any, controller: str, grid: np.ndarray) -> dict[str, Any]:
