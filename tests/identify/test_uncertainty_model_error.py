@@ -73,3 +73,17 @@ def test_equivalent_damping_sigma_covers_the_truth_under_model_error():
     # binomial: 30 records at 95 % → at least 24 covered with probability > 0.99
     assert hit >= 24
     assert hit_formal <= 20  # the formal σ is overconfident here: that is what the issue is about
+
+
+def test_each_launch_carries_its_covariance_in_reported_units():
+    from hydrokit.identify.preprocess import trim_launch
+    from hydrokit.identify.result import identify_launches
+
+    gen = _generator()
+    r = identify_launches(gen.rig(), [trim_launch(gen.hand_heel_record(seed=3))]).results[0]
+    cov = np.array(r.extra["covariance"])
+    assert r.extra["covariance_parameters"] == ["added_mass", "linear_damping", "quadratic_damping"]
+    assert np.allclose(np.sqrt(np.diag(cov)), [r.std_error[k] for k in r.extra["covariance_parameters"]], rtol=1e-9)
+    assert np.all(
+        np.sqrt(np.diag(cov)) >= [r.extra["std_error_formal"][k] * (1 - 1e-9) for k in r.extra["covariance_parameters"]]
+    )

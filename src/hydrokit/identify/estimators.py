@@ -740,6 +740,8 @@ def identify_launch(
             "noise": est.noise_,
             "speed_max": u_max,
             "std_error_formal": dict(est.std_error_formal_),
+            "covariance": None if est.covariance_ is None else np.asarray(est.covariance_).tolist(),
+            "covariance_parameters": list(COEFFS),
             "uncertainty_method": UNCERTAINTY_METHOD if getattr(est, "pcov_formal_", None) is not None else "formal",
         },
     )
