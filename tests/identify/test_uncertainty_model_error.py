@@ -87,3 +87,31 @@ def test_each_launch_carries_its_covariance_in_reported_units():
     assert np.all(
         np.sqrt(np.diag(cov)) >= [r.extra["std_error_formal"][k] * (1 - 1e-9) for k in r.extra["covariance_parameters"]]
     )
+
+
+def test_adequacy_verdict_tells_noise_from_model_error():
+    from hydrokit.identify.estimators import adequacy
+
+    rng = np.random.default_rng(5)
+    t = np.arange(2000) * 0.01
+    noise = rng.normal(0, 0.01, t.size)
+    white = adequacy(noise, t, period=2.0, noise=0.01)
+    assert white["verdict"].startswith("adequate") and abs(white["acf_at_period"]) < 0.1
+    assert white["residual_to_noise"] == pytest.approx(1.0, rel=0.05)
+    # a residual that repeats each 2 s cycle (model error) on top of the noise
+    periodic = 0.2 * np.sin(2 * np.pi * t / 2.0) * np.exp(-t / 10) + noise
+    bad = adequacy(periodic, t, period=2.0, noise=0.01)
+    assert bad["verdict"].startswith("model error") and bad["acf_at_period"] > 0.5
+    drift = adequacy(0.05 * (t - t.mean()) + noise, t, period=2.0, noise=0.01)
+    assert drift["residual_to_noise"] > 2.0
+
+
+def test_launches_carry_the_verdict():
+    from hydrokit.identify.preprocess import trim_launch
+    from hydrokit.identify.result import identify_launches
+
+    gen = _generator()
+    r = identify_launches(gen.rig(), [trim_launch(gen.hand_heel_record(seed=4))]).results[0]
+    a = r.extra["adequacy"]
+    # cubic damping fitted with the quadratic model and AR(1) noise: a model-error verdict
+    assert a["residual_to_noise"] > 1.0 and isinstance(a["verdict"], str) and a["acf_at_period"] is not None

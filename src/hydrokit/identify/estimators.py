@@ -83,6 +83,34 @@ def cycle_sandwich(J: np.ndarray, r: np.ndarray, cycle: np.ndarray, formal: np.n
     return corr * np.outer(sd, sd)
 
 
+def adequacy(residual: np.ndarray, t: np.ndarray, period: float, noise: float) -> dict[str, Any]:
+    """Does the fitted model explain the record? Plain words from two numbers.
+
+    ``residual_to_noise``: RMS residual over the sensor noise floor (1 = all that is left is
+    noise); ``acf_at_period``: the residual's autocorrelation one oscillation period apart (near 0
+    for noise, near 1 when the same model error repeats every cycle).
+    """
+    r = np.asarray(residual, float) - float(np.mean(residual))
+    dt = float(np.mean(np.diff(t))) if t.size > 1 else 1.0
+    lag = int(round(period / dt)) if dt > 0 and math.isfinite(period) else 0
+    denom = float(r @ r)
+    acf = float(r[:-lag] @ r[lag:]) / denom if 0 < lag < r.size and denom > 0 else None
+    ratio = float(np.sqrt(np.mean(r**2))) / noise if noise > 0 else None
+    if ratio is not None and ratio <= 2.0 and (acf is None or abs(acf) < 0.3):
+        verdict = "adequate: the model explains the record down to the sensor noise"
+    elif acf is not None and acf >= 0.3:
+        verdict = (
+            f"model error: the residual repeats every cycle (autocorrelation {acf:.2f} one period apart, "
+            f"{ratio:.0f}× the noise); the stated (cycle-clustered) errors allow for it, the formal ones do not; "
+            "a richer model (--damping-model cubic, --restoring-terms 3) may fit better"
+        )
+    else:
+        verdict = (
+            f"residual above the noise floor ({ratio:.1f}×) but not cycle-periodic: drift, a bad trim or disturbance"
+        )
+    return {"residual_to_noise": ratio, "acf_at_period": acf, "verdict": verdict}
+
+
 class _DecayEstimator:
     """Common machinery: validation, conversion to reported units, prediction."""
 
@@ -161,6 +189,7 @@ class _DecayEstimator:
         self.amplitude_ = a0
         pred = self.predict(t)
         self.rms_residual_ = float(np.sqrt(np.mean((pred - y) ** 2)))
+        self.adequacy_ = adequacy(y - pred, t, self.period_, self.noise_)
 
         def significant(value: float, key: str) -> bool:
             se = self.std_error_[key]
@@ -742,6 +771,7 @@ def identify_launch(
             "std_error_formal": dict(est.std_error_formal_),
             "covariance": None if est.covariance_ is None else np.asarray(est.covariance_).tolist(),
             "covariance_parameters": list(COEFFS),
+            "adequacy": est.adequacy_,
             "uncertainty_method": UNCERTAINTY_METHOD if getattr(est, "pcov_formal_", None) is not None else "formal",
         },
     )

@@ -252,6 +252,24 @@ def campaign_section(dof: str, c: dict[str, Any], figures: dict[str, list[dict[s
         )
     )
     parts.append("</details>")
+    ade: list[tuple[str, dict[str, Any]]] = []
+    for L in camp["launches"]:
+        found = (L.get("extra") or {}).get("adequacy")
+        if found:
+            ade.append((L["file"], found))
+    if ade:
+        bad = sum(1 for _, a in ade if str(a["verdict"]).startswith("model error"))
+        parts.append(
+            f"<details><summary>Model adequacy: {bad} of {len(ade)} launches show model error (residual repeating "
+            "each cycle)</summary>"
+        )
+        parts.append(
+            table(
+                ["file", "residual / noise", "autocorrelation one period apart", "verdict"],
+                [[f, fmt(a["residual_to_noise"], 3), fmt(a["acf_at_period"], 2), a["verdict"]] for f, a in ade],
+            )
+        )
+        parts.append("</details>")
     launches = figures.get(f"launches:{dof}", [])
     parts.append(f"<details><summary>Every launch's fit and residual ({len(launches)} figures)</summary>")
     parts.append('<div class="grid">' + "".join(_img(f) for f in launches) + "</div></details>")
