@@ -7,6 +7,7 @@ its numpy source at random states, so a sign or index slip in either copy fails 
 - rotation R(Θ) and R(q)         ↔ core.kinematics.rotation_zyx / quaternion_to_rotation
 - Euler and quaternion rates     ↔ core.kinematics.euler_rate_matrix / quaternion_rate
 - Coriolis–centripetal C(ν) ν    ↔ core.coriolis.coriolis_force
+- point drag elements            ↔ core.drag.drag_wrench (through the whole right-hand side)
 - the whole right-hand side      ↔ model.dynamics.vehicle_dynamics (terms, current table)
 - one RK4 step                   ↔ simulate.integrators.rk4_step
 """
@@ -52,6 +53,14 @@ def coupled_vehicle(**changes):
     return parse_vehicle(doc, "t")
 
 
+# three point drag elements off the origin, with linear and quadratic parts on every axis
+DRAG_ELEMENTS = [
+    {"name": "arm", "position": [0.1, 0.75, -0.05], "linear": [2.0, 1.0, 0.5], "quadratic": [83.28, 10.0, 20.0]},
+    {"name": "skid", "position": [-0.4, -0.3, 0.25], "quadratic": [15.0, 60.0, 35.0]},
+    {"name": "mast", "position": [0.0, 0.0, -0.6], "linear": [4.0, 4.0, 0.0]},
+]
+
+
 def random_state(rng: np.random.Generator, quat: bool) -> np.ndarray:
     pos = rng.normal(size=3) * 5
     nu = rng.normal(size=6) * np.array([1.0, 0.5, 0.5, 0.4, 0.4, 0.4])
@@ -65,11 +74,16 @@ def random_state(rng: np.random.Generator, quat: bool) -> np.ndarray:
 
 
 @pytest.mark.parametrize("attitude", ["euler", "quaternion"])
-@pytest.mark.parametrize("vehicle", ["lingyun", "coupled"])
+@pytest.mark.parametrize("vehicle", ["lingyun", "coupled", "drag-elements"])
 def test_compiled_rhs_equals_numpy_at_random_states(vehicle: str, attitude: str) -> None:
-    v = load_vehicle("lingyun") if vehicle == "lingyun" else coupled_vehicle()
     if vehicle == "lingyun":
+        v = load_vehicle("lingyun")
         assert len(v.terms.names) > 0  # the general derivative terms are part of the comparison
+    elif vehicle == "drag-elements":
+        v = coupled_vehicle(drag_elements=DRAG_ELEMENTS)
+        assert len(v.drag_elements) == 3 and pack(v).scal[8] == 3
+    else:
+        v = coupled_vehicle()
     f_np = vehicle_dynamics(v, CURRENT, attitude)
     f_nb = make_dynamics(v, CURRENT, attitude)
     rng = np.random.default_rng(20240611)
@@ -80,6 +94,9 @@ def test_compiled_rhs_equals_numpy_at_random_states(vehicle: str, attitude: str)
         a, b = f_nb(t, x, tau), f_np(t, x, tau)
         # same arithmetic in another order: agreement to round-off of the largest term
         np.testing.assert_allclose(a, b, rtol=1e-11, atol=1e-11 * (1 + np.max(np.abs(b))))
+    if vehicle == "drag-elements":  # the elements are not a negligible part of what was compared
+        bare = vehicle_dynamics(coupled_vehicle(), CURRENT, attitude)(t, x, tau)
+        assert np.max(np.abs(b - bare)) > 0.1
 
 
 @pytest.mark.parametrize("attitude", ["euler", "quaternion"])

@@ -58,12 +58,19 @@ def _vec(v: Any) -> str:
 
 def _omitted(vehicle: Any) -> str | None:
     names = tuple(getattr(getattr(vehicle, "terms", None), "names", ()) or ())
-    if not names:
-        return None
-    return (
-        f" {len(names)} general derivative term(s) of the vehicle file are not representable here and "
-        f"are left out: {', '.join(names)} "
-    )
+    elements = tuple(e.name for e in getattr(vehicle, "drag_elements", ()) or ())
+    parts = []
+    if names:
+        parts.append(
+            f" {len(names)} general derivative term(s) of the vehicle file are not representable here and "
+            f"are left out: {', '.join(names)} "
+        )
+    if elements:
+        parts.append(
+            f" {len(elements)} point drag element(s) (drag_elements) are not representable here and are "
+            f"left out: {', '.join(elements)} "
+        )
+    return "".join(parts) or None
 
 
 def gazebo_sdf(vehicle: Any, link: str = "base_link") -> str:

@@ -17,7 +17,20 @@ quadratic_damping: [141, 217, 190, 1.19, 0.47, 1.5]     # force_i = -d_i |nu_i| 
 Optional: ``reference_length`` (m) and ``reference_speed`` (m/s) for non-dimensional terms;
 ``terms:`` a mapping of SNAME term names (:mod:`hydrokit.model.terms`) to a number or to
 ``{value: …, nondimensional: true|false}``; ``terms_nondimensional`` (default false) sets the
-default; ``thrusters:`` (issue #4, read by :mod:`hydrokit.io.thrusters`).
+default; ``thrusters:`` (issue #4, read by :mod:`hydrokit.io.thrusters`); ``drag_elements:``
+(issue #11) point drag elements, each evaluated at its own point's relative velocity
+(:mod:`hydrokit.core.drag`):
+
+```yaml
+drag_elements:                # optional list; linear and quadratic each default to zeros
+  - name: arm-port
+    position: [0, -0.75, 0]   # m, body axes from the body origin
+    linear: [0, 0, 0]         # N s/m per body axis (>= 0)
+    quadratic: [83.28, 0, 0]  # N s^2/m^2 per body axis (>= 0): 1/2 rho C_D A
+```
+
+Unknown keys in an element, a value that is not a list, or wrong lengths are one-line errors
+naming the field (``drag_elements[1].position``).
 """
 
 from __future__ import annotations
@@ -28,7 +41,8 @@ from typing import Any
 
 import numpy as np
 
-from hydrokit.core.validate import number, vector
+from hydrokit.core.drag import DragElement
+from hydrokit.core.validate import mapping, number, vector
 from hydrokit.errors import InputError
 from hydrokit.io.yamlfile import read_yaml
 from hydrokit.model.terms import TermSet, parse_term
@@ -65,7 +79,10 @@ KNOWN = set(REQUIRED) | {
     "added_mass_coriolis",
     "uncertainty",
     "project",
+    "drag_elements",
 }
+#: the keys of one ``drag_elements`` entry (frozen, issue #11)
+DRAG_ELEMENT_KEYS = ("name", "position", "linear", "quadratic")
 TERM_KEYS = {"value", "nondimensional", "printed", "note", "suspect", "factors", "source"}
 
 
@@ -116,6 +133,37 @@ def _matrix(value: Any, n: int, field: str, source: str, allow_diag: bool = True
     if len(value) != n or not allow_diag:
         raise InputError(f"field '{field}' has {len(value)} values; expected {n} (or an {n}x{n} matrix)", source)
     return np.diag([_number(x, f"{field}[{i}]", source) for i, x in enumerate(value)])
+
+
+def _drag_elements(value: Any, source: str) -> list[DragElement]:
+    """The ``drag_elements`` list (see module docstring); signs and unique names are checked by
+    :func:`hydrokit.model.vehicle.make_vehicle`."""
+    if not isinstance(value, list):
+        raise InputError(
+            f"field 'drag_elements' = {value!r}: expected a list of {{name, position, linear, quadratic}}", source
+        )
+    out = []
+    for k, entry in enumerate(value):
+        where = f"drag_elements[{k}]"
+        mapping(entry, where, source)
+        unknown = sorted(map(str, set(entry) - set(DRAG_ELEMENT_KEYS)))
+        if unknown:
+            raise InputError(
+                f"field '{where}': unknown key(s) {unknown}; expected {', '.join(DRAG_ELEMENT_KEYS)}", source
+            )
+        for key in ("name", "position"):
+            if key not in entry:
+                raise InputError(f"field '{where}': missing '{key}'", source)
+        name = entry["name"]
+        if not isinstance(name, str) or not name.strip():
+            raise InputError(f"field '{where}.name' = {name!r}: expected a non-empty text", source)
+        triples = [
+            _vector(entry.get(key, [0.0, 0.0, 0.0]), 3, f"{where}.{key}", source)
+            for key in ("position", "linear", "quadratic")
+        ]
+        p, lin, quad = ((float(a[0]), float(a[1]), float(a[2])) for a in triples)
+        out.append(DragElement(name, p, lin, quad))
+    return out
 
 
 def parse_vehicle(data: dict[str, Any], source: str) -> Vehicle:
@@ -187,6 +235,7 @@ def parse_vehicle(data: dict[str, Any], source: str) -> Vehicle:
     cor = data.get("added_mass_coriolis", True)
     if not isinstance(cor, bool):
         raise InputError(f"field 'added_mass_coriolis' = {cor!r}: expected true or false", source)
+    elements = _drag_elements(data["drag_elements"], source) if "drag_elements" in data else None
     return make_vehicle(
         name,
         mass,
@@ -204,4 +253,5 @@ def parse_vehicle(data: dict[str, Any], source: str) -> Vehicle:
         source,
         warnings,
         cor,
+        elements,
     )

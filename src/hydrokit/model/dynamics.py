@@ -5,8 +5,10 @@ State (Euler):      x = [x, y, z, φ, θ, ψ, u, v, w, p, q, r]                 
 State (quaternion): x = [x, y, z, η, ε1, ε2, ε3, u, v, w, p, q, r]                 (13)
 
 ν_r = ν − [Rᵀ v_c; 0] with v_c the current in NED (constant, or a table over time);
-M ν̇_r = τ − C(ν_r) ν_r − D_L ν_r − D_Q|ν_r|ν_r + τ_terms(ν_r) − g(η), with C from M_RB + M_A
-(Fossen Theorem 3.2), and ν̇ = ν̇_r + d/dt [Rᵀ v_c; 0] = ν̇_r − [ω × Rᵀv_c − Rᵀ v̇_c; 0].
+M ν̇_r = τ − C(ν_r) ν_r − D_L ν_r − D_Q|ν_r|ν_r + τ_terms(ν_r) + τ_drag(ν_r) − g(η), with C from
+M_RB + M_A (Fossen Theorem 3.2), τ_drag the wrench of the point drag elements
+(:func:`hydrokit.core.drag.drag_wrench`), and ν̇ = ν̇_r + d/dt [Rᵀ v_c; 0]
+= ν̇_r − [ω × Rᵀv_c − Rᵀ v̇_c; 0].
 
 :func:`pack` flattens a vehicle into arrays for the compiled integrators in
 :mod:`hydrokit.simulate.compiled`; :func:`vehicle_dynamics` is the plain numpy version (the
@@ -22,6 +24,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from hydrokit.core.coriolis import coriolis_force
+from hydrokit.core.drag import PACKED_WIDTH, drag_wrench
 from hydrokit.core.kinematics import (
     euler_rate_matrix,
     quaternion_rate,
@@ -36,7 +39,14 @@ Dynamics = Callable[[float, np.ndarray, np.ndarray], np.ndarray]
 
 @dataclass(frozen=True)
 class Packed:
-    """A vehicle as flat arrays (SI). scal = [W, B, r_g (3), r_b (3)]."""
+    """A vehicle as flat arrays (SI).
+
+    scal = [W, B, r_g (3), r_b (3), n, then 9 numbers per drag element]: W and B in N, r_g and
+    r_b in m, n the number of drag elements (stored as a float), and per element the packed row
+    [x, y, z, Lx, Ly, Lz, Qx, Qy, Qz] (m, N·s/m, N·s²/m²; :mod:`hydrokit.core.drag`). Stacks
+    of several vehicles pad shorter rows with zeros (:func:`stack_scal`): n says how many
+    elements are real.
+    """
 
     Minv: np.ndarray
     Mc: np.ndarray
@@ -58,12 +68,29 @@ def pack(v: Vehicle) -> Packed:
         Mc=np.ascontiguousarray(0.5 * (Mc + Mc.T)),
         DL=np.ascontiguousarray(v.D_L, dtype=float),
         DQ=np.ascontiguousarray(v.D_Q, dtype=float),
-        scal=np.concatenate([[v.weight, v.buoyancy], v.r_g, v.r_b]).astype(float),
+        scal=np.concatenate(
+            [[v.weight, v.buoyancy], v.r_g, v.r_b, [len(v.drag_elements)], v.drag_packed.ravel()]
+        ).astype(float),
         t_dof=v.terms.dof,
         t_coef=np.ascontiguousarray(v.terms.coef, dtype=float),
         t_kind=v.terms.kinds,
         t_idx=v.terms.idx,
     )
+
+
+def scal_elements(scal: np.ndarray) -> np.ndarray:
+    """The (n, 9) drag-element rows held in a packed ``scal`` (empty for none)."""
+    n = int(scal[8]) if scal.shape[0] > 8 else 0
+    return scal[9 : 9 + PACKED_WIDTH * n].reshape(n, PACKED_WIDTH)
+
+
+def stack_scal(rows: list[np.ndarray]) -> np.ndarray:
+    """Stack the ``scal`` arrays of several vehicles, zero-padded to the longest (C order)."""
+    width = max(r.shape[0] for r in rows)
+    out = np.zeros((len(rows), width))
+    for i, r in enumerate(rows):
+        out[i, : r.shape[0]] = r
+    return out
 
 
 def current_table(current_ned: object) -> np.ndarray:
@@ -96,7 +123,8 @@ def interp_table(tab: np.ndarray, t: float) -> tuple[np.ndarray, np.ndarray]:
 def hydro_force(
     p: Packed, terms_force: Callable[[np.ndarray], np.ndarray], nr: np.ndarray, R: np.ndarray
 ) -> np.ndarray:
-    """τ-independent right-hand side −C ν_r − D ν_r + τ_terms − g (N, N·m) at ν_r with rotation R."""
+    """τ-independent right-hand side −C ν_r − D ν_r + τ_terms + τ_drag − g (N, N·m) at ν_r with
+    rotation R."""
     cor = coriolis_force(p.Mc, nr, symmetric=True)  # p.Mc was symmetrised once in pack()
     damp = p.DL @ nr + p.DQ * np.abs(nr) * nr
     W, B = p.scal[0], p.scal[1]
@@ -104,7 +132,11 @@ def hydro_force(
     down = R[2]  # Rᵀ e_z: NED "down" in body axes
     fg, fb = W * down, -B * down
     g = -np.concatenate([fg + fb, np.cross(rg, fg) + np.cross(rb, fb)])
-    return -cor - damp + terms_force(nr) - g
+    out = -cor - damp + terms_force(nr) - g
+    elements = scal_elements(p.scal)
+    if elements.shape[0]:
+        out += drag_wrench(elements, nr)
+    return out
 
 
 def vehicle_dynamics(vehicle: Vehicle, current_ned: object = None, attitude: str = "euler") -> Dynamics:

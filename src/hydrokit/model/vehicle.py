@@ -1,11 +1,13 @@
 """The 6-DOF vehicle (SPEC §3): parameters only, no simulation state.
 
-(M_RB + M_A) ν̇_r + C_RB(ν_r) ν_r + C_A(ν_r) ν_r + D_L ν_r + D_Q(ν_r) ν_r − τ_terms(ν_r) + g(η) = τ
+(M_RB + M_A) ν̇_r + C_RB(ν_r) ν_r + C_A(ν_r) ν_r + D_L ν_r + D_Q(ν_r) ν_r − τ_terms(ν_r) − τ_drag(ν_r)
+    + g(η) = τ
 
 M_RB from mass, inertia tensor about the centre of gravity and r_G (Fossen eq. 3.44); M_A a full
 6×6 matrix (positive: −X_udot …) plus the acceleration derivative terms; D_L 6×6 (positive);
 D_Q the diagonal quadratic damping d_i (force −d_i |ν_i| ν_i); τ_terms the general derivative
-terms (SNAME signs: X_uu < 0 is drag); g(η) from W at r_G and B at r_B.
+terms (SNAME signs: X_uu < 0 is drag); τ_drag the wrench of the point drag elements, each at its
+own point's velocity (:mod:`hydrokit.core.drag`, issue #11); g(η) from W at r_G and B at r_B.
 """
 
 from __future__ import annotations
@@ -16,6 +18,7 @@ from typing import Any
 
 import numpy as np
 
+from hydrokit.core.drag import DragElement, pack_elements
 from hydrokit.core.rigid_body import rigid_body_mass_matrix
 from hydrokit.errors import InputError
 from hydrokit.model.terms import TermSet
@@ -45,6 +48,8 @@ class Vehicle:
     warnings : tuple of str — oddities found while building (symmetrised matrices …)
     added_mass_coriolis : bool — include C_A(ν_r) (default). Derivative sets whose cross terms
         already hold the added-mass Coriolis/Munk terms (LI2021 Table 4) set it false.
+    drag_elements : tuple of DragElement — point drag elements (positions m, linear N·s/m,
+        quadratic N·s²/m², body axes), evaluated at each point's own relative velocity
     thrusters : ThrusterSet or None — the vehicle file's ``thrusters:`` block, when loaded with
         it (:func:`hydrokit.load_vehicle` does); the open-loop model does not use it
     """
@@ -64,6 +69,7 @@ class Vehicle:
     reference_length: float | None = None
     warnings: tuple[str, ...] = ()
     added_mass_coriolis: bool = True
+    drag_elements: tuple[DragElement, ...] = ()
     thrusters: Any = field(default=None, repr=False, compare=False)
 
     @property
@@ -82,6 +88,11 @@ class Vehicle:
         return self.M_RB + self.M_A
 
     @property
+    def drag_packed(self) -> np.ndarray:
+        """The drag elements as (n, 9) rows [x, y, z, Lx, Ly, Lz, Qx, Qy, Qz] (m, N·s/m, N·s²/m²)."""
+        return pack_elements(self.drag_elements)
+
+    @property
     def weight(self) -> float:
         """W = m g, N."""
         return self.mass * self.gravity
@@ -95,6 +106,48 @@ class Vehicle:
 def _check_finite(a: np.ndarray, field_name: str, source: str) -> None:
     if not np.all(np.isfinite(a)):
         raise InputError(f"field '{field_name}' holds NaN or infinite values; expected finite numbers", source)
+
+
+_DRAG_COEFFICIENTS = (("linear", "N·s/m"), ("quadratic", "N·s²/m²"))
+
+
+def _drag_elements(elements: object, source: str) -> tuple[DragElement, ...]:
+    """``elements`` checked (finite; coefficients ≥ 0; unique names) with float tuples."""
+    if elements is None:
+        return ()
+    if isinstance(elements, (str, bytes, dict)) or not isinstance(elements, (list, tuple)):
+        raise InputError(f"field 'drag_elements' = {elements!r}: expected a list of DragElement", source)
+    out: list[DragElement] = []
+    seen: dict[str, int] = {}
+    for k, e in enumerate(elements):
+        where = f"drag_elements[{k}]"
+        if not isinstance(e, DragElement):
+            raise InputError(f"field '{where}' = {e!r}: expected a DragElement", source)
+        if not isinstance(e.name, str) or not e.name.strip():
+            raise InputError(f"field '{where}.name' = {e.name!r}: expected a non-empty name", source)
+        if e.name in seen:
+            raise InputError(
+                f"field '{where}.name' = {e.name!r}: expected a unique name (drag_elements[{seen[e.name]}] has it)",
+                source,
+            )
+        seen[e.name] = k
+        values: dict[str, tuple[float, float, float]] = {}
+        for attr, unit, nonneg in (("position", "m", False), *((c, u, True) for c, u in _DRAG_COEFFICIENTS)):
+            raw = getattr(e, attr)
+            try:
+                a = np.asarray(raw, dtype=float)
+            except (TypeError, ValueError):
+                a = np.full(0, np.nan)
+            if a.shape != (3,) or not np.all(np.isfinite(a)):
+                raise InputError(f"field '{where}.{attr}' = {raw!r}: expected 3 finite numbers ({unit})", source)
+            if nonneg and np.any(a < 0):
+                raise InputError(
+                    f"field '{where}.{attr}' = {a.tolist()}: expected 3 numbers ≥ 0 ({unit}; drag opposes the motion)",
+                    source,
+                )
+            values[attr] = (float(a[0]), float(a[1]), float(a[2]))
+        out.append(DragElement(e.name, values["position"], values["linear"], values["quadratic"]))
+    return tuple(out)
 
 
 def make_vehicle(
@@ -114,12 +167,15 @@ def make_vehicle(
     source: str = "",
     warnings: list[str] | None = None,
     added_mass_coriolis: bool = True,
+    drag_elements: tuple[DragElement, ...] | list[DragElement] | None = None,
 ) -> Vehicle:
     """Validate and build a :class:`Vehicle`.
 
     Checks: positive mass, volume, gravity, density; finite arrays; M_RB + M_A symmetric
     (an asymmetry below 0.1 % of the largest entry — e.g. RexROV's 10.774 vs 10.775 — is
-    symmetrised with a warning) and positive definite.
+    symmetrised with a warning) and positive definite; drag elements with 3 finite numbers
+    each for position (m), linear (N·s/m) and quadratic (N·s²/m²), coefficients ≥ 0 (a negative
+    one feeds energy in) and unique names.
 
     Raises
     ------
@@ -171,6 +227,7 @@ def make_vehicle(
             "expected added-mass magnitudes (−X_udot > 0 …)",
             source,
         )
+    elements = _drag_elements(drag_elements, source)
     D_Q = np.asarray(D_Q, float)
     if np.any(D_Q < 0):
         warn.append(f"quadratic_damping has negative entries {D_Q.tolist()}: energy is fed in at speed")
@@ -190,4 +247,5 @@ def make_vehicle(
         reference_length,
         tuple(warn),
         bool(added_mass_coriolis),
+        drag_elements=elements,
     )

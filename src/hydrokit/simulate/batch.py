@@ -13,7 +13,7 @@ import numpy as np
 from hydrokit._result import Result, jsonable
 from hydrokit.core.names import STATE_COLUMNS
 from hydrokit.errors import InputError
-from hydrokit.model.dynamics import current_table, pack
+from hydrokit.model.dynamics import current_table, pack, stack_scal
 from hydrokit.model.vehicle import Vehicle
 
 
@@ -164,7 +164,7 @@ def simulate_batch(
         stack("Mc"),
         stack("DL"),
         stack("DQ"),
-        stack("scal"),
+        stack_scal([p.scal for p in packs]),  # drag elements: rows padded to the longest
         packs[0].t_dof,
         stack("t_coef"),
         packs[0].t_kind,

@@ -13,7 +13,9 @@ random states: R(Θ), R(q) (:func:`hydrokit.core.kinematics.rotation_zyx`,
 :func:`~hydrokit.core.kinematics.quaternion_to_rotation`), T(Θ) and q̇
 (:func:`~hydrokit.core.kinematics.euler_rate_matrix`,
 :func:`~hydrokit.core.kinematics.quaternion_rate`), C(ν)ν
-(:func:`hydrokit.core.coriolis.coriolis_force`), the right-hand side
+(:func:`hydrokit.core.coriolis.coriolis_force`), the point drag elements
+(:func:`hydrokit.core.drag.drag_wrench`, read from ``scal``: see
+:class:`hydrokit.model.dynamics.Packed`), the right-hand side
 (:func:`hydrokit.model.dynamics.vehicle_dynamics`) and the RK4 step
 (:func:`hydrokit.simulate.integrators.rk4_step`). Change a formula there first.
 """
@@ -162,6 +164,25 @@ def deriv(t, x, quat, tau_tab, cur_tab, Minv, Mc, DL, DQ, scal, t_dof, t_coef, t
     f[3] += W * (g1 * d2 - g2 * d1) - B * (h1 * d2 - h2 * d1)
     f[4] += W * (g2 * d0 - g0 * d2) - B * (h2 * d0 - h0 * d2)
     f[5] += W * (g0 * d1 - g1 * d0) - B * (h0 * d1 - h1 * d0)
+    # point drag elements (core.drag.drag_wrench): scal[8] = n, then rows [r, L, Q] of 9
+    n_el = int(scal[8]) if scal.shape[0] > 8 else 0
+    for e in range(n_el):
+        b = 9 + 9 * e
+        rx, ry, rz = scal[b], scal[b + 1], scal[b + 2]
+        # v_P = v_r + ω × r
+        vx = nr[0] + (q * rz - r * ry)
+        vy = nr[1] + (r * rx - p * rz)
+        vz = nr[2] + (p * ry - q * rx)
+        fx = -scal[b + 3] * vx - scal[b + 6] * abs(vx) * vx
+        fy = -scal[b + 4] * vy - scal[b + 7] * abs(vy) * vy
+        fz = -scal[b + 5] * vz - scal[b + 8] * abs(vz) * vz
+        f[0] += fx
+        f[1] += fy
+        f[2] += fz
+        # r × f
+        f[3] += ry * fz - rz * fy
+        f[4] += rz * fx - rx * fz
+        f[5] += rx * fy - ry * fx
     # ν̇ = M⁻¹ f − [ω × Rᵀv_c − Rᵀv̇_c; 0]
     for i in range(6):
         s = 0.0

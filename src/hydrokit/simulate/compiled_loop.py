@@ -457,7 +457,11 @@ def _work(m):  # noqa: ANN001, ANN202
 #   H thrusters: kind, dirs, arms, wake, cmd_min, cmd_max, decay, mean_w, tab_c, tab_f, tab_n,
 #     prop, kf, kr
 #   ctl (5, 6) rows [kind, p1..p5] and angle flags (5,); vc (3,) NED current, m/s
-#   V vehicle: current table, Minv, Mc, DL, DQ, scal, t_dof, t_coef, t_kind, t_idx
+#   V vehicle: current table, Minv, Mc, DL, DQ, scal (with the drag elements, see
+#     model.dynamics.Packed), t_dof, t_coef, t_kind, t_idx
+# numba's on-disk cache of these kernels holds its own copy of compiled.deriv and is keyed on
+# this file's time stamp only: after a change to compiled.py, touch this file (or clear its
+# __pycache__), else the closed loop keeps flying the old right-hand side.
 #   state (in/out): x (12), c (m), fstate [heading, integral×5, previous×5], istate
 #     [leg, j, limited_any, has_prev×5], arrivals (N,)
 #   W scratch (_work)

@@ -23,6 +23,7 @@ import numpy as np
 from hydrokit._result import Result, html_table, jsonable
 from hydrokit.core.names import DOF_NAMES
 from hydrokit.errors import InputError
+from hydrokit.model.dynamics import stack_scal
 from hydrokit.model.mission import CONTROLLER_KINDS, Mission
 from hydrokit.model.vehicle import Vehicle
 from hydrokit.simulate.mission import CONTROLLER_LABEL, METRIC_UNITS
@@ -324,10 +325,15 @@ def fly_fleet(
                 raise InputError(f"vehicle of copy {i}: its model terms differ from copy 0's; expected the same terms")
         if row[7].shape != first[7].shape:
             raise InputError(f"vehicle of copy {i}: its model terms differ from copy 0's; expected the same terms")
-    V_all = tuple(
-        first[j] if j in (6, 8, 9) else np.ascontiguousarray(np.stack([r[j] for r in V_rows]), dtype=first[j].dtype)
-        for j in range(10)
-    )
+
+    def stacked(j: int) -> np.ndarray:
+        if j in (6, 8, 9):
+            return first[j]
+        if j == 5:  # scal carries the drag elements: a vehicle with fewer gets zero padding
+            return stack_scal([r[j] for r in V_rows])
+        return np.ascontiguousarray(np.stack([r[j] for r in V_rows]), dtype=first[j].dtype)
+
+    V_all = tuple(stacked(j) for j in range(10))
     G, A, H = _pack_common(thrusters, mission.path, dt, mission.weights)
     m = len(thrusters)
     if all(th.diameter is not None for th in thrusters.thrusters):
