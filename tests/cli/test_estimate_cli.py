@@ -26,6 +26,41 @@ def test_estimate_rehman_assembly_writes_loadable_vehicle(run_cli, tmp_path):
     assert MA[5, 5] > 2 * 293 * 1.85**2
 
 
+@pytest.mark.parametrize("model", ["elements", "rehman", "shifted"])
+def test_estimate_damping_model(run_cli, tmp_path, model):
+    out = tmp_path / "frag.yaml"
+    code, stdout, err = run_cli("estimate", GEOMETRY / "rehman_assembly.yaml", "--damping-model", model, "--out", out)
+    assert code == 0, err
+    frag = yaml.safe_load(out.read_text())
+    DQ = frag["quadratic_damping"]
+    # yaw: the Minervas' own yaw drag (100 each) plus, for each part on the y axis, its common-x
+    # drag Qx at |ry| — d·r³ (rehman, REHMAN Table 1) or d·r² (shifted, the old bug). Common Qx is
+    # the manipulators' transverse drag (83.409375: DNV C_D, not REHMAN's 0.65) and the Minervas'
+    # sway drag 584 (turned 90° in yaw). rel 1e-9: the file rounds to 9 decimals.
+    if model == "elements":
+        elements = frag["drag_elements"]
+        assert [e["name"] for e in elements] == ["manipulator-1", "manipulator-2", "minerva-1", "minerva-2"]
+        assert DQ[5] == pytest.approx(2 * 100)  # only the Minervas' own yaw drag stays in the diagonal
+        assert elements[2]["quadratic"] == pytest.approx([584, 292, 635])
+    else:
+        assert "drag_elements" not in frag
+        power = 3 if model == "rehman" else 2
+        want = 2 * 100 + 2 * (83.409375 * 0.75**power + 584 * 1.85**power)
+        assert DQ[5] == pytest.approx(want, rel=1e-9)
+    assert (model == "shifted") == ("dimensionally wrong" in stdout)
+    assert f"quadratic damping ({model})" in stdout
+    from hydrokit.io.vehicle import load_vehicle
+
+    assert load_vehicle(out).mass == pytest.approx(130 + 2 * 450 / 9.81 + 2 * 460)
+
+
+def test_estimate_unknown_damping_model(run_cli, tmp_path):
+    code, _, err = run_cli(
+        "estimate", GEOMETRY / "rehman_assembly.yaml", "--damping-model", "r2", "--out", tmp_path / "o.yaml"
+    )
+    assert code == 2 and "elements" in err and "rehman" in err and "shifted" in err
+
+
 def test_fit_forces_cli(run_cli, tmp_path):
     f = tmp_path / "f.csv"
     U = np.linspace(0.2, 10, 12)

@@ -26,7 +26,17 @@ from hydrokit.core.names import DOF_NAMES as DOF
     help="Added mass of shape and mesh parts by the boundary-element solver (Capytaine; pip install 'hydrokit[bem]').",
 )
 @click.option("--resolution", type=int, default=None, help="BEM panels around the circumference (count; default 48).")
-def estimate(geometry: str, out_file: str, bem: bool, resolution: int | None) -> None:
+@click.option(
+    "--damping-model",
+    type=click.Choice(["elements", "rehman", "shifted"]),
+    default="elements",
+    show_default=True,
+    help="How parts' quadratic damping combines. elements: each part's translational drag (N·s²/m²) becomes a "
+    "drag element at its origin, seen at that point's own velocity (drag moment d·r³·ω²); rehman: one diagonal, "
+    "rotational += d·r³ (N·m·s²/rad²; right for motion about one axis only); shifted: diagonal of HᵀDH, "
+    "d·r² (kg·m, dimensionally wrong; for comparison).",
+)
+def estimate(geometry: str, out_file: str, bem: bool, resolution: int | None, damping_model: str) -> None:
     """Estimate added mass, damping and mass properties of GEOMETRY (one shape or a composite)
     and write them as a vehicle-file fragment; print the coefficients with their source."""
     import numpy as np
@@ -36,7 +46,7 @@ def estimate(geometry: str, out_file: str, bem: bool, resolution: int | None) ->
 
     from hydrokit.api import estimate_geometry
 
-    est = estimate_geometry(geometry, bem=bem, resolution=resolution)
+    est = estimate_geometry(geometry, bem=bem, resolution=resolution, quadratic_damping=damping_model)
     geo, comp, frag = est.geometry, est.composite, est.to_dict()
     console = Console()
     tab = Table(title=f"{geo.name}: parts (added-mass diagonal about each part's origin; quadratic damping)")
@@ -70,6 +80,12 @@ def estimate(geometry: str, out_file: str, bem: bool, resolution: int | None) ->
             name, f"{full[i, i]:.4g}", f"{dg[i, i]:.4g}", f"{full[i, j]:.4g} ({DOF[j]})" if off[j] > 0 else "0"
         )
     console.print(comp_tab)
+    quad = ", ".join(f"{x:.4g}" for x in np.diag(comp.quadratic_damping))
+    one = ", ".join(f"{x:.4g}" for x in comp.quadratic_damping_single_axis)
+    console.print(f"quadratic damping ({damping_model}) diagonal: {quad}; motion along/about one axis: {one}")
+    console.print(f"drag elements: {', '.join(comp.drag_element_names) or 'none'}", highlight=False)
+    for w in comp.warnings:
+        console.print(f"warning: {w}", highlight=False)
     console.print(
         f"mass {comp.mass:.4g} kg, weight {comp.weight(geo.gravity):.4g} N, buoyancy "
         f"{comp.buoyancy(geo.density, geo.gravity):.4g} N, CG {np.round(comp.r_g, 4).tolist()} m, "

@@ -3,7 +3,8 @@
 A :class:`Geometry` is what a geometry file holds (parsed by
 :func:`hydrokit.io.geometry.load_geometry`); :func:`estimate_geometry` turns it into an
 :class:`Estimate` — per-part coefficients with their sources and the composite body about the
-common origin (full 6×6 transform and REHMAN's diagonal-only sum for comparison).
+common origin (full 6×6 transform and REHMAN's diagonal-only sum for comparison; quadratic
+damping by one of the models of :func:`hydrokit.estimate.composite.combine`).
 """
 
 from __future__ import annotations
@@ -17,7 +18,15 @@ import numpy as np
 from hydrokit._result import Result, html_table, jsonable
 from hydrokit.core.names import DOF_NAMES
 from hydrokit.errors import InputError
-from hydrokit.estimate.composite import Composite, Part, combine
+from hydrokit.estimate.composite import QUADRATIC_DAMPING_MODELS, Composite, Part, combine
+
+#: what each quadratic-damping model means, for the sources list of the written vehicle fragment
+MODEL_NOTES = {
+    "elements": "parts' translational drag as point drag elements at the part origins (drag_elements); "
+    "the diagonal holds the parts' own rotational drag",
+    "rehman": "REHMAN's diagonal: Σ translational drag; rotational Σ own + d·r³ of each part at lever arm r",
+    "shifted": "diagonal of Hᵀ D H (d·r², kg·m): dimensionally wrong, for comparison only",
+}
 
 
 @dataclass
@@ -45,7 +54,8 @@ class Geometry:
 
 
 def vehicle_part(name: str, vehicle: Any, position: np.ndarray, rotation: np.ndarray, label: str) -> GeometryPart:
-    """A part that is a whole vehicle: its mass, inertia, CG, CB, M_A, D_L and D_Q (SI).
+    """A part that is a whole vehicle: its mass, inertia, CG, CB, M_A, D_L, D_Q and its own point
+    drag elements (``vehicle.drag_elements``, when the vehicle has any) (SI).
 
     Parameters
     ----------
@@ -55,6 +65,8 @@ def vehicle_part(name: str, vehicle: Any, position: np.ndarray, rotation: np.nda
     rotation : (3, 3) — part axes in the common frame
     label : str — where the vehicle came from (name or file), for the sources list
     """
+    elements = tuple(getattr(vehicle, "drag_elements", ()) or ())
+    rows = [np.concatenate([e.position, e.linear, e.quadratic]).astype(float) for e in elements]
     part = Part(
         name,
         vehicle.mass,
@@ -68,6 +80,8 @@ def vehicle_part(name: str, vehicle: Any, position: np.ndarray, rotation: np.nda
         position,
         rotation,
         label,
+        np.vstack(rows) if rows else np.zeros((0, 9)),
+        tuple(str(e.name) for e in elements),
     )
     return GeometryPart(part, {"all": f"vehicle {label}"}, None, {})
 
@@ -205,17 +219,32 @@ class Estimate(Result):
         return jsonable(self.vehicle_fields())
 
     def table(self) -> tuple[list[str], list[list[Any]]]:
-        """One row per DOF: added mass full transform vs diagonal-only, linear and quadratic damping."""
+        """One row per DOF: added mass full transform vs diagonal-only, linear damping, and the
+        quadratic damping of the model (N·s²/m², N·m·s²/rad²).
+
+        ``elements``: ``quadratic_damping_diagonal`` (what the vehicle file's diagonal holds: the
+        parts' own rotational drag, and drag of parts centred at the origin) and
+        ``quadratic_damping_single_axis`` (diagonal plus drag elements, for motion along or about
+        that axis alone). ``rehman``: ``quadratic_damping`` (its diagonal is the single-axis
+        value). ``shifted``: ``quadratic_damping_shifted`` next to ``quadratic_damping_single_axis``
+        — the shifted rotational entries are d·r² (kg·m), not a drag coefficient.
+        """
         c = self.composite
+        DQ, one = np.diag(c.quadratic_damping), c.quadratic_damping_single_axis
+        quad: dict[str, Any] = {
+            "elements": {"quadratic_damping_diagonal": DQ, "quadratic_damping_single_axis": one},
+            "rehman": {"quadratic_damping": DQ},
+            "shifted": {"quadratic_damping_shifted": DQ, "quadratic_damping_single_axis": one},
+        }[c.quadratic_damping_model]
         return (
-            ["dof", "added_mass", "added_mass_diagonal_only", "linear_damping", "quadratic_damping"],
+            ["dof", "added_mass", "added_mass_diagonal_only", "linear_damping", *quad],
             [
                 [
                     DOF_NAMES[i],
                     float(c.added_mass[i, i]),
                     float(c.added_mass_diagonal_only[i, i]),
                     float(c.linear_damping[i, i]),
-                    float(c.quadratic_damping[i, i]),
+                    *(float(v[i]) for v in quad.values()),
                 ]
                 for i in range(6)
             ],
@@ -229,6 +258,9 @@ class Estimate(Result):
             ("mass (kg)", c.mass),
             ("volume (m³)", c.volume),
             ("added mass diagonal", [round(float(x), 4) for x in np.diag(c.added_mass)]),
+            ("quadratic damping model", c.quadratic_damping_model),
+            ("quadratic damping, single axis", [round(float(x), 4) for x in c.quadratic_damping_single_axis]),
+            ("drag elements", len(c.drag_element_names)),
             ("BEM", self.bem),
         ]
 
@@ -244,7 +276,9 @@ class Estimate(Result):
         )
 
 
-def estimate_geometry(geometry: Geometry, bem: bool = False, resolution: int | None = None) -> Estimate:
+def estimate_geometry(
+    geometry: Geometry, bem: bool = False, resolution: int | None = None, quadratic_damping: str = "elements"
+) -> Estimate:
     """Estimate the coefficients of ``geometry``; with ``bem`` the added mass of sphere,
     spheroid, cylinder and mesh parts comes from Capytaine (``hydrokit[bem]``).
 
@@ -253,6 +287,8 @@ def estimate_geometry(geometry: Geometry, bem: bool = False, resolution: int | N
     geometry : Geometry
     bem : bool — use the boundary-element solver where a part allows it
     resolution : int, optional — BEM panels around the circumference (count; default per part)
+    quadratic_damping : str — "elements" (default), "rehman" or "shifted": how the parts'
+        quadratic damping combines (:func:`hydrokit.estimate.composite.combine`)
 
     Returns
     -------
@@ -261,10 +297,15 @@ def estimate_geometry(geometry: Geometry, bem: bool = False, resolution: int | N
     Raises
     ------
     InputError
-        A mesh part without ``bem`` (its added mass can only come from the solver).
+        A mesh part without ``bem`` (its added mass can only come from the solver), or an
+        unknown ``quadratic_damping`` model.
     MissingExtraError
         ``bem`` without capytaine installed.
     """
+    if quadratic_damping not in QUADRATIC_DAMPING_MODELS:  # before any BEM run
+        raise InputError(
+            f"quadratic damping model {quadratic_damping!r}: expected one of {', '.join(QUADRATIC_DAMPING_MODELS)}"
+        )
     parts = list(geometry.parts)
     if bem:
         from hydrokit.estimate.bem import added_mass_bem, shape_mesh
@@ -284,13 +325,20 @@ def estimate_geometry(geometry: Geometry, bem: bool = False, resolution: int | N
     elif any(gp.mesh is not None for gp in parts):
         raise InputError("a mesh part needs --bem (its added mass comes from the BEM solver)", geometry.source)
     geo = replace(geometry, parts=parts)
-    return Estimate(geo, combine([gp.part for gp in parts]), bool(bem))
+    return Estimate(geo, combine([gp.part for gp in parts], quadratic_damping), bool(bem))
 
 
 def vehicle_fragment(geo: Geometry, comp: Any) -> dict[str, Any]:
-    """The combined body as vehicle-file fields (issue #3 format; full 6×6 matrices)."""
+    """The combined body as vehicle-file fields (issue #3 format; full 6×6 matrices).
+
+    ``quadratic_damping`` is the composite's diagonal; with the ``elements`` model the parts'
+    translational drag follows as ``drag_elements: [{name, position, linear, quadratic}]`` (m,
+    N·s/m, N·s²/m², body axes from the body origin). The model is named in ``sources``, and the
+    composite's warnings go to ``warnings`` (both fields the vehicle reader keeps).
+    """
     r = lambda a: np.round(np.asarray(a, float), 9).tolist()  # noqa: E731
-    return {
+    model = getattr(comp, "quadratic_damping_model", "shifted")
+    out: dict[str, Any] = {
         "name": geo.name,
         "gravity": geo.gravity,
         "fluid": {"density": geo.density},
@@ -302,5 +350,15 @@ def vehicle_fragment(geo: Geometry, comp: Any) -> dict[str, Any]:
         "added_mass": r(comp.added_mass),
         "linear_damping": r(comp.linear_damping),
         "quadratic_damping": r(np.diag(comp.quadratic_damping)),
-        "sources": [f"{gp.part.name}: {k}: {v}" for gp in geo.parts for k, v in gp.sources.items()],
     }
+    names = getattr(comp, "drag_element_names", ())
+    if len(names):
+        out["drag_elements"] = [
+            {"name": n, "position": r(row[0:3]), "linear": r(row[3:6]), "quadratic": r(row[6:9])}
+            for n, row in zip(names, comp.drag_elements)
+        ]
+    out["sources"] = [f"{gp.part.name}: {k}: {v}" for gp in geo.parts for k, v in gp.sources.items()]
+    out["sources"].append(f"quadratic damping model: {model} ({MODEL_NOTES.get(model, '')})")
+    if getattr(comp, "warnings", ()):
+        out["warnings"] = list(comp.warnings)
+    return out
