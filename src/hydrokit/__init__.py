@@ -39,6 +39,8 @@ _LAZY = {
     "vehicle_from_dict": "hydrokit.api",
     "linearize": "hydrokit.api",
     "export_vehicle": "hydrokit.api",
+    "load_assembly": "hydrokit.api",
+    "transport": "hydrokit.api",
     "load_project": "hydrokit.io.project",
     "run_project": "hydrokit.pipeline",
     "RunResult": "hydrokit.pipeline.result",
@@ -54,6 +56,8 @@ _LAZY = {
     "Estimate": "hydrokit.estimate.geometry",
     "ForceFit": "hydrokit.estimate.forces",
     "Allocation": "hydrokit.model.allocation",
+    "Assembly": "hydrokit.model.assembly",
+    "TransportResult": "hydrokit.simulate.transport",
 }
 
 __all__ = ["HydrokitError", "InputError", "__version__", *_LAZY]

@@ -22,6 +22,7 @@ if TYPE_CHECKING:  # pragma: no cover - imports for annotations only
     from hydrokit.identify.result import CampaignResult
     from hydrokit.identify.types import Launch, Rig
     from hydrokit.model.allocation import Allocation
+    from hydrokit.model.assembly import Assembly
     from hydrokit.model.mission import Mission
     from hydrokit.model.thrusters import ThrusterSet
     from hydrokit.model.vehicle import Vehicle
@@ -29,6 +30,7 @@ if TYPE_CHECKING:  # pragma: no cover - imports for annotations only
     from hydrokit.simulate.driver import Trajectory
     from hydrokit.simulate.fleet import FleetResult
     from hydrokit.simulate.mission import MissionResult
+    from hydrokit.simulate.transport import TransportResult
 
 PathLike = str | os.PathLike[str]
 
@@ -406,7 +408,12 @@ def fly_batch(
     )
 
 
-def estimate_geometry(geometry: Geometry | PathLike, bem: bool = False, resolution: int | None = None) -> Estimate:
+def estimate_geometry(
+    geometry: Geometry | PathLike,
+    bem: bool = False,
+    resolution: int | None = None,
+    quadratic_damping: str = "elements",
+) -> Estimate:
     """Added mass, damping and mass properties of a geometry (shapes, vehicles, meshes).
 
     Parameters
@@ -414,6 +421,9 @@ def estimate_geometry(geometry: Geometry | PathLike, bem: bool = False, resoluti
     geometry : Geometry or geometry-file path
     bem : bool — added mass of eligible parts from the boundary-element solver (hydrokit[bem])
     resolution : int, optional — BEM panels around the circumference
+    quadratic_damping : str — how the parts' quadratic damping combines: "elements" (default:
+        point drag elements at the part origins), "rehman" (diagonal with d·r³ rotational terms)
+        or "shifted" (Hᵀ D H diagonal, d·r², dimensionally wrong; for comparison)
 
     Returns
     -------
@@ -431,7 +441,7 @@ def estimate_geometry(geometry: Geometry | PathLike, bem: bool = False, resoluti
     from hydrokit.estimate.geometry import estimate_geometry as _estimate
 
     geo = geometry if isinstance(geometry, Geometry) else load_geometry(geometry)
-    return _estimate(geo, bem=bem, resolution=resolution)
+    return _estimate(geo, bem=bem, resolution=resolution, quadratic_damping=quadratic_damping)
 
 
 def fit_forces(speed: Any, force: Any, area: float, density: float) -> ForceFit:
@@ -611,3 +621,60 @@ def export_vehicle(vehicle: Vehicle | PathLike, format: str, trim: Any = (0, 0, 
         np.savez(buf, **linearize(veh, trim).npz_arrays())
         return buf.getvalue()
     raise InputError(f"format = {format!r}: expected gazebo, uuv-simulator or python-control")
+
+
+def load_assembly(name_or_path: PathLike, damping_model: str = "elements") -> Assembly:
+    """Read an assembly file or bundled assembly (``rehman_transport``,
+    ``rehman_transport_public``): a geometry file whose parts also name their ``parent`` and
+    ``joint`` (docs/transport.md).
+
+    Parameters
+    ----------
+    name_or_path : file path or bundled name
+    damping_model : how composites carry the parts' quadratic drag: ``elements`` (each part's
+        drag at its own point, default), ``rehman`` (d·r³ diagonal) or ``shifted`` (Hᵀ D H)
+    """
+    from hydrokit.io.assembly import load_assembly as _load
+
+    return _load(name_or_path, quadratic_damping=damping_model)
+
+
+def transport(
+    assembly: Assembly | PathLike,
+    duration: float,
+    dt: float,
+    model: str = "rigid",
+    rpm: dict[str, float] | None = None,
+    force: dict[str, Any] | None = None,
+    output_every: int = 1,
+) -> TransportResult:
+    """Fly a joined assembly (two vehicles carrying a payload, REHMAN) open loop.
+
+    Parameters
+    ----------
+    assembly : Assembly or assembly file / bundled name
+    duration : float — s; dt : float — step, s
+    model : ``rigid`` (one composite body; joint loads from Newton–Euler on each subtree),
+        ``multibody`` (each part a body, stiff spring–damper joints) or ``independent``
+        (each child subtree of the root with a share of the root part, flying alone)
+    rpm : dict — ``PART.THRUSTER`` → propeller speed, rpm (converted to rev/s here)
+    force : dict — part name → [fx, fy, fz, mx, my, mz], N and N·m in the part's axes at its origin
+    output_every : int — record every n-th step
+
+    Returns
+    -------
+    TransportResult — trajectories of the assembly origin and every part, joint loads
+    (assembly body axes, at the joint point), separations, thrusts; ``summary()``
+    """
+    from hydrokit.model.assembly import Assembly as _Assembly
+    from hydrokit.simulate.transport import fly_transport
+
+    asm = assembly if isinstance(assembly, _Assembly) else load_assembly(assembly)
+    commands: dict[str, float] = {}
+    for name, value in (rpm or {}).items():
+        i = asm.thruster_index(name)
+        th = asm.thrusters.thrusters[i]  # type: ignore[union-attr]
+        if th.model != "propeller":
+            raise InputError(f"rpm of thruster '{name}': it is a {th.model} thruster; rpm needs a propeller model")
+        commands[name] = float(value) / 60.0
+    return fly_transport(asm, duration, dt, model, commands, force, output_every)

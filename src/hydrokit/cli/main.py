@@ -32,6 +32,7 @@ COMMANDS: dict[str, tuple[str, str]] = {
     "estimate": ("hydrokit.cli.estimate:estimate", "Estimate coefficients from geometry."),
     "fit-forces": ("hydrokit.cli.estimate:fit_forces", "Fit damping models to a force-speed curve."),
     "export": ("hydrokit.cli.export:export", "Export a vehicle to Gazebo, uuv_simulator or python-control."),
+    "transport": ("hydrokit.cli.transport:transport", "Fly joined vehicles carrying a payload; joint loads."),
 }
 
 

@@ -65,14 +65,27 @@ def _vec(v: Any, where: str, src: str) -> np.ndarray:
     return vector(v, 3, where, src)
 
 
+def vehicle_ref(ref: Any, p: Path) -> str:
+    """A part's ``vehicle:`` value: a path relative to the geometry file at ``p`` when such a
+    file exists there, else as given (a bundled name or a path from the working folder)."""
+    local = p.parent / str(ref)
+    return str(local) if local.is_file() else str(ref)
+
+
 def load_geometry(path: str | os.PathLike[str]) -> Geometry:
     """Read a geometry file (fields validated here; each part's coefficients come from
     :mod:`hydrokit.estimate.geometry`)."""
+    p = Path(path)
+    return parse_geometry(read_yaml(p), p)
+
+
+def parse_geometry(data: dict[str, Any], p: Path, extra_part_keys: frozenset[str] = frozenset()) -> Geometry:
+    """Validate the parsed mapping of a geometry file at ``p`` (relative mesh and vehicle paths
+    resolve against its folder). ``extra_part_keys`` are part keys another format (the
+    assembly file) reads itself; they are ignored here."""
     from hydrokit.estimate.composite import rotation_from_degrees
 
-    p = Path(path)
     src = str(p)
-    data = read_yaml(p)
     g = _num(data.get("gravity", 9.81), "gravity", src)
     fluid = data.get("fluid", {"density": 1025.0})
     if not isinstance(fluid, dict):
@@ -88,7 +101,7 @@ def load_geometry(path: str | os.PathLike[str]) -> Geometry:
         where = f"parts[{k}]"
         if not isinstance(raw, dict):
             raise InputError(f"field '{where}': expected a mapping", src)
-        unknown = set(raw) - PART_KEYS
+        unknown = set(raw) - PART_KEYS - extra_part_keys
         if unknown:
             raise InputError(f"field '{where}': unknown key(s) {sorted(unknown)}", src)
         name = str(raw.get("name", f"part{k + 1}"))
@@ -101,7 +114,7 @@ def load_geometry(path: str | os.PathLike[str]) -> Geometry:
         if "vehicle" in raw:
             from hydrokit.io.vehicle import load_vehicle
 
-            parts.append(vehicle_part(name, load_vehicle(raw["vehicle"]), pos, R, str(raw["vehicle"])))
+            parts.append(vehicle_part(name, load_vehicle(vehicle_ref(raw["vehicle"], p)), pos, R, str(raw["vehicle"])))
             continue
         if "mass" in raw:
             mass = _num(raw["mass"], f"{where}.mass", src)
