@@ -529,10 +529,11 @@ def _rotations(S: np.ndarray) -> np.ndarray:
     return R
 
 
-def _point_states(S: np.ndarray, r: np.ndarray) -> np.ndarray:
-    """States of the point ``r`` (m, body axes) of a rigid body with states S (N, 12)."""
+def _point_states(S: np.ndarray, r: np.ndarray, R: np.ndarray | None = None) -> np.ndarray:
+    """States of the point ``r`` (m, body axes) of a rigid body with states S (N, 12); ``R``
+    the body's rotations (:func:`_rotations` of S) when already at hand."""
     out = S.copy()
-    out[:, 0:3] = S[:, 0:3] + _rotations(S) @ np.asarray(r, float)
+    out[:, 0:3] = S[:, 0:3] + (_rotations(S) if R is None else R) @ np.asarray(r, float)
     out[:, 6:9] = S[:, 6:9] + np.cross(S[:, 9:12], r)
     return out
 
@@ -662,8 +663,9 @@ def fly_transport(
     sep = np.zeros((n_rows, len(joints)))
     if model == "rigid":
         assembly_states = X_all[0]
+        R = _rotations(X_all[0][sl])
         for i, name in enumerate(asm.part_names):
-            parts[name] = _point_states(X_all[0][sl], asm.positions[i])
+            parts[name] = _point_states(X_all[0][sl], asm.positions[i], R)
     else:
         root_copies = [_point_states(X[sl], asm.positions[asm.root]) for X in X_all]
         assembly_states = _mean_states([X[sl] for X in X_all])
