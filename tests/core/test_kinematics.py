@@ -66,3 +66,13 @@ def test_coriolis_is_skew_and_workless(nu):
     np.testing.assert_allclose(C, -C.T, atol=1e-12)
     assert abs(nu @ C @ nu) < 1e-9
     np.testing.assert_allclose(coriolis_force(M, nu), C @ nu, atol=1e-9)
+
+
+def test_rotation_zyx_many_equals_the_scalar_one_row_by_row():
+    from hydrokit.core.kinematics import rotation_zyx, rotation_zyx_many
+
+    rng = np.random.default_rng(3)
+    A = rng.uniform(-3, 3, (50, 3))
+    R = rotation_zyx_many(A)
+    for k in range(len(A)):
+        assert np.allclose(R[k], rotation_zyx(*A[k]), rtol=0, atol=1e-15)

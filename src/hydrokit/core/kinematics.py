@@ -48,6 +48,26 @@ def rotation_zyx(phi: float, theta: float, psi: float) -> np.ndarray:
     )
 
 
+def rotation_zyx_many(angles: np.ndarray) -> np.ndarray:
+    """:func:`rotation_zyx` for many attitudes at once: ``angles`` (N, 3) rows φ, θ, ψ (rad)
+    → (N, 3, 3). The same nine expressions, on arrays (post-processing of long runs)."""
+    a = np.asarray(angles, dtype=float).reshape(-1, 3)
+    cf, sf = np.cos(a[:, 0]), np.sin(a[:, 0])
+    ct, st = np.cos(a[:, 1]), np.sin(a[:, 1])
+    cp, sp = np.cos(a[:, 2]), np.sin(a[:, 2])
+    R = np.empty((len(a), 3, 3))
+    R[:, 0, 0] = cp * ct
+    R[:, 0, 1] = -sp * cf + cp * st * sf
+    R[:, 0, 2] = sp * sf + cp * cf * st
+    R[:, 1, 0] = sp * ct
+    R[:, 1, 1] = cp * cf + sf * st * sp
+    R[:, 1, 2] = -cp * sf + st * sp * cf
+    R[:, 2, 0] = -st
+    R[:, 2, 1] = ct * sf
+    R[:, 2, 2] = ct * cf
+    return R
+
+
 def euler_rate_matrix(phi: float, theta: float) -> np.ndarray:
     """T(Θ): body rates → Euler-angle rates (Fossen eq. 2.29); singular at θ = ±90°."""
     cf, sf = math.cos(phi), math.sin(phi)

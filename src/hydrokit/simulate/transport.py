@@ -512,21 +512,10 @@ class TransportResult(Result):
 
 # ============================================================================ driver
 def _rotations(S: np.ndarray) -> np.ndarray:
-    """(N, 3, 3) body → NED rotations of Euler states S (N, ≥ 6) (zyx, as the vehicle model)."""
-    cf, sf = np.cos(S[:, 3]), np.sin(S[:, 3])
-    ct, st = np.cos(S[:, 4]), np.sin(S[:, 4])
-    cp, sp = np.cos(S[:, 5]), np.sin(S[:, 5])
-    R = np.empty((len(S), 3, 3))
-    R[:, 0, 0] = cp * ct
-    R[:, 0, 1] = -sp * cf + cp * st * sf
-    R[:, 0, 2] = sp * sf + cp * cf * st
-    R[:, 1, 0] = sp * ct
-    R[:, 1, 1] = cp * cf + sf * st * sp
-    R[:, 1, 2] = -cp * sf + st * sp * cf
-    R[:, 2, 0] = -st
-    R[:, 2, 1] = ct * sf
-    R[:, 2, 2] = ct * cf
-    return R
+    """(N, 3, 3) body → NED rotations of Euler states S (N, ≥ 6)."""
+    from hydrokit.core.kinematics import rotation_zyx_many
+
+    return rotation_zyx_many(S[:, 3:6])
 
 
 def _point_states(S: np.ndarray, r: np.ndarray, R: np.ndarray | None = None) -> np.ndarray:
