@@ -27,6 +27,13 @@ import math
 import numba
 import numpy as np
 
+#: ``numba.njit`` for kernels that allocate nothing: compiled without numba's reference
+#: counting, which otherwise updates every array argument's count atomically on entry and exit
+#: (with ~60 array arguments per closed-loop step this was a fifth of the step). Such a kernel
+#: may call only kernels of the same kind (numba passes the setting on to callees, and
+#: allocation needs it), so code that allocates stays in ordinary ``numba.njit`` kernels.
+njit_noalloc = numba.njit(cache=True, _nrt=False)  # type: ignore[call-overload]
+
 
 @numba.njit(cache=True, inline="always")
 def _interp(tab, t, val, slope):  # noqa: ANN001, ANN202
@@ -56,7 +63,7 @@ def _interp(tab, t, val, slope):  # noqa: ANN001, ANN202
         val[j] = tab[lo, j + 1] + s * (t - tab[lo, 0])
 
 
-@numba.njit(cache=True)
+@njit_noalloc
 def deriv(t, x, quat, tau_tab, cur_tab, Minv, Mc, DL, DQ, scal, t_dof, t_coef, t_kind, t_idx, buf, out):  # noqa: ANN001, ANN201
     """ẋ into ``out``; ``buf`` is scratch of length ≥ 40."""
     if quat:

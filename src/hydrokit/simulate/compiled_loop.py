@@ -53,7 +53,7 @@ from hydrokit.model.control import PID, Autopilot, SPlane
 from hydrokit.model.guidance import _HORIZONTAL_EPS, Path
 from hydrokit.model.thrusters import IdealCurve, PropellerCurve, TableCurve, ThrusterSet
 from hydrokit.simulate.closed_loop import ClosedLoopResult
-from hydrokit.simulate.compiled import deriv
+from hydrokit.simulate.compiled import deriv, njit_noalloc
 
 _EPS = float(np.finfo(float).eps)
 # status codes of _loop
@@ -95,7 +95,7 @@ def _interp(x, xp, fp, n):  # noqa: ANN001, ANN202
 # ============================================================================ thrust curves
 # kinds: 0 ideal, 1 table, 2 propeller
 # prop rows: D, D4, rho, jlo, jhi, loss_f, loss_r, n_max, den_f, den_r
-@numba.njit(cache=True)
+@njit_noalloc
 def _prop_thrust(i, n, va, prop, kf, kr):  # noqa: ANN001, ANN202
     if n == 0.0:
         return 0.0
@@ -115,7 +115,7 @@ def _prop_thrust(i, n, va, prop, kf, kr):  # noqa: ANN001, ANN202
     return loss * kt * rho * D4 * abs(n) * n
 
 
-@numba.njit(cache=True)
+@njit_noalloc
 def _prop_command(i, f, va, prop, kf, kr):  # noqa: ANN001, ANN202
     if f == 0.0:
         return 0.0
@@ -156,7 +156,7 @@ def _prop_command(i, f, va, prop, kf, kr):  # noqa: ANN001, ANN202
     return n
 
 
-@numba.njit(cache=True)
+@njit_noalloc
 def _thrust(i, c, va, kind, tab_c, tab_f, tab_n, prop, kf, kr):  # noqa: ANN001, ANN202
     """Unclipped thrust of thruster i at command c, N."""
     k = kind[i]
@@ -167,7 +167,7 @@ def _thrust(i, c, va, kind, tab_c, tab_f, tab_n, prop, kf, kr):  # noqa: ANN001,
     return _prop_thrust(i, c, va, prop, kf, kr)
 
 
-@numba.njit(cache=True)
+@njit_noalloc
 def _command(i, f, va, kind, tab_c, tab_f, tab_n, prop, kf, kr):  # noqa: ANN001, ANN202
     """Command of thruster i giving thrust f (already clipped to its limits)."""
     k = kind[i]
@@ -217,10 +217,72 @@ def _kkt(g, on_bound):  # noqa: ANN001, ANN202
 
 
 @numba.njit(cache=True)
+def _lstsq(A, b, rcond):  # noqa: ANN001, ANN202
+    """np.linalg.lstsq(A, b, rcond)[0] for the allocation's small matrices.
+
+    When A has at least as many rows as columns and its Householder R has no diagonal below
+    1e-7 of its largest (so its condition number is far below 1/rcond for every rcond used
+    here, ≤ 1e-14, and LAPACK's SVD cuts no singular value), both give the unique
+    least-squares solution, equal to round-off; that case is solved by Householder QR in
+    place, without LAPACK's call overhead (the SVD path cost about a third of a fleet step).
+    Otherwise (fewer rows than columns, or nearly dependent columns): LAPACK's SVD, the
+    minimum-norm solution with rcond's cut-off, exactly as numpy.
+    """
+    m, n = A.shape
+    if n == 0 or m < n or rcond > 1e-14:
+        return np.linalg.lstsq(A, b, rcond=rcond)[0]
+    R = np.empty((m, n))
+    for i in range(m):
+        for j in range(n):
+            R[i, j] = A[i, j]
+    y = b.copy()
+    for k in range(n):
+        s2 = 0.0
+        for i in range(k + 1, m):
+            s2 += R[i, k] * R[i, k]
+        rkk = R[k, k]
+        norm = math.sqrt(s2 + rkk * rkk)
+        if norm == 0.0:
+            return np.linalg.lstsq(A, b, rcond=rcond)[0]
+        alpha = -norm if rkk >= 0.0 else norm
+        v0 = rkk - alpha
+        vv = v0 * v0 + s2  # |v|², v = (v0, R[k+1:, k])
+        R[k, k] = v0
+        for j in range(k + 1, n):
+            d = 0.0
+            for i in range(k, m):
+                d += R[i, k] * R[i, j]
+            f = 2.0 * d / vv
+            for i in range(k, m):
+                R[i, j] -= f * R[i, k]
+        d = 0.0
+        for i in range(k, m):
+            d += R[i, k] * y[i]
+        f = 2.0 * d / vv
+        for i in range(k, m):
+            y[i] -= f * R[i, k]
+        R[k, k] = alpha
+    big = 0.0
+    small = np.inf
+    for k in range(n):
+        big = max(big, abs(R[k, k]))
+        small = min(small, abs(R[k, k]))
+    if small <= 1e-7 * big:
+        return np.linalg.lstsq(A, b, rcond=rcond)[0]
+    x = np.empty(n)
+    for k in range(n - 1, -1, -1):
+        s = y[k]
+        for j in range(k + 1, n):
+            s -= R[k, j] * x[j]
+        x[k] = s / R[k, k]
+    return x
+
+
+@numba.njit(cache=True)
 def _lsq_bvls(A, b, lb, ub, tol):  # noqa: ANN001, ANN202
     """scipy.optimize.lsq_linear(A, b, bounds=(lb, ub), method="bvls", tol=tol).x"""
     m, n = A.shape
-    x = np.linalg.lstsq(A, b, rcond=-1.0)[0]
+    x = _lstsq(A, b, _EPS)
     inside = True
     for i in range(n):
         if not (x[i] >= lb[i] and x[i] <= ub[i]):
@@ -250,7 +312,7 @@ def _lsq_bvls(A, b, lb, ub, tol):  # noqa: ANN001, ANN202
     while nf > 0:
         iteration += 1
         b_free = b - A @ _on_bound_part(x, on_bound)
-        z = np.linalg.lstsq(_cols(A, free, nf), b_free, rcond=rc)[0]
+        z = _lstsq(_cols(A, free, nf), b_free, rc)
         any_v = False
         keep = 0
         for jj in range(nf):
@@ -301,7 +363,7 @@ def _lsq_bvls(A, b, lb, ub, tol):  # noqa: ANN001, ANN202
             if nf == 0:  # every variable at a bound: lstsq of no columns changes nothing
                 break
             b_free = b - A @ _on_bound_part(x, on_bound)
-            z = np.linalg.lstsq(_cols(A, free, nf), b_free, rcond=rc)[0]
+            z = _lstsq(_cols(A, free, nf), b_free, rc)
             nl = 0
             nu_ = 0
             for jj in range(nf):
@@ -388,7 +450,7 @@ def _polish(T, target, f, lo, hi, tol):  # noqa: ANN001, ANN202
     rhs = target - T @ g  # g is zero on the free thrusters here
     # pinv(T_free) @ rhs as the minimum-norm least-squares solution (the same singular-value
     # cut-off, 1e-15 of the largest; one LAPACK routine less to compile)
-    gf = np.linalg.lstsq(_cols(T, free, n_free), rhs, rcond=1e-15)[0]
+    gf = _lstsq(_cols(T, free, n_free), rhs, 1e-15)
     for jj in range(n_free):
         g[free[jj]] = gf[jj]
     for i in range(m):
@@ -421,6 +483,22 @@ def _constrained(tau, T, lo, hi, lo_s, hi_s, Q, QT, A2, scale, thrust_scale, q_m
     return f1
 
 
+@numba.njit(cache=True)
+def _allocate_limited(tau_d, A, f_cmd):  # noqa: ANN001, ANN202
+    """f_cmd ← the constrained allocation of τ_d (its unactuated DOFs zeroed). The one part of
+    a step that allocates memory, so kept out of _control, which is compiled without numba's
+    reference counting (the atomic reference-count updates of its ~60 array arguments were a
+    fifth of a fleet step)."""
+    _P, f_min, f_max, unact, T, lo_s, hi_s, Q, QT, A2, apar, ptol = A
+    tau_eff = tau_d.copy()
+    for jd in range(6):
+        if unact[jd]:
+            tau_eff[jd] = 0.0
+    f_c = _constrained(tau_eff, T, f_min, f_max, lo_s, hi_s, Q, QT, A2, apar[0], apar[1], apar[2], ptol)
+    for i in range(f_cmd.shape[0]):
+        f_cmd[i] = f_c[i]
+
+
 # ============================================================================ the loop
 @numba.njit(cache=True)
 def _work(m):  # noqa: ANN001, ANN202
@@ -447,8 +525,8 @@ def _work(m):  # noqa: ANN001, ANN202
 
 
 # The per-step kernel, shared by the single run (_loop) and the fleet (_fleet_member):
-# _control (guidance → autopilot → allocation → thrusters at step k, with the state x at t = k dt)
-# then _integrate (RK4 of the vehicle with the thrust held, and the rotor lag).
+# _control (guidance → autopilot → unconstrained allocation at step k, with the state x at t = k dt),
+# _allocate_limited when that exceeds a limit, _thrusters, then _integrate (RK4 of the vehicle with the thrust held, and the rotor lag).
 # Argument groups (tuples of arrays, packed by _pack):
 #   G guidance: points, speeds, leg a (N+1,3 from row 1), d, L2, L, LL, course, horizontal,
 #     [R, lookahead]
@@ -465,19 +543,18 @@ def _work(m):  # noqa: ANN001, ANN202
 #   state (in/out): x (12), c (m), fstate [heading, integral×5, previous×5], istate
 #     [leg, j, limited_any, has_prev×5], arrivals (N,)
 #   W scratch (_work)
-@numba.njit(cache=True)
-def _control(k, dt, G, A, H, ctl, ctl_angle, vc, x, c, fstate, istate, arrivals, W):  # noqa: ANN001, ANN202
-    """Guidance, autopilot, allocation and thrusters at step k; fills W's τ_d, f_cmd, c_cmd,
-    f_act and returns (leg, saturated, speed, depth and heading references)."""
+@njit_noalloc
+def _control(k, dt, G, A, ctl, ctl_angle, x, fstate, istate, arrivals, W):  # noqa: ANN001, ANN202
+    """Guidance, autopilot and the unconstrained allocation at step k; fills W's τ_d and f_cmd
+    and returns (leg, limited, speed, depth and heading references). When limited, the caller
+    runs _allocate_limited (which allocates memory, so cannot be called from here), then
+    _thrusters."""
     pts, speeds, leg_a, leg_d, leg_L2, leg_L, leg_LL, course, horiz, gpar = G
-    P, f_min, f_max, unact, T, lo_s, hi_s, Q, QT, A2, apar, ptol = A
-    kind, dirs, arms, wake, cmd_min, cmd_max, decay, mean_w, tab_c, tab_f, tab_n, prop, kf, kr = H
-    _tt, _b, _k1, _k2, _k3, _k4, _tmp, tau_d, f_cmd, va, pa, c_cmd, f_act, meas, setp, rate, out = W
+    P, f_min, f_max, _un, T, _lo_s, _hi_s, _Q, _QT, _A2, _apar, _ptol = A
+    _tt, _b, _k1, _k2, _k3, _k4, _tmp, tau_d, f_cmd, _va, pa, _cc, _fa, meas, setp, rate, out = W
     m = T.shape[1]
     n_legs = speeds.shape[0]
     R_acc, look = gpar[0], gpar[1]
-    scale, thrust_scale, q_max = apar[0], apar[1], apar[2]
-    still = vc[0] == 0.0 and vc[1] == 0.0 and vc[2] == 0.0
 
     t = k * dt
     px, py, pz = x[0], x[1], x[2]
@@ -583,14 +660,20 @@ def _control(k, dt, G, A, H, ctl, ctl_angle, vc, x, c, fstate, istate, arrivals,
     for i in range(m):
         if not (f_cmd[i] <= f_max[i] and f_cmd[i] >= f_min[i]):
             limited = True
-    if limited:
-        tau_eff = tau_d.copy()
-        for jd in range(6):
-            if unact[jd]:
-                tau_eff[jd] = 0.0
-        f_c = _constrained(tau_eff, T, f_min, f_max, lo_s, hi_s, Q, QT, A2, scale, thrust_scale, q_max, ptol)
-        f_cmd[:] = f_c
-    # ---------------------------------------------------------------- thrusters
+    return kk, limited, ref_speed, ref_depth, ref_heading
+
+
+@njit_noalloc
+def _thrusters(vc, x, c, A, H, W, limited):  # noqa: ANN001, ANN202
+    """Thruster commands and thrusts for W's f_cmd at state x: fills W's c_cmd and f_act and
+    returns whether any thruster saturated (or the allocation was limited)."""
+    kind, dirs, arms, wake, cmd_min, cmd_max, decay, mean_w, tab_c, tab_f, tab_n, prop, kf, kr = H
+    _tt, _b, _k1, _k2, _k3, _k4, _tmp, _tau, f_cmd, va, _pa, c_cmd, f_act, _me, _se, _ra, _ou = W
+    f_min, f_max = A[1], A[2]
+    m = f_cmd.shape[0]
+    still = vc[0] == 0.0 and vc[1] == 0.0 and vc[2] == 0.0
+    phi, theta, psi = x[3], x[4], x[5]
+    u, v, w, p, q, r = x[6], x[7], x[8], x[9], x[10], x[11]
     if still:
         ur, vr, wr = u, v, w
     else:
@@ -626,10 +709,10 @@ def _control(k, dt, G, A, H, ctl, ctl_angle, vc, x, c, fstate, istate, arrivals,
         f_act[i] = min(max(fa, f_min[i]), f_max[i])
         if ci >= cmd_max[i] * (1 - 1e-9) or ci <= cmd_min[i] * (1 - 1e-9):
             sat = True
-    return kk, sat, ref_speed, ref_depth, ref_heading
+    return sat
 
 
-@numba.njit(cache=True)
+@njit_noalloc
 def _integrate(t, dt, x, c, T, decay, V, W):  # noqa: ANN001, ANN202
     """One RK4 step of the vehicle with W's thrust f_act held, then the rotor lag; False when
     the state became non-finite."""
@@ -677,9 +760,12 @@ def _loop(
     tau_d, f_cmd, c_cmd, f_act = W[7], W[8], W[11], W[12]
     for k in range(k0, k1):
         t = k * dt
-        kk, sat, ref_speed, ref_depth, ref_heading = _control(
-            k, dt, G, A, H, ctl, ctl_angle, vc, x, c, fstate, istate, arrivals, W
+        kk, limited, ref_speed, ref_depth, ref_heading = _control(
+            k, dt, G, A, ctl, ctl_angle, x, fstate, istate, arrivals, W
         )
+        if limited:
+            _allocate_limited(tau_d, A, f_cmd)
+        sat = _thrusters(vc, x, c, A, H, W, limited)
         # ---------------------------------------------------------------- record
         if k % every == 0:
             j = istate[1]
@@ -755,9 +841,10 @@ def _fleet_member(
     limited_any = False
     for k in range(n_steps + 1):
         t = k * dt
-        kk, sat, _rs, ref_depth, ref_heading = _control(
-            k, dt, G, A, H, ctl, ctl_angle, vc, x, c, fstate, istate, arrivals, W
-        )
+        kk, limited, _rs, ref_depth, ref_heading = _control(k, dt, G, A, ctl, ctl_angle, x, fstate, istate, arrivals, W)
+        if limited:
+            _allocate_limited(W[7], A, W[8])
+        sat = _thrusters(vc, x, c, A, H, W, limited)
         if path_every > 0 and k % path_every == 0:
             jp = k // path_every
             for i in range(6):
