@@ -157,3 +157,37 @@ def test_tare_is_subtracted(pendulum_rig):
     res = identify_launch(rig, launch, "output-error")
     assert res.linear_damping == pytest.approx(0.02, abs=0.002)
     assert res.quadratic_damping == pytest.approx(0.30, rel=0.05)
+
+
+def test_log_decrement_warns_of_negative_per_cycle_drag(spring_rig):
+    # a noise-free launch whose sensor gain steps up by 20 % at t = 3 s (smoothly, over ~0.1 T):
+    # the cycle across the step decays by ln(1.2) = 0.18 less, so its ζ falls below the fitted
+    # linear part and its per-cycle C_D comes out negative
+    from hydrokit.identify.types import Launch
+
+    launch = simulate_launch(spring_rig, 0.2866, 0.5, 5.5959, 0.04, 8.0, SensorModel(200, 0, 0, 0), rng=0)
+    t, y = np.asarray(launch.t), np.asarray(launch.y)
+    period = 2 * math.pi / math.sqrt(63.6 / (0.97 + 0.2866))  # undamped, closed form: 0.883 s
+    y = y * (1.0 + 0.2 * 0.5 * (1.0 + np.tanh((t - 3.0) / (0.1 * period))))
+    res = identify_launch(spring_rig, Launch(t=t, y=y, file="gain.csv"), "log-decrement")
+    cycles = res.extra["cycles"]
+    bad = [(k, c) for k, c in enumerate(cycles, start=1) if c["drag_coefficient"] < 0]
+    msgs = [w for w in res.warnings if "negative per-cycle C_D" in w]
+    assert len(msgs) == 1 and bad, res.warnings
+    k, worst = min(bad, key=lambda kc: kc[1]["drag_coefficient"])
+    assert f"{len(bad)} of {len(cycles)} cycles" in msgs[0]
+    assert f"lowest {worst['drag_coefficient']:.3g} at cycle {k}," in msgs[0]
+    # the flagged cycle is the one that spans the gain step (independent: where the step is)
+    assert worst["time"] < 3.0 < worst["time"] + period
+
+
+@pytest.mark.parametrize("linear,quadratic", [(0.5, 5.5959), (2.0, 0.0)])
+def test_log_decrement_clean_record_has_no_negative_drag_warning(spring_rig, linear, quadratic):
+    # noise-free decays (quadratic-dominated, and purely linear with true C_D = 0): no cycle
+    # decays less than the linear part beyond the peak-interpolation resolution
+    launch = simulate_launch(spring_rig, 0.2866, linear, quadratic, 0.04, 8.0, SensorModel(200, 0, 0, 0), rng=0)
+    res = identify_launch(spring_rig, launch, "log-decrement")
+    assert not [w for w in res.warnings if "per-cycle" in w], res.warnings
+    cd = [c["drag_coefficient"] for c in res.extra["cycles"]]
+    cd_true = 2 * quadratic / (998.2 * 0.008)  # C_D = 2 K_Q / (ρ A)
+    assert np.median(cd) == pytest.approx(cd_true, abs=0.15 * cd_true + 1e-3)

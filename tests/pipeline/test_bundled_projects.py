@@ -22,7 +22,10 @@ def test_rov2_reproduces_eng2009_full_scale_experiment(tmp_path, run_cli):
         lo, hi = rows[coef]["tank_ci"]
         assert lo <= printed <= hi, (coef, lo, printed, hi)
     assert rows["added_mass"]["tank"] == pytest.approx(21.42, rel=0.015)
-    assert rows["quadratic_damping"]["tank"] == pytest.approx(106.03, rel=0.02)
+    # every launch kept: the outlier rule judges each amplitude group on its own and rov2's groups
+    # of three are too small to judge (the old pooled rule dropped surge_L1_3, K_Q 10.89 against
+    # about 9.7, and landed closer: 2 % then, 2.7 % now, both inside the interval checked above)
+    assert rows["quadratic_damping"]["tank"] == pytest.approx(106.03, rel=0.03)
     tare = doc["campaigns"]["surge"]["tare"]
     # the air swings were simulated with the effective length 0.3904 m (ENG2009 §IV.A: α = −25.128)
     assert tare["effective_length"] == pytest.approx(0.3904, abs=0.0005)

@@ -1,9 +1,14 @@
 """Campaign statistics over many launches (SPEC §1.5).
 
 Per coefficient: mean, standard deviation, a Student-t confidence interval of the mean, n,
-and the launches rejected as outliers. Outlier rule (stated in every summary): a launch is
-rejected when its value lies more than 3.5 scaled median absolute deviations (1.4826·MAD, a
-robust σ) from the median of its group, and only when at least 4 launches remain.
+and the launches rejected as outliers, plus the same statistics over every launch
+(``without_rejection``), so a reader sees what the rule changed. Outlier rule (stated in every
+summary): a launch is rejected when its value lies more than 3.5 scaled median absolute
+deviations (1.4826·MAD, a robust σ) from the median of *its own amplitude group* (the launches
+of one condition), applied only to groups of at least 5 launches and only when at least 4 of
+the group remain — so a whole group is never rejected. Judged against the pooled campaign
+instead, a group whose coefficient genuinely differs (K_Q at the smallest amplitude) was thrown
+out as a block, and the interval came out narrower than the data support.
 Amplitude groups are compared pairwise with the two-sided Mann–Whitney rank-sum test: z in
 the normal approximation with the continuity correction and its p, which is what CELY2019
 Tables 6, 8 and 9 report (U = 36 → z = 2.8022, p = 0.0051), plus the exact p of the
@@ -13,11 +18,12 @@ permutation distribution, which is the better figure for groups of six.
 from __future__ import annotations
 
 import math
-from collections.abc import Sequence
+from collections.abc import Mapping, Sequence
 from typing import Any
 
 import numpy as np
 
+from hydrokit.errors import InputError
 from hydrokit.identify.types import LaunchResult
 
 SUMMARY_FIELDS = (
@@ -31,61 +37,118 @@ SUMMARY_FIELDS = (
     "reynolds_max",
     "kc",
 )
+#: modified z-score threshold (Iglewicz & Hoaglin 1993: |M_i| > 3.5 flags an outlier)
+OUTLIER_Z = 3.5
 OUTLIER_RULE = (
-    "modified z-score |x − median| / (1.4826 MAD) > 3.5 (Iglewicz–Hoaglin), applied when ≥ 5 launches and ≥ 4 remain"
+    "modified z-score |x − median| / (1.4826 MAD) > 3.5 (Iglewicz–Hoaglin) within each amplitude group, "
+    "applied when the group has ≥ 5 launches and ≥ 4 of them remain (a whole group is never rejected)"
 )
 
 
-def describe(values: Sequence[float], files: Sequence[str] | None = None, confidence: float = 0.95) -> dict[str, Any]:
-    """Mean, std, t-interval and outliers of one coefficient over launches.
+def outliers(values: Sequence[float]) -> np.ndarray:
+    """Which of one group's values the modified z-score rule rejects (boolean mask).
+
+    M_i = |x_i − median| / (1.4826 MAD) > 3.5 (Iglewicz & Hoaglin 1993), applied only when the
+    group has at least 5 values, MAD > 0 and at least 4 values remain; otherwise nothing is
+    rejected (never the whole group).
 
     Parameters
     ----------
-    values : sequence of float — one value per launch (None/NaN ignored)
-    files : sequence of str — launch names, for the rejected list
-    confidence : float — confidence level of the interval (0–1)
+    values : sequence of float — finite values of one coefficient in one group (any unit)
     """
+    x = np.asarray(values, float)
+    bad = np.zeros(x.size, bool)
+    if x.size < 5:
+        return bad
+    med = float(np.median(x))
+    mad = 1.4826 * float(np.median(np.abs(x - med)))
+    if mad > 0:
+        flagged = np.abs(x - med) > OUTLIER_Z * mad
+        if x.size - int(flagged.sum()) >= 4:
+            bad = flagged
+    return bad
+
+
+def _statistics(x: np.ndarray, confidence: float) -> dict[str, Any]:
+    """Mean, sample std, Student-t CI of the mean and n of ``x`` (its unit)."""
     from scipy import stats
 
-    files = list(files) if files is not None else [str(i) for i in range(len(values))]
-    pairs = [(f, float(v)) for f, v in zip(files, values) if v is not None and math.isfinite(float(v))]
-    x = np.array([v for _, v in pairs])
-    rejected: list[str] = []
-    if x.size >= 5:
-        med = float(np.median(x))
-        mad = 1.4826 * float(np.median(np.abs(x - med)))
-        if mad > 0:
-            bad = np.abs(x - med) > 3.5 * mad
-            if x.size - int(bad.sum()) >= 4:
-                rejected = [pairs[i][0] for i in np.nonzero(bad)[0]]
-                x = x[~bad]
     n = int(x.size)
     if n == 0:
-        return {"mean": None, "std": None, "ci": [None, None], "n": 0, "rejected": rejected, "rule": OUTLIER_RULE}
+        return {"mean": None, "std": None, "ci": [None, None], "n": 0}
     mean = float(np.mean(x))
     std = float(np.std(x, ddof=1)) if n > 1 else 0.0
+    ci: list[float | None] = [None, None]
     if n > 1:
         half = float(stats.t.ppf(0.5 + confidence / 2, n - 1)) * std / math.sqrt(n)
-        ci: list[float | None] = [mean - half, mean + half]
-    else:
-        ci = [None, None]
+        ci = [mean - half, mean + half]
+    return {"mean": mean, "std": std, "ci": ci, "n": n}
+
+
+def describe(
+    values: Sequence[float | None],
+    files: Sequence[str] | None = None,
+    confidence: float = 0.95,
+    groups: Sequence[str] | None = None,
+) -> dict[str, Any]:
+    """Mean, std, t-interval and outliers of one coefficient over launches.
+
+    Each launch is judged by :func:`outliers` against the launches of its own group only; the
+    statistics are then taken over all kept launches. ``without_rejection`` holds the same
+    statistics over every launch.
+
+    Parameters
+    ----------
+    values : sequence of float — one value per launch (None/NaN ignored), any unit
+    files : sequence of str — launch names, for the rejected list
+    confidence : float — confidence level of the interval (0–1)
+    groups : sequence of str, optional — the group (condition, e.g. amplitude level) of each
+        launch; None judges all launches as one group
+
+    Returns
+    -------
+    dict — ``mean``, ``std``, ``ci``, ``n`` (outliers excluded), ``rejected`` (file names),
+    ``rule``, ``confidence`` and ``without_rejection`` (``mean``, ``std``, ``ci``, ``n`` of all
+    launches)
+    """
+    files = list(files) if files is not None else [str(i) for i in range(len(values))]
+    labels = list(groups) if groups is not None else [""] * len(values)
+    if not (len(files) == len(labels) == len(values)):
+        raise InputError(
+            f"describe: {len(values)} values, {len(files)} files and {len(labels)} groups; expected one of each per launch"
+        )
+    keep = [i for i, v in enumerate(values) if v is not None and math.isfinite(float(v))]
+    x = np.array([float(values[i]) for i in keep])  # type: ignore[arg-type]
+    bad = np.zeros(x.size, bool)
+    group_of = [labels[i] for i in keep]
+    for label in dict.fromkeys(group_of):
+        idx = np.array([j for j, g in enumerate(group_of) if g == label])
+        bad[idx] = outliers(x[idx])
+    rejected = [files[keep[j]] for j in np.nonzero(bad)[0]]
     return {
-        "mean": mean,
-        "std": std,
-        "ci": ci,
-        "n": n,
+        **_statistics(x[~bad], confidence),
         "rejected": rejected,
         "rule": OUTLIER_RULE,
         "confidence": confidence,
+        "without_rejection": _statistics(x, confidence),
     }
 
 
-def summarize(results: Sequence[LaunchResult], confidence: float = 0.95) -> dict[str, Any]:
-    """Per-coefficient statistics over ``results`` (see :func:`describe`)."""
+def summarize(
+    results: Sequence[LaunchResult],
+    confidence: float = 0.95,
+    groups: Mapping[str, Sequence[LaunchResult]] | None = None,
+) -> dict[str, Any]:
+    """Per-coefficient statistics over ``results`` (see :func:`describe`), outliers judged within
+    each amplitude group (``groups``: label → launches; default :func:`group_by_amplitude`)."""
+    if groups is None:
+        groups = group_by_amplitude(results, angles=False)
+    label_of = {id(r): label for label, members in groups.items() for r in members}
+    labels = [label_of.get(id(r), "") for r in results]
     files = [r.file for r in results]
     out: dict[str, Any] = {}
     for name in SUMMARY_FIELDS:
-        out[name] = describe([getattr(r, name) for r in results], files, confidence)
+        out[name] = describe([getattr(r, name) for r in results], files, confidence, labels)
     out["outlier_rule"] = OUTLIER_RULE
     return out
 

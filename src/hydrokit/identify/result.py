@@ -71,7 +71,8 @@ class CampaignResult(Result):
     method : str — estimator name
     launches : list of IdentifiedLaunch
     summary : dict — per coefficient: mean, std, 95 % Student-t CI of the mean, n, rejected
-        launches and the outlier rule (:func:`hydrokit.identify.campaign.summarize`)
+        launches (judged within their amplitude group), the outlier rule and the same statistics
+        over every launch in ``without_rejection`` (:func:`hydrokit.identify.campaign.summarize`)
     pairwise : dict — per coefficient: two-sided rank-sum tests between amplitude groups
     groups : dict — amplitude-group label → launch files
     full_scale : dict or None — mean added mass (kg or kg·m²) and damping scaled to full size
@@ -250,7 +251,7 @@ def summarize_campaign(rig: Rig, method: str, items: Sequence[IdentifiedLaunch])
     results = [it.result for it in items]
     groups = group_by_amplitude(results, angles=not rig.translational_signal)
     pairwise = {c: rank_sum_pairs({k: [getattr(r, c) for r in g] for k, g in groups.items()}) for c in COEFFS}
-    summary = summarize(results)
+    summary = summarize(results, groups=groups)
     # repeats of one condition (an amplitude group) against their own standard errors
     summary["consistency"] = {
         c: {

@@ -3,7 +3,8 @@
 In air B ≈ 0 and m_a ≈ 0, so the equation-error coefficients of θ̈ = α sin θ − β θ̇ − γ|θ̇|θ̇
 give the effective pendulum length r = −g/α (ENG2009: α = −25.128 → r = 0.3904 m against
 0.39 m measured) and the pivot friction β, γ, expressed as K_L = β m, K_Q = γ m / r in the
-units of the in-water result, from which they are subtracted.
+units of the in-water result, from which they are subtracted. (ENG2009 writes K_Q = γ m r;
+``convention="eng2009"`` reproduces that, see :func:`air_tare`.)
 
 :func:`fit_air_tare` fits α, β, γ to the in-air launches; :func:`air_tare` turns them into the
 effective length and the tare damping; :func:`apply_tare` puts those into the rig.
@@ -36,7 +37,33 @@ class AirTare:
     quadratic_damping: float
 
 
-def air_tare(alpha: float, beta: float, gamma: float, mass: float, gravity: float = 9.81) -> AirTare:
+#: how γ (1/rad) becomes K_Q: "physics" K_Q = γ m / r (N·s²/m²), "eng2009" K_Q = γ m r (the paper's)
+TARE_CONVENTIONS = ("physics", "eng2009")
+
+
+def check_convention(convention: str) -> str:
+    """``convention`` if it is one of :data:`TARE_CONVENTIONS`; otherwise a one-line InputError."""
+    if convention not in TARE_CONVENTIONS:
+        raise InputError(f"convention = {convention!r}: expected one of {', '.join(TARE_CONVENTIONS)}")
+    return convention
+
+
+def quadratic_factor(mass: float, length: float, convention: str = "physics") -> float:
+    """The factor K_Q / γ of ``convention``: m / r (physics, kg/m) or m·r (eng2009, kg·m).
+
+    Parameters
+    ----------
+    mass : float — swinging mass m, kg
+    length : float — effective pendulum length r, m
+    convention : str — "physics" or "eng2009" (see :func:`air_tare`)
+    """
+    check_convention(convention)
+    return mass / length if convention == "physics" else mass * length
+
+
+def air_tare(
+    alpha: float, beta: float, gamma: float, mass: float, gravity: float = 9.81, *, convention: str = "physics"
+) -> AirTare:
     """Effective length and pivot friction from in-air pendulum coefficients (ENG2009 eq. 5–7).
 
     Parameters
@@ -46,13 +73,33 @@ def air_tare(alpha: float, beta: float, gamma: float, mass: float, gravity: floa
     gamma : float — quadratic coefficient γ, 1/rad
     mass : float — swinging mass, kg
     gravity : float — m/s²
+    convention : str — how γ becomes K_Q: "physics" (default) K_Q = γ m / r, or "eng2009"
+        K_Q = γ m r as ENG2009 writes it
+
+    Returns
+    -------
+    AirTare — r = −g/α (m), K_L = β m (N·s/m), K_Q (N·s²/m² in the physics convention)
+
+    Raises
+    ------
+    InputError
+        α not negative, a non-positive mass, an unknown ``convention``.
+
+    Notes
+    -----
+    The body at the end of the rod moves at x = r θ, so the friction moment m r² γ |θ̇| θ̇ seen as a
+    force at the body, m r γ |θ̇| θ̇ = (γ m / r) |ẋ| ẋ, gives K_Q = γ m / r in N·s²/m², the unit
+    of the in-water K_Q it is subtracted from. ENG2009 converts with K_Q = γ m r, which has the
+    unit kg·m and differs from the physics value by the factor r² (0.152 at r = 0.39 m); it is
+    offered only to reproduce the paper's numbers, hence "physics" is the default.
     """
+    check_convention(convention)
     if not (alpha < 0 and math.isfinite(alpha)):
         raise InputError(f"alpha = {alpha}: expected a negative number (1/s², restoring in air)")
     if mass <= 0:
         raise InputError(f"mass = {mass}: expected a positive mass (kg)")
     r = -gravity / alpha
-    return AirTare(r, beta * mass, gamma * mass / r)
+    return AirTare(r, beta * mass, gamma * quadratic_factor(mass, r, convention))
 
 
 def apply_tare(rig: Rig, tare: AirTare) -> Rig:
@@ -169,6 +216,7 @@ def fit_air_tare(
     window: int | None = None,
     polyorder: int = 4,
     noise_correction: bool = True,
+    convention: str = "physics",
 ) -> tuple[AirTare, dict[str, Any]]:
     """Fit the in-air tare (ENG2009 §IV.A) to in-air launches of the rig.
 
@@ -200,10 +248,14 @@ def fit_air_tare(
     polyorder : int — Savitzky–Golay polynomial order (default 4, as the estimator)
     noise_correction : bool — remove the sensor-noise bias from the normal equations (default
         True; False gives plain least squares)
+    convention : str — γ to K_Q: "physics" (default) K_Q = γ m / r in N·s²/m², the unit of the
+        in-water K_Q; "eng2009" K_Q = γ m r as ENG2009 prints it (r² times the physics value;
+        for reproducing the paper). See :func:`air_tare`.
 
     Returns
     -------
-    tare : AirTare — effective length r = −g/α (m), K_L = β m (N·s/m), K_Q = γ m / r (N·s²/m²)
+    tare : AirTare — effective length r = −g/α (m), K_L = β m (N·s/m), K_Q = γ m / r (N·s²/m²;
+        γ m r with ``convention="eng2009"``)
     fit : dict — ``alpha`` (1/s²), ``beta`` (1/s), ``gamma`` (1/rad); ``std_error``: their
         standard errors (same units; sensor noise only, not model error); ``n``: samples in
         the regression; ``launches``: number of launches; ``rms_residual``: RMS equation
@@ -217,7 +269,8 @@ def fit_air_tare(
         No launches; a launch with too few samples or without two cycles of free decay
         (:func:`~hydrokit.identify.preprocess.check_record`); fewer regression samples than
         coefficients; a fitted α ≥ 0 (no restoring pendulum: not an in-air record of a
-        hanging pendulum, or the angle is not in radians); a non-positive mass or gravity.
+        hanging pendulum, or the angle is not in radians); a non-positive mass or gravity; an
+        unknown ``convention``.
 
     Examples
     --------
@@ -232,6 +285,7 @@ def fit_air_tare(
     0.39
     >>> rig_tared = apply_tare(rig, tare)                    # then identify_campaign(rig_tared, …)
     """
+    check_convention(convention)
     launches = list(launches)
     if not launches:
         raise InputError("no in-air launches given; expected at least one trimmed launch for the air tare")
@@ -279,8 +333,9 @@ def fit_air_tare(
             "air); check that the launches are in-air records of a hanging pendulum and the angle is in radians"
         )
     se = np.sqrt(np.clip(np.diag(cov)[:3], 0.0, None))
-    tare = air_tare(alpha, beta, gamma, mass, gravity)
+    tare = air_tare(alpha, beta, gamma, mass, gravity, convention=convention)
     fit = {
+        "convention": convention,
         "alpha": alpha,
         "beta": beta,
         "gamma": gamma,

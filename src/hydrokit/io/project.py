@@ -16,7 +16,8 @@ uncertainty: {samples: 200, seed: 1}   # Monte Carlo over the coefficient covari
 
 Extra fields (all optional): a campaign's own ``scale_ratio`` (its model may differ from the
 project's), ``tare`` (a glob or list of in-air launches of a pendulum rig: the ENG2009 §IV.A air
-tare is fitted to them and subtracted), ``truth`` (model-scale ``added_mass``, ``linear_damping``, ``quadratic_damping``
+tare is fitted to them and subtracted; or ``{launches: <glob or list>, convention: eng2009}`` to
+convert γ to K_Q as ENG2009 does, γ·m·r, instead of the default ``physics`` γ·m/r), ``truth`` (model-scale ``added_mass``, ``linear_damping``, ``quadratic_damping``
 of virtual data, shown as identified vs true), ``forces`` entries as
 ``{file, area (m²), density (kg/m³)}``, ``published`` (per DOF, full-scale values printed by a
 source with a ``source`` text, shown in the comparison), ``choose`` as a mapping
@@ -37,6 +38,7 @@ from pydantic import BaseModel, ConfigDict, Field, ValidationError
 
 from hydrokit.core.names import DOF_NAMES
 from hydrokit.errors import InputError
+from hydrokit.identify.tare import TARE_CONVENTIONS
 from hydrokit.identify.types import METHODS
 from hydrokit.io.yamlfile import pydantic_error_line, read_yaml
 
@@ -53,6 +55,12 @@ class _Truth(BaseModel):
     quadratic_damping: float = Field(ge=0, description="N·s²/m² or N·m·s²/rad², model scale")
 
 
+class _Tare(BaseModel):
+    model_config = ConfigDict(extra="forbid")
+    launches: str | list[str]
+    convention: str = Field("physics", description="physics (K_Q = γ m / r) or eng2009 (K_Q = γ m r)")
+
+
 class _Campaign(BaseModel):
     model_config = ConfigDict(extra="allow")
     dof: str
@@ -61,7 +69,7 @@ class _Campaign(BaseModel):
     method: str = "output-error"
     scale_ratio: float | None = Field(None, gt=0)
     truth: _Truth | None = None
-    tare: str | list[str] | None = None
+    tare: str | list[str] | _Tare | None = None
 
 
 class _Force(BaseModel):
@@ -108,6 +116,8 @@ class CampaignSpec:
     pattern: str
     truth: dict[str, float] | None = None
     tare: tuple[Path, ...] = ()
+    #: γ → K_Q of the air tare: "physics" (γ m / r) or "eng2009" (γ m r)
+    tare_convention: str = "physics"
 
 
 @dataclass(frozen=True)
@@ -237,6 +247,12 @@ def parse_project(data: dict[str, Any], path: Path) -> Project:
         seen[c.dof] = i
         if c.method not in METHODS:
             raise InputError(f"field '{where}.method' = {c.method!r}: expected one of {', '.join(METHODS)}", source)
+        tare, convention = (c.tare.launches, c.tare.convention) if isinstance(c.tare, _Tare) else (c.tare, "physics")
+        if convention not in TARE_CONVENTIONS:
+            raise InputError(
+                f"field '{where}.tare.convention' = {convention!r}: expected one of {', '.join(TARE_CONVENTIONS)}",
+                source,
+            )
         campaigns.append(
             CampaignSpec(
                 dof=c.dof,
@@ -246,7 +262,8 @@ def parse_project(data: dict[str, Any], path: Path) -> Project:
                 scale_ratio=c.scale_ratio if c.scale_ratio is not None else f.scale_ratio,
                 pattern=c.launches if isinstance(c.launches, str) else ", ".join(c.launches),
                 truth=c.truth.model_dump() if c.truth is not None else None,
-                tare=_launches(root, c.tare, f"{where}.tare", source) if c.tare is not None else (),
+                tare=_launches(root, tare, f"{where}.tare", source) if tare is not None else (),
+                tare_convention=convention,
             )
         )
     forces = {}

@@ -91,6 +91,7 @@ class Runner:
                 self.digests[str(spec.rig)],
                 [(p.name, self.digests[str(p)]) for p in spec.launches],
                 [(p.name, self.digests[str(p)]) for p in spec.tare],
+                spec.tare_convention,
             )
 
             def compute(spec: Any = spec) -> dict[str, Any]:

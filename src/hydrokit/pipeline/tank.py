@@ -63,26 +63,28 @@ def t95(n: int) -> float:
 
 def air_tare_step(spec: CampaignSpec, rig: Any, relative: Callable[[str], str] = str) -> dict[str, Any]:
     """The ENG2009 §IV.A air tare fitted to the campaign's in-air launches: effective length (m)
-    and pivot friction as K_L (N·s/m) and K_Q (N·s²/m²) with standard errors, to subtract."""
+    and pivot friction as K_L (N·s/m) and K_Q (N·s²/m²; γ m r with the ``eng2009`` convention
+    of ``spec.tare_convention``) with standard errors, to subtract."""
     from hydrokit.api import read_launch
     from hydrokit.errors import InputError
-    from hydrokit.identify.tare import fit_air_tare
+    from hydrokit.identify.tare import fit_air_tare, quadratic_factor
 
     if rig.test != "pendulum":
         raise InputError(
             f"campaigns ({spec.dof}).tare: an air tare is for a pendulum rig; {relative(str(spec.rig))} is a {rig.test} rig"
         )
     air = [read_launch(p, rig) for p in spec.tare]
-    fit, info = fit_air_tare(air, rig.mass, rig.gravity)
+    fit, info = fit_air_tare(air, rig.mass, rig.gravity, convention=spec.tare_convention)
     se = info["std_error"]
     return {
         "files": [relative(str(p)) for p in spec.tare],
+        "convention": spec.tare_convention,
         "effective_length": fit.effective_length,
         "linear_damping": fit.linear_damping,
         "quadratic_damping": fit.quadratic_damping,
         "std_error": {
             "linear_damping": se["beta"] * rig.mass,
-            "quadratic_damping": se["gamma"] * rig.mass / fit.effective_length,
+            "quadratic_damping": se["gamma"] * quadratic_factor(rig.mass, fit.effective_length, spec.tare_convention),
         },
         "alpha": info["alpha"],
         "rms_residual": info.get("rms_residual"),

@@ -3,7 +3,7 @@
 
 from __future__ import annotations
 
-from collections.abc import Mapping, Sequence
+from collections.abc import Collection, Mapping, Sequence
 from typing import Any
 
 import numpy as np
@@ -41,9 +41,18 @@ def launch_fit(
     return fig
 
 
-def coefficients_vs_reynolds(groups: Mapping[str, Sequence[Any]], title: str = "") -> Any:
+#: legend entry of launches the outlier rule rejected (hollow red markers in every figure)
+REJECTED_LABEL = "rejected (outlier rule)"
+_REJECTED_STYLE = {"marker": "o", "ls": "none", "mfc": "none", "color": "C3"}
+
+
+def coefficients_vs_reynolds(
+    groups: Mapping[str, Sequence[Any]], title: str = "", rejected: Mapping[str, Collection[str]] | None = None
+) -> Any:
     """C_m, C_D, K_L and K_Q per launch against the peak Reynolds number, one colour per group
-    (axis or method). ``groups`` maps a label to LaunchResults."""
+    (axis or method). ``groups`` maps a label to LaunchResults; ``rejected`` maps a coefficient
+    name (e.g. "quadratic_damping") to the files the outlier rule rejected for it, drawn hollow
+    in red (a campaign summary's ``rejected`` lists)."""
     fig = new_figure((8, 5.5))
     axes = fig.subplots(2, 2)
     panels = (
@@ -52,12 +61,31 @@ def coefficients_vs_reynolds(groups: Mapping[str, Sequence[Any]], title: str = "
         ("linear_damping", "K_L"),
         ("quadratic_damping", "K_Q"),
     )
+    rejected = rejected or {}
     for ax, (field, label) in zip(axes.flat, panels):
+        out = set(rejected.get(field) or ())
+        shown = [r for results in groups.values() for r in results if getattr(r, field) is not None]
         for i, (name, results) in enumerate(groups.items()):
-            re = [r.reynolds_max for r in results if getattr(r, field) is not None]
-            v = [getattr(r, field) for r in results if getattr(r, field) is not None]
-            if v:
-                ax.plot(re, v, "o", ms=4, color=f"C{i}", label=name)
+            kept = [r for r in results if getattr(r, field) is not None and r.file not in out]
+            if kept:
+                ax.plot(
+                    [r.reynolds_max for r in kept],
+                    [getattr(r, field) for r in kept],
+                    "o",
+                    ms=4,
+                    color=f"C{i}",
+                    label=name,
+                )
+        bad = [r for r in shown if r.file in out]
+        if bad:
+            ax.plot(
+                [r.reynolds_max for r in bad],
+                [getattr(r, field) for r in bad],
+                ms=6,
+                label=REJECTED_LABEL,
+                **_REJECTED_STYLE,
+            )
+            ax.legend(fontsize=7)
         ax.set_xscale("log")
         ax.set_ylabel(label)
         ax.set_xlabel("peak Reynolds number")
@@ -111,7 +139,7 @@ def drag_vs_reynolds(results: Sequence[Any], summary: dict[str, Any], title: str
             err.append(1.96 * se * abs(r.drag_coefficient / kq) if se is not None and kq else 0.0)
         style = {"fmt": "o", "ms": 4, "color": "C0", "label": "launch (±1.96 SE)"}
         if not keep:
-            style = {"fmt": "o", "ms": 6, "mfc": "none", "color": "C3", "label": "rejected (outlier rule)"}
+            style = {"fmt": "o", "ms": 6, "mfc": "none", "color": "C3", "label": REJECTED_LABEL}
         ax.errorbar(re, cd, yerr=err, capsize=2, lw=0.8, **style)
     if summary.get("mean") is not None:
         ax.axhline(summary["mean"], color="C1", lw=1, label="campaign mean")
@@ -130,13 +158,15 @@ def campaign_axes(
     results: Sequence[Any], coefficient: str, summary: dict[str, Any], unit: str, ax: Any = None, title: str = ""
 ) -> Any:
     """One coefficient per launch against the launch amplitude, with the campaign mean and its
-    confidence interval as a band; rejected launches (outliers) drawn hollow. Returns the axes.
+    confidence interval as a band; rejected launches (outliers) drawn hollow in red, and then the
+    mean over every launch dashed. Returns the axes.
 
     Parameters
     ----------
     results : LaunchResults (``amplitude`` in m or rad, ``file``, the coefficient)
     coefficient : field name, e.g. "added_mass"
-    summary : the campaign summary entry of that coefficient (``mean``, ``ci``, ``rejected``)
+    summary : the campaign summary entry of that coefficient (``mean``, ``ci``, ``rejected``,
+        ``without_rejection``)
     unit : the coefficient's unit, for the axis label
     """
     ax = axes_or_new(ax)
@@ -154,12 +184,15 @@ def campaign_axes(
     if keep:
         ax.plot(*zip(*keep), "o", ms=4, color="C0", label="launch")
     if out:
-        ax.plot(*zip(*out), "o", ms=5, mfc="none", color="C3", label="rejected (outlier rule)")
+        ax.plot(*zip(*out), ms=5, label=REJECTED_LABEL, **_REJECTED_STYLE)
     mean, ci = summary.get("mean"), summary.get("ci") or [None, None]
     if mean is not None:
         ax.axhline(mean, color="C1", lw=1.2, label="mean")
         if ci[0] is not None:
             ax.axhspan(ci[0], ci[1], color="C1", alpha=0.15, label="95 % CI of the mean")
+    every = summary.get("without_rejection") or {}
+    if out and every.get("mean") is not None:
+        ax.axhline(every["mean"], color="0.4", lw=1.0, ls="--", label="mean without rejection")
     ax.set_xlabel("launch amplitude")
     ax.set_ylabel(f"{coefficient} ({unit})")
     ax.grid(alpha=0.3)
@@ -241,7 +274,10 @@ def campaign_figures(campaign: Any, per_launch: bool = True) -> dict[str, tuple[
                 to_png(fig),
                 f"{stem}: equivalent damping per half cycle against amplitude, with the fitted model's curve",
             )
-    fig = coefficients_vs_reynolds({f"{rig.axis} ({method})": campaign.results})
+    rejected = {
+        k: v.get("rejected") or [] for k, v in campaign.summary.items() if isinstance(v, dict) and "rejected" in v
+    }
+    fig = coefficients_vs_reynolds({f"{rig.axis} ({method})": campaign.results}, rejected=rejected)
     out["coefficients_vs_reynolds.png"] = (to_png(fig), "coefficients against peak Reynolds number")
     cycles = [c for r in campaign.results for c in r.extra.get("cycles", [])]
     if cycles:
