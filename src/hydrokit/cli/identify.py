@@ -39,7 +39,7 @@ METHOD_CHOICE = click.Choice(["output-error", "equation-error", "morison", "log-
     "plots_dir",
     type=click.Path(file_okay=False),
     default=None,
-    help="Write one fit/residual PNG per launch and coefficients-vs-Reynolds here (directory).",
+    help="Write per launch fit/residual, damping-curve and adequacy PNGs and coefficients-vs-Reynolds here (directory).",
 )
 @click.option(
     "--report",
@@ -105,15 +105,17 @@ def identify(
     doc = res.to_dict()
     files: dict[str | Path, Any] = {json_out: dumps(doc)}
     if plots_dir or report_out:
+        from hydrokit.plot.adequacy import adequacy_figures
         from hydrokit.plot.identify import campaign_figures
 
         figs = campaign_figures(res, per_launch=bool(plots_dir))
+        adequacy = adequacy_figures(res, per_launch=bool(plots_dir))  # <launch>_adequacy.png → (png, caption)
         if plots_dir:
-            files.update({Path(plots_dir) / name: png for name, (png, _) in figs.items()})
+            files.update({Path(plots_dir) / name: png for name, (png, _) in {**figs, **adequacy}.items()})
         if report_out:
             from hydrokit.report.identify import Run, identify_report
 
-            run = Run(f"{rig.test} rig, {rig.axis}", rig, {method: doc}, list(figs.values())[:8])
+            run = Run(f"{rig.test} rig, {rig.axis}", rig, {method: doc}, list(figs.values())[:8], adequacy)
             files[report_out] = identify_report("hydrokit identification", [run])
     write_all(files)
     _print_summary(doc, rig)

@@ -2,8 +2,9 @@
 
 A *run* is one rig (one axis) identified with one or more methods. The report shows, per run,
 coefficients per method with their uncertainty, full-scale values when the rig has a scale,
-the pairwise rank-sum table between amplitude groups, a per-launch table, fit figures and the
-warnings; at the end coefficients against Reynolds number for all runs.
+the pairwise rank-sum table between amplitude groups, a per-launch table, the model-adequacy
+verdict of each launch beside its adequacy figure, fit figures and the warnings; at the end
+coefficients against Reynolds number for all runs.
 """
 
 from __future__ import annotations
@@ -34,12 +35,16 @@ class Run:
     rig : Rig
     documents : dict method → JSON result document (hydrokit.io.results.results_document)
     figures : list of (png bytes, caption)
+    adequacy_figures : dict ``<launch stem>_adequacy.png`` → (png bytes, caption), from
+        :func:`hydrokit.plot.adequacy.adequacy_figures` (of the first method's launches); each is
+        shown next to its launch's verdict
     """
 
     title: str
     rig: Any
     documents: dict[str, dict[str, Any]]
     figures: list[tuple[bytes, str]] = field(default_factory=list)
+    adequacy_figures: dict[str, tuple[bytes, str]] = field(default_factory=dict)
 
 
 def _pm(s: dict[str, Any]) -> str:
@@ -94,6 +99,39 @@ def _record_table(launches: list[dict[str, Any]], rig: Any) -> str:
         rows,
         left_cols=1,
     )
+
+
+def _adequacy_section(method: str, launches: list[dict[str, Any]], figures: dict[str, tuple[bytes, str]]) -> str:
+    """Each launch's adequacy numbers and verdict; where a figure was made, the verdict beside it."""
+    from hydrokit.plot.adequacy import adequacy_png_name
+
+    found = [(L["file"], (L.get("extra") or {}).get("adequacy")) for L in launches]
+    rows = [(f, a) for f, a in found if a]
+    if not rows:
+        return ""
+    bad = sum(1 for _, a in rows if not str(a["verdict"]).startswith("adequate"))
+    parts = [
+        f"<h3>Model adequacy ({esc(method)}): {bad} of {len(rows)} launches not explained down to the noise</h3>",
+        '<p class="note">residual / noise: RMS residual over the sensor noise floor (≤ 2 is noise); '
+        "ρ(one period): the residual's autocorrelation one oscillation period apart (ρ ≥ 0.3: the same "
+        "model error repeats every cycle). The figures show ρ against lag with the white-noise band "
+        "±1.96/√N, and the residual against time with the noise floor.</p>",
+        table(
+            ["file", "residual / noise", "ρ(one period)", "verdict"],
+            [
+                [f.split("/")[-1], fmt(a["residual_to_noise"], 3), fmt(a["acf_at_period"], 2), a["verdict"]]
+                for f, a in rows
+            ],
+        ),
+    ]
+    for f, a in rows:
+        fig = figures.get(adequacy_png_name(f))
+        if fig is not None:
+            parts.append(
+                f'<div class="adequacy"><p><b>{esc(f.split("/")[-1])}</b>: {esc(a["verdict"])}</p>'
+                f"{figure(fig[0], fig[1])}</div>"
+            )
+    return "\n".join(parts)
 
 
 def run_section(run: Run) -> str:
@@ -167,6 +205,7 @@ def run_section(run: Run) -> str:
     )
     parts.append("</details>")
     parts.append(_record_table(launches, run.rig))
+    parts.append(_adequacy_section(next(iter(run.documents)), launches, run.adequacy_figures))
     for png, cap in run.figures:
         parts.append(figure(png, cap))
     if warn:
