@@ -5,14 +5,18 @@ starts quickly (no numpy/scipy/numba/matplotlib import). Each subcommand module 
 click command object; heavy imports go inside the command function.
 
 Errors: a :class:`hydrokit.errors.HydrokitError` (bad input) prints one line on stderr and
-exits with code 2, as do click's usage errors. Anything else is a bug: one line and exit 1
-(set ``HYDROKIT_DEBUG=1`` for the traceback).
+exits with code 2, as do click's usage errors, an operating-system error (disk full, no
+permission) and running out of memory. SIGTERM, SIGINT and SIGHUP unwind the command (staged
+outputs are removed, see :mod:`hydrokit._atomic`), print one line and exit with 128 + the
+signal number (143 for SIGTERM). Anything else is a bug: one line and exit 1 (set
+``HYDROKIT_DEBUG=1`` for the traceback).
 """
 
 from __future__ import annotations
 
 import importlib
 import os
+import signal
 import sys
 
 import click
@@ -72,31 +76,62 @@ def cli() -> None:
 
 
 def main(argv: list[str] | None = None) -> int:
-    """Entry point; returns the process exit code (0 ok, 2 bad input, 1 internal error)."""
+    """Entry point; returns the process exit code (0 ok, 2 bad input, 1 internal error, 128+N signal N)."""
+    from hydrokit._atomic import Interrupted, interrupt_on_signals
     from hydrokit.errors import HydrokitError
 
     # the CLI alone picks a backend: figures are rendered to files, never shown
     os.environ.setdefault("MPLBACKEND", "Agg")
     try:
-        cli.main(args=argv, prog_name="hydrokit", standalone_mode=False)
+        with interrupt_on_signals():  # SIGTERM/SIGINT unwind through the staging of outputs
+            cli.main(args=argv, prog_name="hydrokit", standalone_mode=False)
+    except (Interrupted, KeyboardInterrupt) as exc:
+        signum = getattr(exc, "signum", signal.SIGINT)
+        done = "the outputs were completed first" if getattr(exc, "written", False) else "no output written"
+        click.echo(f"interrupted ({signal.Signals(signum).name}); {done}", err=True)
+        return _exit(128 + signum)
     except click.exceptions.Exit as exc:
         return _exit(exc.exit_code)
     except click.ClickException as exc:
-        exc.show()
+        ctx = getattr(exc, "ctx", None)
+        hint = f" (see '{ctx.command_path} --help')" if isinstance(exc, click.UsageError) and ctx else ""
+        click.echo(f"error: {_one_line(exc.format_message())}{hint}", err=True)
         return _exit(2)
     except click.exceptions.Abort:
         click.echo("Aborted.", err=True)
         return _exit(2)
     except HydrokitError as exc:
-        click.echo(f"error: {exc}", err=True)
+        click.echo(f"error: {_one_line(str(exc))}", err=True)
+        return _exit(2)
+    except MemoryError:
+        click.echo(
+            "error: not enough memory for this run; expected a smaller one (duration, samples, output step)", err=True
+        )
+        return _exit(2)
+    except OverflowError as exc:  # a number from the input too large to compute with (e.g. a duration of 1e308 s)
+        why = _one_line(str(exc), 200)
+        click.echo(
+            f"error: a number is too large to compute with ({why}); expected values of a realistic size", err=True
+        )
+        return _exit(2)
+    except OSError as exc:  # the machine refused (disk full, permissions, a path that vanished)
+        where = f"{_one_line(str(exc.filename), 200)}: " if exc.filename else ""
+        why = exc.strerror or _one_line(str(exc))
+        click.echo(f"error: {where}{why}; expected a path the system can read or write", err=True)
         return _exit(2)
     except Exception as exc:  # a bug, not bad input: still no traceback unless asked
         if os.environ.get("HYDROKIT_DEBUG"):
             raise
-        msg = " ".join(str(exc).split())
+        msg = _one_line(str(exc))
         click.echo(f"internal error: {type(exc).__name__}: {msg} (set HYDROKIT_DEBUG=1 for details)", err=True)
         return _exit(1)
     return _exit(0)
+
+
+def _one_line(text: str, limit: int = 600) -> str:
+    """``text`` on one line and at most ``limit`` characters (its end, the 'expected …', is kept)."""
+    line = " ".join(text.split())
+    return line if len(line) <= limit else f"{line[: limit - 120]} … {line[-100:]}"
 
 
 def _exit(code: int | None) -> int:

@@ -4,12 +4,11 @@ from __future__ import annotations
 
 import math
 from collections.abc import Callable
-from pathlib import Path
 from typing import Any
 
 import click
 
-from hydrokit.cli._common import json_text, progress_bar, write_all
+from hydrokit.cli._common import check_out_dir, json_text, progress_bar, write_all
 
 
 @click.command()
@@ -18,7 +17,7 @@ from hydrokit.cli._common import json_text, progress_bar, write_all
     "--out",
     "out_dir",
     required=True,
-    type=click.Path(file_okay=False),
+    metavar="DIR",  # checked by check_out_dir (one line naming --out), not by click
     help="Output directory (created if missing) for the CSV (SI: m, rad, s, N), plots and metrics JSON.",
 )
 @click.option(
@@ -53,6 +52,7 @@ def mission(
     from hydrokit.io.trajectory import table_csv
     from hydrokit.simulate.mission import COMMAND_UNITS, METRIC_UNITS
 
+    out = check_out_dir(out_dir)  # before any work: a run must not be lost to a bad folder
     mis = load_mission(mission_file)
     if duration is not None and not (math.isfinite(duration) and duration >= mis.dt):
         raise InputError(f"--duration {duration}: expected a time ≥ the step dt = {mis.dt} s")
@@ -98,7 +98,6 @@ def mission(
             files[name] = to_png(
                 thruster_figure(res.run, thrusters.f_min, thrusters.f_max, f"{mis.name} ({res.label}): thruster usage")
             )
-    out = Path(out_dir)
     write_all({out / name: data for name, data in files.items()})
     _print_metrics(metrics)
     click.echo(f"wrote {', '.join(sorted(files))} to {out}", err=True)

@@ -14,7 +14,7 @@ import click
     "--out",
     "out_dir",
     default=None,
-    type=click.Path(file_okay=False),
+    metavar="DIR",  # checked by check_out_dir (one line naming --out), not by click
     help="Run folder for report.html, results.json, vehicle.yaml, mission/ and the step cache "
     "(directory; default: <project name>-run).",
 )
@@ -49,13 +49,15 @@ def run(
     and S-plane, runs the Monte Carlo and writes report.html. Steps whose inputs did not change
     are taken from the cache in OUT/.cache.
     """
+    from hydrokit._atomic import staged_dir
+    from hydrokit.cli._common import check_out_dir
     from hydrokit.io.project import load_project
     from hydrokit.pipeline import run_project
     from hydrokit.report.run import write_run
 
     start = time.perf_counter()
     proj = load_project(project)
-    out = Path(out_dir) if out_dir else Path(f"{proj.name}-run")
+    out = check_out_dir(Path(out_dir) if out_dir else Path(f"{proj.name}-run"))
     if quiet:
         result = run_project(proj, out, force=force, bem=bem, workers=workers, scheduler=scheduler, samples=samples)
     else:
@@ -77,7 +79,8 @@ def run(
                 samples=samples,
                 progress=progress,
             )
-    write_run(result, out)
+    with staged_dir(out) as stage:  # the report folder's files replace the old ones as one set
+        write_run(result, stage)
     if not quiet:
         _print_summary(result)
     click.echo(

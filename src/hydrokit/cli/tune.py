@@ -3,12 +3,11 @@
 
 from __future__ import annotations
 
-from pathlib import Path
 from typing import Any
 
 import click
 
-from hydrokit.cli._common import floats, json_text, write_all
+from hydrokit.cli._common import check_out_dir, floats, json_text, write_all
 
 
 @click.command()
@@ -17,7 +16,7 @@ from hydrokit.cli._common import floats, json_text, write_all
     "--out",
     "out_dir",
     required=True,
-    type=click.Path(file_okay=False),
+    metavar="DIR",  # checked by check_out_dir (one line naming --out), not by click
     help="Output directory (created if missing): tuned_mission.yaml, tune.json, convergence.png.",
 )
 @click.option(
@@ -72,6 +71,7 @@ def tune(
     from hydrokit.errors import InputError
     from hydrokit.simulate.tune import parse_weights, tune_gains
 
+    out = check_out_dir(out_dir)  # before the search: hours must not be lost to a bad folder
     lo, hi = floats(bounds, "--bounds", n=2, unit="factor")
     if not (0 < lo <= hi):
         raise InputError(f"--bounds {bounds}: expected MIN,MAX factors with 0 < MIN ≤ MAX")
@@ -104,7 +104,6 @@ def tune(
 
     title = f"{mis.name}: {controller} gain tuning ({res.evaluations} runs, {res.elapsed:.0f} s)"
     files["convergence.png"] = to_png(convergence_figure(res.convergence, res.cost_before, title))
-    out = Path(out_dir)
     write_all({out / name: data for name, data in files.items()})
     b, a = flown["before"]["cross_track_rms"], flown["after"]["cross_track_rms"]
     click.echo(
