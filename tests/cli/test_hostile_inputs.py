@@ -21,6 +21,7 @@ import pytest
 import yaml
 
 from hydrokit.data import DATA_DIR
+from hydrokit.errors import InputError
 
 MISSION = DATA_DIR / "missions" / "minerva_square.yaml"
 VEHICLE = DATA_DIR / "vehicles" / "minerva.yaml"
@@ -159,37 +160,40 @@ def test_bad_input_is_one_line_exit_2_and_nothing_written(run_cli, tmp_path, cas
     assert files_in(out) == []
 
 
-@pytest.mark.xfail(
-    strict=True,
-    reason="io/mission.py does not bound 'output_every' (10**30 reaches numba as a Python int: "
-    "internal error, exit 1); expected a whole number ≤ the step count",
-)
 def test_huge_integer_field_is_refused(run_cli, tmp_path):
+    # 10**30 would reach numba as a Python int (an internal error); bounded by the step count instead
     code, _, err = run_cli("mission", mission_file(tmp_path / "m.yaml", output_every=10**30), "--out", tmp_path / "o")
-    assert code == 2 and "output_every" in one_line(err)
+    line = one_line(err)
+    assert code == 2 and "m.yaml" in line and "'output_every'" in line, line
+    assert str(10**30) in line and "from 1 to 4000" in line, line  # 200 s / 0.05 s
+    assert files_in(tmp_path / "o") == []
 
 
 # --- signs: a valid result, with the non-physical value said -----------------------------------
 
 
 @pytest.mark.parametrize(
-    ("field", "old", "new"),
+    ("field", "old", "new", "says"),
     [
-        ("quadratic_damping", "quadratic_damping: [292,", "quadratic_damping: [-292,"),
-        pytest.param(
-            "linear_damping",
-            "linear_damping: [29,",
-            "linear_damping: [-29,",
-            marks=pytest.mark.xfail(strict=True, reason="io/vehicle.py warns for quadratic damping only"),
-        ),
+        ("quadratic_damping", "quadratic_damping: [292,", "quadratic_damping: [-292,", "[-292.0,"),
+        ("linear_damping", "linear_damping: [29,", "linear_damping: [-29,", "[-29.0,"),
+        # 460 kg - 293 kg leaves M_RB + M_A positive definite: flies, said
+        ("added_mass", "added_mass: [293,", "added_mass: [-293,", "[-293.0,"),
     ],
 )
-def test_negative_damping_flies_with_a_warning(run_cli, tmp_path, field, old, new):
+def test_a_negative_entry_that_still_flies_is_warned_about(run_cli, tmp_path, field, old, new, says):
     veh = vehicle_file(tmp_path / "v.yaml", old, new)
     code, _, err = run_cli("simulate", veh, "--out", tmp_path / "o.csv", "--duration", 1)
     assert code == 0, err
     assert (tmp_path / "o.csv").read_text().startswith("time,")
-    assert any(line.startswith("warning: ") and field in line for line in err.splitlines()), err
+    warned = [line for line in err.splitlines() if line.startswith(f"warning: {field} has negative")]
+    assert len(warned) == 1 and says in warned[0], err
+
+
+def test_the_bundled_vehicle_flies_without_a_sign_warning(run_cli, tmp_path):
+    code, _, err = run_cli("simulate", VEHICLE, "--out", tmp_path / "o.csv", "--duration", 1)
+    assert code == 0, err
+    assert "negative" not in err, err
 
 
 def test_negative_added_mass_that_leaves_no_positive_mass_is_refused(run_cli, tmp_path):
@@ -221,6 +225,90 @@ def test_metrics_json_is_strict_even_when_nothing_is_reached(run_cli, tmp_path):
 
 
 # --- output paths: checked before the computation, OS errors one line --------------------------
+
+
+def _never(*args, **kwargs):
+    raise AssertionError("the computation started before the output path was checked")
+
+
+def _udrobot_spring() -> list[object]:
+    from hydrokit.data import campaign_files
+
+    rig, launches = campaign_files("udrobot", "spring_x")
+    return [rig, launches[0]]
+
+
+RIG_TRUTH = ["--added-mass", "1", "--linear-damping", "1", "--quadratic-damping", "1", "--amplitudes", "10"]
+# (command line with BAD for the unusable path, the function that would compute, the option named)
+CHECKED_FIRST = {
+    "transport": (
+        ["transport", "rehman_transport", "--duration", "1", "--dt", "0.01", "--out", "BAD"],
+        "hydrokit.api.transport",
+        "--out",
+    ),
+    "identify-json": (["identify", *_udrobot_spring(), "--json", "BAD"], "hydrokit.api.identify_campaign", "--json"),
+    "identify-plots": (
+        ["identify", *_udrobot_spring(), "--json", "ok.json", "--plots", "BAD"],
+        "hydrokit.api.identify_campaign",
+        "--plots",
+    ),
+    "identify-report": (
+        ["identify", *_udrobot_spring(), "--json", "ok.json", "--report", "BAD"],
+        "hydrokit.api.identify_campaign",
+        "--report",
+    ),
+    "demo": (["demo", "--out", "BAD"], "hydrokit.api.identify_campaign", "--out"),
+    "rig-simulate": (
+        ["rig", "simulate", _udrobot_spring()[0], *RIG_TRUTH, "--out", "BAD"],
+        "hydrokit.identify.virtual_rig.simulate_launch",
+        "--out",
+    ),
+    "simulate-out": (["simulate", "minerva", "--out", "BAD"], "hydrokit.simulate.driver.simulate", "--out"),
+    "simulate-plots": (
+        ["simulate", "minerva", "--out", "ok.csv", "--plots", "BAD"],
+        "hydrokit.simulate.driver.simulate",
+        "--plots",
+    ),
+}
+
+
+@pytest.mark.parametrize("case", sorted(CHECKED_FIRST))
+def test_output_path_is_checked_before_computing(run_cli, tmp_path, monkeypatch, case):
+    import importlib
+
+    args, target, option = CHECKED_FIRST[case]
+    module, name = target.rsplit(".", 1)
+    monkeypatch.setattr(importlib.import_module(module), name, _never)
+    monkeypatch.chdir(tmp_path)
+    (tmp_path / "file").write_text("not a folder")
+    code, _, err = run_cli(*[tmp_path / "file" / "sub" if a == "BAD" else a for a in args])
+    line = one_line(err)
+    assert code == 2 and line.startswith(f"error: {option}") and "is a file" in line, line
+    assert files_in(tmp_path) == ["file"]
+
+
+def test_transport_leaves_no_folder_when_its_write_fails(run_cli, tmp_path, monkeypatch):
+    from hydrokit import _atomic
+
+    def disk_full(files):
+        raise OSError(28, "No space left on device", str(next(iter(files))))
+
+    monkeypatch.setattr(_atomic, "write_files", disk_full)
+    out = tmp_path / "new" / "out"
+    code, _, err = run_cli("transport", "rehman_transport", "--duration", "0.2", "--dt", "0.01", "--out", out)
+    line = one_line(err)
+    assert code == 2 and "No space left" in line and "nothing was written" in line, line
+    assert files_in(tmp_path) == []  # neither 'new' nor 'new/out' was made
+
+
+def test_simulate_writes_its_csv_and_plots_as_a_set(run_cli, tmp_path):
+    (tmp_path / "plots" / "path.png").mkdir(parents=True)  # a folder where the set puts a file
+    code, _, err = run_cli(
+        "simulate", "minerva", "--duration", "0.2", "--out", tmp_path / "o.csv", "--plots", tmp_path / "plots"
+    )
+    line = one_line(err)
+    assert code == 2 and "path.png" in line and "nothing was written" in line, line
+    assert files_in(tmp_path) == ["plots", "plots/path.png"]  # no CSV, no states.png
 
 
 def test_output_folder_is_checked_before_the_search_starts(run_cli, tmp_path, monkeypatch):
@@ -384,17 +472,16 @@ def _run(args: list[object], cwd: Path, **kw: object) -> subprocess.CompletedPro
     [
         pytest.param(["mission", "no-such-mission", "--out", "o"], id="mission-missing-file"),
         pytest.param(["mission", MISSION], id="usage-missing-option"),
+        pytest.param(["simulate", "minerva", "--duration", "0.2", "--out", "file/x.csv"], id="simulate-unusable-out"),
         pytest.param(
-            ["simulate", "minerva", "--duration", "0.2", "--out", "file/x.csv"],
-            id="simulate-unwritable-after-the-run",
-            marks=pytest.mark.xfail(
-                strict=True, reason="cli/simulate.py's own rich Progress prints a blank line when not a terminal"
-            ),
+            ["simulate", "minerva", "--duration", "0.2", "--out", "x.csv", "--plots", "p"],
+            id="simulate-unwritable-after-the-run",  # its progress bar has run: it must print nothing
         ),
     ],
 )
 def test_stderr_is_one_line_when_not_a_terminal(tmp_path, args):
     (tmp_path / "file").write_text("x")
+    (tmp_path / "p" / "states.png").mkdir(parents=True)  # found only when the set is written
     res = _run(args, tmp_path)
     assert res.returncode == 2, res.stderr
     line = one_line(res.stderr)
@@ -457,3 +544,45 @@ def test_a_run_larger_than_memory_is_refused_up_front(tmp_path):
     assert res.returncode == 2 and "memory" in line, line
     assert time.monotonic() - start < 60, "refused only after running for a long time"
     assert files_in(tmp_path) == []
+
+
+# --- memory: a run larger than the machine is refused before its arrays are made ---------------
+
+
+def test_budget_reads_the_available_memory():
+    from hydrokit.simulate.budget import available_bytes, check_memory
+
+    avail = available_bytes()
+    if avail is None:
+        pytest.skip("the system does not say how much memory is available")
+    assert avail > 0
+    check_memory(1000, "a few numbers")  # fits: no error
+    with pytest.raises(InputError, match=r"would need .* GB of memory for everything, more than the .* GB available"):
+        check_memory(avail * 2 + 1e9, "everything")
+
+
+def test_a_run_larger_than_the_available_memory_is_refused_before_allocating(run_cli, tmp_path, monkeypatch):
+    import hydrokit.simulate.budget as budget
+    import hydrokit.simulate.compiled_loop as compiled_loop
+
+    monkeypatch.setattr(budget, "available_bytes", lambda: 50_000_000)  # a 50 MB machine
+    monkeypatch.setattr(compiled_loop, "_loop", _never)
+    # 10⁵ s at 0.05 s, every 2nd step: 10⁶ rows of 345 bytes (11 arrays, 5 thrusters)
+    code, _, err = run_cli("mission", MISSION, "--out", tmp_path / "o", "--duration", "1e5", "--no-plots")
+    line = one_line(err)
+    assert code == 2 and "would need 0.345 GB of memory for the recorded trajectory (1000001 rows)" in line, line
+    assert "more than the 0.05 GB available" in line and "expected a shorter duration" in line, line
+    assert files_in(tmp_path) == []
+
+
+def test_fleet_paths_larger_than_the_available_memory_are_refused_before_flying(monkeypatch):
+    import hydrokit.simulate.budget as budget
+    import hydrokit.simulate.compiled_loop as compiled_loop
+    from hydrokit import load_mission, load_vehicle  # the API's: the vehicle with its thrusters
+    from hydrokit.simulate.fleet import fly_fleet
+
+    mission = load_mission(MISSION)
+    monkeypatch.setattr(budget, "available_bytes", lambda: 1_000_000)
+    monkeypatch.setattr(compiled_loop, "_fleet", _never)
+    with pytest.raises(InputError, match=r"paths of 8 copies \(4001 points each\), more than the 0.001 GB"):
+        fly_fleet(mission, load_vehicle(mission.vehicle), n=8, paths_every=1)

@@ -104,6 +104,33 @@ def check_out_dir(path: str | Path, option: str = "--out") -> Path:
     return out
 
 
+def check_out_file(path: str | Path, option: str) -> Path:
+    """Refuse an output file that cannot be written, before any computation starts.
+
+    The path must not be a folder, its name must fit the file system, and its folder must
+    pass :func:`check_out_dir`. Returns the path.
+    """
+    out = Path(path)
+    if out.is_dir():
+        raise InputError(f"{option} {shown(out)} is a folder; expected a file name")
+    name_max = _pathconf(Path(), "PC_NAME_MAX", 255)
+    if len(os.fsencode(out.name)) > name_max:
+        raise InputError(
+            f"{option}: the name {shown(out.name)} is longer than {name_max} bytes; expected a shorter name"
+        )
+    check_out_dir(out.parent, f"{option} {shown(out)}: its folder")
+    return out
+
+
+def check_outputs(files: Mapping[str, Any], folders: Mapping[str, Any] | None = None) -> None:
+    """:func:`check_out_file` for each option → path of ``files`` and :func:`check_out_dir` for
+    each of ``folders``, skipping the options not given (None)."""
+    for option, path in files.items():
+        _ = check_out_file(path, option) if path else None
+    for option, path in (folders or {}).items():
+        _ = check_out_dir(path, option) if path else None
+
+
 def _pathconf(path: Path, name: str, default: int) -> int:
     try:
         return int(os.pathconf(path, name))

@@ -34,12 +34,13 @@ METHODS = {
 def demo(out_dir: str, campaign: str) -> None:
     """Identify the bundled campaign with every method and write a self-contained HTML report."""
     from hydrokit.api import identify_campaign, load_rig
-    from hydrokit.cli._common import json_text, progress_bar, write_all
+    from hydrokit.cli._common import check_out_dir, json_text, progress_bar, write_all
     from hydrokit.data import campaign_files, campaign_rigs
     from hydrokit.plot._mpl import to_png
     from hydrokit.plot.identify import campaign_figures, coefficients_vs_reynolds
     from hydrokit.report.identify import Run, identify_report
 
+    out = check_out_dir(out_dir)  # before the fits: they must not be lost to a bad folder
     start = time.perf_counter()
     jobs = []
     for name in campaign_rigs(campaign):
@@ -72,7 +73,6 @@ def demo(out_dir: str, campaign: str) -> None:
         "and log-decrement (CELY2019 graphical)."
     )
     html = identify_report(f"hydrokit identification: {campaign} campaign", runs, intro, closing)
-    out = Path(out_dir)
     outputs: dict[str | Path, str | bytes] = {out / "results.json": json_text(all_docs), out / "report.html": html}
     for r in runs:
         for i, (png, _) in enumerate(r.figures):

@@ -1,7 +1,4 @@
-"""``hydrokit identify``: a thin layer over :func:`hydrokit.identify_campaign`.
-
-Heavy imports stay inside the command functions so ``hydrokit --help`` starts fast.
-"""
+"""``hydrokit identify``: a thin layer over :func:`hydrokit.identify_campaign` (heavy imports inside)."""
 
 from __future__ import annotations
 
@@ -10,7 +7,7 @@ from typing import Any
 
 import click
 
-from hydrokit.cli._common import progress_bar, write_all
+from hydrokit.cli._common import check_outputs, progress_bar, write_all
 from hydrokit.cli._rig_options import trim_options, trim_settings
 
 METHOD_CHOICE = click.Choice(["output-error", "equation-error", "morison", "log-decrement"])
@@ -86,6 +83,7 @@ def identify(
     from hydrokit.api import identify_campaign, load_rig
     from hydrokit.io.results import dumps
 
+    check_outputs({"--json": json_out, "--report": report_out}, {"--plots": plots_dir})  # before the fits
     rig = load_rig(rig_file)
     # --start/--end/--detrend as given; the amplitudes converted to SI
     window, amps = trim_settings(rig, record.pop("amplitude_window"), record.pop("equivalent_at"))

@@ -5,11 +5,9 @@ Heavy imports stay inside the command functions so ``hydrokit --help`` starts fa
 
 from __future__ import annotations
 
-from pathlib import Path
-
 import click
 
-from hydrokit.cli._common import write_all
+from hydrokit.cli._common import check_out_dir, write_all
 from hydrokit.cli._rig_options import _amplitudes, _common, _sensor
 from hydrokit.errors import InputError
 
@@ -50,6 +48,7 @@ def rig_simulate(
     from hydrokit.io.launch import launch_csv
     from hydrokit.io.rig import load_rig
 
+    out = check_out_dir(out_dir)  # before the launches are simulated
     r = load_rig(rig_file)
     amps = _amplitudes(amplitudes, r)
     if launches < 1:
@@ -68,7 +67,7 @@ def rig_simulate(
                 f"sensor: {sensor.name}, seed {seed}",
             ]
             texts[name] = launch_csv(L.t, L.y, column, comments)
-    write_all({Path(out_dir) / name: text for name, text in texts.items()})
+    write_all({out / name: text for name, text in texts.items()})
     click.echo(f"wrote {len(texts)} launch files to {out_dir}")
 
 

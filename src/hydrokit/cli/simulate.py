@@ -88,8 +88,12 @@ def simulate(
 ) -> None:
     """Simulate VEHICLE (a vehicle YAML file or a bundled name: bluerov2-heavy, minerva,
     lingyun, udrobot) under a constant or tabulated force, from rest unless told otherwise."""
+    from hydrokit.cli._common import check_out_dir, check_out_file, progress_bar, write_all
     from hydrokit.io.vehicle import load_vehicle
 
+    check_out_file(out_file, "--out")  # before the run: it must not be lost to a bad path
+    if plots_dir:
+        check_out_dir(plots_dir, "--plots")
     v = load_vehicle(vehicle)
     tau: Any = _vec(force, 6, "--force", "N, N·m")
     if force_csv is not None:
@@ -101,15 +105,11 @@ def simulate(
     cur = _vec(current_ned, 3, "--current-ned", "m/s")
     if output_every < 1:
         raise InputError(f"--output-every {output_every}: expected a whole number ≥ 1")
-    from rich.console import Console
-    from rich.progress import BarColumn, Progress, TextColumn, TimeElapsedColumn
-
     from hydrokit.io.trajectory import trajectory_csv
     from hydrokit.simulate.driver import simulate as run
 
-    console = Console(stderr=True)
-    with Progress(TextColumn("simulating"), BarColumn(), TimeElapsedColumn(), console=console, transient=True) as bar:
-        task = bar.add_task("sim", total=duration)
+    with progress_bar(time_based=True) as bar:
+        task = bar.add_task("simulating", total=duration)
         traj = run(
             v,
             duration,
@@ -132,10 +132,7 @@ def simulate(
 
         files[str(Path(plots_dir) / "states.png")] = to_png(states_figure(traj, f"{v.name}: states"))
         files[str(Path(plots_dir) / "path.png")] = to_png(path_figure(traj, f"{v.name}: path"))
-    from hydrokit._atomic import write_bytes
-
-    for path, data in files.items():
-        write_bytes(path, data)
+    write_all(files)
     for w in traj.warnings:
         click.echo(f"warning: {w}", err=True)
     fin = traj.nu[-1]

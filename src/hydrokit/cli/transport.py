@@ -79,7 +79,7 @@ def transport(
     """
     from hydrokit.api import load_assembly
     from hydrokit.api import transport as fly
-    from hydrokit.cli._common import floats, json_text, write_all
+    from hydrokit.cli._common import check_out_dir, floats, json_text, write_all
     from hydrokit.errors import InputError
     from hydrokit.io.trajectory import table_csv
     from hydrokit.simulate.transport import COLUMNS
@@ -90,12 +90,12 @@ def transport(
     forces = {}
     for name, text in _pairs(force, "--force", "PART=fx,fy,fz,mx,my,mz (N, N·m)"):
         forces[name] = floats(text, f"--force {name}", n=6, unit="N and N·m")
+    d = check_out_dir(out)  # before the run: it must not be lost to a bad folder
     asm = load_assembly(assembly, damping_model=damping_model)
     res = fly(asm, duration, dt, model, rpms, forces, every)
     import numpy as np
 
     files: dict[Path, str | bytes] = {}
-    d = Path(out)
     files[d / "trajectory.csv"] = table_csv(list(COLUMNS), np.column_stack([res.time, res.assembly]))
     used: set[str] = set()
     for name, states in res.parts.items():
@@ -112,8 +112,7 @@ def transport(
         from hydrokit.plot.transport import figure_bytes
 
         files.update({d / k: v for k, v in figure_bytes(res).items()})
-    d.mkdir(parents=True, exist_ok=True)
-    write_all(files)
+    write_all(files)  # creates the folder with the files: nothing is left when a write fails
     s = res.summary()
     click.echo(f"{model}: moved {np.round(s['displacement_m'], 3).tolist()} m in {s['duration_s']:g} s", err=True)
     for name, j in s["joints"].items():

@@ -25,6 +25,17 @@ from hydrokit.errors import InputError
 _REAL = (int, float, np.integer, np.floating)
 
 
+def cut(text: str, limit: int = 80) -> str:
+    """``text`` cut to about ``limit`` characters (its start and end kept), so a message never
+    echoes a whole file: ``'yyyy…yyyy' (100002 characters)``."""
+    return text if len(text) <= limit else f"{text[: limit - 20]}…{text[-15:]} ({len(text)} characters)"
+
+
+def cut_repr(value: object, limit: int = 80) -> str:
+    """``repr(value)`` cut by :func:`cut`."""
+    return cut(repr(value), limit)
+
+
 def _is_real(value: object) -> bool:
     # bool is an int subclass (and np.bool_ is not a number type here): refuse both
     return isinstance(value, _REAL) and not isinstance(value, (bool, np.bool_))
@@ -41,15 +52,16 @@ def _checked(
 ) -> float:
     """The one number check: ``label = value!r: expected …`` on failure."""
     in_unit = f" in {unit}" if unit else ""
+    shown = cut_repr(value)
     if not _is_real(value):
-        raise InputError(f"{label} = {value!r}: expected a number{in_unit}", source)
+        raise InputError(f"{label} = {shown}: expected a number{in_unit}", source)
     v = float(value)  # type: ignore[arg-type]
     if math.isnan(v) or (math.isinf(v) and not allow_inf):
-        raise InputError(f"{label} = {value!r}: expected a finite number{in_unit}", source)
+        raise InputError(f"{label} = {shown}: expected a finite number{in_unit}", source)
     if positive and not v > 0:
-        raise InputError(f"{label} = {value!r}: expected a positive number{in_unit}", source)
+        raise InputError(f"{label} = {shown}: expected a positive number{in_unit}", source)
     if nonneg and not v >= 0:
-        raise InputError(f"{label} = {value!r}: expected a number ≥ 0{in_unit}", source)
+        raise InputError(f"{label} = {shown}: expected a number ≥ 0{in_unit}", source)
     return v
 
 
@@ -80,7 +92,7 @@ def number(value: Any, field: str, source: str = "", *, positive: bool = False, 
     InputError
         ``field '<field>' = <value!r>: expected …`` (one line).
     """
-    return _checked(value, f"field '{field}'", source, positive, nonneg, False, "")
+    return _checked(value, f"field '{cut(field)}'", source, positive, nonneg, False, "")
 
 
 def vector(value: Any, n: int, field: str, source: str = "") -> np.ndarray:
@@ -108,7 +120,7 @@ def vector(value: Any, n: int, field: str, source: str = "") -> np.ndarray:
         Not a list of n entries, or an entry that is not a finite number.
     """
     if not isinstance(value, (list, tuple)) or len(value) != n:
-        raise InputError(f"field '{field}' = {value!r}: expected a list of {n} numbers", source)
+        raise InputError(f"field '{cut(field)}' = {cut_repr(value)}: expected a list of {n} numbers", source)
     return np.array([number(v, f"{field}[{i}]", source) for i, v in enumerate(value)], dtype=float)
 
 
@@ -135,7 +147,7 @@ def mapping(value: Any, field: str, source: str = "") -> dict:
         ``field '<field>' = <value!r>: expected a mapping``.
     """
     if not isinstance(value, dict):
-        raise InputError(f"field '{field}' = {value!r}: expected a mapping", source)
+        raise InputError(f"field '{cut(field)}' = {cut_repr(value)}: expected a mapping", source)
     return value
 
 
@@ -208,10 +220,10 @@ def quantities(value: Any, what: str, n: int | None = None, source: str = "") ->
     """
     expected = f"{n} finite numbers" if n is not None else "a list of finite numbers"
     if isinstance(value, (str, bytes, dict)) or not isinstance(value, (Iterable, np.ndarray)):
-        raise InputError(f"{what} = {value!r}: expected {expected}", source)
+        raise InputError(f"{what} = {cut_repr(value)}: expected {expected}", source)
     items = list(np.asarray(value, dtype=object).reshape(-1)) if isinstance(value, np.ndarray) else list(value)
     if (n is not None and len(items) != n) or not items:
-        raise InputError(f"{what} = {value!r}: expected {expected}", source)
+        raise InputError(f"{what} = {cut_repr(value)}: expected {expected}", source)
     if not all(_is_real(x) and math.isfinite(float(x)) for x in items):
-        raise InputError(f"{what} = {value!r}: expected {expected}", source)
+        raise InputError(f"{what} = {cut_repr(value)}: expected {expected}", source)
     return tuple(float(x) for x in items)

@@ -46,6 +46,7 @@ from typing import Any
 
 import numpy as np
 
+from hydrokit.core.validate import cut, cut_repr
 from hydrokit.core.validate import mapping as _mapping
 from hydrokit.core.validate import number as _num
 from hydrokit.core.validate import vector as _vector
@@ -81,7 +82,9 @@ def resolve_mission(name_or_path: str | os.PathLike[str]) -> Path:
     if "/" not in str(name_or_path) and bundled.is_file():
         return bundled
     names = sorted(q.stem for q in MISSIONS_DIR.glob("*.yaml"))
-    raise InputError(f"no such file or bundled mission '{name_or_path}' (bundled: {', '.join(names) or 'none'})")
+    raise InputError(
+        f"no such file or bundled mission '{cut(str(name_or_path))}' (bundled: {', '.join(names) or 'none'})"
+    )
 
 
 def load_mission(name_or_path: str | os.PathLike[str]) -> Mission:
@@ -94,13 +97,13 @@ def parse_mission(data: dict[str, Any], source: str, base_dir: Path | None = Non
     """Validate a mission document; see the module docstring for the format."""
     unknown = sorted(set(map(str, data)) - TOP_KEYS)
     if unknown:
-        raise InputError(f"unknown field '{unknown[0]}' (allowed: {', '.join(sorted(TOP_KEYS))})", source)
+        raise InputError(f"unknown field '{cut(unknown[0])}' (allowed: {', '.join(sorted(TOP_KEYS))})", source)
     for key in ("vehicle", "duration", "guidance", "controllers"):
         if key not in data:
             raise InputError(f"missing field '{key}'", source)
     vehicle = data["vehicle"]
     if not isinstance(vehicle, str) or not vehicle.strip():
-        raise InputError(f"field 'vehicle' = {vehicle!r}: expected a vehicle name or path", source)
+        raise InputError(f"field 'vehicle' = {cut_repr(vehicle)}: expected a vehicle name or path", source)
     if base_dir is not None and ("/" in vehicle or vehicle.endswith((".yaml", ".yml"))):
         candidate = base_dir / vehicle
         vehicle = str(candidate) if candidate.is_file() else vehicle
@@ -110,10 +113,19 @@ def parse_mission(data: dict[str, Any], source: str, base_dir: Path | None = Non
         raise InputError(f"field 'dt' = {dt:g}: expected a step no longer than duration ({duration:g} s)", source)
     every = data.get("output_every", 1)
     if isinstance(every, bool) or not isinstance(every, int) or every < 1:
-        raise InputError(f"field 'output_every' = {every!r}: expected a whole number ≥ 1", source)
+        raise InputError(f"field 'output_every' = {cut_repr(every)}: expected a whole number ≥ 1", source)
+    steps = duration / dt  # a float: a huge duration is left to the step count's own overflow check
+    if math.isfinite(steps) and every > math.floor(steps + 1e-9):
+        raise InputError(
+            f"field 'output_every' = {cut_repr(every)}: expected a whole number from 1 to "
+            f"{math.floor(steps + 1e-9)} (the step count, duration / dt)",
+            source,
+        )
     kind = data.get("controller", "pid")
     if kind not in CONTROLLER_KINDS:
-        raise InputError(f"field 'controller' = {kind!r}: expected one of {', '.join(CONTROLLER_KINDS)}", source)
+        raise InputError(
+            f"field 'controller' = {cut_repr(kind)}: expected one of {', '.join(CONTROLLER_KINDS)}", source
+        )
     gains = _parse_gains(data["controllers"], source)
     if kind not in gains:
         raise InputError(f"field 'controllers': no gains for the chosen controller '{kind}'", source)
@@ -122,7 +134,9 @@ def parse_mission(data: dict[str, Any], source: str, base_dir: Path | None = Non
     init = _mapping(data.get("initial", {}) or {}, "initial", source)
     extra = sorted(set(init) - {"position", "attitude_deg", "velocity"})
     if extra:
-        raise InputError(f"field 'initial.{extra[0]}': unknown (allowed: position, attitude_deg, velocity)", source)
+        raise InputError(
+            f"field 'initial.{cut(str(extra[0]))}': unknown (allowed: position, attitude_deg, velocity)", source
+        )
     pos = _vector(init["position"], 3, "initial.position", source) if "position" in init else path.points[0].copy()
     if "attitude_deg" in init:
         att = np.radians(_vector(init["attitude_deg"], 3, "initial.attitude_deg", source))
@@ -136,12 +150,15 @@ def parse_mission(data: dict[str, Any], source: str, base_dir: Path | None = Non
         alloc = _mapping(data["allocation"], "allocation", source)
         if set(alloc) - {"weights"}:
             raise InputError(
-                f"field 'allocation.{sorted(set(alloc) - {'weights'})[0]}': unknown (allowed: weights)", source
+                f"field 'allocation.{cut(str(sorted(set(alloc) - {'weights'})[0]))}': unknown (allowed: weights)",
+                source,
             )
         w = alloc.get("weights")
         if w is not None:
             if not isinstance(w, list) or not w:
-                raise InputError(f"field 'allocation.weights' = {w!r}: expected a list of positive numbers", source)
+                raise InputError(
+                    f"field 'allocation.weights' = {cut_repr(w)}: expected a list of positive numbers", source
+                )
             weights = tuple(_num(x, f"allocation.weights[{i}]", source, positive=True) for i, x in enumerate(w))
     name = data.get("name", Path(source).stem)
     return Mission(
@@ -166,18 +183,20 @@ def _parse_gains(value: Any, source: str) -> dict[str, dict[str, dict[str, float
     out: dict[str, dict[str, dict[str, float]]] = {}
     for kind, loops in ctrls.items():
         if kind not in CONTROLLER_KINDS:
-            raise InputError(f"field 'controllers.{kind}': unknown controller (expected pid or s-plane)", source)
+            raise InputError(
+                f"field 'controllers.{cut(str(kind))}': unknown controller (expected pid or s-plane)", source
+            )
         loops = _mapping(loops, f"controllers.{kind}", source)
         parsed: dict[str, dict[str, float]] = {}
         for loop, g in loops.items():
             where = f"controllers.{kind}.{loop}"
             if loop not in LOOPS:
-                raise InputError(f"field '{where}': unknown loop (expected {', '.join(LOOPS)})", source)
+                raise InputError(f"field '{cut(where)}': unknown loop (expected {', '.join(LOOPS)})", source)
             g = _mapping(g, where, source)
             bad = sorted(set(g) - GAIN_KEYS[kind])
             if bad:
                 raise InputError(
-                    f"field '{where}.{bad[0]}': unknown gain (expected {', '.join(sorted(GAIN_KEYS[kind]))})",
+                    f"field '{where}.{cut(str(bad[0]))}': unknown gain (expected {', '.join(sorted(GAIN_KEYS[kind]))})",
                     source,
                 )
             nums = {k: _num(v, f"{where}.{k}", source, nonneg=True) for k, v in g.items()}
@@ -206,7 +225,8 @@ def _parse_guidance(value: Any, source: str) -> WaypointPath:
     bad = sorted(set(g) - {"acceptance_radius", "lookahead", "speed", "waypoints"})
     if bad:
         raise InputError(
-            f"field 'guidance.{bad[0]}': unknown (allowed: acceptance_radius, lookahead, speed, waypoints)", source
+            f"field 'guidance.{cut(str(bad[0]))}': unknown (allowed: acceptance_radius, lookahead, speed, waypoints)",
+            source,
         )
     radius = _num(g.get("acceptance_radius", 1.0), "guidance.acceptance_radius", source, positive=True)
     lookahead = _num(g.get("lookahead", 5.0), "guidance.lookahead", source, positive=True)
@@ -230,7 +250,7 @@ def _parse_guidance(value: Any, source: str) -> WaypointPath:
         wp = _mapping(wp, where, source)
         bad = sorted(set(wp) - {"x", "y", "z", "speed", "time"})
         if bad:
-            raise InputError(f"field '{where}.{bad[0]}': unknown (allowed: x, y, z, speed, time)", source)
+            raise InputError(f"field '{where}.{cut(str(bad[0]))}': unknown (allowed: x, y, z, speed, time)", source)
         for k in ("x", "y", "z"):
             if k not in wp:
                 raise InputError(f"field '{where}': missing '{k}' (m)", source)

@@ -42,7 +42,7 @@ from typing import Any
 import numpy as np
 
 from hydrokit.core.drag import DragElement
-from hydrokit.core.validate import mapping, number, vector
+from hydrokit.core.validate import cut, cut_repr, mapping, number, vector
 from hydrokit.errors import InputError
 from hydrokit.io.yamlfile import read_yaml
 from hydrokit.model.terms import TermSet, parse_term
@@ -99,7 +99,9 @@ def resolve_vehicle(name_or_path: str | os.PathLike[str]) -> Path:
     bundled = VEHICLES_DIR / f"{name_or_path}.yaml"
     if "/" not in str(name_or_path) and bundled.is_file():
         return bundled
-    raise InputError(f"no such file or bundled vehicle '{name_or_path}' (bundled: {', '.join(bundled_vehicles())})")
+    raise InputError(
+        f"no such file or bundled vehicle '{cut(str(name_or_path))}' (bundled: {', '.join(bundled_vehicles())})"
+    )
 
 
 def load_vehicle(name_or_path: str | os.PathLike[str]) -> Vehicle:
@@ -119,7 +121,9 @@ def _vector(value: Any, n: int, field: str, source: str) -> np.ndarray:
 def _matrix(value: Any, n: int, field: str, source: str, allow_diag: bool = True) -> np.ndarray:
     """n values (diagonal) or an n×n nested list."""
     if not isinstance(value, list):
-        raise InputError(f"field '{field}' = {value!r}: expected a list of {n} numbers or an {n}x{n} matrix", source)
+        raise InputError(
+            f"field '{field}' = {cut_repr(value)}: expected a list of {n} numbers or an {n}x{n} matrix", source
+        )
     if value and all(isinstance(r, list) for r in value):
         if len(value) != n or any(len(r) != n for r in value):
             raise InputError(
@@ -140,7 +144,8 @@ def _drag_elements(value: Any, source: str) -> list[DragElement]:
     :func:`hydrokit.model.vehicle.make_vehicle`."""
     if not isinstance(value, list):
         raise InputError(
-            f"field 'drag_elements' = {value!r}: expected a list of {{name, position, linear, quadratic}}", source
+            f"field 'drag_elements' = {cut_repr(value)}: expected a list of {{name, position, linear, quadratic}}",
+            source,
         )
     out = []
     for k, entry in enumerate(value):
@@ -149,20 +154,38 @@ def _drag_elements(value: Any, source: str) -> list[DragElement]:
         unknown = sorted(map(str, set(entry) - set(DRAG_ELEMENT_KEYS)))
         if unknown:
             raise InputError(
-                f"field '{where}': unknown key(s) {unknown}; expected {', '.join(DRAG_ELEMENT_KEYS)}", source
+                f"field '{where}': unknown key(s) {cut(str(unknown))}; expected {', '.join(DRAG_ELEMENT_KEYS)}", source
             )
         for key in ("name", "position"):
             if key not in entry:
                 raise InputError(f"field '{where}': missing '{key}'", source)
         name = entry["name"]
         if not isinstance(name, str) or not name.strip():
-            raise InputError(f"field '{where}.name' = {name!r}: expected a non-empty text", source)
+            raise InputError(f"field '{where}.name' = {cut_repr(name)}: expected a non-empty text", source)
         triples = [
             _vector(entry.get(key, [0.0, 0.0, 0.0]), 3, f"{where}.{key}", source)
             for key in ("position", "linear", "quadratic")
         ]
         p, lin, quad = ((float(a[0]), float(a[1]), float(a[2])) for a in triples)
         out.append(DragElement(name, p, lin, quad))
+    return out
+
+
+def _sign_warnings(M_A: np.ndarray, D_L: np.ndarray) -> list[str]:
+    """Non-physical signs that still leave a model that flies (said, not refused).
+
+    A negative linear damping feeds energy in where it dominates, at low speed; a negative
+    added mass (M_A after the ``terms:``) makes the body easier to accelerate than in vacuum.
+    An added mass so negative that M_RB + M_A is not positive definite is refused by
+    :func:`hydrokit.model.vehicle.make_vehicle`.
+    """
+    out = []
+    for field, diag, effect in (
+        ("linear_damping", np.diag(D_L), "energy is fed in at low speed"),
+        ("added_mass", np.diag(M_A), "the fluid makes the body easier to accelerate (expected −X_udot > 0 …)"),
+    ):
+        if np.any(diag < 0):
+            out.append(f"{field} has negative diagonal entries {diag.tolist()}: {effect}")
     return out
 
 
@@ -178,7 +201,7 @@ def parse_vehicle(data: dict[str, Any], source: str) -> Vehicle:
     gravity = _number(data.get("gravity", 9.81), "gravity", source, positive=True)
     fluid = data.get("fluid", {"density": 1025.0})
     if not isinstance(fluid, dict) or "density" not in fluid:
-        raise InputError(f"field 'fluid' = {fluid!r}: expected a mapping with density (kg/m^3)", source)
+        raise InputError(f"field 'fluid' = {cut_repr(fluid)}: expected a mapping with density (kg/m^3)", source)
     rho = _number(fluid["density"], "fluid.density", source, positive=True)
     mass = _number(data["mass"], "mass", source, positive=True)
     volume = _number(data["volume"], "volume", source, positive=True)
@@ -195,25 +218,25 @@ def parse_vehicle(data: dict[str, Any], source: str) -> Vehicle:
     U = None if U is None else _number(U, "reference_speed", source, positive=True)
     default_nd = data.get("terms_nondimensional", False)
     if not isinstance(default_nd, bool):
-        raise InputError(f"field 'terms_nondimensional' = {default_nd!r}: expected true or false", source)
+        raise InputError(f"field 'terms_nondimensional' = {cut_repr(default_nd)}: expected true or false", source)
     terms_raw = data.get("terms") or {}
     if not isinstance(terms_raw, dict):
-        raise InputError(f"field 'terms' = {terms_raw!r}: expected a mapping of term names to values", source)
+        raise InputError(f"field 'terms' = {cut_repr(terms_raw)}: expected a mapping of term names to values", source)
     velocity_terms = []
     for name, spec in terms_raw.items():
-        where = f"terms.{name}"
+        where = f"terms.{cut(str(name))}"
         nd = default_nd
         if isinstance(spec, dict):
             extra = set(spec) - TERM_KEYS
             if extra:
                 raise InputError(
-                    f"field '{where}': unknown key(s) {sorted(extra)}; expected value, nondimensional", source
+                    f"field '{where}': unknown key(s) {cut(str(sorted(extra)))}; expected value, nondimensional", source
                 )
             if "value" not in spec:
                 raise InputError(f"field '{where}': missing 'value'", source)
             nd = spec.get("nondimensional", default_nd)
             if not isinstance(nd, bool):
-                raise InputError(f"field '{where}.nondimensional' = {nd!r}: expected true or false", source)
+                raise InputError(f"field '{where}.nondimensional' = {cut_repr(nd)}: expected true or false", source)
             value = _number(spec["value"], where + ".value", source)
         else:
             value = _number(spec, where, source)
@@ -234,8 +257,9 @@ def parse_vehicle(data: dict[str, Any], source: str) -> Vehicle:
     name = str(data.get("name", Path(source).stem))
     cor = data.get("added_mass_coriolis", True)
     if not isinstance(cor, bool):
-        raise InputError(f"field 'added_mass_coriolis' = {cor!r}: expected true or false", source)
+        raise InputError(f"field 'added_mass_coriolis' = {cut_repr(cor)}: expected true or false", source)
     elements = _drag_elements(data["drag_elements"], source) if "drag_elements" in data else None
+    warnings.extend(_sign_warnings(M_A, D_L))
     return make_vehicle(
         name,
         mass,

@@ -52,6 +52,7 @@ from hydrokit.model.allocation import Allocator, _ConstrainedSolver
 from hydrokit.model.control import PID, Autopilot, SPlane
 from hydrokit.model.guidance import _HORIZONTAL_EPS, Path
 from hydrokit.model.thrusters import IdealCurve, PropellerCurve, TableCurve, ThrusterSet
+from hydrokit.simulate.budget import check_memory
 from hydrokit.simulate.closed_loop import ClosedLoopResult
 from hydrokit.simulate.compiled import deriv, njit_noalloc
 
@@ -1222,6 +1223,7 @@ def run_closed_loop_compiled(
     V = _pack_vehicle(vehicle, vc)
 
     n_out = n_steps // output_every + 1
+    check_memory(n_out * (8 * (23 + 4 * m) + 1), f"the recorded trajectory ({n_out} rows)")  # 11 arrays below
     r_time = np.empty(n_out)
     r_eta = np.empty((n_out, 6))
     r_nu = np.empty((n_out, 6))

@@ -26,6 +26,7 @@ from hydrokit.errors import InputError
 from hydrokit.model.dynamics import stack_scal
 from hydrokit.model.mission import CONTROLLER_KINDS, Mission
 from hydrokit.model.vehicle import Vehicle
+from hydrokit.simulate.budget import check_memory
 from hydrokit.simulate.mission import CONTROLLER_LABEL, METRIC_UNITS
 
 #: per-run metrics of a fleet (the scalar metrics of MissionResult)
@@ -344,6 +345,7 @@ def fly_fleet(
         edenom, has_energy = np.full(m, np.inf), False
     pe = int(paths_every) if paths_every is not None else 0
     n_keep = n_steps // pe + 1 if pe else 0
+    check_memory(N * n_keep * 6 * 8, f"the paths of {N} copies ({n_keep} points each)")
     p_eta = np.full((N, n_keep, 6), np.nan)
     acc = np.zeros((N, N_ACC))
     arrivals = np.full((N, mission.path.n_legs), np.nan)
