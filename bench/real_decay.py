@@ -18,13 +18,14 @@ Measured on the KVLCC2 records (rig: floating roll, gm 0.08426 m; window 20°–
 N·m·s/rad; Snoopy 2.6.0 on the whole records with its defaults; rolldecay-estimators 0.6.0 on
 hydrokit's trimmed window with the "auto" guess, fitted by integration):
 
-| record | hydrokit release (s) | period (s) | hydrokit B_e(5°) ± σ (formal) | Snoopy period | Snoopy B_e(5°) | rolldecay-estimators period | rolldecay-estimators B_e(5°) |
-|---|---|---|---|---|---|---|---|
-| 21337 (0 kn) | 24.919 | 2.5439 | 3.242 ± 0.036 (0.013) | 2.5390 | 3.317 | 2.5423 | 3.220 |
-| 21338 (0 kn) | 8.078 | 2.5438 | 3.230 ± 0.033 (0.014) | 2.5370 | 3.488 | 2.5418 | 3.240 |
-| 21340 (15.5 kn) | 23.124 | 2.5423 | 8.795 ± 0.034 (0.027) | 2.5400 | 8.861 | 2.5399 | 8.813 |
+| record | hydrokit release (s) | period (s) | hydrokit B_e(5°) ± σ (formal), cubic refit | quadratic model's | Snoopy period | Snoopy B_e(5°) | rolldecay-estimators period | rolldecay-estimators B_e(5°) |
+|---|---|---|---|---|---|---|---|---|
+| 21337 (0 kn) | 24.919 | 2.5439 | 3.242 ± 0.023 (0.012) | 3.242 ± 0.036 (0.013) | 2.5390 | 3.317 | 2.5423 | 3.220 |
+| 21338 (0 kn) | 8.078 | 2.5438 | 3.209 ± 0.016 (0.013) | 3.230 ± 0.033 (0.014) | 2.5370 | 3.488 | 2.5418 | 3.240 |
+| 21340 (15.5 kn) | 23.124 | 2.5423 | 8.773 ± 0.067 (0.026) | 8.795 ± 0.034 (0.027) | 2.5400 | 8.861 | 2.5399 | 8.813 |
 
-The repeats: hydrokit 0.4 % apart (χ² 0.06 on the stated σ, p 0.80); rolldecay-estimators 0.6 %
+The repeats: hydrokit 1.0 % apart with the cubic refit, the default (χ² 1.39 on the stated σ,
+p 0.24), 0.4 % with the quadratic model (χ² 0.06, p 0.80); rolldecay-estimators 0.6 %
 apart, Snoopy 5 % apart, neither states an error. With its default guess rolldecay-estimators
 lands on ω0 = 5.8 rad/s (period 1.08 s, R² 0.007) for 21337 and 21338. About 30 s in all on
 this 2-core machine, most of it rolldecay-estimators (SciPy ``solve_ivp`` in every residual).

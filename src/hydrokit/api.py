@@ -166,6 +166,7 @@ def identify_campaign(
     detrend: str = "mean",
     amplitude_window: tuple[float, float] | None = None,
     equivalent_at: Sequence[float] = (),
+    equivalent_model: str = "cubic",
 ) -> CampaignResult:
     """Identify added mass, linear and quadratic damping from many launches of one rig.
 
@@ -183,6 +184,8 @@ def identify_campaign(
     detrend, amplitude_window : how path launches are trimmed (see :func:`read_launch`)
     equivalent_at : amplitudes, m or rad: add per launch ``equivalent_damping`` B_e(a) with its
         standard error (spring, torsion and floating rigs)
+    equivalent_model : str — "cubic" (default: B_e from a cubic-damping fit of each record, which
+        follows a bending damping curve) or "fitted" (from ``damping_model`` itself); output-error
 
     Returns
     -------
@@ -213,6 +216,7 @@ def identify_campaign(
         settings = {"damping_model": damping_model, "restoring_terms": restoring_terms}
     if equivalent_at:
         settings["equivalent_at"] = tuple(equivalent_at)
+        settings["equivalent_model"] = equivalent_model
     return identify_launches(rig_obj, launches, method, progress=progress, **settings)
 
 

@@ -39,36 +39,44 @@ def rig() -> Rig:
     return parse_rig(RIG_DOC, "kvlcc2-like.yaml")
 
 
-def true_equivalent(a: float) -> float:
+def true_equivalent(a: float, truth: dict[str, float] = TRUTH) -> float:
     c = rig_constants(rig())
-    w0 = math.sqrt(c.S / c.inertia(TRUTH["I_a"]))
-    return TRUTH["B1"] + 8 / (3 * math.pi) * w0 * a * TRUTH["B2"] + 0.75 * w0 * w0 * a * a * TRUTH["B3"]
+    w0 = math.sqrt(c.S / c.inertia(truth["I_a"]))
+    return truth["B1"] + 8 / (3 * math.pi) * w0 * a * truth["B2"] + 0.75 * w0 * w0 * a * a * truth["B3"]
 
 
-def free_decay(t: np.ndarray, q0: float, v0: float) -> np.ndarray:
+def free_decay(t: np.ndarray, q0: float, v0: float, truth: dict[str, float] = TRUTH) -> np.ndarray:
     c = rig_constants(rig())
-    A, S = c.inertia(TRUTH["I_a"]), c.S
-    p = [S / A, TRUTH["B1"] / A, TRUTH["B2"] / A, TRUTH["B3"] / A, 0.0, 0.0]
+    A, S = c.inertia(truth["I_a"]), c.S
+    p = [S / A, truth["B1"] / A, truth["B2"] / A, truth["B3"] / A, 0.0, 0.0]
     q, _, _ = simulate_extended(t, p, q0, v0, c.restoring, 8)
     return q
 
 
-def hand_heel_record(seed: int = 0, duration: float = 70.0, drift: float = 0.3, noise: float = 0.02) -> Launch:
-    """Rest 2 s, a hand heel ramped to 10° over 1.5 s, held 2.5 s with a 0.1° wobble, released at
-    T_RELEASE, free decay with cubic damping; a drift of ``drift`` degrees per minute and AR(1)
-    (coloured) noise of ``noise`` degrees std, all in radians."""
+def hand_heel_record(
+    seed: int = 0,
+    duration: float = 70.0,
+    drift: float = 0.3,
+    noise: float = 0.02,
+    truth: dict[str, float] = TRUTH,
+    heel: float = HEEL,
+) -> Launch:
+    """Rest 2 s, a hand heel ramped to ``heel`` (default 10°) over 1.5 s, held 2.5 s with a 0.1°
+    wobble, released at T_RELEASE, free decay with the cubic damping of ``truth``; a drift of
+    ``drift`` degrees per minute and AR(1) (coloured) noise of ``noise`` degrees std, all in
+    radians."""
     t = np.arange(int(duration * FS)) / FS
     y = np.zeros(t.size)
     ramp = (t >= 2.0) & (t < 3.5)
-    y[ramp] = HEEL * 0.5 * (1 - np.cos(math.pi * (t[ramp] - 2.0) / 1.5))
+    y[ramp] = heel * 0.5 * (1 - np.cos(math.pi * (t[ramp] - 2.0) / 1.5))
     wob = math.radians(0.1)
     f_w = 0.6  # Hz: a hand's slow wobble, moving inwards at the release
     hold = (t >= 3.5) & (t < T_RELEASE)
-    y[hold] = HEEL + wob * np.sin(2 * math.pi * f_w * (T_RELEASE - t[hold]))
+    y[hold] = heel + wob * np.sin(2 * math.pi * f_w * (T_RELEASE - t[hold]))
     free = t >= T_RELEASE
     tf = np.concatenate([[T_RELEASE], t[free]])
     v0 = -wob * 2 * math.pi * f_w
-    y[free] = free_decay(tf - T_RELEASE, HEEL, v0)[1:]
+    y[free] = free_decay(tf - T_RELEASE, heel, v0, truth)[1:]
     rng = np.random.default_rng(seed)
     e = rng.normal(0.0, 1.0, t.size)
     ar = np.empty(t.size)

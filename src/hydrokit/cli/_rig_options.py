@@ -106,12 +106,21 @@ _TRIM = [
         help="Add the equivalent linear damping B_e at these amplitudes with its standard error: "
         "degrees as 5deg or SI (m or rad). Spring, torsion and floating rigs.",
     ),
+    click.option(
+        "--equivalent-model",
+        type=click.Choice(["cubic", "fitted"]),
+        default="cubic",
+        show_default=True,
+        help="Damping model B_e comes from (output-error): a cubic-damping fit of the same record, "
+        "which bends with the damping curve, or the fitted --damping-model (biased wherever the "
+        "curve bends; its value stays in the JSON as value_fitted_model).",
+    ),
 ]
 
 
 def trim_options(f):  # noqa: ANN001, ANN201
     """``hydrokit identify``'s record options: --start, --end, --detrend, --amplitude-window,
-    --equivalent-at."""
+    --equivalent-at, --equivalent-model."""
     for opt in reversed(_TRIM):
         f = opt(f)
     return f
