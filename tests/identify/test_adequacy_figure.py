@@ -177,3 +177,26 @@ def test_report_selection_keeps_the_flagged_launch() -> None:
     assert len(few) == 4 and "run5_adequacy.png" in few
     assert list(few) == sorted(few)  # launch order
     assert len(adequacy_figures(campaign)) == 7
+
+
+def test_verdict_tells_drift_from_error_that_repeats_every_cycle() -> None:
+    """A residual that changes sign with the oscillation (model error, ρ(T/2) ≈ −ρ(T)) and a slow
+    ramp (a drifting rest value, ρ high at every lag) both have ρ(T) ≥ 0.3; only the first is
+    called model error."""
+    from hydrokit.identify.estimators import adequacy
+
+    t = np.arange(0, 60.0, 0.02)
+    period = 2.5
+    rng = np.random.default_rng(3)
+    noise = 0.01
+    cyclic = 0.2 * np.sin(2 * np.pi * t / period) * np.exp(-t / 40) + rng.normal(0, noise, t.size)
+    ramp = 0.004 * t + rng.normal(0, noise, t.size)
+    a_cyc = adequacy(cyclic, t, period, noise)
+    a_ramp = adequacy(ramp, t, period, noise)
+    assert a_cyc["acf_at_period"] > 0.3 and a_ramp["acf_at_period"] > 0.3
+    assert a_cyc["acf_at_half_period"] < -0.5  # a sine half a period on: the sign flips
+    assert a_ramp["acf_at_half_period"] > a_ramp["acf_at_period"]
+    assert a_cyc["verdict"].startswith("model error")
+    assert a_ramp["verdict"].startswith("drift")
+    # no noise floor measured: still words, no crash
+    assert adequacy(ramp, t, period, 0.0)["verdict"].startswith("drift")

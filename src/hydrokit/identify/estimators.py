@@ -88,27 +88,43 @@ def adequacy(residual: np.ndarray, t: np.ndarray, period: float, noise: float) -
 
     ``residual_to_noise``: RMS residual over the sensor noise floor (1 = all that is left is
     noise); ``acf_at_period``: the residual's autocorrelation one oscillation period apart (near 0
-    for noise, near 1 when the same model error repeats every cycle).
+    for noise, near 1 when the same model error repeats every cycle); ``acf_at_half_period``: the
+    same half a period apart, which tells the two kinds of high ``acf_at_period`` apart: an error
+    that repeats every cycle changes sign with the oscillation (strongly negative at half a
+    period), a drifting rest value or a slow disturbance does not (about as high as at one period).
     """
     r = np.asarray(residual, float) - float(np.mean(residual))
     dt = float(np.mean(np.diff(t))) if t.size > 1 else 1.0
     lag = int(round(period / dt)) if dt > 0 and math.isfinite(period) else 0
+    half = int(round(0.5 * period / dt)) if dt > 0 and math.isfinite(period) else 0
     denom = float(r @ r)
-    acf = float(r[:-lag] @ r[lag:]) / denom if 0 < lag < r.size and denom > 0 else None
+
+    def rho(k: int) -> float | None:
+        return float(r[:-k] @ r[k:]) / denom if 0 < k < r.size and denom > 0 else None
+
+    acf, acf_half = rho(lag), rho(half)
     ratio = float(np.sqrt(np.mean(r**2))) / noise if noise > 0 else None
+    slow = acf is not None and acf >= 0.3 and acf_half is not None and acf_half > acf - 0.5
+    times = f"{ratio:.0f}× the noise" if ratio is not None else "no noise floor measured"
     if ratio is not None and ratio <= 2.0 and (acf is None or abs(acf) < 0.3):
         verdict = "adequate: the model explains the record down to the sensor noise"
+    elif slow:
+        verdict = (
+            f"drift: the residual is correlated at every lag, not cycle by cycle (autocorrelation "
+            f"{acf:.2f} one period apart and {acf_half:.2f} half a period apart, {times}): "
+            "a moving rest value or a slow disturbance; try --detrend linear"
+        )
     elif acf is not None and acf >= 0.3:
         verdict = (
             f"model error: the residual repeats every cycle (autocorrelation {acf:.2f} one period apart, "
-            f"{ratio:.0f}× the noise); the stated (cycle-clustered) errors allow for it, the formal ones do not; "
+            f"{times}); the stated (cycle-clustered) errors allow for it, the formal ones do not; "
             "a richer model (--damping-model cubic, --restoring-terms 3) may fit better"
         )
     else:
         verdict = (
-            f"residual above the noise floor ({ratio:.1f}×) but not cycle-periodic: drift, a bad trim or disturbance"
+            f"residual above the noise floor ({times}) but not cycle-periodic: drift, a bad trim or disturbance"
         )
-    return {"residual_to_noise": ratio, "acf_at_period": acf, "verdict": verdict}
+    return {"residual_to_noise": ratio, "acf_at_period": acf, "acf_at_half_period": acf_half, "verdict": verdict}
 
 
 class _DecayEstimator:
