@@ -73,12 +73,12 @@ def test_simulate_bad_options(run_cli, tmp_path, args, match):
 
 
 def test_simulate_bad_vehicle_file(run_cli, tmp_path):
-    doc = yaml.safe_load((tmp_path.parent / "x").as_posix() and "{}") or {}
     bad = tmp_path / "v.yaml"
     bad.write_text(yaml.safe_dump({"mass": 1.0}))
     code, _, err = run_cli("simulate", bad, "--out", tmp_path / "t.csv")
-    assert code == 2 and "missing field" in err
-    assert doc == {}
+    assert code == 2 and "missing field" in err and "v.yaml" in err
+    assert len(err.strip().splitlines()) == 1
+    assert not (tmp_path / "t.csv").exists()
 
 
 def test_blow_up_is_exit_2_with_time(run_cli, tmp_path):
