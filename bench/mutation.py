@@ -1,0 +1,582 @@
+"""Mutation score of the physics packages (issue #13, "Trust"): does the suite notice a wrong line?
+
+    python bench/mutation.py [--package core identify model estimate] [--sample N] [--seed S]
+                             [--jobs J] [--scope suite|package] [--only TEXT …] [--list]
+                             [--json FILE] [--previous FILE] [--trace FILE]
+
+    # nightly: every mutant, the whole suite
+    python bench/mutation.py --jobs 2 --json mutation.json
+    # a quick estimate: 40 seeded mutants per package against the mirrored test folders
+    python bench/mutation.py --sample 40 --scope package --jobs 2 --json before.json
+    # after adding tests: the same mutants again, only the survivors rerun
+    python bench/mutation.py --previous before.json --scope package --jobs 2
+
+A small self-contained mutation runner: standard library and pytest only (mutmut and
+cosmic-ray are not project dependencies; ``pip install mutmut`` and a ``[tool.mutmut]`` table
+would do the same job, slower, as mutmut 3 reruns its own per-test statistics in a
+``mutants/`` copy). For each module of ``src/hydrokit/{core,identify,model,estimate}`` it walks the
+``ast`` and makes one-change mutants:
+
+- arithmetic ``+ ↔ −``, ``* ↔ /``, ``** → *``, ``// → /``, ``% → *`` (also in ``+=`` …),
+- comparisons ``< ↔ <=``, ``> ↔ >=``, ``== ↔ !=``, ``is ↔ is not``, ``in ↔ not in``,
+- ``and ↔ or``, a dropped unary ``−`` or ``not``,
+- numeric constants n → n + 1 (``True ↔ False``).
+
+Strings, f-strings, docstrings, annotations and the arguments of ``raise`` are left alone (a
+changed message is not a physics error). Each mutant is written into a private copy of the
+project (one per job, so the working tree is never touched), and only the tests that reach the
+mutated code run there, with ``-x`` and a timeout: a failing run kills the mutant, a timeout
+counts as killed (reported apart), a green run is a survivor.
+
+Which tests reach which code comes from one traced run of the unmutated tests (a
+``sys.setprofile`` hook records, per test, the hydrokit functions it calls, and the test's
+duration; no coverage package needed): a mutant inside a function runs the tests that called
+that function; one at module level, or inside a numba-compiled function (invisible to the
+hook), runs every test that called anything in its module or imports it. A mutant in a
+function no test calls is reported as ``uncovered`` (a survivor) without running anything.
+Tests that already fail unmutated are left out, with a warning.
+
+Equivalent mutants (no input can tell them apart from the original) are excluded from the
+score only through :data:`EQUIVALENT` below, each with its reason.
+
+The score printed per package is killed / (mutants − equivalent), with a 95 % Wilson interval
+when ``--sample`` draws a seeded random subset. The full run is a slow job (thousands of
+mutants, hours on 2 cores): run it nightly, not in CI's 15 minutes. Issue #13 asks ≥ 90 %.
+"""
+
+from __future__ import annotations
+
+import argparse
+import ast
+import copy
+import json
+import math
+import os
+import random
+import shutil
+import signal
+import subprocess
+import sys
+import tempfile
+import threading
+import time
+from concurrent.futures import ThreadPoolExecutor
+from dataclasses import asdict, dataclass
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parents[1]
+PACKAGES = ("core", "identify", "model", "estimate")
+#: --scope package: the mirrored test folders of each package (faster; core is exercised through
+#: the model and estimate tests); --scope suite (default): the whole suite, as issue #13 counts
+PACKAGE_TESTS = {
+    "core": ("tests/core", "tests/model", "tests/estimate"),
+    "identify": ("tests/identify",),
+    "model": ("tests/model",),
+    "estimate": ("tests/estimate",),
+}
+TESTS = dict.fromkeys(PACKAGES, ("tests",))
+#: copied into each job's private tree (tests read docs/ and the bundled data under src/)
+COPY = ("src", "tests", "docs", "pyproject.toml", "README.md")
+
+#: (file relative to src/hydrokit, stripped source line, mutation) → why no test can kill it
+EQUIVALENT: dict[tuple[str, str, str], str] = {
+    ("core/drag.py", "P = np.asarray(packed, dtype=float).reshape(-1, PACKED_WIDTH).copy()", "1 -> 2"): (
+        "reshape(-2, 9): numpy takes any negative size as the one inferred dimension"
+    ),
+    **{
+        ("identify/rig_model.py", f"{name} = np.{fn}(12)", "12 -> 13"): (
+            "RK4 scratch buffer of the 12-state integrator: only entries below m ≤ 12 are ever read or written"
+        )
+        for name, fn in (("z", "zeros"), ("k1", "empty"), ("k2", "empty"), ("k3", "empty"), ("k4", "empty"))
+        + (("tmp", "empty"),)
+    },
+}
+
+BINOP = {ast.Add: ast.Sub, ast.Sub: ast.Add, ast.Mult: ast.Div, ast.Div: ast.Mult, ast.Pow: ast.Mult}
+BINOP.update({ast.FloorDiv: ast.Div, ast.Mod: ast.Mult})
+CMPOP = {ast.Lt: ast.LtE, ast.LtE: ast.Lt, ast.Gt: ast.GtE, ast.GtE: ast.Gt, ast.Eq: ast.NotEq}
+CMPOP.update({ast.NotEq: ast.Eq, ast.Is: ast.IsNot, ast.IsNot: ast.Is, ast.In: ast.NotIn, ast.NotIn: ast.In})
+SYMBOL = {ast.Add: "+", ast.Sub: "-", ast.Mult: "*", ast.Div: "/", ast.Pow: "**", ast.FloorDiv: "//", ast.Mod: "%"}
+SYMBOL.update({ast.Lt: "<", ast.LtE: "<=", ast.Gt: ">", ast.GtE: ">=", ast.Eq: "==", ast.NotEq: "!="})
+SYMBOL.update({ast.Is: "is", ast.IsNot: "is not", ast.In: "in", ast.NotIn: "not in", ast.And: "and", ast.Or: "or"})
+
+
+@dataclass
+class Mutant:
+    package: str
+    path: str  # relative to src/hydrokit
+    line: int
+    what: str  # e.g. "+ -> -"
+    code: str  # the original source line, stripped
+    start: int  # byte span of the replaced node in the file
+    end: int
+    new: str  # replacement source text
+    scope: int = 0  # first line of the enclosing function's code object (0: module level or compiled)
+    status: str = "pending"  # killed, timeout, survived, uncovered, equivalent, error
+    seconds: float = 0.0
+    killer: str = ""
+
+    @property
+    def key(self) -> tuple[str, str, str]:
+        return (self.path, self.code, self.what)
+
+    def label(self) -> str:
+        return f"{self.path}:{self.line}: {self.what}   | {self.code}"
+
+
+def _skipped_nodes(tree: ast.AST) -> set[int]:
+    """ids of nodes never mutated: docstrings, f-strings, annotations, raise arguments."""
+    skip: set[int] = set()
+
+    def drop(node: ast.AST | None) -> None:
+        if node is not None:
+            skip.update(id(n) for n in ast.walk(node))
+
+    for node in ast.walk(tree):
+        if isinstance(node, (ast.JoinedStr, ast.Raise, ast.Assert)):
+            drop(node)
+        elif isinstance(node, ast.AnnAssign):
+            drop(node.annotation)
+        elif isinstance(node, ast.arg):
+            drop(node.annotation)
+        elif isinstance(node, (ast.FunctionDef, ast.AsyncFunctionDef)):
+            drop(node.returns)
+        elif isinstance(node, ast.keyword) and node.arg == "stacklevel":
+            drop(node.value)
+        elif isinstance(node, ast.Assign) and any(isinstance(t, ast.Name) and t.id == "__all__" for t in node.targets):
+            drop(node)
+        if isinstance(node, (ast.Module, ast.ClassDef, ast.FunctionDef, ast.AsyncFunctionDef)) and node.body:
+            first = node.body[0]
+            if isinstance(first, ast.Expr) and isinstance(first.value, ast.Constant):
+                drop(first)
+    return skip
+
+
+def _jitted(tree: ast.AST) -> set[str]:
+    """Names of functions compiled by numba: ``@njit`` … or ``numba.njit(...)(f)``."""
+
+    def is_jit(f: ast.AST) -> bool:
+        f = f.func if isinstance(f, ast.Call) else f
+        name = f.attr if isinstance(f, ast.Attribute) else getattr(f, "id", "")
+        return name in ("jit", "njit")
+
+    names = set()
+    for node in ast.walk(tree):
+        if isinstance(node, (ast.FunctionDef, ast.AsyncFunctionDef)) and any(is_jit(d) for d in node.decorator_list):
+            names.add(node.name)
+        if isinstance(node, ast.Call) and isinstance(node.func, ast.Call) and is_jit(node.func):
+            names.update(a.id for a in node.args if isinstance(a, ast.Name))
+    return names
+
+
+def _scopes(tree: ast.AST) -> dict[int, int]:
+    """id(node) → co_firstlineno of the innermost enclosing function (0 at module level, in a
+    class body, or in a numba-compiled function, whose calls a profiler cannot see)."""
+    jitted = _jitted(tree)
+    out: dict[int, int] = {}
+
+    def visit(node: ast.AST, scope: int, compiled: bool) -> None:
+        for child in ast.iter_child_nodes(node):
+            s, c = scope, compiled
+            if isinstance(child, (ast.FunctionDef, ast.AsyncFunctionDef)):
+                c = compiled or child.name in jitted
+                # the code object starts at the first decorator
+                s = 0 if c else min([child.lineno] + [d.lineno for d in child.decorator_list])
+            out[id(child)] = s
+            visit(child, s, c)
+
+    visit(tree, 0, False)
+    return out
+
+
+def _variants(node: ast.AST) -> list[tuple[str, ast.AST]]:
+    """(description, mutated copy of ``node``) for every single change this runner knows."""
+    out: list[tuple[str, ast.AST]] = []
+    if isinstance(node, (ast.BinOp, ast.AugAssign)) and type(node.op) in BINOP:
+        m = copy.deepcopy(node)
+        m.op = BINOP[type(node.op)]()
+        out.append((f"{SYMBOL[type(node.op)]} -> {SYMBOL[type(m.op)]}", m))
+    elif isinstance(node, ast.Compare):
+        for i, op in enumerate(node.ops):
+            if type(op) in CMPOP:
+                m = copy.deepcopy(node)
+                m.ops[i] = CMPOP[type(op)]()
+                out.append((f"{SYMBOL[type(op)]} -> {SYMBOL[type(m.ops[i])]}", m))
+    elif isinstance(node, ast.BoolOp):
+        m = copy.deepcopy(node)
+        m.op = ast.Or() if isinstance(node.op, ast.And) else ast.And()
+        out.append((f"{SYMBOL[type(node.op)]} -> {SYMBOL[type(m.op)]}", m))
+    elif isinstance(node, ast.UnaryOp) and isinstance(node.op, (ast.USub, ast.Not)):
+        out.append(("drop unary -" if isinstance(node.op, ast.USub) else "drop not", copy.deepcopy(node.operand)))
+    elif isinstance(node, ast.Constant) and type(node.value) in (bool, int, float):
+        v = node.value
+        new = (not v) if isinstance(v, bool) else v + 1
+        out.append((f"{v!r} -> {new!r}", ast.Constant(new)))
+    return out
+
+
+def module_mutants(path: Path, package: str) -> list[Mutant]:
+    """All mutants of one module, with byte spans into its UTF-8 source."""
+    raw = path.read_bytes()
+    lines = raw.split(b"\n")
+    starts = [0]
+    for ln in lines[:-1]:
+        starts.append(starts[-1] + len(ln) + 1)
+    tree = ast.parse(raw)
+    skip = _skipped_nodes(tree)
+    rel = path.relative_to(ROOT / "src" / "hydrokit").as_posix()
+    scope = _scopes(tree)
+    out = []
+    for node in ast.walk(tree):
+        if id(node) in skip or not hasattr(node, "end_lineno"):
+            continue
+        for what, mutated in _variants(node):
+            a = starts[node.lineno - 1] + node.col_offset
+            b = starts[node.end_lineno - 1] + node.end_col_offset
+            text = ast.unparse(mutated)
+            new = text if isinstance(node, ast.stmt) else f"({text})"
+            code = lines[node.lineno - 1].decode().strip()
+            out.append(Mutant(package, rel, node.lineno, what, code, a, b, new, scope.get(id(node), 0)))
+    out.sort(key=lambda m: (m.line, m.start, m.what))
+    # the same change twice on one line (three `3 -> 4` in a slice) gets its ordinal: [1], [2] …
+    count: dict[tuple[int, str], int] = {}
+    for m in out:
+        count[(m.line, m.what)] = count.get((m.line, m.what), 0) + 1
+    seen: dict[tuple[int, str], int] = {}
+    for m in out:
+        if count[(m.line, m.what)] > 1:
+            seen[(m.line, m.what)] = seen.get((m.line, m.what), 0) + 1
+            m.what += f" [{seen[(m.line, m.what)]}]"
+    return out
+
+
+def all_mutants(packages: list[str]) -> list[Mutant]:
+    out = []
+    for pkg in packages:
+        for path in sorted((ROOT / "src" / "hydrokit" / pkg).glob("*.py")):
+            out += module_mutants(path, pkg)
+    for m in out:
+        if m.key in EQUIVALENT:
+            m.status = "equivalent"
+    return out
+
+
+TRACE_PLUGIN = '''"""pytest plugin written by bench/mutation.py: the hydrokit functions each test calls."""
+import json, os, sys, threading, time
+
+import pytest
+
+_SRC = os.environ["MUTATION_TRACE_SRC"]
+_calls = set()
+_tests = {}
+_failed = set()
+_files = {}
+
+
+def _profile(frame, event, arg):
+    if event == "call" and frame.f_code.co_filename.startswith(_SRC):
+        _calls.add((frame.f_code.co_filename[len(_SRC):], frame.f_code.co_firstlineno))
+
+
+@pytest.hookimpl(hookwrapper=True)
+def pytest_runtest_protocol(item, nextitem):
+    _calls.clear()
+    t0 = time.perf_counter()
+    sys.setprofile(_profile)
+    threading.setprofile(_profile)
+    yield
+    sys.setprofile(None)
+    threading.setprofile(None)
+    calls = sorted(f"{f.replace(os.sep, '/')}:{n}" for f, n in _calls)
+    _tests[item.nodeid] = {"seconds": time.perf_counter() - t0, "calls": calls}
+
+
+@pytest.hookimpl(hookwrapper=True)
+def pytest_make_collect_report(collector):
+    # what a test file calls while it is imported (module-level tables, parametrize lists)
+    # counts for each of its tests
+    if not isinstance(collector, pytest.Module):
+        yield
+        return
+    _calls.clear()
+    sys.setprofile(_profile)
+    yield
+    sys.setprofile(None)
+    _files[collector.nodeid] = sorted(f"{f.replace(os.sep, '/')}:{n}" for f, n in _calls)
+
+
+def pytest_runtest_logreport(report):
+    if report.failed:
+        _failed.add(report.nodeid)
+
+
+def pytest_sessionfinish(session):
+    with open(os.environ["MUTATION_TRACE_OUT"], "w") as f:
+        for nodeid, entry in _tests.items():
+            entry["calls"] = sorted(set(entry["calls"]) | set(_files.get(nodeid.split("::")[0], ())))
+        json.dump({"tests": _tests, "failed": sorted(_failed)}, f)
+'''
+
+
+def select_tests(m: Mutant, tests: dict, failed: set[str], worker: Worker) -> list[str]:
+    """Node ids (in run order) of the passing tests of ``m.package`` that reach the mutated code."""
+    dirs = tuple(d + "/" for d in TESTS[m.package])
+    mine = [t for t in tests if t.startswith(dirs) and t not in failed]
+    if m.scope:
+        key = f"{m.path}:{m.scope}"
+        return [t for t in mine if key in tests[t]["calls"]]
+    prefix = m.path + ":"
+    importers = set(worker.tests_for(m.package, m.path, direct_only=True))
+    return [t for t in mine if t.split("::")[0] in importers or any(c.startswith(prefix) for c in tests[t]["calls"])]
+
+
+class Worker:
+    """A private copy of the project in which one mutant at a time is applied and tested."""
+
+    def __init__(self, base: Path, k: int) -> None:
+        self.root = base / f"job{k}"
+        for name in COPY:
+            src = ROOT / name
+            if src.is_dir():
+                shutil.copytree(src, self.root / name, ignore=shutil.ignore_patterns("__pycache__", "*.pyc"))
+            elif src.exists():
+                self.root.mkdir(parents=True, exist_ok=True)
+                shutil.copy2(src, self.root / name)
+        self.stamp = time.time_ns()
+        self.proc: subprocess.Popen | None = None
+
+    def stop(self) -> None:
+        """Kill a pytest still running (its own process group)."""
+        if self.proc is not None and self.proc.poll() is None:
+            os.killpg(self.proc.pid, signal.SIGKILL)
+
+    def _touch(self, f: Path) -> None:
+        # a fresh, strictly increasing mtime: numba's cache index never mistakes a mutant for the original
+        self.stamp += 2_000_000_000
+        os.utime(f, ns=(self.stamp, self.stamp))
+
+    def trace(self, packages: list[str]) -> dict:
+        """Run the packages' tests once, unmutated, recording which functions each test calls."""
+        (self.root / "_mutation_trace.py").write_text(TRACE_PLUGIN)
+        out = self.root / "trace.json"
+        files = sorted({f for p in packages for f in self.tests_for(p)})
+        env = {"MUTATION_TRACE_SRC": str(self.root / "src" / "hydrokit") + os.sep, "MUTATION_TRACE_OUT": str(out)}
+        status, _, dt = self.pytest(files, 4 * 3600, ["-p", "_mutation_trace"], stop=False, extra_env=env)
+        data = json.loads(out.read_text())
+        data["seconds"] = dt
+        return data
+
+    def tests_for(self, package: str, path: str = "", direct_only: bool = False) -> list[str]:
+        """The package's test files, those importing the module ``path`` (relative to src/hydrokit)
+        first (or only those, with ``direct_only``)."""
+        module = "hydrokit." + path[:-3].replace("/", ".") if path else "-"
+        pkg, name = module.rsplit(".", 1) if path else ("-", "-")
+        files = sorted(p for d in TESTS[package] for p in (self.root / d).rglob("test_*.py"))
+
+        def direct(p: Path) -> bool:
+            text = p.read_text(encoding="utf-8")
+            return module in text or f"from {pkg} import {name}" in text
+
+        if direct_only:
+            files = [p for p in files if direct(p)]
+        files.sort(key=lambda p: not direct(p))  # stable: direct importers first
+        return [str(p.relative_to(self.root)) for p in files]
+
+    def pytest(
+        self,
+        tests: list[str],
+        timeout: float,
+        options: tuple[str, ...] | list[str] = (),
+        stop: bool = True,
+        extra_env: dict[str, str] | None = None,
+    ) -> tuple[str, str, float]:
+        env = dict(os.environ, PYTHONPATH=os.pathsep.join([str(self.root / "src"), str(self.root)]))
+        env.update(PYTHONDONTWRITEBYTECODE="1", NUMBA_CACHE_DIR=str(self.root / ".numba_cache"), **(extra_env or {}))
+        cmd = [sys.executable, "-m", "pytest", "-q", "-p", "no:cacheprovider", "--no-header", *options]
+        cmd += ["-x"] if stop else []
+        cmd += ["--", *tests]  # node ids, a few thousand at most: well inside the argv limit
+        t0 = time.perf_counter()
+        proc = self.proc = subprocess.Popen(
+            cmd, cwd=self.root, env=env, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, start_new_session=True
+        )
+        try:
+            out, _ = proc.communicate(timeout=timeout)
+        except subprocess.TimeoutExpired:
+            os.killpg(proc.pid, signal.SIGKILL)
+            proc.communicate()
+            return "timeout", "", time.perf_counter() - t0
+        dt = time.perf_counter() - t0
+        text = out.decode(errors="replace")
+        failed = next((ln.split(" ")[1] for ln in text.splitlines() if ln.startswith(("FAILED", "ERROR "))), "")
+        if proc.returncode == 0:
+            return "survived", "", dt
+        if proc.returncode in (1, 2):  # test failure, or a collection error (an import broke)
+            return "killed", failed, dt
+        if proc.returncode == 4 and "found no collectors" in text:  # the mutant broke a test module's import
+            return "killed", "collection: " + failed, dt
+        return "error", text[-500:], dt
+
+    def run(self, m: Mutant, tests: list[str], timeout: float) -> None:
+        f = self.root / "src" / "hydrokit" / m.path
+        original = f.read_bytes()
+        try:
+            f.write_bytes(original[: m.start] + m.new.encode() + original[m.end :])
+            self._touch(f)
+            m.status, m.killer, m.seconds = self.pytest(tests, timeout)
+        finally:
+            f.write_bytes(original)
+            self._touch(f)
+
+
+def wilson(k: int, n: int, z: float = 1.96) -> tuple[float, float]:
+    if n == 0:
+        return (math.nan, math.nan)
+    p = k / n
+    d = 1 + z * z / n
+    c = (p + z * z / (2 * n)) / d
+    h = z * math.sqrt(p * (1 - p) / n + z * z / (4 * n * n)) / d
+    return (c - h, c + h)
+
+
+def main(argv: list[str] | None = None) -> int:
+    ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    ap.add_argument("--package", nargs="+", choices=PACKAGES, default=list(PACKAGES))
+    ap.add_argument("--sample", type=int, default=0, help="random mutants per package (0 = all)")
+    ap.add_argument("--seed", type=int, default=13)
+    ap.add_argument("--jobs", type=int, default=1, help="mutants tested at once (each in its own copy)")
+    ap.add_argument("--only", nargs="+", default=[], help="keep mutants whose label contains one of these texts")
+    ap.add_argument("--list", action="store_true", help="list the mutants and exit")
+    ap.add_argument("--json", type=Path, help="write every mutant's outcome to this file")
+    ap.add_argument("--scope", choices=("suite", "package"), default="suite", help="tests that may kill a mutant")
+    ap.add_argument(
+        "--previous", type=Path, help="a --json file: keep its killed and timed-out mutants, rerun the rest"
+    )
+    ap.add_argument(
+        "--trace", type=Path, help="reuse this traced run if it exists, else save it there (stale once tests change)"
+    )
+    args = ap.parse_args(argv)
+
+    if args.scope == "package":
+        TESTS.update(PACKAGE_TESTS)
+    mutants = all_mutants(args.package)
+    generated = {p: sum(m.package == p for m in mutants) for p in args.package}
+    if args.only:
+        mutants = [m for m in mutants if any(s in m.label() for s in args.only)]
+    before: dict[tuple[str, str, str], dict] = {}
+    if args.previous:  # the same mutants as that run (a source edit since may have removed some)
+        previous = json.loads(args.previous.read_text())
+        by_key: dict[tuple[str, str, str], list[Mutant]] = {}
+        for m in mutants:
+            by_key.setdefault(m.key, []).append(m)
+        chosen = []
+        for d in previous:  # the same line text may recur: take the nearest to the old line number
+            cands = [m for m in by_key.get((d["path"], d["code"], d["what"]), []) if m not in chosen]
+            if cands:
+                chosen.append(min(cands, key=lambda m: abs(m.line - d["line"])))
+                before[chosen[-1].key] = d
+        if len(chosen) < len(previous):
+            print(f"{len(previous) - len(chosen)} mutants of {args.previous} no longer exist (source changed)")
+        mutants = chosen
+    elif args.sample:
+        rng = random.Random(args.seed)
+        picked = []
+        for p in args.package:
+            pool = [m for m in mutants if m.package == p]
+            picked += rng.sample(pool, min(args.sample, len(pool)))
+        mutants = picked
+    if args.list:
+        for m in mutants:
+            print(m.label(), "->", m.new)
+        print(f"{len(mutants)} mutants", {p: generated[p] for p in args.package})
+        return 0
+
+    if before:
+        for m in mutants:
+            d = before.get(m.key)
+            if m.status == "pending" and d and d["status"] in ("killed", "timeout") and d["line"] == m.line:
+                m.status, m.killer, m.seconds = d["status"], d["killer"], d["seconds"]
+    todo = [m for m in mutants if m.status == "pending"]
+    t_start = time.perf_counter()
+    base = Path(tempfile.mkdtemp(prefix="hydrokit-mutation-"))
+    # a kill (SIGTERM) unwinds through the finally below: no stray pytest, no temp copies left
+    signal.signal(signal.SIGTERM, lambda *_: sys.exit(143))
+    workers: list[Worker] = []
+    try:
+        workers += [Worker(base, k) for k in range(max(1, args.jobs))]
+        if args.trace and args.trace.exists():
+            trace = json.loads(args.trace.read_text())
+        else:
+            trace = workers[0].trace(sorted({m.package for m in todo}))
+            if args.trace:
+                args.trace.write_text(json.dumps(trace))
+        tests, failed = trace["tests"], set(trace["failed"])
+        print(f"traced {len(tests)} tests in {trace['seconds']:.0f} s", flush=True)
+        if failed:
+            print(f"left out, failing unmutated: {', '.join(sorted(failed))}", file=sys.stderr)
+        plan = {}
+        for m in todo:
+            sel = select_tests(m, tests, failed, workers[0])
+            if sel:
+                plan[id(m)] = (sel, 60.0 + 3.0 * sum(tests[t]["seconds"] for t in sel))
+            else:
+                m.status = "uncovered"
+        free = list(workers)
+        lock = threading.Lock()
+        done = [0]
+        queue = [m for m in todo if id(m) in plan]
+
+        def one(m: Mutant) -> None:
+            with lock:
+                w = free.pop()
+            try:
+                w.run(m, *plan[id(m)])
+            finally:
+                with lock:
+                    free.append(w)
+                    done[0] += 1
+                    tail = f" ({m.killer})" if m.killer else ""
+                    print(f"[{done[0]}/{len(queue)}] {m.status:9s} {m.seconds:6.1f} s  {m.label()}{tail}", flush=True)
+
+        pool = ThreadPoolExecutor(max_workers=len(workers))
+        try:
+            list(pool.map(one, queue))
+        finally:
+            pool.shutdown(wait=False, cancel_futures=True)
+    finally:
+        for w in workers:
+            w.stop()
+        shutil.rmtree(base, ignore_errors=True)
+    wall = time.perf_counter() - t_start
+
+    sample = f"sample of {args.sample} per package, seed {args.seed}" if args.sample else "all mutants"
+    print(f"\nmutation score ({sample}; tests: {args.scope}; {wall / 60:.1f} min, {args.jobs} job(s))")
+    print(
+        f"{'package':10s} {'generated':>9s} {'tested':>6s} {'killed':>6s} {'timeout':>7s} {'survived':>8s} "
+        f"{'uncovered':>9s} {'equiv':>5s} {'error':>5s}  kill rate"
+    )
+    for p in args.package:
+        ms = [m for m in mutants if m.package == p]
+        n = {
+            s: sum(m.status == s for m in ms)
+            for s in ("killed", "timeout", "survived", "uncovered", "equivalent", "error")
+        }
+        k = n["killed"] + n["timeout"]
+        denom = k + n["survived"] + n["uncovered"] + n["error"]
+        lo, hi = wilson(k, denom)
+        rate = f"{100 * k / denom:5.1f} %  (95 % CI {100 * lo:.0f}–{100 * hi:.0f} %)" if denom else "  n/a"
+        print(
+            f"{p:10s} {generated[p]:9d} {len(ms):6d} {n['killed']:6d} {n['timeout']:7d} {n['survived']:8d} "
+            f"{n['uncovered']:9d} {n['equivalent']:5d} {n['error']:5d}  {rate}"
+        )
+    survivors = [m for m in mutants if m.status in ("survived", "uncovered", "error")]
+    if survivors:
+        print("\nsurvivors (add a test, or an EQUIVALENT entry with its reason):")
+        for m in survivors:
+            print(f"  {m.status:9s} {m.label()}  ->  {m.new}")
+    if args.json:
+        args.json.write_text(json.dumps([asdict(m) for m in mutants], indent=1, ensure_ascii=False))
+    return 0
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())
