@@ -4,7 +4,7 @@
         [--window 20deg,3.5deg] [--at 5deg] [--methods output-error,equation-error] [--repeats 0,1]
 
 For each record: the release time hydrokit finds, the natural period, B_e at the stated amplitude
-with its standard error (cycle-clustered, and formal), per method; then the repeats' χ² against
+with its standard error (cycle-wise jackknife, and formal), per method; then the repeats' χ² against
 those errors. When the field's tools are installed (never package dependencies) their numbers are
 printed beside: Snoopy's DecayAnalysis (``pip install snoopy-bv``) and rolldecay-estimators
 (``pip install rolldecay-estimators``; import name ``rolldecayestimators``). The latter's
@@ -20,12 +20,12 @@ hydrokit's trimmed window with the "auto" guess, fitted by integration):
 
 | record | hydrokit release (s) | period (s) | hydrokit B_e(5°) ± σ (formal), cubic refit | quadratic model's | Snoopy period | Snoopy B_e(5°) | rolldecay-estimators period | rolldecay-estimators B_e(5°) |
 |---|---|---|---|---|---|---|---|---|
-| 21337 (0 kn) | 24.919 | 2.5439 | 3.242 ± 0.023 (0.012) | 3.242 ± 0.036 (0.013) | 2.5390 | 3.317 | 2.5423 | 3.220 |
-| 21338 (0 kn) | 8.078 | 2.5438 | 3.209 ± 0.016 (0.013) | 3.230 ± 0.033 (0.014) | 2.5370 | 3.488 | 2.5418 | 3.240 |
-| 21340 (15.5 kn) | 23.124 | 2.5423 | 8.773 ± 0.067 (0.026) | 8.795 ± 0.034 (0.027) | 2.5400 | 8.861 | 2.5399 | 8.813 |
+| 21337 (0 kn) | 24.919 | 2.5439 | 3.242 ± 0.026 (0.012) | 3.242 ± 0.043 (0.013) | 2.5390 | 3.317 | 2.5423 | 3.220 |
+| 21338 (0 kn) | 8.078 | 2.5438 | 3.209 ± 0.023 (0.013) | 3.230 ± 0.037 (0.014) | 2.5370 | 3.488 | 2.5418 | 3.240 |
+| 21340 (15.5 kn) | 23.124 | 2.5423 | 8.773 ± 0.089 (0.026) | 8.795 ± 0.029 (0.027) | 2.5400 | 8.861 | 2.5399 | 8.813 |
 
-The repeats: hydrokit 1.0 % apart with the cubic refit, the default (χ² 1.39 on the stated σ,
-p 0.24), 0.4 % with the quadratic model (χ² 0.06, p 0.80); rolldecay-estimators 0.6 %
+The repeats: hydrokit 1.0 % apart with the cubic refit, the default (χ² 0.96 on the stated σ,
+p 0.33), 0.4 % with the quadratic model (χ² 0.04); rolldecay-estimators 0.6 %
 apart, Snoopy 5 % apart, neither states an error. With its default guess rolldecay-estimators
 lands on ω0 = 5.8 rad/s (period 1.08 s, R² 0.007) for 21337 and 21338. About 30 s in all on
 this 2-core machine, most of it rolldecay-estimators (SciPy ``solve_ivp`` in every residual).
