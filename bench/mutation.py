@@ -90,6 +90,22 @@ EQUIVALENT: dict[tuple[str, str, str], str] = {
         for name, fn in (("z", "zeros"), ("k1", "empty"), ("k2", "empty"), ("k3", "empty"), ("k4", "empty"))
         + (("tmp", "empty"),)
     },
+    ("identify/preprocess.py", "elif a[0] - a[-2 if a.size % 2 == 0 else -1] <= 2.0 * band:", "drop unary - [1]"): (
+        "the elif runs with fewer than 6 extremes left and j ≤ len(ext) − 4, so a.size is 4 or 5: "
+        "the index is taken only for a.size = 4, where a[-2] and a[2] are the same element"
+    ),
+    ("estimate/composite.py", "DQ_out[:3] = elements[at_origin, 6:9].sum(axis=0)", "9 -> 10"): (
+        "elements is the packed drag table of core.drag, PACKED_WIDTH = 9 columns: the slice 6:10 is 6:9"
+    ),
+    (
+        "model/thrusters.py",
+        "kt = _horner(self.kt_forward if n > 0 else self.kt_reverse, J)  # type: ignore[arg-type]",
+        "> -> >=",
+    ): ("thrust() returns 0 for n == 0 a few lines above: here n ≠ 0, so n > 0 and n >= 0 agree"),
+    ("model/thrusters.py", "if g_hi <= 0.0:  # even the speed limit does not give f (forward)", "<= -> <"): (
+        "g_hi == 0 exactly: the root search's first false-position step (lo·g_hi − hi·g_lo)/(g_hi − g_lo) "
+        "is hi itself, where g = 0 meets the stopping test: the same speed limit is returned"
+    ),
 }
 
 BINOP = {ast.Add: ast.Sub, ast.Sub: ast.Add, ast.Mult: ast.Div, ast.Div: ast.Mult, ast.Pow: ast.Mult}

@@ -130,3 +130,142 @@ def test_composite_centres_are_mass_and_volume_weighted_means():
         d = c - comp.r_g
         I += np.eye(3) * Ii + m * (d @ d * np.eye(3) - np.outer(d, d))
     np.testing.assert_allclose(comp.inertia_cg, I, rtol=1e-12, atol=1e-15)
+
+
+# --- second batch (issue #13): survivors of the seed-13 sample -------------------------------
+
+CUBE_V = [(0, 0, 0), (1, 0, 0), (1, 1, 0), (0, 1, 0), (0, 0, 1), (1, 0, 1), (1, 1, 1), (0, 1, 1)]
+# outward quads of the unit cube (counter-clockwise seen from outside), 0-based
+CUBE_Q = [(0, 3, 2, 1), (4, 5, 6, 7), (0, 1, 5, 4), (2, 3, 7, 6), (1, 2, 6, 5), (0, 4, 7, 3)]
+
+
+def test_obj_quads_with_relative_indices_read_as_the_closed_unit_cube(tmp_path):
+    # OBJ faces: 1-based, or negative = counted back from the last vertex so far; quads are
+    # fanned into two triangles. Closed form: volume 1, 12 triangles, no open edge.
+    from hydrokit.estimate.mesh import check_mesh, read_mesh
+
+    lines = [f"v {x} {y} {z}" for x, y, z in CUBE_V]
+    for k, q in enumerate(CUBE_Q):
+        # alternate absolute ("i/vt/vn") and relative indices
+        idx = [f"{i + 1}/1/1" for i in q] if k % 2 == 0 else [str(i - len(CUBE_V)) for i in q]
+        lines.append("f " + " ".join(idx))
+    path = tmp_path / "cube.obj"
+    path.write_text("\n".join(lines) + "\n")
+    mesh = read_mesh(path)
+    assert mesh.volume() == pytest.approx(1.0, rel=1e-12)
+    assert len(mesh.triangles()) == 12
+    check_mesh(mesh)
+
+
+def _binary_stl(tris: np.ndarray) -> bytes:
+    import struct
+
+    out = bytearray(b"\0" * 80 + struct.pack("<I", len(tris)))
+    for t in tris:
+        out += struct.pack("<3f", 0, 0, 0) + struct.pack("<9f", *np.asarray(t, float).ravel()) + b"\0\0"
+    return bytes(out)
+
+
+def test_binary_stl_tetrahedron_and_a_truncated_one(tmp_path):
+    # the corner tetrahedron of the unit cube: volume 1/6 (closed form)
+    from hydrokit.estimate.mesh import read_mesh
+
+    o, x, y, z = (0, 0, 0), (1, 0, 0), (0, 1, 0), (0, 0, 1)
+    tris = np.array([(o, y, x), (o, x, z), (o, z, y), (x, y, z)], float)
+    data = _binary_stl(tris)
+    good = tmp_path / "tet.stl"
+    good.write_bytes(data)
+    assert read_mesh(good).volume() == pytest.approx(1 / 6, rel=1e-7)  # float32 vertices, exact here
+    cut = tmp_path / "cut.stl"
+    cut.write_bytes(data[:-30])  # the last triangle's record cut short
+    with pytest.raises(InputError, match="announces 4 triangles but is truncated"):
+        read_mesh(cut)
+
+
+@pytest.mark.parametrize("scale", [1e-10, 1e-3, 1e6])
+def test_closed_mesh_check_does_not_depend_on_the_length_unit(scale):
+    # a closed triangle soup (every corner repeated per face) stays closed at any scale: the
+    # vertex merge must be relative to the mesh size, not to one metre
+    from hydrokit.estimate.mesh import SurfaceMesh, check_mesh
+
+    V = np.array(CUBE_V, float)
+    tris = np.array([[V[q[0]], V[q[i]], V[q[i + 1]]] for q in CUBE_Q for i in (1, 2)]) * scale
+    soup = SurfaceMesh(tris.reshape(-1, 3), np.arange(tris.shape[0] * 3).reshape(-1, 3), "soup")
+    check_mesh(soup)
+    assert soup.volume() == pytest.approx(scale**3, rel=1e-9)
+
+
+def test_named_cylinder_mesh_has_the_cylinder_volume():
+    # closed form π D² L / 4; an n-gon cross-section of the same radius has the area
+    # (n/2) r² sin(2π/n), so with n = 48 panels around the volume is exact to rounding
+    from hydrokit.estimate.bem import shape_mesh
+
+    L, D, n = 0.8, 0.2, 48
+    mesh = shape_mesh("cylinder", n, length=L, diameter=D)
+    r = D / 2
+    assert mesh.volume() == pytest.approx(n / 2 * r * r * math.sin(2 * math.pi / n) * L, rel=1e-9)
+    assert mesh.volume() == pytest.approx(math.pi * D * D / 4 * L, rel=0.01)
+
+
+def test_force_fit_curves_are_the_chin_and_morison_laws():
+    # synthetic F = K_L U + K_Q |U| U, fitted exactly; the Morison law is K_D |U| U
+    from hydrokit.estimate.forces import fit_forces
+
+    U = np.array([-1.2, -0.6, -0.2, 0.3, 0.7, 1.1, 1.5])
+    fit = fit_forces(U, 4.0 * U + 30.0 * np.abs(U) * U, area=0.1, density=1000.0)
+    assert fit.K_L == pytest.approx(4.0, rel=1e-9)
+    assert fit.K_Q == pytest.approx(30.0, rel=1e-9)
+    u = np.array([-0.9, 0.5, 1.3])
+    np.testing.assert_allclose(fit.chin(u), 4.0 * u + 30.0 * np.abs(u) * u, rtol=1e-9)
+    np.testing.assert_allclose(fit.morison(u), fit.K_D * np.abs(u) * u, rtol=1e-12)
+    assert fit.morison(np.array([-2.0]))[0] == pytest.approx(-4.0 * fit.K_D, rel=1e-12)
+
+
+def test_lander_dimensional_added_inertia_of_lingyun():
+    # SPEC §2.2 (LI2021 eq. 7): M'_qdot = −1.33745e−2 and N'_rdot = −5.6888e−3 are divided by
+    # ½ρL⁵, X'_udot = −5.8589e−2 by ½ρL³; Lingyun L = 1.25 m
+    from hydrokit.estimate.lander import dimensional_added_mass
+
+    rho, L = 1025.0, 1.25
+    nd = {"X_udot": -5.8589e-2, "Y_vdot": -0.38083, "Z_wdot": -0.11718, "M_qdot": -1.33745e-2, "N_rdot": -5.6888e-3}
+    out = dimensional_added_mass(nd, rho, L)
+    assert out[0] == pytest.approx(5.8589e-2 * 0.5 * rho * L**3, rel=1e-12)
+    assert out[4] == pytest.approx(1.33745e-2 * 0.5 * rho * L**5, rel=1e-12)
+    assert out[5] == pytest.approx(5.6888e-3 * 0.5 * rho * L**5, rel=1e-12)
+
+
+def test_plate_added_mass_rows_of_dnv_table_a2():
+    # DNV-RP-H103 (2010) Table A-2, flat rectangular plate: C_A = 0.579, 0.690, 0.757, 0.934,
+    # 0.947 at b/a = 1, 1.5, 2, 8, 10, with V_R = π a² b / 4 (rows as widely quoted; not yet
+    # checked against a printed copy, like the module's own table — see shapes.PLATE_CA)
+    from hydrokit.estimate.shapes import flat_plate
+
+    rho, a = 1000.0, 0.2
+    for ratio, ca in ((1.0, 0.579), (1.5, 0.690), (2.0, 0.757), (8.0, 0.934), (10.0, 0.947)):
+        p = flat_plate(length=ratio * a, width=a, density=rho)
+        assert p.added_mass[0, 0] == pytest.approx(rho * ca * math.pi * a * a * (ratio * a) / 4, rel=1e-12)
+
+
+def test_coefficient_tables_are_ordered_and_tend_to_the_strip_limit():
+    # np.interp needs strictly increasing ratios; C_A of a plate or a transverse cylinder and the
+    # finite-length drag factor κ grow with the aspect ratio towards the 2-D strip value 1
+    from hydrokit.estimate import shapes
+
+    for table in (shapes.PLATE_CA, shapes.CYL_TRANSVERSE_CA, shapes.CYL_KAPPA):
+        x = np.array([r for r, _ in table])
+        c = np.array([v for _, v in table])
+        assert np.all(np.diff(x) > 0)
+        assert np.all(np.diff(c) >= 0) and c[-1] == 1.0 and np.all(c <= 1.0)
+    x = np.array([r for r, _ in shapes.BLOCK_CA])
+    assert np.all(np.diff(x) > 0)
+
+
+@pytest.mark.parametrize("ratio,kappa", [(10.0, 0.68), (20.0, 0.74), (40.0, 0.82), (100.0, 0.98)])
+def test_cylinder_transverse_drag_uses_the_finite_length_factor(ratio, kappa):
+    # DNV-RP-C205 (2010) Table 6-2 (after Hoerner 1965), reduction factor κ for a cylinder of
+    # finite length, subcritical flow: 0.68, 0.74, 0.82, 0.98 at L/D = 10, 20, 40, 100 (rows as
+    # widely quoted; not yet checked against a printed copy); the module takes C_D = 1.05 κ
+    D = 0.05
+    c = cylinder(ratio * D, D)
+    assert c.drag_coefficient[1] == pytest.approx(1.05 * kappa, rel=1e-12)
+    assert c.drag_coefficient[2] == pytest.approx(1.05 * kappa, rel=1e-12)
