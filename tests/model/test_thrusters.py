@@ -172,3 +172,13 @@ def test_inversion_round_trip_property(f: float, va: float) -> None:
         assert got == pytest.approx(f, rel=1e-9, abs=1e-9)
     else:  # at the limit: the best the curve gives, never more than asked
         assert abs(got) <= abs(f) + 1e-9
+
+
+def test_wrong_length_commands_and_thrusts_are_one_line_errors():
+    # a command vector of the wrong length used to reach numpy's broadcast error in the clip
+    from hydrokit.api import load_vehicle
+
+    ts = load_vehicle("lingyun-diagonal").thrusters
+    for call, what in ((ts.thrust, "commands"), (ts.command_for_thrust, "thrusts")):
+        with pytest.raises(InputError, match=rf"expected {len(ts)} {what} \(one per thruster\), got shape \(3,\)"):
+            call(np.zeros(3))

@@ -121,7 +121,7 @@ def detect_release(t: np.ndarray, y: np.ndarray, sigma: float | None = None, fil
     Works for a body held still and let go, and for forced motion before the release (a hand
     heel or pull, held with a wobble or moving slowly): the first extreme after which the
     same-sign extremes shrink at a steady period marks the half cycle holding the release;
-    there the record is fitted by a cubic before the release (the hand) joined, with the same
+    there the record is fitted by a quadratic before the release (the hand) joined, with the same
     position and rate, to the free damped oscillation after it (period and decrement from the
     following cycles), and the join time that fits best is the release.
 

@@ -783,9 +783,16 @@ class ThrusterSet:
         ``f = loss · K_T(J) ρ D⁴ |n| n``, ``J = V_a/(n D)`` (REHMAN eq. 1.12), with K_T
         clamped at ≥ 0 and J to the curve's validity range.
         """
-        c = np.asarray(command, dtype=float).clip(self.command_min, self.command_max)
+        c = self._per_thruster(command, "commands").clip(self.command_min, self.command_max)
         va = np.zeros(len(self)) if advance_speed is None else np.asarray(advance_speed, float)
         return self._batch(True, c, va).clip(self.f_min, self.f_max)
+
+    def _per_thruster(self, x: ArrayLike, what: str) -> Array:
+        """``x`` as one float per thruster, checked before any clipping broadcasts it."""
+        a = np.asarray(x, dtype=float)
+        if a.shape != (len(self),):
+            raise InputError(f"expected {len(self)} {what} (one per thruster), got shape {a.shape}")
+        return a
 
     def _batch(self, forward: bool, x: Array, va: Array) -> Array:
         """Each group's ``thrust_batch`` (forward) or ``command_batch`` on its thrusters."""
@@ -822,7 +829,7 @@ class ThrusterSet:
         See :meth:`PropellerCurve.command`: closed form at V_a = 0, a bracketed root search
         otherwise.
         """
-        f = np.asarray(thrust, dtype=float).clip(self.f_min, self.f_max)
+        f = self._per_thruster(thrust, "thrusts").clip(self.f_min, self.f_max)
         va = np.zeros(len(self)) if advance_speed is None else np.asarray(advance_speed, float)
         return self._batch(False, f, va)
 
