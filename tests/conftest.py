@@ -45,6 +45,31 @@ if os.environ.get("CI"):
 
 REFERENCE = Path(__file__).parent / "reference"
 
+# --- Without the JIT (.ci/coverage) -------------------------------------------------------------
+#
+# .ci/coverage runs the suite with NUMBA_DISABLE_JIT=1 so that line coverage sees the compiled
+# kernels; they then run as plain Python, 50-500x slower. Tests whose cost is a long compiled loop
+# (and whose assertions depend on its length, so it cannot simply be shortened) carry
+# ``@pytest.mark.needs_jit(reason=...)`` and are skipped there; .ci/run still runs them compiled.
+JIT_OFF = os.environ.get("NUMBA_DISABLE_JIT", "0") not in ("", "0")
+NEEDS_JIT_REASON = "NUMBA_DISABLE_JIT is set: too slow as interpreted Python (runs in the JIT suite)"
+
+
+def pytest_configure(config: pytest.Config) -> None:
+    config.addinivalue_line(
+        "markers", "needs_jit(reason): skipped under NUMBA_DISABLE_JIT=1 (a long compiled loop; see tests/conftest.py)"
+    )
+
+
+def pytest_collection_modifyitems(config: pytest.Config, items: list[pytest.Item]) -> None:
+    if not JIT_OFF:
+        return
+    for item in items:
+        mark = item.get_closest_marker("needs_jit")
+        if mark is not None:
+            why = mark.kwargs.get("reason") or (mark.args[0] if mark.args else "")
+            item.add_marker(pytest.mark.skip(reason=f"{NEEDS_JIT_REASON}; {why}" if why else NEEDS_JIT_REASON))
+
 
 @pytest.fixture
 def run_cli(capsys: pytest.CaptureFixture[str]) -> Callable[..., tuple[int, str, str]]:

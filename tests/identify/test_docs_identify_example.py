@@ -19,6 +19,7 @@ def _section_blocks() -> list[str]:
     return re.findall(r"```python\n(.*?)```", text[start : end if end > 0 else None], flags=re.S)
 
 
+@pytest.mark.needs_jit(reason="three 60 s roll-decay fits of the worked example")
 def test_worked_example_recovers_the_true_equivalent_damping(tmp_path: Path, monkeypatch) -> None:  # noqa: ANN001
     import matplotlib
 

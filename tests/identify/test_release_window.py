@@ -100,6 +100,7 @@ def test_release_found_after_hand_heel_within_one_sample() -> None:
         assert math.degrees(trimmed.info["detrend"]["slope"]) * 60 == pytest.approx(0.3, abs=0.1)
 
 
+@pytest.mark.needs_jit(reason="two 70 s cubic-model fits")
 def test_equivalent_damping_within_two_percent_of_truth() -> None:
     from hydrokit.api import identify_campaign
 
@@ -177,6 +178,7 @@ def files(tmp_path: Path) -> tuple[Path, Path]:
     return rig_path, csv
 
 
+@pytest.mark.needs_jit(reason="70 s cubic-model fits through the CLI")
 def test_cli_window_equivalent_and_plots(run_cli, files, tmp_path) -> None:
     rig_path, csv = files
     out = tmp_path / "out.json"
@@ -194,6 +196,7 @@ def test_cli_window_equivalent_and_plots(run_cli, files, tmp_path) -> None:
     assert (tmp_path / "plots" / "heel_damping.png").stat().st_size > 1000
 
 
+@pytest.mark.needs_jit(reason="70 s cubic-model fits through the CLI")
 def test_cli_start_overrides_the_detector(run_cli, files, tmp_path) -> None:
     rig_path, csv = files
     out = tmp_path / "start.json"

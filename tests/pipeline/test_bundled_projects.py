@@ -37,6 +37,7 @@ def test_rov2_reproduces_eng2009_full_scale_experiment(tmp_path, run_cli):
     assert hydrokit.load_vehicle(tmp_path / "rov2" / "vehicle.yaml").M_A[0, 0] == pytest.approx(21.42, rel=0.02)
 
 
+@pytest.mark.needs_jit(reason="the whole UDrobot run with its 200-mission Monte Carlo")
 def test_udrobot_runs_whole_with_truth_inside_the_intervals(tmp_path):
     from hydrokit.report.run import write_run
 

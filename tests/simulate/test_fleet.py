@@ -79,6 +79,7 @@ def _peak(mis, veh, n: int, duration: float, every: int):  # noqa: ANN001, ANN20
         tracemalloc.stop()
 
 
+@pytest.mark.needs_jit(reason="a 100 000-step fleet run (the step count is what is tested)")
 def test_decimated_paths_bound_the_memory() -> None:
     """Peak memory follows steps / paths_every, not the step count: 10× the steps with 10×
     the decimation costs no more than the short run (a full record would cost 10× more)."""

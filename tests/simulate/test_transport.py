@@ -66,7 +66,9 @@ def _ascent_balance(F_up: float):
     return w, loads
 
 
-@pytest.mark.parametrize("model", ["rigid", "multibody"])
+@pytest.mark.parametrize(
+    "model", ["rigid", pytest.param("multibody", marks=pytest.mark.needs_jit(reason="4000 stiff multibody steps"))]
+)
 def test_steady_ascent_matches_each_subtrees_force_balance(asm, model):
     F = 900.0  # N up on each vehicle, its own axes (z down → −F)
     w_ref, loads_ref = _ascent_balance(F)
@@ -82,6 +84,7 @@ def test_steady_ascent_matches_each_subtrees_force_balance(asm, model):
         assert np.abs(got - ref).max() <= rtol * scale + 1e-6, (name, got, ref)
 
 
+@pytest.mark.needs_jit(reason="two 6000-step transport runs")
 def test_multibody_with_stiff_joints_matches_rigid_over_a_60_s_manoeuvre(asm):
     rpm = {"minerva-1.V1": 1000, "minerva-1.V2": 1000, "minerva-2.V1": 1000, "minerva-2.V2": 1000}
     rpm.update({"minerva-1.A1": 800, "minerva-1.A2": 1000, "minerva-2.A1": -1000, "minerva-2.TT": 500})
@@ -134,6 +137,7 @@ def test_rigid_joint_loads_equal_a_numpy_newton_euler_at_a_turning_state(asm):
         assert np.allclose(r.loads[i, k], ref, rtol=1e-9, atol=1e-9 * np.abs(ref).max()), (c, r.loads[i, k], ref)
 
 
+@pytest.mark.needs_jit(reason="two 3000-step transport runs (REHMAN's 30 s)")
 def test_rehman_fig3_four_vertical_thrusters_rise_straight(asm):
     rpm = {f"minerva-{k}.V{j}": 1000 for k in (1, 2) for j in (1, 2)}
     r = hk.transport(asm, 30.0, 0.01, "rigid", rpm=rpm, output_every=10)
