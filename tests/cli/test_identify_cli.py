@@ -305,3 +305,21 @@ def test_scale_reports_cely2019_cm_convention_beside_similitude(run_cli, publish
     assert lam3 == pytest.approx(m_a_model / 0.22**3, rel=1e-5) and lam3 > 1.05 * cm_form
     code, _, err = run_cli("scale", "--ratio", "0.22", "--added-mass", "0.1", "--model-volume", "1e-4")
     assert code == 2 and "--full-volume" in err
+
+
+def test_same_input_gives_byte_identical_outputs(run_cli, good, tmp_path):
+    # issue #13 item 4: no clock, no random state and no dict-order drift in what is written
+    rig_path, files = good
+    outs = [tmp_path / "a.json", tmp_path / "b.json"]
+    for out in outs:
+        code, _, err = run_cli("identify", rig_path, *files, "--json", out)
+        assert code == 0, err
+    assert outs[0].read_bytes() == outs[1].read_bytes()
+    dirs = [tmp_path / "m1", tmp_path / "m2"]
+    for d in dirs:
+        code, _, err = run_cli("mission", "minerva_square", "--out", d, "--duration", 20, "--no-plots")
+        assert code == 0, err
+    names = sorted(p.name for p in dirs[0].iterdir())
+    assert names == sorted(p.name for p in dirs[1].iterdir()) and any(n.endswith(".csv") for n in names)
+    for n in names:
+        assert (dirs[0] / n).read_bytes() == (dirs[1] / n).read_bytes(), n

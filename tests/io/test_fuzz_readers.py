@@ -1,11 +1,13 @@
 """Readers that survive any file (issue #13 item 4): random bytes, truncations, wrong types,
 NaN/inf, huge numbers, YAML alias bombs and python tags. The only outcomes are a result or one
-``InputError`` line — never another exception. Examples are bounded so the suite stays fast;
-``-m slow`` is not needed (each reader gets ≤ 60 examples)."""
+``InputError`` line — never another exception. Examples are bounded so the suite stays fast
+(60 per reader); the longer run sets ``HYDROKIT_FUZZ_EXAMPLES``, e.g.
+``HYDROKIT_FUZZ_EXAMPLES=2000 .venv/bin/python -m pytest tests/io/test_fuzz_readers.py``."""
 
 from __future__ import annotations
 
 import math
+import os
 from pathlib import Path
 
 import pytest
@@ -16,7 +18,11 @@ from hypothesis import strategies as st
 from hydrokit.data import DATA_DIR
 from hydrokit.errors import InputError
 
-FUZZ = settings(max_examples=60, deadline=None, suppress_health_check=[HealthCheck.function_scoped_fixture])
+FUZZ = settings(
+    max_examples=int(os.environ.get("HYDROKIT_FUZZ_EXAMPLES", "60")),
+    deadline=None,
+    suppress_health_check=[HealthCheck.function_scoped_fixture],
+)
 
 # values a careless or hostile file holds where a number, list or mapping is expected
 NASTY = st.one_of(
