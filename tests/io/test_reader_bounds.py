@@ -112,3 +112,10 @@ def test_a_negative_added_mass_from_a_term_is_warned_about():
 def test_positive_diagonals_give_no_sign_warning():
     veh = parse_vehicle(dict(VEHICLE), "v.yaml")
     assert not [w for w in veh.warnings if "negative" in w], veh.warnings
+
+
+@pytest.mark.parametrize("cog", [[0.0, 0.0, 6.25142268131704e152], [1e300, 0.0, 0.0]])
+def test_a_centre_of_gravity_that_overflows_the_mass_matrix_is_one_line(cog):
+    # found by the fuzz test: M_RB + M_A overflowed and LAPACK raised LinAlgError
+    with pytest.raises(InputError, match=r"v\.yaml: fields .*center_of_gravity.* expected values of a realistic size"):
+        parse_vehicle({**VEHICLE, "center_of_gravity": cog}, "v.yaml")

@@ -201,7 +201,13 @@ def make_vehicle(
     D_L = np.asarray(D_L, float)
     if not np.allclose(inertia, inertia.T, rtol=0, atol=1e-9 * max(1.0, np.abs(inertia).max())):
         raise InputError(f"field 'inertia' = {inertia.tolist()}: expected a symmetric tensor", source)
-    if np.any(np.linalg.eigvalsh(inertia) <= 0):
+    try:
+        inertia_eig = np.linalg.eigvalsh(inertia)
+    except np.linalg.LinAlgError:
+        raise InputError(
+            "field 'inertia': no eigenvalues; expected a tensor of a realistic size (kg m^2)", source
+        ) from None
+    if np.any(inertia_eig <= 0):
         raise InputError(f"field 'inertia' = {inertia.tolist()}: expected a positive definite tensor (kg m^2)", source)
     M_RB = rigid_body_mass_matrix(mass, inertia, np.asarray(r_g, float))
     M = M_RB + M_A
@@ -220,7 +226,17 @@ def make_vehicle(
             f"added_mass: M_RB + M_A asymmetric by {asym:.3g} (≤ {SYMMETRY_TOLERANCE:g} of the largest entry); symmetrised"
         )
         M = M_RB + M_A
-    eig = np.linalg.eigvalsh(M)
+    try:
+        if not np.all(np.isfinite(M)):
+            raise np.linalg.LinAlgError
+        eig = np.linalg.eigvalsh(M)
+    except np.linalg.LinAlgError:
+        # entries so large that M_RB + M_A overflows, or LAPACK cannot converge on it
+        raise InputError(
+            f"fields 'mass', 'inertia', 'center_of_gravity', 'added_mass': M_RB + M_A has no eigenvalues "
+            f"(largest entry {scale:.4g}); expected values of a realistic size (kg, kg m^2, m)",
+            source,
+        ) from None
     if eig.min() <= 0:
         raise InputError(
             f"field 'added_mass': M_RB + M_A is not positive definite (smallest eigenvalue {eig.min():.4g}); "
