@@ -256,11 +256,6 @@ def _numba():
     return numba
 
 
-def _rhs(q: float, v: float, w2: float, b: float, g: float, sine: bool) -> tuple[float, float]:
-    rho = math.sin(q) if sine else q
-    return v, -w2 * rho - b * v - g * abs(v) * v
-
-
 def _restore_py(q, kind, par):  # noqa: ANN001, ANN202
     """(ρ(q), ρ'(q)) for a shape code and its parameters (see :class:`Restoring`)."""
     if kind == 0:

@@ -30,12 +30,6 @@ def trajectory_csv(table: np.ndarray) -> str:
     return out.getvalue()
 
 
-def read_trajectory(path: str | os.PathLike[str]) -> np.ndarray:
-    """Read a trajectory CSV back as an (n, 13) array."""
-    data = np.genfromtxt(path, delimiter=",", names=True)
-    return np.column_stack([data[c] for c in COLUMNS])
-
-
 def read_force_table(path: str | os.PathLike[str]) -> np.ndarray:
     """Rows [t, X, Y, Z, K, M, N] from a force CSV (``#`` comments allowed)."""
     p = Path(path)

@@ -102,23 +102,6 @@ class Term:
                 out *= speed ** (2 - n)
         return out
 
-    def evaluate(self, nu: np.ndarray) -> float:
-        """Product of the factors at ν (for tests and the numpy model)."""
-        out = 1.0
-        for f in self.factors:
-            out *= _factor_value(f, nu)
-        return out
-
-
-def _factor_value(f: Factor, nu: np.ndarray) -> float:
-    if f.kind == VEL:
-        return float(nu[f.indices[0]])
-    if f.kind == ABS:
-        return abs(float(nu[f.indices[0]]))
-    if f.kind == SIGN:
-        return float(np.sign(nu[f.indices[0]]))
-    return math.sqrt(sum(float(nu[i]) ** 2 for i in f.indices))
-
 
 class _Parser:
     def __init__(self, name: str, source: str):

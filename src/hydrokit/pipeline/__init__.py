@@ -17,9 +17,7 @@ it (report, results.json, vehicle.yaml, mission/).
 from __future__ import annotations
 
 import os
-import time
-from collections.abc import Callable, Iterator
-from contextlib import contextmanager
+from collections.abc import Callable
 from pathlib import Path
 from typing import Any
 
@@ -79,14 +77,6 @@ def default_workers() -> int:
 
 def _no_progress(label: str, total: int) -> Callable[[int], None]:
     return lambda n: None
-
-
-@contextmanager
-def _step(timings: list[dict[str, Any]], name: str, cache: StepCache) -> Iterator[None]:
-    hits = len(cache.hits)
-    t0 = time.perf_counter()
-    yield
-    timings.append({"step": name, "seconds": time.perf_counter() - t0, "cached": len(cache.hits) > hits})
 
 
 def run_project(

@@ -32,10 +32,3 @@ def to_png(fig: Any, dpi: int = 110) -> bytes:
     # savefig picks a PNG-capable canvas for the call only; no backend is switched
     fig.savefig(buf, format="png", dpi=dpi, bbox_inches="tight")
     return buf.getvalue()
-
-
-def save_png(fig: Any, path: Any, dpi: int = 110) -> None:
-    """Write a figure to ``path`` as PNG, whole or not at all."""
-    from hydrokit._atomic import write_bytes
-
-    write_bytes(path, to_png(fig, dpi=dpi))

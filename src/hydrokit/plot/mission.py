@@ -1,7 +1,7 @@
 """Figures of a closed-loop mission: path in 3-D and projections, tracking error, thrusters.
 
-Each function returns a matplotlib Figure (Agg); the caller saves it with
-:func:`hydrokit.plot._mpl.save_png` or embeds :func:`hydrokit.plot._mpl.to_png`.
+Each function returns a matplotlib Figure (Agg); the caller
+renders it to PNG bytes with :func:`hydrokit.plot._mpl.to_png`.
 Depth is drawn positive downwards (NED z), as in LI2021 Figs. 16–17.
 """
 
