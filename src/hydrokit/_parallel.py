@@ -107,7 +107,11 @@ class Executor:
                     dashboard_address=None,
                     # no dashboard; its bare HTTP server (health, metrics) on a free loopback port, not :8787
                     scheduler_kwargs={"dashboard_address": "127.0.0.1:0"},
-                    silence_logs=logging.WARNING,
+                    # worker logs stay out of the user's stderr (one line per error): a task's
+                    # exception reaches the caller through its future, a dead worker as
+                    # KilledWorker, and a run stopped by a signal tears workers down mid-task,
+                    # which they would report as cancelled tasks and lost heartbeats
+                    silence_logs=logging.CRITICAL,
                 )
                 stack.enter_context(cluster)
                 self._client = stack.enter_context(Client(cluster))
