@@ -190,3 +190,22 @@ def test_rejected_launches_are_marked_against_reynolds_number() -> None:
     assert kq.get_ylabel() == "K_Q"
     assert REJECTED_LABEL in kq.get_legend_handles_labels()[1]
     assert REJECTED_LABEL not in fig.axes[2].get_legend_handles_labels()[1]
+
+
+def test_the_identify_report_warning_gives_the_all_launch_statistics() -> None:
+    from hydrokit.report.html import fmt
+    from hydrokit.report.identify import COEFS, rejection_note
+
+    vals = with_sixth(5.0)
+    files = [f"f{i}" for i in range(6)]
+    kept = describe(BASE + [1.02], files)
+    hit = describe(vals, files)
+    summary = {k: kept for k, _ in COEFS} | {"linear_damping": hit, "outlier_rule": "3.5 MAD"}
+    note = rejection_note("equation", summary)
+    every = hit["without_rejection"]
+    lo, hi = every["ci"]
+    assert note == (
+        "equation: outliers rejected (3.5 MAD): f5; over every launch: "
+        f"K_L {fmt(every['mean'])} ± {fmt(every['std'])} [{fmt(lo)}, {fmt(hi)}]"
+    )
+    assert rejection_note("equation", {k: kept for k, _ in COEFS} | {"outlier_rule": "x"}) is None

@@ -273,3 +273,31 @@ def test_an_error_inside_a_step_is_the_only_stderr_line(tmp_path, run_cli):
     assert code == 2
     assert err.splitlines() == [err.strip()] and LAUNCHES[3] in err and "'abc'" in err
     assert not (tmp_path / "run" / "report.html").exists()
+
+
+def test_report_shows_the_all_launch_statistics_next_to_a_rejection(first_run):
+    """Issue #13: results with and without outlier rejection; the report must show both."""
+    import re
+
+    from hydrokit.report.html import fmt
+    from hydrokit.report.run import campaign_section
+
+    _, out, _ = first_run
+    camp = results(out)["campaigns"]["surge"]
+    summary = camp["campaign"]["summary"]
+    untouched = "".join(campaign_section("surge", camp, {}))
+    row = re.search(r"<tr><td[^>]*>added_mass</td>(.*?)</tr>", untouched, re.S)
+    assert row is not None
+    cells = re.findall(r"<td[^>]*>(.*?)</td>", row.group(1), re.S)
+    assert cells[4:6] == ["0", "same"]  # rejected count, then the all-launch column
+
+    # the same campaign as if the rule had rejected one launch: the two means must both show
+    e = summary["added_mass"]
+    e["rejected"] = [camp["campaign"]["launches"][0]["file"]]
+    e["without_rejection"] = {**e["without_rejection"], "mean": 0.4321, "ci": [0.41, 0.45]}
+    html = "".join(campaign_section("surge", camp, {}))
+    row = re.search(r"<tr><td[^>]*>added_mass</td>(.*?)</tr>", html, re.S)
+    cells = re.findall(r"<td[^>]*>(.*?)</td>", row.group(1), re.S)
+    assert cells[4] == "1"
+    assert cells[5] == f"{fmt(0.4321)} [{fmt(0.41)}, {fmt(0.45)}]"
+    assert cells[1].startswith(fmt(e["mean"]))  # the kept-launch mean stays in its column

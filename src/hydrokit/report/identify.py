@@ -55,6 +55,18 @@ def _pm(s: dict[str, Any]) -> str:
     return f"{fmt(s['mean'])} ± {fmt(s['std'])}{ci_txt}"
 
 
+def rejection_note(method: str, summary: dict[str, Any]) -> str | None:
+    """The warning line for launches the outlier rule rejected, with each affected coefficient's
+    statistics over every launch (``without_rejection``), or None when nothing was rejected."""
+    rej = {f for k, _ in COEFS for f in summary[k]["rejected"]}
+    if not rej:
+        return None
+    every = "; ".join(f"{lab} {_pm(summary[k]['without_rejection'])}" for k, lab in COEFS if summary[k]["rejected"])
+    return (
+        f"{method}: outliers rejected ({summary['outlier_rule']}): {', '.join(sorted(rej))}; over every launch: {every}"
+    )
+
+
 def _units(rig: Any) -> dict[str, str]:
     if rig.rotational:
         return {"added_mass": "kg·m²", "linear_damping": "N·m·s/rad", "quadratic_damping": "N·m·s²/rad²"}
@@ -150,9 +162,8 @@ def run_section(run: Run) -> str:
         rows.append([method, s["added_mass"]["n"]] + [_pm(s[k]) for k, _ in COEFS])
         for L in doc["launches"]:
             warn.extend(f"{method}: {L['file']}: {w}" for w in L["warnings"])
-        rej = {f for k, _ in COEFS for f in s[k]["rejected"]}
-        if rej:
-            warn.append(f"{method}: outliers rejected ({s['outlier_rule']}): {', '.join(sorted(rej))}")
+        if note := rejection_note(method, s):
+            warn.append(note)
     parts.append(table(header, rows, left_cols=1))
     scaled = {m: d["full_scale"] for m, d in run.documents.items() if d.get("full_scale")}
     if scaled:

@@ -49,6 +49,14 @@ def _ci(ci: list[Any] | None) -> str:
     return f" [{fmt(ci[0])}, {fmt(ci[1])}]"
 
 
+def _without_rejection(e: dict[str, Any]) -> str:
+    """Mean [CI] over every launch when the outlier rule rejected any, else "same"."""
+    alt = e.get("without_rejection")
+    if not e.get("rejected") or not alt:
+        return "same"
+    return fmt(alt["mean"]) + _ci(alt["ci"])
+
+
 def first_screen(doc: dict[str, Any], figures: dict[str, list[dict[str, str]]]) -> list[str]:
     """Coefficients vs other sources, the choice, the mission envelope, warnings."""
     parts = []
@@ -167,6 +175,7 @@ def campaign_section(dof: str, c: dict[str, Any], figures: dict[str, list[dict[s
                 fmt(e["std"]),
                 e["n"],
                 len(e["rejected"] or []),
+                _without_rejection(e),
                 fmt(truth["model"]) if truth else "–",
                 (fmt(full["mean"]) + _ci(full["ci"])) if full else "–",
             ]
@@ -180,6 +189,7 @@ def campaign_section(dof: str, c: dict[str, Any], figures: dict[str, list[dict[s
                 "std",
                 "n",
                 "rejected",
+                "all launches mean [95 % CI]",
                 "true (model)",
                 "full scale [95 % CI]",
             ],
