@@ -36,8 +36,10 @@ def test_estimate_damping_model(run_cli, tmp_path, model):
     DQ = frag["quadratic_damping"]
     # yaw: the Minervas' own yaw drag (100 each) plus, for each part on the y axis, its common-x
     # drag Qx at |ry| — d·r³ (rehman, REHMAN Table 1) or d·r² (shifted, the old bug). Common Qx is
-    # the manipulators' transverse drag (83.409375: DNV C_D, not REHMAN's 0.65) and the Minervas'
-    # sway drag 584 (turned 90° in yaw). rel 1e-9: the file rounds to 9 decimals.
+    # the manipulators' transverse drag ½ρ C_D L D with C_D = 1.05 κ(L/D = 4), κ interpolated in
+    # DNV-RP-C205 Table 6-2 between 0.58 (L/D 2) and 0.62 (L/D 5) — not REHMAN's 0.65 — and the
+    # Minervas' sway drag 584 (turned 90° in yaw). rel 1e-9: the file rounds to 9 decimals.
+    q_manip = 0.5 * 1025 * 1.05 * (0.58 + 0.04 * 2 / 3) * 1.0 * 0.25
     if model == "elements":
         elements = frag["drag_elements"]
         assert [e["name"] for e in elements] == ["manipulator-1", "manipulator-2", "minerva-1", "minerva-2"]
@@ -46,7 +48,7 @@ def test_estimate_damping_model(run_cli, tmp_path, model):
     else:
         assert "drag_elements" not in frag
         power = 3 if model == "rehman" else 2
-        want = 2 * 100 + 2 * (83.409375 * 0.75**power + 584 * 1.85**power)
+        want = 2 * 100 + 2 * (q_manip * 0.75**power + 584 * 1.85**power)
         assert DQ[5] == pytest.approx(want, rel=1e-9)
     assert (model == "shifted") == ("dimensionally wrong" in stdout)
     assert f"quadratic damping ({model})" in stdout

@@ -234,16 +234,29 @@ def test_lander_dimensional_added_inertia_of_lingyun():
     assert out[5] == pytest.approx(5.6888e-3 * 0.5 * rho * L**5, rel=1e-12)
 
 
-def test_plate_added_mass_rows_of_dnv_table_a2():
-    # DNV-RP-H103 (2010) Table A-2, flat rectangular plate: C_A = 0.579, 0.690, 0.757, 0.934,
-    # 0.947 at b/a = 1, 1.5, 2, 8, 10, with V_R = π a² b / 4 (rows as widely quoted; not yet
-    # checked against a printed copy, like the module's own table — see shapes.PLATE_CA)
+# DNV-RP-H103 (2010) Table A-2, flat rectangular plate, every row: C_A by b/a, V_R = π a² b / 4
+PLATE_ROWS = [
+    (1.0, 0.579), (1.25, 0.642), (1.5, 0.690), (1.59, 0.704), (2.0, 0.757), (2.5, 0.801), (3.0, 0.830),
+    (3.17, 0.840), (4.0, 0.872), (5.0, 0.897), (6.25, 0.917), (8.0, 0.934), (10.0, 0.947),
+]  # fmt: skip
+
+
+@pytest.mark.parametrize("ratio,ca", PLATE_ROWS)
+def test_plate_added_mass_rows_of_dnv_table_a2(ratio, ca):
     from hydrokit.estimate.shapes import flat_plate
 
     rho, a = 1000.0, 0.2
-    for ratio, ca in ((1.0, 0.579), (1.5, 0.690), (2.0, 0.757), (8.0, 0.934), (10.0, 0.947)):
-        p = flat_plate(length=ratio * a, width=a, density=rho)
-        assert p.added_mass[0, 0] == pytest.approx(rho * ca * math.pi * a * a * (ratio * a) / 4, rel=1e-12)
+    p = flat_plate(length=ratio * a, width=a, density=rho)
+    assert p.added_mass[0, 0] == pytest.approx(rho * ca * math.pi * a * a * (ratio * a) / 4, rel=1e-12)
+
+
+def test_plate_added_mass_between_rows_is_linear_and_the_table_has_no_other_rows():
+    from hydrokit.estimate import shapes
+
+    assert [r for r in shapes.PLATE_CA if r[0] < 1e8] == PLATE_ROWS
+    # half way between the 6.25 and 8.0 rows (an earlier transcription invented a 7.0 row here)
+    p = shapes.flat_plate(length=7.125, width=1.0, density=1.0)
+    assert p.added_mass[0, 0] / (math.pi * 7.125 / 4) == pytest.approx((0.917 + 0.934) / 2, rel=1e-12)
 
 
 def test_coefficient_tables_are_ordered_and_tend_to_the_strip_limit():
@@ -260,12 +273,24 @@ def test_coefficient_tables_are_ordered_and_tend_to_the_strip_limit():
     assert np.all(np.diff(x) > 0)
 
 
-@pytest.mark.parametrize("ratio,kappa", [(10.0, 0.68), (20.0, 0.74), (40.0, 0.82), (100.0, 0.98)])
+@pytest.mark.parametrize(
+    "ratio,kappa",
+    [(1.0, 0.58), (2.0, 0.58), (5.0, 0.62), (10.0, 0.68), (20.0, 0.74), (40.0, 0.82), (50.0, 0.87), (100.0, 0.98)],
+)
 def test_cylinder_transverse_drag_uses_the_finite_length_factor(ratio, kappa):
     # DNV-RP-C205 (2010) Table 6-2 (after Hoerner 1965), reduction factor κ for a cylinder of
-    # finite length, subcritical flow: 0.68, 0.74, 0.82, 0.98 at L/D = 10, 20, 40, 100 (rows as
-    # widely quoted; not yet checked against a printed copy); the module takes C_D = 1.05 κ
+    # finite length with free ends, subcritical flow: 0.58, 0.62, 0.68, 0.74, 0.82, 0.87, 0.98 at
+    # λ = L/D = 2, 5, 10, 20, 40, 50, 100 (held below λ = 2); the module takes C_D = 1.05 κ
     D = 0.05
     c = cylinder(ratio * D, D)
     assert c.drag_coefficient[1] == pytest.approx(1.05 * kappa, rel=1e-12)
     assert c.drag_coefficient[2] == pytest.approx(1.05 * kappa, rel=1e-12)
+
+
+def test_rehman_cylinder_transverse_drag_is_within_two_percent_of_table_1():
+    # REHMAN Table 1: C_D = 0.65 across its 1 m × Ø0.25 m cylinder (L/D = 4); DNV κ(4) is
+    # 0.58 + (0.62 − 0.58)·(4 − 2)/(5 − 2) = 0.6067, so 1.05 κ = 0.637
+    c = cylinder(1.0, 0.25)
+    assert c.drag_coefficient[1] == pytest.approx(1.05 * (0.58 + 0.04 * 2 / 3), rel=1e-12)
+    assert abs(c.drag_coefficient[1] / 0.65 - 1) < 0.021  # 2.0 % under
+    assert cylinder(1.0, 0.25, drag_transverse=0.65).sources["drag_coefficient"].endswith("0.650 (given)")

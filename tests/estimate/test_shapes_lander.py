@@ -57,7 +57,9 @@ def test_long_cylinder_and_plate_tend_to_strip_value():
 )
 def test_rehman_table1(rho, idx, value):
     s = sphere(0.5, density=rho, drag_coefficient=0.46)
-    c = cylinder(1.0, 0.25, density=rho, axial_model="rehman")
+    # REHMAN's transverse C_D 0.65 as printed (the DNV κ default gives 0.637, see
+    # test_rehman_cylinder_transverse_drag_is_within_two_percent_of_table_1)
+    c = cylinder(1.0, 0.25, density=rho, axial_model="rehman", drag_transverse=0.65)
     got = {
         ("sphere", "A"): s.added_mass[0, 0],
         ("sphere", "D"): s.quadratic_damping(rho)[0],

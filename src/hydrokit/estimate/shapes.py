@@ -5,10 +5,11 @@ origin at the centroid): the 6×6 added-mass matrix where it is defined, per-dir
 coefficients with their reference areas, the displaced volume, and the source of each number.
 Added mass A_ii = ρ C_a V_R (DNV-RP-H103 §A); quadratic damping d_i = ½ ρ C_D A_R.
 
-Transcriptions of DNV-RP-H103 tables found online disagree. Values marked "unchecked" below are
-as commonly transcribed and could not be checked against the standard here; the tests check
-what can be checked: limits (sphere 0.5, long cylinder → 1, long plate → 1), Lamb's closed form,
-and REHMAN Table 1.
+Transcriptions of DNV-RP-H103 tables found online disagree. The plate C_A and the finite-length
+drag factor κ are the standards' own rows (the tests check every row); values still marked
+"unchecked" below are as commonly transcribed and could not be checked against the standard
+here; for those the tests check what can be checked: limits (sphere 0.5, long cylinder → 1,
+long plate → 1), Lamb's closed form, and REHMAN Table 1.
 """
 
 from __future__ import annotations
@@ -25,18 +26,21 @@ from hydrokit.errors import InputError
 # linear interpolation)
 CYL_TRANSVERSE_CA = ((1.2, 0.62), (2.5, 0.78), (5.0, 0.90), (9.0, 0.96), (1e9, 1.0))
 # DNV-RP-H103 Table A-2, flat rectangular plate normal to the flow, C_A by b/a with
-# V_R = π a² b / 4 (unchecked transcription; → 1 as b/a → ∞, the 2-D strip value)
+# V_R = π a² b / 4 (→ 1 as b/a → ∞, the 2-D strip value). The table's own ratios, including its
+# non-round 1.59, 3.17 and 6.25 rows (the values quoted from Patton 1965 / Blevins); an earlier
+# transcription had 0.871 at 4.0 and invented 6.0 and 7.0 rows by interpolating
 PLATE_CA = (
     (1.0, 0.579),
     (1.25, 0.642),
     (1.5, 0.690),
+    (1.59, 0.704),
     (2.0, 0.757),
     (2.5, 0.801),
     (3.0, 0.830),
-    (4.0, 0.871),
+    (3.17, 0.840),
+    (4.0, 0.872),
     (5.0, 0.897),
-    (6.0, 0.913),
-    (7.0, 0.926),
+    (6.25, 0.917),
     (8.0, 0.934),
     (10.0, 0.947),
     (1e9, 1.0),
@@ -44,16 +48,20 @@ PLATE_CA = (
 # DNV-RP-H103 Table A-2, square prism (a × a × b) moving along b, C_A by b/a with V_R = a² b
 # (unchecked transcription)
 BLOCK_CA = ((1.0, 0.68), (2.0, 0.36), (3.0, 0.24), (4.0, 0.19), (5.0, 0.15), (6.0, 0.13), (7.0, 0.11), (10.0, 0.08))
-# Drag of a finite circular cylinder across its axis: 2-D C_D ≈ 1.05 (supercritical, rough)
-# times the finite-length reduction κ(L/D) (Hoerner 1965 / DNV-RP-C205 Table 6-?; unchecked)
+# Drag of a finite circular cylinder across its axis: 2-D C_D ≈ 1.05 times the finite-length
+# reduction factor κ(λ = L/D, free ends) of DNV-RP-C205 (2010) Table 6-2 (after Hoerner 1965),
+# circular cylinder in subcritical flow: 0.58, 0.62, 0.68, 0.74, 0.82, 0.87, 0.98, 1.00 at
+# λ = 2, 5, 10, 20, 40, 50, 100, ∞ (held at 0.58 below λ = 2). With 1.05 this gives 0.637 at
+# L/D = 4, 2 % under REHMAN Table 1's 0.65 for its 1 m × Ø0.25 m cylinder. (An earlier
+# transcription had shifted the low rows: 0.58, 0.60, 0.62, 0.63 at L/D = 1, 2, 4, 5.) Pass
+# drag_transverse to use another value, e.g. the table's supercritical row.
 CYL_KAPPA = (
-    (1.0, 0.58),
-    (2.0, 0.60),
-    (4.0, 0.62),
-    (5.0, 0.63),
+    (2.0, 0.58),
+    (5.0, 0.62),
     (10.0, 0.68),
     (20.0, 0.74),
     (40.0, 0.82),
+    (50.0, 0.87),
     (100.0, 0.98),
     (1e9, 1.0),
 )
@@ -230,7 +238,8 @@ def cylinder(
         np.array([math.pi * diameter**2 / 4, length * diameter, length * diameter]),
         sources={
             "added_mass": f"transverse C_a = {ca_t:.4f}, DNV-RP-H103 Table A-2 by L/D (unchecked transcription); {src_a}",
-            "drag_coefficient": f"axial 0.87 (REHMAN); transverse 1.05 × κ(L/D) = {cd_t:.3f}",
+            "drag_coefficient": f"axial 0.87 (REHMAN); transverse {cd_t:.3f} "
+            + ("(1.05 × κ(L/D), κ: DNV-RP-C205 Table 6-2)" if drag_transverse is None else "(given)"),
         },
     )
 
@@ -239,7 +248,7 @@ def flat_plate(
     length: float, width: float, thickness: float = 0.0, density: float = 1025.0, drag_coefficient: float | None = None
 ) -> ShapeCoefficients:
     """Thin rectangular plate, normal along x (sides a = width ≤ b = length): C_a(b/a) from
-    DNV-RP-H103 Table A-2 with V_R = π a² b / 4 (unchecked transcription; → 1 for a long strip).
+    DNV-RP-H103 Table A-2 with V_R = π a² b / 4 (→ 1 for a long strip).
     In-plane motions have no added mass. C_D normal ≈ 1.17 (square) to 2.0 (long strip)."""
     _positive(length=length, width=width)
     a, b = sorted((width, length))
@@ -255,7 +264,7 @@ def flat_plate(
         np.array([cd, 0.0, 0.0]),
         np.array([length * width, 0.0, 0.0]),
         sources={
-            "added_mass": f"C_a = {ca:.3f}, DNV-RP-H103 Table A-2, b/a = {ratio:.3g} (unchecked transcription)",
+            "added_mass": f"C_a = {ca:.3f}, DNV-RP-H103 Table A-2, b/a = {ratio:.3g}",
             "drag_coefficient": "normal C_D from 1.17 (square, Hoerner) rising to 2.0 (2-D strip)",
         },
     )
