@@ -173,6 +173,50 @@ def test_meshes_of_any_bytes(data, tmp_path_factory):
             read_mesh(folder / name)
         except InputError as exc:
             assert "\n" not in str(exc)
+        (folder / name).write_bytes(b"solid " + data)  # the ASCII STL path (and 'solid' junk as OBJ)
+        _survives(read_mesh, folder / name)
+
+
+def _tetrahedron_files(folder: Path) -> dict[str, bytes]:
+    """The corner tetrahedron of the unit cube (volume 1/6 m³) written by meshio's own writers."""
+    import meshio
+
+    points = [[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]]
+    cells = [("triangle", [[0, 2, 1], [0, 1, 3], [0, 3, 2], [1, 2, 3]])]
+    out = {}
+    for name, options in (("ascii.stl", {}), ("binary.stl", {"binary": True}), ("tet.obj", {})):
+        meshio.write_points_cells(folder / name, points, cells, **options)
+        out[name] = (folder / name).read_bytes()
+    return out
+
+
+@FUZZ
+@given(
+    name=st.sampled_from(["ascii.stl", "binary.stl", "tet.obj"]),
+    keep=st.floats(min_value=0.0, max_value=1.0),
+    edits=st.lists(st.tuples(st.floats(min_value=0.0, max_value=1.0), st.binary(min_size=1, max_size=4)), max_size=4),
+)
+def test_meshes_cut_or_overwritten_anywhere(name, keep, edits, tmp_path_factory):
+    # a valid file truncated at any point and with a few bytes overwritten: a mesh whose
+    # vertices are finite and whose faces exist, or one InputError line
+    from hydrokit.estimate.mesh import read_mesh
+
+    folder = tmp_path_factory.mktemp("mesh")
+    good = _tetrahedron_files(folder)
+    assert read_mesh(folder / name).volume() == pytest.approx(1 / 6, rel=1e-6)
+    data = bytearray(good[name][: round(keep * len(good[name]))])
+    for where, new in edits:
+        at = round(where * len(data))
+        data[at : at + len(new)] = new
+    (folder / name).write_bytes(bytes(data))
+    try:
+        mesh = read_mesh(folder / name)
+    except InputError as exc:
+        assert "\n" not in str(exc) and len(str(exc)) < 2000
+        assert str(exc).startswith(str(folder / name))
+        return
+    assert mesh.vertices.shape[1] == 3 and all(math.isfinite(v) for v in mesh.vertices.ravel())
+    assert 0 <= mesh.faces.min() and mesh.faces.max() < len(mesh.vertices)
 
 
 @FUZZ

@@ -1,5 +1,23 @@
 """Triangle/quad surface meshes: reading (STL ASCII/binary, OBJ) and checks for BEM.
 
+Files are parsed by `meshio <https://github.com/nschloe/meshio>`_ (its STL and OBJ readers,
+imported on first use so the command line starts fast). A mesh file is untrusted input, so
+:func:`read_mesh` guards meshio on both sides: before parsing it refuses files larger than
+:data:`MAX_MESH_BYTES` and binary STL headers whose triangle count does not match the file
+size (meshio would otherwise allocate from the header, or fall back to reading the bytes as
+text); afterwards it refuses empty meshes, non-finite or absurdly far vertices
+(:data:`MAX_COORDINATE`) and faces that refer to vertices the file does not have. Any other
+failure of the parser becomes one :class:`~hydrokit.errors.InputError` line naming the file.
+
+Two meshio gaps are filled here: OBJ indices counted back from the last vertex (``f -4 -3 -2``)
+are made absolute first (meshio would silently take them as 0-based indices), and an ASCII STL
+that ends with blank lines is read without them (meshio's reader fails on a trailing blank
+line).
+
+Faces: triangles and quads are kept; OBJ polygons of five or more corners are split into a fan
+of triangles from their first corner. A mesh with quads stores its triangles as quads that
+repeat their last corner (the :class:`SurfaceMesh` convention).
+
 A mesh for a deeply submerged body must be closed (every edge shared by exactly two faces)
 and oriented with outward normals (positive enclosed volume by the divergence theorem).
 """
@@ -7,14 +25,30 @@ and oriented with outward normals (positive enclosed volume by the divergence th
 from __future__ import annotations
 
 import hashlib
+import io
 import os
-import struct
+import re
+import tempfile
+import warnings
 from dataclasses import dataclass
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 
+from hydrokit.core.validate import cut, cut_repr
 from hydrokit.errors import InputError
+
+MAX_MESH_BYTES = 200_000_000
+"""Largest mesh file read, bytes (200 MB: 4 million binary STL triangles)."""
+
+MAX_COORDINATE = 1e9
+"""Largest vertex coordinate magnitude accepted, m (far beyond any hull; keeps volumes finite)."""
+
+_STL_HEADER = 84  # bytes: 80-byte comment and the uint32 triangle count
+_STL_RECORD = 50  # bytes per binary triangle: normal and 3 vertices (12 float32), uint16 attribute
+_STL_EXPECTED = "expected ASCII or binary STL"
+_OBJ_EXPECTED = "expected Wavefront OBJ text with 'v x y z' and 'f i j k …' lines"
 
 
 @dataclass(frozen=True)
@@ -83,67 +117,231 @@ def check_mesh(mesh: SurfaceMesh) -> None:
 
 
 def read_mesh(path: str | os.PathLike[str]) -> SurfaceMesh:
-    """Read an STL (ASCII or binary) or OBJ file (metres)."""
+    """Read an STL (ASCII or binary) or OBJ surface mesh with meshio; coordinates in metres.
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+        The mesh file, its format chosen by the extension: ``.stl`` (ASCII or binary) or
+        ``.obj`` (any case).
+
+    Returns
+    -------
+    SurfaceMesh
+        Vertices (n, 3) in m; faces (m, 3) vertex indices, or (m, 4) when the file has quads
+        (its triangles then repeat their last corner). OBJ polygons of five or more corners are
+        split into fans of triangles.
+
+    Raises
+    ------
+    InputError
+        One line naming the file, what is wrong and what was expected: a missing file, an
+        unknown extension, a file larger than :data:`MAX_MESH_BYTES`, a binary STL whose
+        triangle count disagrees with its size, anything the parser cannot read, no vertices
+        or faces, a non-finite vertex or one farther than :data:`MAX_COORDINATE`, a face that
+        refers to a vertex the file does not have.
+    """
     p = Path(path)
     src = str(p)
     if not p.is_file():
         raise InputError("no such file", src)
     suffix = p.suffix.lower()
-    data = p.read_bytes()
-    if suffix == ".obj":
-        return _read_obj(data.decode("utf-8", "replace"), src)
-    if suffix == ".stl":
-        if data[:5].lower() == b"solid" and b"facet" in data[:1000]:
-            return _read_stl_ascii(data.decode("utf-8", "replace"), src)
-        return _read_stl_binary(data, src)
-    raise InputError(f"mesh format {suffix!r}: expected .stl or .obj", src)
+    if suffix not in (".stl", ".obj"):
+        raise InputError(f"mesh format {cut_repr(suffix)}: expected .stl or .obj", src)
+    kind, expected = ("STL", _STL_EXPECTED) if suffix == ".stl" else ("OBJ", _OBJ_EXPECTED)
+    import meshio  # noqa: F401 -- here, not at the top: the command line must start fast
+
+    size = 0
+    try:
+        size = p.stat().st_size
+        if size > MAX_MESH_BYTES:
+            raise InputError(
+                f"the file has {size / 1e6:.4g} MB, more than the {MAX_MESH_BYTES / 1e6:.4g} MB a mesh may have; "
+                "expected a coarser hull mesh",
+                src,
+            )
+        # nothing of meshio's or numpy's on stderr (e.g. an overflow warning): errors are one line
+        with warnings.catch_warnings(), np.errstate(all="ignore"):
+            warnings.simplefilter("ignore")
+            mesh = _read_stl(p) if kind == "STL" else _read_obj(p)
+            return _surface(mesh, src, kind)
+    except InputError:
+        raise
+    except OSError as exc:
+        raise InputError(f"cannot read the file ({exc.strerror or exc}); expected a readable mesh file", src) from exc
+    except MemoryError as exc:
+        raise InputError(f"not enough memory to read this {size / 1e6:.3g} MB {kind} file; {expected}", src) from exc
+    except (Exception, SystemExit) as exc:  # an untrusted file: every parser failure is bad input
+        raise InputError(f"not a readable {kind} ({_why(exc, kind)}); {expected}", src) from exc
 
 
-def _soup(tris: np.ndarray, src: str) -> SurfaceMesh:
-    verts, inv = np.unique(tris.reshape(-1, 3), axis=0, return_inverse=True)
-    return SurfaceMesh(verts, inv.reshape(-1, 3), src)
+def _why(exc: BaseException, kind: str) -> str:
+    """What the parser said, on one line and cut short (it may quote the file)."""
+    name = type(exc).__name__
+    text = " ".join(str(exc).split())
+    if not text and kind == "STL" and name == "ReadError":  # meshio's ASCII reader says nothing
+        text = "the facets are not each one 'facet normal' line and three 'vertex' lines"
+    return cut(f"{name}: {text}" if text else name, 160)
 
 
-def _read_stl_ascii(text: str, src: str) -> SurfaceMesh:
-    pts = []
+def _read_stl(p: Path) -> Any:
+    """meshio's STL reader, after the checks it lacks: a binary header must agree with the file
+    size (meshio would allocate what it announces, or read the bytes as text), and text must not
+    pass meshio's own binary test by accident (see :func:`_read_stl_ascii`)."""
+    import meshio
+
+    with p.open("rb") as f:
+        head = f.read(1024)
+    size = p.stat().st_size
+    if size >= _STL_HEADER and _STL_HEADER + _STL_RECORD * _stl_count(head) == size:
+        return meshio.stl.read(str(p))  # binary: meshio reads exactly the announced triangles
+    if not (head.lstrip()[:5].lower() == b"solid" and b"\0" not in head):
+        if size < _STL_HEADER:
+            raise _stl_error(f"{size} bytes: shorter than a binary header and not text that starts with 'solid'", p)
+        count, have = _stl_count(head), (size - _STL_HEADER) // _STL_RECORD
+        if _STL_HEADER + _STL_RECORD * count > size:
+            raise _stl_error(
+                f"the binary header announces {_triangles(count)} but is truncated: its {size} bytes hold {have}", p
+            )
+        extra = size - _STL_HEADER - _STL_RECORD * count
+        raise _stl_error(f"the binary header announces {_triangles(count)} but {extra} bytes follow them", p)
+    data = _bounded_bytes(p)
+    if not _BLANK_LINE.search(data):
+        return _read_stl_ascii(p, data)
+    # meshio's ASCII reader fails on a blank line after the last vertex: read a copy without them
+    data = _BLANK_LINES_INSIDE.sub(b"", data).rstrip() + b"\n"
+    with tempfile.TemporaryDirectory(prefix="hydrokit-mesh-") as tmp:
+        copy = Path(tmp) / "mesh.stl"
+        copy.write_bytes(data)
+        return _read_stl_ascii(copy, data, p)
+
+
+_BLANK_LINE = re.compile(rb"\n[ \t\r\x0b\x0c]*\n|\n[ \t\r\x0b\x0c]+\Z")
+_BLANK_LINES_INSIDE = re.compile(rb"\n[ \t\r\x0b\x0c]*(?=\n)")
+
+
+def _bounded_bytes(p: Path) -> bytes:
+    """The file's bytes, refused if it has grown past :data:`MAX_MESH_BYTES` since its size was checked."""
+    with p.open("rb") as f:
+        data = f.read(MAX_MESH_BYTES + 1)
+    if len(data) > MAX_MESH_BYTES:
+        raise InputError(f"the file has grown past {MAX_MESH_BYTES / 1e6:.4g} MB while being read", str(p))
+    return data
+
+
+def _stl_count(head: bytes) -> int:
+    """The triangle count of a binary STL header (bytes 80–83, little-endian uint32)."""
+    return int.from_bytes(head[80:_STL_HEADER], "little")
+
+
+def _triangles(count: int) -> str:
+    return f"{count} triangle" + ("" if count == 1 else "s")
+
+
+def _stl_error(why: str, p: Path) -> InputError:
+    return InputError(f"not a readable STL ({why}); {_STL_EXPECTED}", str(p))
+
+
+def _read_stl_ascii(path: Path, data: bytes, named: Path | None = None) -> Any:
+    """meshio's reader on ASCII STL ``data`` stored at ``path`` (``named`` for messages)."""
+    import meshio
+
+    size = len(data)
+    if 80 <= size < _STL_HEADER:  # meshio reads a count from any file of 80 bytes or more
+        raise _stl_error(f"{size} bytes of text: too short for a facet", named or path)
+    # meshio takes the file for binary when 84 + 50·count equals its size in 32-bit arithmetic
+    # (wrapping): text whose bytes 80–83 happen to do so would be read as billions of triangles
+    if size >= _STL_HEADER and (_STL_HEADER + _STL_RECORD * _stl_count(data)) % 2**32 == size:
+        raise _stl_error(
+            f"text that starts with 'solid', but its bytes 80–83 read as a binary count of "
+            f"{_stl_count(data)} triangles that matches the size modulo 2³²",
+            named or path,
+        )
+    return meshio.stl.read(str(path))
+
+
+_RELATIVE_FACE = re.compile(r"(?m)^[ \t]*f[ \t][^\n]*?-")
+
+
+def _read_obj(p: Path) -> Any:
+    """meshio's OBJ reader on the file's text (UTF-8; undecodable bytes replaced)."""
+    import meshio
+
+    text = _bounded_bytes(p).decode("utf-8", "replace")
+    if _RELATIVE_FACE.search(text):
+        text = _absolute_obj_indices(text)
+    return meshio.obj.read(io.StringIO(text, newline=None))
+
+
+def _absolute_obj_indices(text: str) -> str:
+    """OBJ face indices counted back (``-1``: the last vertex so far) made absolute (1-based)."""
+    lines = []
+    seen = 0  # vertices so far
     for line in text.splitlines():
-        w = line.split()
-        if w and w[0] == "vertex":
-            try:
-                pts.append([float(x) for x in w[1:4]])
-            except ValueError:
-                raise InputError(f"bad vertex line {line.strip()!r}", src) from None
-    if not pts or len(pts) % 3:
-        raise InputError("no complete triangles in the STL file", src)
-    return _soup(np.array(pts).reshape(-1, 3, 3), src)
+        words = line.split()
+        if words and words[0] == "v":
+            seen += 1
+        elif words and words[0] == "f":
+            line = " ".join(["f", *(_absolute_index(w, seen) for w in words[1:])])
+        lines.append(line)
+    return "\n".join(lines)
 
 
-def _read_stl_binary(data: bytes, src: str) -> SurfaceMesh:
-    if len(data) < 84:
-        raise InputError("file too short for a binary STL", src)
-    (n,) = struct.unpack("<I", data[80:84])
-    if len(data) < 84 + 50 * n:
-        raise InputError(f"binary STL announces {n} triangles but is truncated", src)
-    rec = np.frombuffer(data[84 : 84 + 50 * n], dtype=np.dtype([("n", "<f4", 3), ("v", "<f4", (3, 3)), ("a", "<u2")]))
-    return _soup(rec["v"].astype(float), src)
+def _absolute_index(word: str, seen: int) -> str:
+    """``-k/…`` → ``(seen + 1 - k)/…``; other words unchanged."""
+    index, slash, rest = word.partition("/")
+    if index.startswith("-") and index[1:].isascii() and index[1:].isdigit():
+        index = str(seen + 1 + int(index))
+    return index + slash + rest
 
 
-def _read_obj(text: str, src: str) -> SurfaceMesh:
-    verts, faces = [], []
-    for line in text.splitlines():
-        w = line.split()
-        if not w:
-            continue
-        try:
-            if w[0] == "v":
-                verts.append([float(x) for x in w[1:4]])
-            elif w[0] == "f":
-                idx = [int(x.split("/")[0]) for x in w[1:]]
-                idx = [i - 1 if i > 0 else len(verts) + i for i in idx]
-                for k in range(1, len(idx) - 1):  # fan triangulation
-                    faces.append([idx[0], idx[k], idx[k + 1]])
-        except ValueError:
-            raise InputError(f"bad OBJ line {line.strip()!r}", src) from None
-    if not verts or not faces:
-        raise InputError("no vertices or faces in the OBJ file", src)
-    return SurfaceMesh(np.array(verts), np.array(faces), src)
+def _surface(mesh: Any, src: str, kind: str) -> SurfaceMesh:
+    """A checked :class:`SurfaceMesh` from a meshio mesh (points in m, 0-based cells)."""
+    pts = np.asarray(mesh.points, dtype=float)
+    if pts.ndim != 2 or len(pts) == 0:
+        raise InputError(f"no vertices in the {kind} file; expected a closed hull mesh", src)
+    if pts.shape[1] < 3:
+        raise InputError(f"vertices with {pts.shape[1]} coordinates; expected x y z in metres", src)
+    pts = np.ascontiguousarray(pts[:, :3])  # an OBJ 'v x y z w' (or with colours) keeps x y z
+    finite = np.isfinite(pts).all(axis=1)
+    if not finite.all():
+        first = pts[int(np.argmin(finite))]
+        raise InputError(
+            f"{int(np.sum(~finite))} vertex(es) not finite, e.g. ({_xyz(first)}); expected finite x y z in metres", src
+        )
+    far = float(np.abs(pts).max())
+    if far > MAX_COORDINATE:
+        raise InputError(
+            f"a vertex coordinate is {far:.3g} m, beyond ±{MAX_COORDINATE:.0e} m; expected a hull in metres", src
+        )
+    n = len(pts)
+    parts = [_corners(np.asarray(block.data), n, src) for block in mesh.cells]
+    parts = [f for f in parts if len(f)]
+    if not parts:
+        raise InputError(f"no faces in the {kind} file; expected a closed hull mesh", src)
+    if any(f.shape[1] == 4 for f in parts):  # quads kept: triangles repeat their last corner
+        parts = [f if f.shape[1] == 4 else np.column_stack([f, f[:, 2]]) for f in parts]
+    return SurfaceMesh(pts, np.concatenate(parts), src)
+
+
+def _corners(data: np.ndarray, n: int, src: str) -> np.ndarray:
+    """One block of faces as (k, 3) or (k, 4) indices into ``n`` vertices; polygons fanned."""
+    width = data.shape[1] if data.ndim == 2 else 0
+    if width < 3:
+        raise InputError(f"a face with {width} corner(s); expected 3 or more", src)
+    try:
+        faces = data.astype(np.int64)
+    except (OverflowError, TypeError, ValueError):
+        raise InputError(f"a face index is not a vertex number; expected indices 1 to {n}", src) from None
+    if faces.size:
+        lo, hi = int(faces.min()), int(faces.max())
+        if lo < 0 or hi >= n:
+            where = f"vertex {hi + 1} but the file has {n}" if lo >= 0 else "vertex 0 or counts back past the first"
+            raise InputError(f"a face refers to {where}; expected indices 1 to {n} (or -1 back to the first)", src)
+    if width > 4:  # a polygon: a fan of triangles from its first corner
+        faces = np.concatenate([faces[:, [0, j, j + 1]] for j in range(1, width - 1)])
+    return faces
+
+
+def _xyz(row: np.ndarray) -> str:
+    return ", ".join(f"{float(v):.6g}" for v in row)
