@@ -462,6 +462,9 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--jobs", type=int, default=1, help="mutants tested at once (each in its own copy)")
     ap.add_argument("--only", nargs="+", default=[], help="keep mutants whose label contains one of these texts")
     ap.add_argument("--list", action="store_true", help="list the mutants and exit")
+    ap.add_argument(
+        "--target", type=float, default=90.0, help="kill rate (%%) each package must reach; exit 1 below it"
+    )
     ap.add_argument("--json", type=Path, help="write every mutant's outcome to this file")
     ap.add_argument("--scope", choices=("suite", "package"), default="suite", help="tests that may kill a mutant")
     ap.add_argument(
@@ -570,6 +573,7 @@ def main(argv: list[str] | None = None) -> int:
         f"{'package':10s} {'generated':>9s} {'tested':>6s} {'killed':>6s} {'timeout':>7s} {'survived':>8s} "
         f"{'uncovered':>9s} {'equiv':>5s} {'error':>5s}  kill rate"
     )
+    below = []
     for p in args.package:
         ms = [m for m in mutants if m.package == p]
         n = {
@@ -580,6 +584,8 @@ def main(argv: list[str] | None = None) -> int:
         denom = k + n["survived"] + n["uncovered"] + n["error"]
         lo, hi = wilson(k, denom)
         rate = f"{100 * k / denom:5.1f} %  (95 % CI {100 * lo:.0f}–{100 * hi:.0f} %)" if denom else "  n/a"
+        if denom and 100 * k / denom < args.target:
+            below.append(p)
         print(
             f"{p:10s} {generated[p]:9d} {len(ms):6d} {n['killed']:6d} {n['timeout']:7d} {n['survived']:8d} "
             f"{n['uncovered']:9d} {n['equivalent']:5d} {n['error']:5d}  {rate}"
@@ -591,7 +597,11 @@ def main(argv: list[str] | None = None) -> int:
             print(f"  {m.status:9s} {m.label()}  ->  {m.new}")
     if args.json:
         args.json.write_text(json.dumps([asdict(m) for m in mutants], indent=1, ensure_ascii=False))
-    return 0
+    verdict = (
+        f"below the {args.target:g} % target: {', '.join(below)}" if below else f"every package ≥ {args.target:g} %"
+    )
+    print(f"\n{verdict}")
+    return 1 if below else 0
 
 
 if __name__ == "__main__":
