@@ -22,14 +22,7 @@ from hydrokit.io.rig import parse_rig
 from hydrokit.plot.adequacy import adequacy_figure, launch_adequacy, period_lag, residual_acf
 
 FS = 50.0  # Hz
-RIG_DOC = {
-    "test": "floating",
-    "axis": "roll",
-    "gravity": 9.81,
-    "fluid": {"density": 1000.0, "kinematic_viscosity": 1.14e-6},
-    "body": {"mass": 994.3, "volume": 0.99434, "inertia": 115.6, "reference_area": 1.4, "reference_length": 0.85},
-    "floating": {"gm": 0.08426},
-}
+RIG_DOC = yaml.safe_load((Path(__file__).parent / "data" / "kvlcc2_roll_rig.yaml").read_text())
 
 
 def cubic_decay(seed: int = 0, b3: float = 60.0, noise_deg: float = 0.01) -> Launch:

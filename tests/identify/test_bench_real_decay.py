@@ -19,14 +19,7 @@ from hydrokit.io.rig import parse_rig
 
 BENCH = Path(__file__).resolve().parents[2] / "bench" / "real_decay.py"
 FS = 50.0  # Hz
-RIG_DOC = {
-    "test": "floating",
-    "axis": "roll",
-    "gravity": 9.81,
-    "fluid": {"density": 1000.0, "kinematic_viscosity": 1.14e-6},
-    "body": {"mass": 994.3, "volume": 0.99434, "inertia": 115.6, "reference_area": 1.4, "reference_length": 0.85},
-    "floating": {"gm": 0.08426},
-}
+RIG_DOC = yaml.safe_load((Path(__file__).parent / "data" / "kvlcc2_roll_rig.yaml").read_text())
 I_A, B1, B2 = 19.0, 1.5, 12.0  # kg·m², N·m·s/rad, N·m·s²/rad² — the model both tools fit
 
 

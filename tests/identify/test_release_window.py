@@ -21,15 +21,7 @@ from hydrokit.io.launch import launch_csv
 from hydrokit.io.rig import parse_rig
 
 FS = 50.0  # Hz
-RIG_DOC = {
-    "test": "floating",
-    "axis": "roll",
-    "gravity": 9.81,
-    "fluid": {"density": 1000.0, "kinematic_viscosity": 1.14e-6},
-    # a 1:68 tanker model in roll (KVLCC2-like): C44 = ρ g ∇ GM ≈ 822 N·m/rad
-    "body": {"mass": 994.3, "volume": 0.99434, "inertia": 115.6, "reference_area": 1.4, "reference_length": 0.85},
-    "floating": {"gm": 0.08426},
-}
+RIG_DOC = yaml.safe_load((Path(__file__).parent / "data" / "kvlcc2_roll_rig.yaml").read_text())
 TRUTH = {"I_a": 19.0, "B1": 1.5, "B2": 12.0, "B3": 20.0}  # kg m², N m s/rad, N m s²/rad², N m s³/rad³
 T_RELEASE = 6.013  # s, between samples
 HEEL = math.radians(10.0)
