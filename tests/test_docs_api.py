@@ -29,7 +29,9 @@ def test_docs_api_walkthrough_runs_and_keeps_the_backend() -> None:
     assert matplotlib.get_backend() == backend
     # the walk-through really identified, estimated, simulated and flew
     campaign = ns["campaign"]
-    assert 0.2 < campaign.mean("added_mass") < 0.4  # kg; CELY2019 Table 7 x axis: k/ω_n² − m = 0.287
+    # kg; the campaign's truth (its README: CELY2019 Table 7 x axis, k/ω_n² − m = 0.2866), to 2 %:
+    # 8 virtual launches with 2 ms sensor lag, 0.41 mm quantisation and a hand push (measured −0.45 %)
+    assert campaign.mean("added_mass") == pytest.approx(0.2866, rel=0.02)
     assert ns["own"].metrics["final_time"] <= 40.0
     # a heavier vehicle accelerates more slowly under the same thrust
     b = ns["batch"]

@@ -8,6 +8,7 @@ import math
 import numpy as np
 import pytest
 from scipy.integrate import solve_ivp
+from scipy.stats import chi2
 
 import hydrokit
 from hydrokit.data import DATA_DIR
@@ -72,16 +73,26 @@ def test_noise_correction_removes_the_length_bias() -> None:
 
 
 def test_standard_errors_match_the_scatter() -> None:
-    # the smoothing correlates the residuals: σ̂²(HᵀH)⁻¹ would be 5× off for β here
-    rng = np.random.default_rng(2)
+    # the smoothing correlates the residuals: σ̂²(HᵀH)⁻¹ would be 5× off for β here. N noisy copies
+    # of one 30 fps launch (0.2° white noise): with s the std of the N fitted values and SE their
+    # mean standard error, (N - 1) s² / SE² ~ σ²/SE² · χ²(N - 1). The correction of the smoothing
+    # is approximate: over 1000 copies s/SE is 1.057 (α), 0.947 (β), 0.941 (γ). So the check
+    # allows σ/SE in 0.9-1.1 beyond the chi-square spread: the statistic must lie within
+    # [0.9² q(0.1 %), 1.1² q(99.9 %)] of χ²(399) = [257.1, 595.3] (s/SE in 0.80-1.22). Power: an
+    # SE 1.5x too small gives 1.5² · 399 = 898 on average and passes with probability
+    # P(χ²(399) < 264.6) = 3e-8; 1.5x too large gives 399 / 1.5² = 177 (passes with 1e-8).
+    n = 400
+    clean = in_air(R, 0.004, 0.01, math.radians(30), 30.0, 0.0, np.random.default_rng(0))
+    noise = math.radians(0.2)
     fits = [
-        fit_air_tare([in_air(R, 0.004, 0.01, math.radians(30), 30.0, math.radians(0.2), rng)], MASS, G)[1]
-        for _ in range(12)
+        fit_air_tare([Launch(t=clean.t, y=clean.y + rng.normal(0.0, noise, clean.t.size), file="air")], MASS, G)[1]
+        for rng in map(np.random.default_rng, np.random.SeedSequence(2).spawn(n))
     ]
+    low, high = 0.9**2 * chi2.ppf(0.001, n - 1), 1.1**2 * chi2.ppf(0.999, n - 1)
     for key in ("alpha", "beta", "gamma"):
-        scatter = float(np.std([f[key] for f in fits], ddof=1))
         se = float(np.mean([f["std_error"][key] for f in fits]))
-        assert 0.6 < scatter / se < 1.5, (key, scatter, se)
+        stat = (n - 1) * float(np.var([f[key] for f in fits], ddof=1)) / se**2
+        assert low < stat < high, (key, stat, low, high)
 
 
 def test_eng2009_printed_alpha_gives_the_effective_length() -> None:

@@ -229,4 +229,8 @@ def test_cli_equivalent_at_rejects_degrees_for_positions(run_cli, tmp_path) -> N
     t = np.arange(500) / FS
     csv.write_text(launch_csv(t, 0.01 * np.cos(2 * t) * np.exp(-0.05 * t), "position"))
     code, _, err = run_cli("identify", p, csv, "--json", tmp_path / "h.json", "--equivalent-at", "5deg")
-    assert code == 2 and "--equivalent-at" in err and "metres" in err
+    assert code == 2
+    assert err.splitlines() == [
+        "error: --equivalent-at '5deg': degrees given for a translational signal; expected metres"
+    ]
+    assert not (tmp_path / "h.json").exists()

@@ -7,7 +7,7 @@ from pathlib import Path
 
 import pytest
 
-from hydrokit import load_mission, load_vehicle
+from hydrokit import fly, load_mission, load_vehicle
 from hydrokit.errors import InputError
 from hydrokit.simulate.fleet import fly_fleet, vary
 from hydrokit.simulate.tune import DIVERGED_COST, costs, parse_weights, tune_gains
@@ -34,6 +34,12 @@ def test_tiny_tune_cli_writes_a_loadable_mission(run_cli, tmp_path: Path) -> Non
         "mission", out / "tuned_mission.yaml", "--out", tmp_path / "m", "--duration", 2, "--no-plots"
     )
     assert code == 0, err
+    # the CLI flies the tuned file as the API does
+    metrics = json.loads((tmp_path / "m" / "metrics.json").read_text())["controllers"]["PID"]
+    api = fly(out / "tuned_mission.yaml", duration=2.0).metrics
+    for key in ("cross_track_rms", "cross_track_max", "thrust_impulse", "final_time"):
+        assert metrics[key] == pytest.approx(api[key], rel=1e-12), key
+    assert metrics["final_time"] == 2.0
 
 
 @pytest.mark.parametrize(

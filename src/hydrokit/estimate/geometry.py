@@ -9,7 +9,6 @@ damping by one of the models of :func:`hydrokit.estimate.composite.combine`).
 
 from __future__ import annotations
 
-import html
 from dataclasses import dataclass, replace
 from typing import Any
 
@@ -265,7 +264,7 @@ class Estimate(Result):
         ]
 
     def _repr_html_(self) -> str:
-        return html_table(f"Estimate: {html.escape(self.geometry.name)}", self.summary_rows())
+        return html_table(f"Estimate: {self.geometry.name}", self.summary_rows())
 
     def plot(self, ax: Any = None) -> Any:
         """Added-mass diagonal per DOF, full transform vs REHMAN's diagonal-only sum; returns the axes."""

@@ -7,7 +7,6 @@ job (:func:`hydrokit.read_launch`); :func:`hydrokit.identify_campaign` accepts p
 
 from __future__ import annotations
 
-import html
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
 from typing import Any, cast
@@ -156,7 +155,7 @@ class CampaignResult(Result):
         return rows
 
     def _repr_html_(self) -> str:
-        return html_table(f"CampaignResult: {html.escape(self.rig.source or '')}", self.summary_rows())
+        return html_table(f"CampaignResult: {self.rig.source or ''}", self.summary_rows())
 
     def plot(self, ax: Any = None, coefficient: str = "added_mass") -> Any:
         """``coefficient`` per launch against amplitude with the mean and its CI; returns the axes."""

@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import html
 from dataclasses import dataclass, field
 from typing import Any
 
@@ -54,4 +53,4 @@ class RunResult(Result):
         return rows
 
     def _repr_html_(self) -> str:
-        return html_table(f"RunResult: {html.escape(self.document['project']['name'])}", self.summary_rows())
+        return html_table(f"RunResult: {self.document['project']['name']}", self.summary_rows())

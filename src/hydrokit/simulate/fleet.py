@@ -11,7 +11,6 @@ floats, nothing that grows with the step count otherwise).
 
 from __future__ import annotations
 
-import html
 import math
 import time
 from collections.abc import Mapping, Sequence
@@ -143,7 +142,7 @@ class FleetResult(Result):
         return fleet_axes(self.mission.path.points, self.paths, self.metrics["cross_track_rms"], ax)
 
     def _repr_html_(self) -> str:
-        return html_table(f"FleetResult: {html.escape(self.mission.name)}", self.summary_rows())
+        return html_table(f"FleetResult: {self.mission.name}", self.summary_rows())
 
 
 def vary(vehicle: Vehicle, values: Mapping[str, float]) -> Vehicle:

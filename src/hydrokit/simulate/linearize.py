@@ -10,7 +10,6 @@ simulation uses); C = I (all states measured), D = 0. At a non-zero trim speed Î
 
 from __future__ import annotations
 
-import html
 from dataclasses import dataclass, field
 from typing import Any
 
@@ -118,7 +117,7 @@ class Linearization(Result):
         ]
 
     def _repr_html_(self) -> str:
-        return html_table(f"Linearization: {html.escape(self.vehicle)}", self.summary_rows())
+        return html_table(f"Linearization: {self.vehicle}", self.summary_rows())
 
     def npz_arrays(self) -> dict[str, np.ndarray]:
         """Arrays for ``numpy.savez`` (plain float and text arrays: loads with allow_pickle=False)."""

@@ -9,7 +9,6 @@ carries its thrusters, and returns a :class:`MissionResult`.
 
 from __future__ import annotations
 
-import html
 import math
 import warnings
 from collections.abc import Callable
@@ -141,7 +140,7 @@ class MissionResult(Result):
         return mission_axes(self.run, ax, label=self.label)
 
     def _repr_html_(self) -> str:
-        return html_table(f"MissionResult: {html.escape(self.mission.name)}", self.summary_rows())
+        return html_table(f"MissionResult: {self.mission.name}", self.summary_rows())
 
 
 def fly_mission(
