@@ -76,7 +76,7 @@ PACKAGE_TESTS = {
 }
 TESTS = dict.fromkeys(PACKAGES, ("tests",))
 #: copied into each job's private tree (tests read docs/ and the bundled data under src/)
-COPY = ("src", "tests", "docs", "pyproject.toml", "README.md")
+COPY = ("src", "tests", "docs", "bench", "pyproject.toml", "README.md")
 
 #: (file relative to src/hydrokit, stripped source line, mutation) → why no test can kill it
 EQUIVALENT: dict[tuple[str, str, str], str] = {
@@ -89,6 +89,12 @@ EQUIVALENT: dict[tuple[str, str, str], str] = {
         )
         for name, fn in (("z", "zeros"), ("k1", "empty"), ("k2", "empty"), ("k3", "empty"), ("k4", "empty"))
         + (("tmp", "empty"),)
+    },
+    **{
+        ("identify/rig_model.py", f"{name} = np.empty(18)", "18 -> 19"): (
+            "RK4 scratch buffer of the 18-state extended integrator: only entries below m ≤ 18 are ever read or written"
+        )
+        for name in ("k1", "k2", "k3", "k4", "tmp")
     },
     ("identify/preprocess.py", "elif a[0] - a[-2 if a.size % 2 == 0 else -1] <= 2.0 * band:", "drop unary - [1]"): (
         "the elif runs with fewer than 6 extremes left and j ≤ len(ext) − 4, so a.size is 4 or 5: "

@@ -322,6 +322,27 @@ def test_cubic_damping_model_recovers_b3() -> None:
     assert abs(quad.linear_damping - 1.0) > 0.3 and quad.warnings
 
 
+def test_cubic_damping_standard_error_is_the_delta_method_of_the_fit_covariance() -> None:
+    # B3 = d·S/ω² from the fitted (ω², d); its standard error must be √(gᵀ Σ g) with g the
+    # gradient of that map, here by central differences (a second method) over the estimator's
+    # own covariance of (ω², b, g, d)
+    rig = rig_of("pitch", {"gm": 0.3})
+    L = _extended_launch(rig, {"I_a": 2.0, "B1": 1.0, "B2": 3.0, "B3": 5.0}, math.radians(15), 1)
+    r, est = identify_launch(rig, L, damping_model="cubic", return_estimator=True)
+    S = est.constants_.S
+    w2, d = est.ext_[0], est.ext_[3]
+
+    def b3(w2_: float, d_: float) -> float:
+        return d_ * S / w2_
+
+    h_w, h_d = 1e-6 * w2, 1e-6 * abs(d)
+    g = np.zeros(4)
+    g[0] = (b3(w2 + h_w, d) - b3(w2 - h_w, d)) / (2 * h_w)
+    g[3] = (b3(w2, d + h_d) - b3(w2, d - h_d)) / (2 * h_d)
+    assert r.extra["cubic_damping"] == pytest.approx(b3(w2, d), rel=1e-12)
+    assert r.std_error["cubic_damping"] == pytest.approx(math.sqrt(g @ est.pcov4_ @ g), rel=1e-6)
+
+
 def test_restoring_terms_recover_c3_and_c5() -> None:
     rig = rig_of("pitch", {"gm": 0.3})
     truth = {"I_a": 2.0, "B1": 1.0, "B2": 3.0, "C3": -200.0, "C5": 50.0}

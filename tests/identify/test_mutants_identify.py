@@ -282,3 +282,45 @@ def test_release_time_of_a_hand_decelerating_into_the_release(zeta):
     from hydrokit.identify.preprocess import detect_release
 
     assert detect_release(t, y, sigma=1e-9) == pytest.approx(tr, abs=2e-5)
+
+
+# --- survivors of the seed-29 mutation sample (bench/mutation.py --sample 15 --seed 29) --------
+
+
+def test_simulated_velocity_starts_at_the_given_initial_velocity() -> None:
+    # the first sample is the initial state itself: q(0) = q0, q̇(0) = v0 (a released body may
+    # be moving); then q̇ = dq/dt of the undamped closed form q0 cos ωt + v0/ω sin ωt
+    from hydrokit.identify.rig_model import simulate_normalised
+
+    w = 2.0
+    t = np.linspace(0.0, 1.0, 201)
+    q, v, _ = simulate_normalised(t, w * w, 0.0, 0.0, 0.1, v0=0.3, substeps=8)
+    assert (q[0], v[0]) == (0.1, 0.3)
+    np.testing.assert_allclose(v, -0.1 * w * np.sin(w * t) + 0.3 * np.cos(w * t), atol=1e-8)
+
+
+def test_quantised_sensor_without_random_zero_reads_whole_steps() -> None:
+    # an encoder whose zero is at the origin: every reading is a whole number of steps
+    from hydrokit.identify.virtual_rig import SensorModel
+
+    s = SensorModel(resolution=3e-4)  # m; 1/3e-4 is no whole number, so a shifted grid shows
+    y = np.linspace(-0.01, 0.01, 333)
+    out = s.measure(y, np.random.default_rng(0))
+    steps = out / s.resolution
+    np.testing.assert_allclose(steps, np.round(steps), atol=1e-9)
+    assert np.max(np.abs(out - y)) <= s.resolution / 2 + 1e-15
+
+
+def test_amplitude_window_that_the_record_never_leaves_ends_at_its_last_extreme() -> None:
+    # a decay from 1.0 that never falls below LO: the window runs to the record's end and its
+    # end amplitude is the last extreme, e^(−ζ ω t) of the last half-cycle (closed form)
+    from hydrokit.identify.preprocess import _amplitude_window
+
+    zeta, w = 0.01, 2 * np.pi
+    t = np.arange(0.0, 4.0, 0.001)
+    z = np.exp(-zeta * w * t) * np.cos(w * np.sqrt(1 - zeta**2) * t)
+    i0, i1, info = _amplitude_window(t, z, 0.0, (0.99, 0.05), "rec")
+    assert i1 == z.size - 1
+    last_peak = np.max(np.abs(z[int(3.4 / 0.001) :]))  # the half-cycle extreme near t = 3.5 s
+    assert info["end_amplitude"] == pytest.approx(float(last_peak), rel=1e-9)
+    assert info["end_amplitude"] < info["start_amplitude"]

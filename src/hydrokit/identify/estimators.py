@@ -159,6 +159,21 @@ class _DecayEstimator:
 
     # -- to be provided by subclasses: set self.p_ (ω², b, g), self.pcov_ (3×3 or None),
     #    self.q0_, self.v0_, self.offset_
+    def _extended_errors(self) -> None:
+        """``extended_``: value and standard error of each derived coefficient (B3, C3, C5) by the
+        delta method, over the same covariance the three main coefficients report (formal when
+        the residual is adequate, cycle jackknife otherwise)."""
+        if self._derived_ is None:
+            return
+        grads, jackknife6, formal6 = self._derived_
+        cov6 = formal6 if self.uncertainty_method_ == FORMAL_WHEN_ADEQUATE and formal6 is not None else jackknife6
+        self.extended_: dict[str, tuple[float, float]] = {}
+        for name, (value, grad) in grads.items():
+            gv = np.zeros(6)
+            for i, gi in grad.items():
+                gv[i] = gi
+            self.extended_[name] = (float(value), float(math.sqrt(max(float(gv @ cov6 @ gv), 0.0))))
+
     def _fit(self, t: np.ndarray, y: np.ndarray, facts: dict[str, float]) -> None:
         raise NotImplementedError
 
@@ -179,6 +194,9 @@ class _DecayEstimator:
         self.warnings_: list[str] = []
         self.t0_ = float(t[0])
         self.pcov4_: np.ndarray | None = None
+        # (value and gradient over the 6 parameters of each derived coefficient, the cycle-
+        # jackknife and the formal 6×6 covariance): set by fits with derived coefficients
+        self._derived_: tuple[dict[str, tuple[float, dict[int, float]]], np.ndarray, np.ndarray | None] | None = None
         self._fit(t - t[0], y, facts)
         if self.pcov4_ is None and self.pcov_ is not None:
             # (ω², b, g, d): the cubic-damping d is held at zero outside the cubic model
@@ -199,6 +217,7 @@ class _DecayEstimator:
                 # cycle's leverage (Efron–Stein), would overstate them with few cycles
                 self.pcov_, self.pcov4_ = formal3, self.pcov4_formal_
                 self.uncertainty_method_ = FORMAL_WHEN_ADEQUATE
+        self._extended_errors()
         w2, b, g = self.p_
         if not (w2 > 0 and math.isfinite(w2)):
             raise InputError(f"fitted ω² = {w2:.4g} 1/s²: not a restoring oscillation; check the rig file", file)
@@ -696,11 +715,13 @@ class OutputErrorEstimator(_DecayEstimator):
         self._warn_residual(rms, noise, y)
         p = full(x)
         cov6 = np.zeros((6, 6))
+        self._formal6_: np.ndarray | None = None
         try:
             J = best.jac
             cov = 2 * best.cost / max(1, t.size - x.size) * np.linalg.inv(J.T @ J)
             formal6 = np.zeros((6, 6))
             formal6[np.ix_(free, free)] = cov[:k, :k]
+            self._formal6_ = formal6
             self.pcov_formal_ = formal6[:3, :3]
             self.pcov4_formal_ = formal6[:4, :4]
             cov = cycle_jackknife(J, best.fun, self._cycles(t), cov)
@@ -723,12 +744,9 @@ class OutputErrorEstimator(_DecayEstimator):
             "C3": (S * p[4], {4: S}),
             "C5": (S * p[5], {5: S}),
         }
-        self.extended_: dict[str, tuple[float, float]] = {}
-        for name, (value, grad) in grads.items():
-            gv = np.zeros(6)
-            for i, gi in grad.items():
-                gv[i] = gi
-            self.extended_[name] = (float(value), float(math.sqrt(max(float(gv @ cov6 @ gv), 0.0))))
+        # standard errors by the delta method once fit() has chosen the covariance (formal or
+        # cycle jackknife, as for m_a, K_L, K_Q): see _extended_errors
+        self._derived_ = (grads, cov6, self._formal6_)
 
 
 ESTIMATORS: dict[str, type[_DecayEstimator]] = {
