@@ -100,6 +100,14 @@ EQUIVALENT: dict[tuple[str, str, str], str] = {
         "the elif runs with fewer than 6 extremes left and j ≤ len(ext) − 4, so a.size is 4 or 5: "
         "the index is taken only for a.size = 4, where a[-2] and a[2] are the same element"
     ),
+    **{
+        ("identify/preprocess.py", "s = 1 if v > band else (-1 if v < -band else 0)", op): (
+            f"differs only for a sample exactly on the band edge {edge}3σ (with real noise, probability 0; "
+            "noise-free, an exact zero): it moves a crossing one sample earlier, and the period is taken "
+            "between crossings of the same direction, where the shift cancels"
+        )
+        for op, edge in (("> -> >=", "+"), ("< -> <=", "−"))
+    },
     ("estimate/composite.py", "DQ_out[:3] = elements[at_origin, 6:9].sum(axis=0)", "9 -> 10"): (
         "elements is the packed drag table of core.drag, PACKED_WIDTH = 9 columns: the slice 6:10 is 6:9"
     ),

@@ -75,3 +75,15 @@ def test_missing_extra_message(monkeypatch):
     monkeypatch.setattr(builtins, "__import__", fake)
     with pytest.raises(MissingExtraError, match=r"pip install 'hydrokit\[bem\]'"):
         bem._capytaine()
+
+
+def test_added_mass_is_linear_in_density_and_defaults_to_sea_water(tmp_path, monkeypatch):
+    # the potential-flow added mass is ρ times a geometric integral: A(ρ₁)/A(ρ₂) = ρ₁/ρ₂ to
+    # rounding; with no density given the fluid is the sources' sea water, 1025 kg/m³ (SPEC §2.1)
+    pytest.importorskip("capytaine")
+    monkeypatch.setenv("HYDROKIT_CACHE", str(tmp_path))
+    from hydrokit.estimate.bem import added_mass_bem, shape_mesh
+
+    m = shape_mesh("spheroid", 16, length=3.0, diameter=1.0)
+    fresh = added_mass_bem(m, 1000.0, use_cache=False)
+    np.testing.assert_allclose(added_mass_bem(m, use_cache=False), 1.025 * fresh, rtol=1e-9, atol=1e-9 * fresh.max())

@@ -218,3 +218,18 @@ def test_rehman_assembly_writes_elements_the_vehicle_reader_accepts():
     v = io_vehicle.parse_vehicle(doc, "estimate")
     assert not v.warnings
     np.testing.assert_allclose(v.drag_packed, est.composite.drag_elements, atol=1e-9)
+
+
+def test_shifted_model_moves_a_parts_own_drag_elements_with_h_transpose_d_h():
+    # a part at (0, 0.6, 0) with its own element 0.4 m ahead of its origin, quadratic drag
+    # (c_x, c_y, c_z): at the common origin the element sits at r = (0.4, 0.6, 0). Hᵀ diag(c) H
+    # (the shifted model, d·r² kept for comparison) gives by hand, with v = ν₁ + ω × r:
+    # surge c_x, sway c_y, heave c_z, roll c_z·r_y², pitch c_z·r_x², yaw c_x·r_y² + c_y·r_x²
+    cx, cy, cz, rx, ry = 3.0, 5.0, 7.0, 0.4, 0.6
+    element = np.array([[rx, 0, 0, 0, 0, 0, cx, cy, cz]])
+    part = Part(
+        "arm", 2.0, 0.002, np.eye(3), np.zeros((6, 6)), position=np.array([0.0, ry, 0.0]), drag_elements=element
+    )
+    got = np.diag(combine([part], "shifted").quadratic_damping)
+    want = [cx, cy, cz, cz * ry**2, cz * rx**2, cx * ry**2 + cy * rx**2]
+    np.testing.assert_allclose(got, want, rtol=1e-12, atol=1e-15)

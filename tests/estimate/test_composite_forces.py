@@ -70,3 +70,17 @@ def test_cely2019_table5_implies_reference_areas(published):
 def test_force_fit_needs_points():
     with pytest.raises(InputError, match="only 1 point"):
         fit_forces(np.array([1.0]), np.array([2.0]), 0.1, 1000.0)
+
+
+@pytest.mark.parametrize(
+    ("speed", "force"),
+    [
+        (np.linspace(0.2, 1.0, 5), np.linspace(1.0, 9.0, 4)),  # 1-D, lengths differ
+        (np.ones((3, 2)), np.ones((3, 2))),  # equal shapes, but a table, not pairs
+        (np.ones(6), np.ones((6, 1))),  # a column of forces
+    ],
+)
+def test_force_fit_needs_two_1d_arrays_of_equal_length(speed, force):
+    with pytest.raises(InputError) as err:
+        fit_forces(speed, force, 0.1, 1000.0)
+    assert str(err.value) == f"speed and force must be 1-D of equal length, got {np.shape(speed)} and {np.shape(force)}"

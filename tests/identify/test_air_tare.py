@@ -208,3 +208,41 @@ def test_project_tare_block_takes_the_convention() -> None:
         InputError, match=r"'campaigns\[0\]\.tare\.convention' = 'paper': expected one of physics, eng2009"
     ):
         parse_project(data, path)
+
+
+def test_noise_map_is_the_linearised_equation_residual_for_each_launch() -> None:
+    # _noise_terms promises Hᵀ Δe = Mᵀ n to first order in the raw-sample noise n (per launch,
+    # stacked, M scaled by √σ²). A second method: perturb the raw samples, differentiate again
+    # and take the change of the equation residual e = θ̈ − (α sin θ − β θ̇ − γ|θ̇|θ̇ + c_k cos θ)
+    # by finite differences. Two launches with different rest terms c_k: launch 2 must use c_2.
+    from dataclasses import replace
+
+    from hydrokit.identify.tare import _noise_terms, _smooth
+
+    rng = np.random.default_rng(5)
+    launches = [
+        in_air(R, 0.02, 0.05, math.radians(a), 50.0, math.radians(0.01), rng, duration=8.0, rest=z)
+        for a, z in ((25, 0.0), (35, 4e-3))
+    ]
+    window = 11
+    parts = [_smooth(L, window, 4) for L in launches]
+    coef = np.array([-G / R, 0.3, 0.8, 0.6, -1.7])  # α, β, γ, c_1, c_2: c_k far from γ and each other
+
+    def residual_and_regressors(smoothed, j):
+        q, qd, qdd = smoothed.q, smoothed.qd, smoothed.qdd
+        H = np.zeros((q.size, coef.size))
+        H[:, 0], H[:, 1], H[:, 2], H[:, 3 + j] = np.sin(q), -qd, -np.abs(qd) * qd, np.cos(q)
+        return qdd - H @ coef, H
+
+    _, M = _noise_terms(parts, coef)
+    eps = 1e-7
+    start = 0
+    for j, (L, s) in enumerate(zip(launches, parts)):
+        n = rng.normal(size=np.asarray(L.y).size)
+        e0, H = residual_and_regressors(s, j)
+        e1, _ = residual_and_regressors(_smooth(replace(L, y=np.asarray(L.y) + eps * n), window, 4), j)
+        numeric = H.T @ (e1 - e0) / eps
+        rows = M[start : start + n.size] / math.sqrt(s.noise_var)
+        np.testing.assert_allclose(rows.T @ n, numeric, rtol=1e-4, atol=1e-6 * np.max(np.abs(numeric)))
+        start += n.size
+    assert start == M.shape[0]

@@ -138,3 +138,21 @@ def test_load_from_file_resolves_relative_vehicle(tmp_path: Path) -> None:
 def test_missing_mission_file(tmp_path: Path) -> None:
     with pytest.raises(InputError, match="no such file or bundled mission"):
         load_mission(tmp_path / "none.yaml")
+
+
+@pytest.mark.parametrize(
+    ("first", "heading"),
+    [([3.0, 4.0, 2.0], math.atan2(4.0, 3.0)), ([-2.0, -2.0, 3.0], -0.75 * math.pi), ([0.0, 0.0, 6.0], 0.0)],
+)
+def test_without_attitude_the_vehicle_starts_facing_the_first_leg(first, heading) -> None:
+    # the bearing atan2(Δy, Δx) of waypoint 0 → 1 (NED: north x, east y), 0 for a vertical leg;
+    # the file reader and create_mission agree
+    from hydrokit.model.mission import create_mission
+
+    doc = copy.deepcopy(BASE)
+    del doc["initial"]
+    doc["guidance"]["waypoints"] = [[0, 0, 2], first, [30, 30, 4]]
+    m = parse(doc)
+    assert m.eta0[3:] == pytest.approx([0.0, 0.0, heading], abs=1e-15)
+    py = create_mission(doc["guidance"]["waypoints"], doc["controllers"])
+    assert py.eta0[5] == m.eta0[5]

@@ -86,3 +86,15 @@ def test_speed_reduced_by_heading_error() -> None:
     assert ref.speed == pytest.approx(0.5 * 0.5, rel=1e-12)
     ref, _ = path.update(path.initial_state(), [5.0, 0.0, 2.0], vehicle_heading=math.pi)
     assert ref.speed == 0.0  # pointing backwards: no forward push
+
+
+def test_default_guidance_state_is_the_start_of_the_path() -> None:
+    # GuidanceState() (no arguments) is documented as leg 1 with heading 0: on a path whose first
+    # leg is vertical (no course of its own) it is exactly what initial_state() gives, and it
+    # steers to waypoint 1, not past it
+    from hydrokit.model.guidance import GuidanceState
+
+    path = Path(points=[[0, 0, 0], [0, 0, 5], [10, 0, 5]], speeds=[0.3, 0.5], acceptance_radius=0.5, lookahead=4.0)
+    assert GuidanceState() == path.initial_state()
+    ref, s = path.update(GuidanceState(), [0.0, 0.0, 1.0])
+    assert s.leg == 1 and ref.depth > 1.0 and ref.heading == 0.0

@@ -270,3 +270,42 @@ def test_pid_integral_alone_never_demands_more_than_the_largest_output():
         out, state = pid.update(state, measurement=1.0, setpoint=0.0, dt=0.1, rate=-100.0)
     assert state.integral == pytest.approx(2.5, rel=1e-12)
     assert out == 10.0  # pd = 100 minus k_i I = 10 still above the upper limit
+
+
+@pytest.mark.parametrize("va", [0.3, 0.9, 2.5, -0.3, -0.9])
+@pytest.mark.parametrize("n", [1e-9, -1e-9])
+def test_propeller_thrust_far_outside_the_curve_uses_the_range_end_of_its_sense(va, n):
+    # |n D| ≪ |V_a|: J = V_a/(n D) is beyond any curve; the thrust must be what the clamped
+    # curve gives, K_T(high) when V_a and n have the same sign, K_T(low) when they differ —
+    # the same end the ordinary clamp min(max(J, low), high) reaches for large |J|
+    from hydrokit.model.thrusters import PropellerCurve
+
+    p = PropellerCurve(
+        diameter=0.12,
+        kt_forward=(0.0, -0.02, -0.1, 0.42),
+        kt_reverse=(0.0, 0.03, 0.05, 0.3),
+        max_speed=40.0,
+        advance_ratio_range=(-0.8, 1.2),
+    )
+    J = 1.2 if (va > 0) == (n > 0) else -0.8
+    kt = np.polyval(p.kt_forward if n > 0 else p.kt_reverse, J)
+    assert kt > 0  # both ends give thrust: the test tells them apart
+    want = p.thrust_loss_forward * kt * p.density * 0.12**4 * abs(n) * n
+    assert p.thrust(n, va) == pytest.approx(want, rel=1e-12)
+    assert PropellerCurve.thrust_batch([p], np.array([n]), np.array([va]))[0] == p.thrust(n, va)
+    # continuity with the clamped branch: a speed just large enough to compute J
+    n2 = math.copysign(2.0 * abs(va) / 0.12 * 1e-6, n)
+    assert p.thrust(n2, va) / n2**2 == pytest.approx(p.thrust(n, va) / n**2, rel=1e-12)
+
+
+@pytest.mark.parametrize("f", [5e-324, 1e-300, -5e-324])
+def test_propeller_command_for_a_vanishing_demand_keeps_its_sense(f):
+    # a demand so small that the first false-position step underflows to n = 0: thrust(0) = 0
+    # is below a positive demand (above a negative one), so the search must continue on the
+    # side of f, never return a command of the wrong sense; the fast path agrees bit for bit
+    from hydrokit.model.thrusters import PropellerCurve
+
+    p = PropellerCurve(diameter=0.12, kt_forward=(-0.05, -0.1, -0.25, 0.42), max_speed=40.0)
+    n = p.command(f, 0.5)
+    assert math.copysign(1.0, n) == math.copysign(1.0, f) and n != 0.0
+    assert PropellerCurve.command_batch([p], np.array([f]), np.array([0.5]))[0] == n

@@ -15,6 +15,7 @@ from pathlib import Path
 
 import numpy as np
 
+from hydrokit.core.constants import SEAWATER_DENSITY
 from hydrokit.errors import InputError, MissingExtraError
 from hydrokit.estimate.mesh import SurfaceMesh, check_mesh
 
@@ -95,7 +96,7 @@ def shape_mesh(shape: str, resolution: int = 24, **dims: float) -> SurfaceMesh:
 
 
 def added_mass_bem(
-    mesh: SurfaceMesh, density: float = 1025.0, reference_point=(0.0, 0.0, 0.0), use_cache: bool = True
+    mesh: SurfaceMesh, density: float = SEAWATER_DENSITY, reference_point=(0.0, 0.0, 0.0), use_cache: bool = True
 ) -> np.ndarray:
     """6×6 added mass (kg, kg·m, kg·m²) about ``reference_point`` (m) of a deeply submerged body.
 

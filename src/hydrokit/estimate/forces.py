@@ -98,7 +98,7 @@ def fit_forces(speed: np.ndarray, force: np.ndarray, area: float, density: float
     U = np.asarray(speed, float)
     F = np.asarray(force, float)
     if U.shape != F.shape or U.ndim != 1:
-        raise InputError("speed and force must be 1-D of equal length")
+        raise InputError(f"speed and force must be 1-D of equal length, got {U.shape} and {F.shape}")
     if U.size < 3:
         raise InputError(f"only {U.size} point(s); expected at least 3 speed–force pairs to fit two coefficients")
     if not (np.all(np.isfinite(U)) and np.all(np.isfinite(F))):

@@ -19,6 +19,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from hydrokit.core.constants import SEAWATER_DENSITY
 from hydrokit.errors import InputError
 
 # DNV-RP-H103 (2010) Table A-2, circular cylinder with free ends in transverse flow,
@@ -126,7 +127,7 @@ def sphere_drag_coefficient(reynolds: float, method: str = "Morrison") -> float:
 
 def sphere(
     diameter: float,
-    density: float = 1025.0,
+    density: float = SEAWATER_DENSITY,
     drag_coefficient: float | None = None,
     speed: float = 1.0,
     kinematic_viscosity: float = 1.05e-6,
@@ -172,7 +173,11 @@ def lamb_coefficients(a: float, b: float) -> tuple[float, float, float]:
 
 
 def spheroid(
-    length: float, diameter: float, density: float = 1025.0, drag_axial: float = 0.1, drag_transverse: float = 0.6
+    length: float,
+    diameter: float,
+    density: float = SEAWATER_DENSITY,
+    drag_axial: float = 0.1,
+    drag_transverse: float = 0.6,
 ) -> ShapeCoefficients:
     """Prolate spheroid (axis x, a = length/2 > b = diameter/2): Lamb's closed form,
     A11 = k1 ρV, A22 = A33 = k2 ρV, A55 = A66 = k′ (ρV/5)(a² + b²). Drag coefficients are
@@ -199,7 +204,7 @@ def spheroid(
 def cylinder(
     length: float,
     diameter: float,
-    density: float = 1025.0,
+    density: float = SEAWATER_DENSITY,
     axial_model: str = "spheroid",
     drag_axial: float = 0.87,
     drag_transverse: float | None = None,
@@ -245,7 +250,11 @@ def cylinder(
 
 
 def flat_plate(
-    length: float, width: float, thickness: float = 0.0, density: float = 1025.0, drag_coefficient: float | None = None
+    length: float,
+    width: float,
+    thickness: float = 0.0,
+    density: float = SEAWATER_DENSITY,
+    drag_coefficient: float | None = None,
 ) -> ShapeCoefficients:
     """Thin rectangular plate, normal along x (sides a = width ≤ b = length): C_a(b/a) from
     DNV-RP-H103 Table A-2 with V_R = π a² b / 4 (→ 1 for a long strip).
@@ -271,7 +280,7 @@ def flat_plate(
 
 
 def block(
-    length: float, width: float, height: float, density: float = 1025.0, drag_coefficient: float = 1.05
+    length: float, width: float, height: float, density: float = SEAWATER_DENSITY, drag_coefficient: float = 1.05
 ) -> ShapeCoefficients:
     """Rectangular block (length along x). Each translation uses the square-prism C_a(b/a) of
     DNV-RP-H103 Table A-2 with a = √(area across the motion), b = extent along it,

@@ -19,6 +19,7 @@ from typing import Any
 
 import numpy as np
 
+from hydrokit.core.constants import GRAVITY
 from hydrokit.errors import InputError
 from hydrokit.identify.types import Launch, Rig
 
@@ -62,7 +63,7 @@ def quadratic_factor(mass: float, length: float, convention: str = "physics") ->
 
 
 def air_tare(
-    alpha: float, beta: float, gamma: float, mass: float, gravity: float = 9.81, *, convention: str = "physics"
+    alpha: float, beta: float, gamma: float, mass: float, gravity: float = GRAVITY, *, convention: str = "physics"
 ) -> AirTare:
     """Effective length and pivot friction from in-air pendulum coefficients (ENG2009 eq. 5–7).
 

@@ -31,6 +31,7 @@ from typing import Any
 
 import numpy as np
 
+from hydrokit.core.constants import GRAVITY, SEAWATER_DENSITY
 from hydrokit.core.validate import number, vector
 from hydrokit.errors import InputError
 from hydrokit.estimate.geometry import Geometry, GeometryPart, mesh_part, shape_part, vehicle_part
@@ -86,11 +87,11 @@ def parse_geometry(data: dict[str, Any], p: Path, extra_part_keys: frozenset[str
     from hydrokit.estimate.composite import rotation_from_degrees
 
     src = str(p)
-    g = _num(data.get("gravity", 9.81), "gravity", src)
-    fluid = data.get("fluid", {"density": 1025.0})
+    g = _num(data.get("gravity", GRAVITY), "gravity", src)
+    fluid = data.get("fluid", {"density": SEAWATER_DENSITY})
     if not isinstance(fluid, dict):
         raise InputError(f"field 'fluid' = {fluid!r}: expected a mapping with density", src)
-    rho = _num(fluid.get("density", 1025.0), "fluid.density", src)
+    rho = _num(fluid.get("density", SEAWATER_DENSITY), "fluid.density", src)
     nu = _num(fluid.get("kinematic_viscosity", 1.05e-6), "fluid.kinematic_viscosity", src)
     speed = _num(data.get("speed", 1.0), "speed", src)
     parts_raw = data.get("parts")

@@ -141,8 +141,7 @@ def parse_mission(data: dict[str, Any], source: str, base_dir: Path | None = Non
     if "attitude_deg" in init:
         att = np.radians(_vector(init["attitude_deg"], 3, "initial.attitude_deg", source))
     else:
-        d = path.points[1] - path.points[0]
-        att = np.array([0.0, 0.0, math.atan2(d[1], d[0]) if math.hypot(d[0], d[1]) > 0 else 0.0])
+        att = np.array([0.0, 0.0, path.initial_state().heading])  # along the first leg (0 if vertical)
     nu0 = _vector(init["velocity"], 6, "initial.velocity", source) if "velocity" in init else np.zeros(6)
     current = _vector(data["current"], 3, "current", source) if data.get("current") is not None else np.zeros(3)
     weights = None

@@ -26,6 +26,7 @@ from typing import Any, Literal
 
 from pydantic import BaseModel, ConfigDict, Field, ValidationError, field_validator
 
+from hydrokit.core.constants import GRAVITY
 from hydrokit.errors import InputError
 from hydrokit.identify.types import AXES, FLOATING_AXES, TESTS, Rig, rig_document
 from hydrokit.io.yamlfile import pydantic_error_line, read_yaml
@@ -199,7 +200,7 @@ class RigFile(BaseModel):
     model_config = ConfigDict(extra="forbid")
     test: Literal["spring", "pendulum", "torsion", "floating"]
     axis: Literal["surge", "sway", "heave", "roll", "pitch", "yaw"]
-    gravity: float = Field(9.81, gt=0, description="m/s^2")
+    gravity: float = Field(GRAVITY, gt=0, description="m/s^2")
     fluid: _Fluid
     body: _Body
     pendulum: _Pendulum | None = None

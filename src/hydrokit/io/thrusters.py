@@ -31,6 +31,7 @@ import math
 import os
 from typing import Any
 
+from hydrokit.core.constants import SEAWATER_DENSITY
 from hydrokit.core.validate import mapping, number, vector
 from hydrokit.errors import InputError
 from hydrokit.io.yamlfile import read_yaml
@@ -106,7 +107,9 @@ def parse_thrusters(data: dict[str, Any], source: str) -> ThrusterSet:
         except InputError as exc:
             raise InputError(exc.detail, source) from None
     try:
-        return ThrusterSet(tuple(items), density=density if density is not None else 1025.0, notes=tuple(notes))
+        return ThrusterSet(
+            tuple(items), density=density if density is not None else SEAWATER_DENSITY, notes=tuple(notes)
+        )
     except InputError as exc:
         raise InputError(exc.detail, source) from None
 

@@ -41,6 +41,7 @@ from typing import Any
 
 import numpy as np
 
+from hydrokit.core.constants import GRAVITY, SEAWATER_DENSITY
 from hydrokit.core.drag import DragElement
 from hydrokit.core.validate import cut, cut_repr, mapping, number, vector
 from hydrokit.errors import InputError
@@ -198,8 +199,8 @@ def parse_vehicle(data: dict[str, Any], source: str) -> Vehicle:
     flagged = data.get("warnings") or []
     if isinstance(flagged, list):
         warnings.extend(str(w) for w in flagged)
-    gravity = _number(data.get("gravity", 9.81), "gravity", source, positive=True)
-    fluid = data.get("fluid", {"density": 1025.0})
+    gravity = _number(data.get("gravity", GRAVITY), "gravity", source, positive=True)
+    fluid = data.get("fluid", {"density": SEAWATER_DENSITY})
     if not isinstance(fluid, dict) or "density" not in fluid:
         raise InputError(f"field 'fluid' = {cut_repr(fluid)}: expected a mapping with density (kg/m^3)", source)
     rho = _number(fluid["density"], "fluid.density", source, positive=True)

@@ -139,8 +139,7 @@ def create_mission(
         acceptance_radius=float(acceptance_radius),
         lookahead=float(lookahead),
     )
-    d = pts[1] - pts[0]
-    psi0 = math.atan2(d[1], d[0]) if math.hypot(d[0], d[1]) > 0 else 0.0
+    psi0 = path.initial_state().heading  # facing along the first leg (0 if it is vertical)
     return Mission(
         name=name,
         source="<python>",

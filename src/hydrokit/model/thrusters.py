@@ -33,6 +33,7 @@ from typing import Any, ClassVar, Literal, cast
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from hydrokit.core.constants import SEAWATER_DENSITY
 from hydrokit.core.validate import quantities, quantity
 from hydrokit.errors import InputError
 
@@ -44,7 +45,7 @@ ThrustModel = Literal["propeller", "table", "ideal"]
 DEFAULT_ADVANCE_RATIO_RANGE = (-0.5, 1.0)
 
 #: Sea water, kg/m³ (SPEC §8): the density a curve has until a ThrusterSet binds its own.
-DEFAULT_DENSITY = 1025.0
+DEFAULT_DENSITY = SEAWATER_DENSITY
 
 #: Iteration cap for inverting a propeller curve: up to 20 regula-falsi (Illinois) steps,
 #: then bisection; 2⁻⁶⁰ of the speed range is far below any meaningful rev/s resolution.
