@@ -7,7 +7,7 @@ import math
 import numpy as np
 import pytest
 
-from hydrokit.core.validate import mapping, number, quantities, quantity, vector
+from hydrokit.core.validate import cut, cut_repr, mapping, number, quantities, quantity, vector
 from hydrokit.errors import InputError
 
 
@@ -89,3 +89,12 @@ def test_quantities() -> None:
             quantities(bad, "thruster 'T' position", 3)
     with pytest.raises(InputError, match="expected a list of finite numbers"):
         quantities([], "kt_forward")
+
+
+def test_cut_keeps_80_characters_and_shortens_longer_text_to_start_and_end():
+    # the documented form: up to 80 characters unchanged; longer → first 60, "…", last 15 and
+    # the length, so a message never echoes a whole file
+    text = "".join(chr(ord("a") + k % 26) for k in range(81))
+    assert cut(text[:80]) == text[:80]
+    assert cut(text) == f"{text[:60]}…{text[-15:]} (81 characters)"
+    assert cut_repr("x" * 100) == f"'{'x' * 59}…{'x' * 14}' (102 characters)"

@@ -246,3 +246,20 @@ def test_noise_map_is_the_linearised_equation_residual_for_each_launch() -> None
         np.testing.assert_allclose(rows.T @ n, numeric, rtol=1e-4, atol=1e-6 * np.max(np.abs(numeric)))
         start += n.size
     assert start == M.shape[0]
+
+
+def test_a_sensor_zero_beyond_a_quarter_turn_is_refused() -> None:
+    # θ measured from a zero θ0 off the hanging position: θ̈ = −(g/r) sin(θ − θ0) =
+    # −(g/r) cos θ0 · sin θ + (g/r) sin θ0 · cos θ, so the fit's α = −(g/r) cos θ0. At θ0 = 92°
+    # α = +0.88 1/s² (no longer restoring in sin θ) and r = −g/α would be negative: refused by
+    # name, with the fitted α in the message
+    rng = np.random.default_rng(2)
+    launch = in_air(R, 0.02, 0.05, math.radians(20), 50.0, math.radians(0.01), rng, rest=math.radians(92))
+    alpha = -(G / R) * math.cos(math.radians(92))
+    assert 0.0 < alpha < 1.0
+    with pytest.raises(InputError) as err:
+        fit_air_tare([launch], MASS, G)
+    msg = str(err.value)
+    assert float(msg.split()[3]) == pytest.approx(alpha, rel=2e-3)
+    assert msg.startswith("fitted alpha = ") and "expected a negative coefficient of sin θ" in msg
+    assert "zero within 90° of hanging" in msg

@@ -229,8 +229,10 @@ def test_gz_table_restoring_between_rows_is_the_pchip_curve():
     np.testing.assert_allclose(slope * shape(q), ref(q), rtol=1e-9)
 
 
-def held_then_released(amps: tuple[float, ...], rate: float = 100.0) -> tuple[np.ndarray, np.ndarray, list[int]]:
-    """Rest → smooth lift → 2 s hold → release into the closed-form linear decay (12 s), per
+def held_then_released(
+    amps: tuple[float, ...], rate: float = 100.0, hold_samples: int = 200
+) -> tuple[np.ndarray, np.ndarray, list[int]]:
+    """Rest → smooth lift → hold (2 s) → release into the closed-form linear decay (12 s), per
     amplitude (m); returns t, y and the index of the last held sample before each release."""
     rng = np.random.default_rng(5)
     td = np.arange(int(12.0 * rate)) / rate
@@ -238,10 +240,10 @@ def held_then_released(amps: tuple[float, ...], rate: float = 100.0) -> tuple[np
     for a in amps:
         rest = rng.normal(0.0, 2e-5, 100)
         lift = 0.5 * (1 - np.cos(np.linspace(0, np.pi, 150))) * a + rng.normal(0.0, 2e-5, 150)
-        hold = a + rng.normal(0.0, 2e-5, 200)
+        hold = a + rng.normal(0.0, 2e-5, hold_samples)
         decay = a * np.exp(-SIGMA * td) * (np.cos(WD * td) + SIGMA / WD * np.sin(WD * td))
         decay[1:] += rng.normal(0.0, 2e-5, td.size - 1)
-        releases.append(n0 + 100 + 150 + 200)  # the first decay sample is the held value
+        releases.append(n0 + 100 + 150 + hold_samples)  # the first decay sample is the held value
         seg = np.concatenate([rest, lift, hold, decay])
         ys.append(seg)
         n0 += seg.size
@@ -262,6 +264,20 @@ def test_split_launches_finds_each_release_of_a_closed_form_session():
     runs = still_runs(t, y)
     assert runs and all(a < b for a, b in runs)
     assert any(a <= r - 150 and b >= r - 1 for r in releases for a, b in runs)  # a hold is still
+
+
+def test_split_launches_default_takes_holds_of_one_second():
+    # holds of 1.3 s: longer than the default shortest hold (min_hold = 1 s), so every launch is
+    # found, each starting the default keep_hold = 1 s before its release (inside the hold);
+    # asking for 2 s holds finds none of these releases
+    from hydrokit.identify.split import split_launches
+
+    t, y, releases = held_then_released((0.04, -0.03, 0.05), hold_samples=130)
+    segs = split_launches(t, y)
+    assert [abs(s.release - r) <= 2 for s, r in zip(segs, releases)] == [True, True, True]
+    assert [round(t[s.release] - t[s.start], 2) for s in segs] == [1.0, 1.0, 1.0]
+    found = [s.release for s in split_launches(t, y, min_hold=2.0)]
+    assert not any(abs(f - r) <= 2 for f in found for r in releases)
 
 
 @pytest.mark.parametrize("zeta", [0.03, 0.2])

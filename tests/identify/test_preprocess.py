@@ -40,7 +40,14 @@ def test_records_that_cannot_be_fitted():
     t = np.linspace(0, 10, 500)
     with pytest.raises(InputError, match="does not oscillate"):
         check_record(Launch(t, np.exp(-t), file="mono.csv"))
-    with pytest.raises(InputError, match="fewer than two cycles|only 1.5 cycles|only 1 cycles"):
-        check_record(Launch(t, np.cos(2 * np.pi * 0.15 * t) * np.exp(-0.05 * t), file="short.csv"))
+    # crossings of cos(2π f t) on 0–10 s at t = (k + ½)/(2f): 3 at f = 0.15 Hz, 2 at 0.1 Hz, 1 at 0.05 Hz
+    for f, why in (
+        (0.15, "only 1.5 cycles; expected at least two cycles of free decay"),
+        (0.1, "only 1 cycles; expected at least two cycles of free decay"),
+        (0.05, "the record does not oscillate (1 crossing(s) of the rest value"),
+    ):
+        with pytest.raises(InputError) as err:
+            check_record(Launch(t, np.cos(2 * np.pi * f * t) * np.exp(-0.05 * t), file="short.csv"))
+        assert str(err.value).startswith(f"short.csv: {why}")
     with pytest.raises(InputError, match="grows"):
         check_record(Launch(t, np.exp(0.3 * t) * np.cos(2 * np.pi * t), file="grow.csv"))

@@ -87,3 +87,20 @@ def test_physical_pendulum_adds_rod_and_body_inertia(pendulum_rig):
     assert c.base_inertia == pytest.approx(0.146 * r * r + 1e-3 + 0.05 * r * r / 3)
     g = phys.gravity
     assert c.S == pytest.approx((phys.weight - phys.buoyancy) * r + (0.05 * g - 998.2 * g * 1e-5) * r / 2)
+
+
+@pytest.mark.parametrize("a", [0.0, 0.05, 0.4, 1.2])
+def test_frequency_ratio_is_the_harmonic_balance_closed_form(a):
+    # first-harmonic balance ω(a)²/ω0² = (1/(π a)) ∫ ρ(a cos θ) cos θ dθ, by hand:
+    # ρ = q → 1; ρ = sin q → 2 J1(a)/a (the pendulum); ρ = q + a3 q³ + a5 q⁵ → 1 + ¾ a3 a² + ⅝ a5 a⁴;
+    # every one → 1 as a → 0 (small oscillations see only ρ'(0) = 1)
+    from scipy.special import j1
+
+    from hydrokit.identify.rig_model import LINEAR, SINE, Restoring
+
+    a3, a5 = -0.3, 0.05
+    sine = 2.0 * j1(a) / a if a > 0 else 1.0
+    assert Restoring(LINEAR).frequency_ratio(a) == 1.0
+    assert Restoring(SINE).frequency_ratio(a) == pytest.approx(math.sqrt(sine), rel=1e-12)
+    poly = Restoring.polynomial(2.0, 2.0 * a3, 2.0 * a5)
+    assert poly.frequency_ratio(a) == pytest.approx(math.sqrt(1 + 0.75 * a3 * a**2 + 0.625 * a5 * a**4), rel=1e-12)

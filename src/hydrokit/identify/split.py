@@ -81,8 +81,8 @@ def split_launches(
     Parameters
     ----------
     t : s, strictly increasing; y : m or rad
-    min_hold : float — shortest still interval taken for a hold, s
-    keep_hold : float — how much of the hold to keep before each release, s (so that
+    min_hold : float — shortest still interval taken for a hold, s (default 1)
+    keep_hold : float — how much of the hold to keep before each release, s (default 1; so that
         ``hydrokit identify`` sees the hold and detects the release itself)
     file : str — name for messages
 

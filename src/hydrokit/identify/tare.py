@@ -331,7 +331,8 @@ def fit_air_tare(
     if not (alpha < 0 and math.isfinite(alpha)):
         raise InputError(
             f"fitted alpha = {alpha:.4g} 1/s²: expected a negative coefficient of sin θ (a restoring pendulum in "
-            "air); check that the launches are in-air records of a hanging pendulum and the angle is in radians"
+            "air); check that the launches are in-air records of a hanging pendulum and the angle is in radians, "
+            "its zero within 90° of hanging"
         )
     se = np.sqrt(np.clip(np.diag(cov)[:3], 0.0, None))
     tare = air_tare(alpha, beta, gamma, mass, gravity, convention=convention)
