@@ -96,6 +96,22 @@ EQUIVALENT: dict[tuple[str, str, str], str] = {
         )
         for name in ("k1", "k2", "k3", "k4", "tmp")
     },
+    ("core/rigid_body.py", "M[0:3, 3:6] = -mass * S", "6 -> 7"): (
+        "M is 6 × 6: numpy clips the slice 3:7 to 3:6, the same block"
+    ),
+    (
+        "identify/virtual_rig.py",
+        "zero = rng.uniform(-0.5, 0.5) * self.resolution if self.random_zero else 0.0",
+        "0.5 -> 1.5 [2]",
+    ): (
+        "the quantiser round((y + z)/r)·r − z is periodic in the zero z with period r: a zero uniform over "
+        "two resolution steps gives the same output distribution as over one (only a seed-exact replay differs)"
+    ),
+    ("identify/estimators.py", "return value < 0 and (se is None or -value > 2.0 * se)", "> -> >="): (
+        "differs only when a fitted coefficient is exactly −2 standard errors to the last bit: a fitted value "
+        "and its SE come from one least-squares solve, so the tie has probability 0 (the warning's edge, "
+        "like the hysteresis band edge below)"
+    ),
     ("identify/preprocess.py", "elif a[0] - a[-2 if a.size % 2 == 0 else -1] <= 2.0 * band:", "drop unary - [1]"): (
         "the elif runs with fewer than 6 extremes left and j ≤ len(ext) − 4, so a.size is 4 or 5: "
         "the index is taken only for a.size = 4, where a[-2] and a[2] are the same element"

@@ -98,3 +98,29 @@ def test_cut_keeps_80_characters_and_shortens_longer_text_to_start_and_end():
     assert cut(text[:80]) == text[:80]
     assert cut(text) == f"{text[:60]}…{text[-15:]} (81 characters)"
     assert cut_repr("x" * 100) == f"'{'x' * 59}…{'x' * 14}' (102 characters)"
+
+
+def test_finite_samples_names_the_column_unit_and_first_bad_sample():
+    from hydrokit.core.validate import finite_samples
+
+    finite_samples(np.arange(5.0), "t", "s", "a.csv")  # all finite: no error
+    v = np.array([0.0, 1.0, -np.inf, np.nan, 2.0])
+    with pytest.raises(InputError) as err:
+        finite_samples(v, "y", "m", "a.csv")
+    assert (
+        str(err.value) == "a.csv: column 'y' (m) holds -inf at sample 2 (of 5 samples; 2 bad): expected finite numbers"
+    )
+
+
+def test_increasing_names_the_first_repeated_or_backward_stamp():
+    from hydrokit.core.validate import increasing
+
+    increasing(np.array([0.0, 0.1, 0.2]), "t", "s")  # strictly increasing: no error
+    with pytest.raises(InputError) as err:
+        increasing(np.array([0.0, 0.1, 0.1, 0.05]), "t", "s", "a.csv")
+    assert (
+        str(err.value) == "a.csv: column 't' (s) goes from 0.1 to 0.1 at sample 2: expected strictly increasing values"
+    )
+    with pytest.raises(InputError) as err:
+        increasing(np.array([0.0, 0.1, 0.2, 0.15]), "t", "s")
+    assert str(err.value) == "column 't' (s) goes from 0.2 to 0.15 at sample 3: expected strictly increasing values"

@@ -263,3 +263,23 @@ def test_a_sensor_zero_beyond_a_quarter_turn_is_refused() -> None:
     assert float(msg.split()[3]) == pytest.approx(alpha, rel=2e-3)
     assert msg.startswith("fitted alpha = ") and "expected a negative coefficient of sin θ" in msg
     assert "zero within 90° of hanging" in msg
+
+
+def test_a_nan_or_infinite_sample_in_either_column_is_named() -> None:
+    rng = np.random.default_rng(3)
+    good = in_air(R, 0.004, 0.01, math.radians(20), 30.0, 1e-4, rng)
+    n = good.t.size
+    y = good.y.copy()
+    y[7] = np.nan
+    with pytest.raises(InputError) as err:
+        fit_air_tare([Launch(t=good.t, y=y, file="air_nan.csv")], MASS, G)
+    assert str(err.value) == (
+        f"air_nan.csv: column 'y' (rad) holds nan at sample 7 (of {n} samples; 1 bad): expected finite numbers"
+    )
+    t = good.t.copy()
+    t[[4, 9]] = np.inf
+    with pytest.raises(InputError) as err:
+        fit_air_tare([Launch(t=t, y=good.y, file="air_inf.csv")], MASS, G)
+    assert str(err.value) == (
+        f"air_inf.csv: column 't' (s) holds inf at sample 4 (of {n} samples; 2 bad): expected finite numbers"
+    )

@@ -216,3 +216,32 @@ def test_log_decrement_clean_record_has_no_negative_drag_warning(spring_rig, lin
     cd = [c["drag_coefficient"] for c in res.extra["cycles"]]
     cd_true = 2 * quadratic / (998.2 * 0.008)  # C_D = 2 K_Q / (ρ A)
     assert np.median(cd) == pytest.approx(cd_true, abs=0.15 * cd_true + 1e-3)
+
+
+def test_log_decrement_corrects_a_large_pendulum_swing_to_small_amplitude(pendulum_rig):
+    # a 30° pendulum swing is slower than a small one: T = T0 (1 + a²/16 + 11a⁴/3072 + …) (the
+    # complete elliptic integral's series). The log-decrement corrects each cycle's ω by the
+    # first term, leaving ≈ 11a⁴/3072 < 0.03 % in ω; the correction's sign flipped puts m_a
+    # (0.05 of 0.196 kg) 11 % high, so 1 % tells them apart
+    truth = (0.05, 0.03, 0.0)
+    launch = simulate_launch(pendulum_rig, *truth, math.radians(30), 15.0, SensorModel(200, 0, 0, 0), rng=0)
+    res = identify_launch(pendulum_rig, launch, "log-decrement")
+    assert res.added_mass == pytest.approx(0.05, rel=0.01)
+    assert res.linear_damping == pytest.approx(0.03, rel=0.05)
+
+
+def test_fit_names_the_column_holding_a_nan_or_infinite_sample(pendulum_rig):
+    launch = simulate_launch(pendulum_rig, *TRUTH["pendulum"], 0.1, 5.0, SensorModel(200, 0, 0, 0), rng=0)
+    t, y = np.asarray(launch.t, float), np.asarray(launch.y, float)
+    bad_y = y.copy()
+    bad_y[11] = np.inf
+    with pytest.raises(InputError) as err:
+        make_estimator("log-decrement", pendulum_rig).fit(t, bad_y, file="run.csv")
+    assert str(err.value) == (
+        f"run.csv: column 'y' (m or rad) holds inf at sample 11 (of {t.size} samples; 1 bad): expected finite numbers"
+    )
+    bad_t = t.copy()
+    bad_t[3] = np.nan
+    with pytest.raises(InputError) as err:
+        make_estimator("log-decrement", pendulum_rig).fit(bad_t, y, file="run.csv")
+    assert str(err.value).startswith("run.csv: column 't' (s) holds nan at sample 3 ")

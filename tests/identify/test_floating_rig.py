@@ -397,3 +397,18 @@ def test_cli_optional_fits(run_cli, tmp_path: Path) -> None:
         "identify", rig_path, f, "--json", tmp_path / "x.json", "--method", "log-decrement", "--damping-model", "cubic"
     )  # fmt: skip
     assert code == 2 and len(err.strip().splitlines()) == 1 and "--method output-error" in err
+
+
+def test_roll_speed_re_and_kc_use_the_tip_of_the_body() -> None:
+    # a rotating body's speed for Re and KC is its tip's, L_ref/2 from the axis: from the
+    # record's own finite differences, u_max = (L/2)·max|φ̇| (L = 1.6 m, so L/2 and 1/(2L) differ)
+    L = 1.6
+    rig = rig_of("pitch", {"gm": 0.3}, reference_length=L)
+    launch = simulate_launch(rig, 2.0, 1.0, 3.0, math.radians(10.0), 20.0, SensorModel(200.0, 0, 0, 0), rng=0)
+    res = identify_launch(rig, trim_launch(launch), "output-error")
+    t, y = np.asarray(launch.t), np.asarray(launch.y)
+    rate = float(np.max(np.abs(np.gradient(y, t))))  # rad/s
+    u = res.extra["speed_max"]
+    assert u == pytest.approx(0.5 * L * rate, rel=0.01)
+    assert res.reynolds_max == pytest.approx(u * L / 1.0e-6, rel=1e-9)
+    assert res.kc == pytest.approx(u * res.extra["period"] / L, rel=1e-9)

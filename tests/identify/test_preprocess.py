@@ -51,3 +51,26 @@ def test_records_that_cannot_be_fitted():
         assert str(err.value).startswith(f"short.csv: {why}")
     with pytest.raises(InputError, match="grows"):
         check_record(Launch(t, np.exp(0.3 * t) * np.cos(2 * np.pi * t), file="grow.csv"))
+
+
+def test_trim_launch_names_a_bad_sample_before_using_the_record(pendulum_rig):
+    launch = simulate_launch(pendulum_rig, 0.05, 0.03, 0.1, 0.1, 8.0, SensorModel(100, 0, 0, 0), rng=0)
+    t, y = np.asarray(launch.t, float), np.asarray(launch.y, float)
+    n = t.size
+    bad = y.copy()
+    bad[40] = np.nan
+    with pytest.raises(InputError) as err:
+        trim_launch(Launch(t, bad, "nan.csv"))
+    assert str(err.value) == (
+        f"nan.csv: column 'y' (m or rad) holds nan at sample 40 (of {n} samples; 1 bad): expected finite numbers"
+    )
+    dup = t.copy()
+    dup[300] = dup[299]  # a repeated stamp inside the decay
+    with pytest.raises(InputError) as err:
+        trim_launch(Launch(dup, y, "dup.csv"))
+    assert str(err.value) == (
+        f"dup.csv: column 't' (s) goes from {dup[299]:g} to {dup[299]:g} at sample 300: "
+        "expected strictly increasing values"
+    )
+    with pytest.raises(InputError, match=r"^short.csv: time and signal must be 1-D of equal length, got \(\d+,\) and"):
+        trim_launch(Launch(t, y[:-1], "short.csv"))

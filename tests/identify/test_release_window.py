@@ -234,3 +234,48 @@ def test_cli_equivalent_at_rejects_degrees_for_positions(run_cli, tmp_path) -> N
         "error: --equivalent-at '5deg': degrees given for a translational signal; expected metres"
     ]
     assert not (tmp_path / "h.json").exists()
+
+
+def test_release_thrown_toward_rest_is_put_at_the_search_window_end() -> None:
+    # a hand holds the body at 5 cm, then pushes it toward rest with a constant acceleration for
+    # 1.4 s and lets go at t_r = 3.4 s, so fast that the free motion (closed-form linear decay,
+    # T = 2 s) crosses zero only 0.1 T later. The search window for the release ends 0.15 T
+    # before that crossing, so the detector answers its last candidate: just before t_r − 0.05 T,
+    # before the true release, the refinement between candidates skipped (there is no later one)
+    rate, period, sigma, hold, push, frac = 100.0, 2.0, 0.05, 0.05, 1.4, 0.1
+    wd = 2 * math.pi / period
+    phi = math.pi / 2 - wd * frac * period  # the free motion crosses zero frac·T after the release
+    k = -(sigma * math.cos(phi) + wd * math.sin(phi)) / math.cos(phi)  # rate / position at the release
+    y_r = hold / (1 - 0.5 * k * push)  # the push's end position = the free motion's start (C¹ join)
+    acc = -k * y_r / push
+    s = np.arange(0.0, push, 1 / rate)
+    sf = np.arange(0.0, 14.0, 1 / rate)
+    y = np.concatenate(
+        [
+            np.full(200, hold),
+            hold - 0.5 * acc * s**2,
+            y_r / math.cos(phi) * np.exp(-sigma * sf) * np.cos(wd * sf + phi),
+        ]
+    )
+    y += np.random.default_rng(1).normal(0.0, 2e-5, y.size)
+    t = np.arange(y.size) / rate
+    t_release = 2.0 + push
+    crossing = t_release + frac * period
+    tr = detect_release(t, y)
+    assert crossing - 0.15 * period - 2.0 / rate <= tr < crossing - 0.15 * period
+
+
+def test_damping_curve_skips_extremes_at_one_instant(monkeypatch: pytest.MonkeyPatch) -> None:
+    # two refined extremes at the same time (a repeated time stamp) give no half cycle to
+    # divide by: that pair is skipped, the next one kept (time = the middle of its half cycle)
+    from types import SimpleNamespace
+
+    import hydrokit.identify.estimators as estimators
+    from hydrokit.identify.damping import damping_curve
+
+    monkeypatch.setattr(estimators, "_peaks", lambda t, z, band: [(1.0, 0.5), (1.0, -0.4), (2.0, 0.3)])
+    est = SimpleNamespace(offset_=0.0, noise_=0.0, constants_=rig_constants(rig()))
+    t = np.linspace(0.0, 3.0, 31)
+    rows = damping_curve(t, np.cos(t), est, rig())
+    assert [r["time"] for r in rows] == [1.5]
+    assert rows[0]["value"] > 0

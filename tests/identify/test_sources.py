@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import pytest
 
-from hydrokit.identify.campaign import rank_sum, z_to_p
+from hydrokit.identify.campaign import rank_sum, rank_sum_pairs, z_to_p
 from hydrokit.identify.rig_model import rig_constants
 from hydrokit.identify.scaling import SCALING_ASSUMPTIONS, scale_coefficients, scale_factor
 from hydrokit.identify.tare import air_tare
@@ -80,3 +80,15 @@ def test_rank_sum_with_continuity_reproduces_cely2019_tables_8_9():
     assert r["p"] == pytest.approx(0.9362, abs=5e-5)
     # without the correction the same data give z = −1/√39 = −0.160
     assert rank_sum(x, y, continuity=False)["z"] == pytest.approx(-1 / 39**0.5, rel=1e-12)
+
+
+def test_rank_sum_pairs_tests_every_pair_once_and_skips_single_launch_groups():
+    # CELY2019 Tables 8–9 compare every pair of amplitude groups: 3 groups give 3 tests, in
+    # order, each the same as rank_sum on the pair; a group of one launch cannot be ranked
+    groups = {"10 mm": [7, 8, 9, 10, 11, 12], "20 mm": [1, 2, 3, 4, 5, 6], "30 mm": [1, 2, 6, 8, 9, 12]}
+    rows = rank_sum_pairs({**groups, "40 mm": [5.0]})
+    assert [r["pair"] for r in rows] == [["10 mm", "20 mm"], ["10 mm", "30 mm"], ["20 mm", "30 mm"]]
+    for r in rows:
+        a, b = r["pair"]
+        assert r["u"] == rank_sum(groups[a], groups[b])["u"]
+    assert rows[0]["u"] == 36  # Table 8's U for wholly separated groups

@@ -124,6 +124,53 @@ def vector(value: Any, n: int, field: str, source: str = "") -> np.ndarray:
     return np.array([number(v, f"{field}[{i}]", source) for i, v in enumerate(value)], dtype=float)
 
 
+def finite_samples(values: np.ndarray, column: str, unit: str, source: str = "") -> None:
+    """Refuse a recorded column holding NaN or ±∞, naming the first bad sample.
+
+    Parameters
+    ----------
+    values : ndarray
+        The column as read (any unit).
+    column : str
+        Its name in messages, e.g. ``'t'``.
+    unit : str
+        Its unit, e.g. ``'s'``.
+    source : str, optional
+        The file name, prefixed to the message.
+
+    Raises
+    ------
+    InputError
+        ``column 't' (s) holds nan at sample 3 (of 120 samples; 2 bad): expected finite numbers``.
+    """
+    bad = np.flatnonzero(~np.isfinite(values))
+    if bad.size:
+        k = int(bad[0])
+        raise InputError(
+            f"column '{column}' ({unit}) holds {float(values.flat[k])!r} at sample {k} "
+            f"(of {values.size} samples; {bad.size} bad): expected finite numbers",
+            source,
+        )
+
+
+def increasing(values: np.ndarray, column: str, unit: str, source: str = "") -> None:
+    """Refuse a column that does not increase strictly (a repeated or backward time stamp).
+
+    Raises
+    ------
+    InputError
+        ``column 't' (s) goes from 0.3 to 0.3 at sample 4: expected strictly increasing values``.
+    """
+    bad = np.flatnonzero(np.diff(values) <= 0)
+    if bad.size:
+        k = int(bad[0])
+        raise InputError(
+            f"column '{column}' ({unit}) goes from {float(values[k]):g} to {float(values[k + 1]):g} "
+            f"at sample {k + 1}: expected strictly increasing values",
+            source,
+        )
+
+
 def mapping(value: Any, field: str, source: str = "") -> dict:
     """A mapping (YAML block of ``key: value`` lines) from a file field.
 

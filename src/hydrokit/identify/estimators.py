@@ -31,6 +31,7 @@ from typing import Any
 
 import numpy as np
 
+from hydrokit.core.validate import finite_samples, increasing
 from hydrokit.errors import InputError
 from hydrokit.identify.preprocess import check_record
 from hydrokit.identify.rig_model import RigConstants, rig_constants, simulate_extended, simulate_normalised
@@ -183,10 +184,9 @@ class _DecayEstimator:
         y = np.asarray(y, float)
         if t.shape != y.shape or t.ndim != 1:
             raise InputError(f"time and signal must be 1-D of equal length, got {t.shape} and {y.shape}", file)
-        if not (np.all(np.isfinite(t)) and np.all(np.isfinite(y))):
-            raise InputError("the record holds NaN or infinite values", file)
-        if np.any(np.diff(t) <= 0):
-            raise InputError("time must increase strictly", file)
+        finite_samples(t, "t", "s", file)
+        finite_samples(y, "y", "m or rad", file)
+        increasing(t, "t", "s", file)
         self.constants_: RigConstants = rig_constants(self.rig)
         facts = check_record(Launch(t=t, y=y, file=file))
         self.period_ = facts["period"]

@@ -17,6 +17,7 @@ from typing import Any
 
 import numpy as np
 
+from hydrokit.core.validate import finite_samples, increasing
 from hydrokit.errors import InputError
 from hydrokit.identify.types import Launch
 
@@ -158,7 +159,8 @@ def detect_release(t: np.ndarray, y: np.ndarray, sigma: float | None = None, fil
     k0, s0, s1 = ext[j]
     ks = [k for k, _, _ in ext[j + 1 : j + 7]]
     tk = t[ks]
-    period = float(np.median(tk[2:] - tk[:-2])) if len(ks) >= 3 else 2.0 * float(tk[1] - tk[0])
+    # _free_start returns j ≤ len(ext) − 4: at least three extremes follow, one full period
+    period = float(np.median(tk[2:] - tk[:-2]))
     same = [abs(z[a]) / abs(z[b]) for a, b in zip(ks[:-2], ks[2:]) if abs(z[b]) > 0]
     delta = float(np.median(np.log(same))) if same else 0.0
     zeta = delta / math.sqrt(4 * math.pi**2 + delta**2)
@@ -257,10 +259,8 @@ def rest_line(t: np.ndarray, y: np.ndarray, sigma: float) -> tuple[float, float]
             cs.append((p1 * p3 - p2 * p2) / den)
     if len(cs) < 2:
         return z0, 0.0
-    tc_a, cs_a = np.asarray(tc), np.asarray(cs)
-    if np.ptp(tc_a) <= 0:
-        return z0 + float(np.mean(cs_a)), 0.0
-    c1, c0 = np.polyfit(tc_a, cs_a, 1)
+    # two or more middle extremes at distinct times (t increases strictly): a line is defined
+    c1, c0 = np.polyfit(np.asarray(tc), np.asarray(cs), 1)
     return z0 + float(c0), float(c1)
 
 
@@ -351,8 +351,13 @@ def trim_launch(
     notes = list(launch.notes)
     if detrend not in DETRENDS:
         raise InputError(f"--detrend {detrend!r}: expected one of {', '.join(DETRENDS)}", launch.file)
+    if t.shape != y.shape or t.ndim != 1:
+        raise InputError(f"time and signal must be 1-D of equal length, got {t.shape} and {y.shape}", launch.file)
     if t.size < MIN_SAMPLES:
         raise InputError(f"only {t.size} samples; expected at least {MIN_SAMPLES}", launch.file)
+    finite_samples(t, "t", "s", launch.file)
+    finite_samples(y, "y", "m or rad", launch.file)
+    increasing(t, "t", "s", launch.file)
     sigma = noise_floor(y)
     if release is None:
         try:

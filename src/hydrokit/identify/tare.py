@@ -20,6 +20,7 @@ from typing import Any
 import numpy as np
 
 from hydrokit.core.constants import GRAVITY
+from hydrokit.core.validate import finite_samples, increasing
 from hydrokit.errors import InputError
 from hydrokit.identify.types import Launch, Rig
 
@@ -143,10 +144,9 @@ def _smooth(launch: Launch, window: int | None, polyorder: int) -> _Smoothed:
     y = np.asarray(launch.y, float)
     if t.shape != y.shape or t.ndim != 1:
         raise InputError(f"time and angle must be 1-D of equal length, got {t.shape} and {y.shape}", launch.file)
-    if not (np.all(np.isfinite(t)) and np.all(np.isfinite(y))):
-        raise InputError("the record holds NaN or infinite values", launch.file)
-    if t.size >= 2 and np.any(np.diff(t) <= 0):
-        raise InputError("time must increase strictly", launch.file)
+    finite_samples(t, "t", "s", launch.file)
+    finite_samples(y, "y", "rad", launch.file)
+    increasing(t, "t", "s", launch.file)
     facts = check_record(launch)  # too few samples, no oscillation, growing: InputError naming the file
     # the mean step, not the median: launch files round the time (0.1 ms), which at 30 fps puts
     # the median step 0.1 % off and α, through Δt², 0.2 % off
