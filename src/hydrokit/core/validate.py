@@ -161,14 +161,15 @@ def increasing(values: np.ndarray, column: str, unit: str, source: str = "") -> 
     InputError
         ``column 't' (s) goes from 0.3 to 0.3 at sample 4: expected strictly increasing values``.
     """
-    bad = np.flatnonzero(np.diff(values) <= 0)
-    if bad.size:
-        k = int(bad[0])
-        raise InputError(
-            f"column '{column}' ({unit}) goes from {float(values[k]):g} to {float(values[k + 1]):g} "
-            f"at sample {k + 1}: expected strictly increasing values",
-            source,
-        )
+    steps = np.diff(values)
+    if np.all(steps > 0):
+        return
+    k = int(np.argmax(steps <= 0))  # the first step that does not go forward
+    a, b = float(values[k]), float(values[k + 1])
+    raise InputError(
+        f"column '{column}' ({unit}) goes from {a:g} to {b:g} at sample {k + 1}: expected strictly increasing values",
+        source,
+    )
 
 
 def mapping(value: Any, field: str, source: str = "") -> dict:
