@@ -112,6 +112,10 @@ EQUIVALENT: dict[tuple[str, str, str], str] = {
         "and its SE come from one least-squares solve, so the tie has probability 0 (the warning's edge, "
         "like the hysteresis band edge below)"
     ),
+    ("identify/estimators.py", "pk = [(tp, a) for tp, a in peaks if math.copysign(1.0, a) == sign]", "== -> !="): (
+        "the loop runs over both signs and the rows are sorted by time after it: != takes the negative "
+        "extremes first and the positive second, the same rows"
+    ),
     ("identify/preprocess.py", "elif a[0] - a[-2 if a.size % 2 == 0 else -1] <= 2.0 * band:", "drop unary - [1]"): (
         "the elif runs with fewer than 6 extremes left and j ≤ len(ext) − 4, so a.size is 4 or 5: "
         "the index is taken only for a.size = 4, where a[-2] and a[2] are the same element"

@@ -54,3 +54,20 @@ def test_cramer_rao_bound_predicts_output_error_spread(pendulum_rig):
 def test_plan_prefers_large_amplitude_for_quadratic_damping(pendulum_rig):
     plan = plan_experiment(pendulum_rig, 0.05, 0.02, 0.3, [0.05, 0.25], SensorModel.imu())
     assert plan[1]["quadratic_damping_rel"] < plan[0]["quadratic_damping_rel"]
+
+
+def test_a_perfect_sensor_has_no_bound_and_says_so(pendulum_rig):
+    # zero noise and no quantisation: the Fisher information is infinite, the bound zero
+    from hydrokit.errors import InputError
+    from hydrokit.identify.design import cramer_rao
+
+    with pytest.raises(InputError) as err:
+        cramer_rao(pendulum_rig, 0.05, 0.02, 0.3, 0.1, 5.0, SensorModel(100.0, 0.0, 0.0))
+    assert str(err.value) == (
+        "sensor noise_std = 0 and resolution = 0: the bound is zero; expected a noise_std or resolution > 0 (m or rad)"
+    )
+    # quantisation alone is a noise of variance r²/12: the same bound as white noise of std r/√12
+    r = 1e-3
+    q = cramer_rao(pendulum_rig, 0.05, 0.02, 0.3, 0.1, 5.0, SensorModel(100.0, 0.0, r))
+    w = cramer_rao(pendulum_rig, 0.05, 0.02, 0.3, 0.1, 5.0, SensorModel(100.0, r / math.sqrt(12.0), 0.0))
+    assert q == pytest.approx(w, rel=1e-12)

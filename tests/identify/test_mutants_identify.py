@@ -340,3 +340,15 @@ def test_amplitude_window_that_the_record_never_leaves_ends_at_its_last_extreme(
     last_peak = np.max(np.abs(z[int(3.4 / 0.001) :]))  # the half-cycle extreme near t = 3.5 s
     assert info["end_amplitude"] == pytest.approx(float(last_peak), rel=1e-9)
     assert info["end_amplitude"] < info["start_amplitude"]
+
+
+def test_peaks_refines_the_extreme_one_sample_before_the_record_ends():
+    # the half cycle z = 0.5, 1.0 ends at the last sample (−1.0, beyond the band): its extreme,
+    # at the last-but-one sample, is refined like any other by the parabola through 0.5, 1, −1:
+    # vertex offset d = ½(y0 − y2)/(y0 − 2y1 + y2) = −0.3 samples, height 1 − ¼(y0 − y2)d = 1.1125
+    from hydrokit.identify.estimators import _peaks
+
+    t = np.array([0.0, 0.1, 0.2, 0.3])
+    ((tp, ap),) = _peaks(t, np.array([0.0, 0.5, 1.0, -1.0]), 0.1)
+    assert tp == pytest.approx(0.2 - 0.3 * 0.1, rel=1e-12)
+    assert ap == pytest.approx(1.1125, rel=1e-12)

@@ -41,7 +41,8 @@ def cramer_rao(
     var = sensor.noise_std**2 + sensor.resolution**2 / 12.0
     if var <= 0:
         raise InputError(
-            "the sensor has neither noise nor quantisation: the bound is zero; give noise_std or resolution"
+            f"sensor noise_std = {sensor.noise_std:g} and resolution = {sensor.resolution:g}: the bound is zero; "
+            "expected a noise_std or resolution > 0 (m or rad)"
         )
     c = rig_constants(rig)
     w2, b, g = c.to_normalised(added_mass, linear_damping, quadratic_damping)
