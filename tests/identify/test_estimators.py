@@ -245,3 +245,19 @@ def test_fit_names_the_column_holding_a_nan_or_infinite_sample(pendulum_rig):
     with pytest.raises(InputError) as err:
         make_estimator("log-decrement", pendulum_rig).fit(bad_t, y, file="run.csv")
     assert str(err.value).startswith("run.csv: column 't' (s) holds nan at sample 3 ")
+
+
+def test_replay_before_the_release_is_the_closed_form_run_backwards(spring_rig):
+    # a linear decay q = a e^{−σt}(cos ω_d t + σ/ω_d sin ω_d t) holds for t < 0 too: the fitted
+    # model integrated backwards from the release (descending times, small steps) must give it
+    m_a, K_L, a = 0.3, 0.8, 0.04
+    launch = simulate_launch(spring_rig, m_a, K_L, 0.0, a, 10.0, SensorModel(200, 0, 0, 0), rng=0)
+    _, est = identify_launch(spring_rig, trim_launch(launch), "output-error", return_estimator=True)
+    A = spring_rig.mass + m_a
+    sigma = K_L / (2 * A)
+    wd = math.sqrt(spring_rig.stiffness / A - sigma**2)
+    t = np.linspace(-1.0, -0.005, 200)
+    q = a * np.exp(-sigma * t) * (np.cos(wd * t) + sigma / wd * np.sin(wd * t))
+    assert np.max(np.abs(est.predict(t + est.t0_) - est.offset_ - q)) < 1e-9
+    v = -a * (wd**2 + sigma**2) / wd * np.exp(-sigma * t) * np.sin(wd * t)  # q̇ of the same closed form
+    assert np.max(np.abs(est.velocity(t + est.t0_) - v)) < 1e-8
