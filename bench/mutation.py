@@ -25,8 +25,8 @@ would do the same job, slower, as mutmut 3 reruns its own per-test statistics in
 Strings, f-strings, docstrings, annotations and the arguments of ``raise`` are left alone (a
 changed message is not a physics error). Each mutant is written into a private copy of the
 project (one per job, so the working tree is never touched), and only the tests that reach the
-mutated code run there, with ``-x`` and a timeout: a failing run kills the mutant, a timeout
-counts as killed (reported apart), a green run is a survivor.
+mutated code run there, with ``-x`` and a timeout: a failing (or crashing) run kills the mutant,
+a timeout counts as killed (reported apart), a green run is a survivor.
 
 Which tests reach which code comes from one traced run of the unmutated tests (a
 ``sys.setprofile`` hook records, per test, the hydrokit functions it calls, and the test's
@@ -115,6 +115,47 @@ EQUIVALENT: dict[tuple[str, str, str], str] = {
     ("identify/estimators.py", "pk = [(tp, a) for tp, a in peaks if math.copysign(1.0, a) == sign]", "== -> !="): (
         "the loop runs over both signs and the rows are sorted by time after it: != takes the negative "
         "extremes first and the positive second, the same rows"
+    ),
+    ("identify/estimators.py", "shift = float(coef[-1]) / float(coef[0]) if coef[0] != 0 else 0.0", "0 -> 1 [2]"): (
+        "coef[0] is the fitted ω² (1/s²): != 1 differs from != 0 only for a fit landing on exactly 0 or 1 "
+        "to the last bit (probability 0 with any noise)"
+    ),
+    ("identify/result.py", 'ci_txt = f" [{ci[0]:.4g}, {ci[1]:.4g}]" if ci[0] is not None else ""', "0 -> 1"): (
+        "a summary's interval is (None, None) or two numbers: ci[1] is None exactly when ci[0] is"
+    ),
+    (
+        "model/thrusters.py",
+        "n = (lo * g_hi - hi * g_lo) / (g_hi - g_lo) if it < 20 else 0.5 * (lo + hi)",
+        "< -> <=",
+    ): (
+        "the 21st step of the bracketed root search takes false position instead of bisection: both keep "
+        "the sign-change bracket and stop at the same tolerance (1e-12 of f or of n_max)"
+    ),
+    ("model/thrusters.py", "if abs(nD) * 1e6 > va_abs:", "1000000.0 -> 1000001.0"): (
+        "the guard of J = va/(nD) near n = 0: for |nD| below 1e-6 |va| J is clamped to the table end "
+        "either way (|va/nD| ≥ 1e6 is clamped to j_far, the table end of its sign), so moving the guard by 1e-12 relative changes nothing"
+    ),
+    ("model/allocation.py", "hi = np.asarray(f_max, dtype=float).reshape(-1)", "1 -> 2"): (
+        "reshape(-2): numpy takes any negative size as the one inferred dimension"
+    ),
+    (
+        "model/allocation.py",
+        "self.Q: Array | None = np.where(reach > 0, 1.0 / np.where(reach > 0, reach, 1.0), 1.0)",
+        "> -> >= [1]",
+    ): ("where reach == 0 the inner np.where already gives 1/1.0 = 1.0, the outer default"),
+    **{
+        ("model/control.py", code, op): (
+            "with the error of this sense the new integral moves away from the limit's side (e ≥ 0: it does "
+            "not decrease; e ≤ 0: it does not increase), so max/min with the previous value returns it "
+            "unchanged: the clamp is a no-op for e = 0 and for the other sense alike"
+        )
+        for code, op in (
+            ("if self.ki > 0 and raw > self.output_max and e < 0:", "0 -> 1 [2]"),
+            ("elif self.ki > 0 and raw < self.output_min and e > 0:", "> -> >= [2]"),
+        )
+    },
+    ("estimate/mesh.py", "if _STL_HEADER + _STL_RECORD * count > size:", "> -> >="): (
+        "equality was read as binary and returned a few lines above: here 84 + 50·count ≠ size"
     ),
     ("identify/preprocess.py", "elif a[0] - a[-2 if a.size % 2 == 0 else -1] <= 2.0 * band:", "drop unary - [1]"): (
         "the elif runs with fewer than 6 extremes left and j ≤ len(ext) − 4, so a.size is 4 or 5: "
@@ -464,6 +505,9 @@ class Worker:
             return "killed", failed, dt
         if proc.returncode == 4 and "found no collectors" in text:  # the mutant broke a test module's import
             return "killed", "collection: " + failed, dt
+        if proc.returncode < 0 or "Fatal Python error" in text:  # the test run crashed (a segfault in numba
+            # code given a wrong-shaped array): CI goes red just the same
+            return "killed", f"crashed (exit {proc.returncode}): " + failed, dt
         return "error", text[-500:], dt
 
     def run(self, m: Mutant, tests: list[str], timeout: float) -> None:

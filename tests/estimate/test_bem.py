@@ -87,3 +87,23 @@ def test_added_mass_is_linear_in_density_and_defaults_to_sea_water(tmp_path, mon
     m = shape_mesh("spheroid", 16, length=3.0, diameter=1.0)
     fresh = added_mass_bem(m, 1000.0, use_cache=False)
     np.testing.assert_allclose(added_mass_bem(m, use_cache=False), 1.025 * fresh, rtol=1e-9, atol=1e-9 * fresh.max())
+
+
+def test_cache_is_read_only_under_its_full_key(tmp_path, monkeypatch):
+    # the cache file is named by the key's first 40 characters: a file there with another full
+    # key (a name collision) is ignored; one with the same key is returned as stored
+    pytest.importorskip("capytaine")
+    import json
+
+    monkeypatch.setenv("HYDROKIT_CACHE", str(tmp_path))
+    from hydrokit.estimate.bem import added_mass_bem, shape_mesh
+
+    m = shape_mesh("sphere", 12, diameter=1.0)
+    fresh = added_mass_bem(m, 1000.0)
+    (cfile,) = tmp_path.glob("*.json")
+    key = json.loads(cfile.read_text())["key"]
+    marker = np.full((6, 6), 7.0)
+    cfile.write_text(json.dumps({"key": key + "-other", "added_mass": marker.tolist()}))
+    np.testing.assert_allclose(added_mass_bem(m, 1000.0), fresh, rtol=1e-9, atol=1e-9 * fresh.max())
+    cfile.write_text(json.dumps({"key": key, "added_mass": marker.tolist()}))
+    np.testing.assert_array_equal(added_mass_bem(m, 1000.0), marker)

@@ -293,3 +293,13 @@ def test_random_bytes_give_an_input_error(tmp_path):
             with pytest.raises(InputError) as err:
                 read_mesh(tmp_path / name)
             assert "\n" not in str(err.value) and os.fspath(tmp_path / name) in str(err.value)
+
+
+@pytest.mark.parametrize("size", [80, 83])
+def test_text_of_80_to_83_bytes_is_too_short_for_a_facet(tmp_path, size):
+    # meshio reads a binary count from any file of 80 bytes or more: such short text is refused first
+    path = tmp_path / "short.stl"
+    path.write_bytes(b"solid x".ljust(size, b" "))
+    with pytest.raises(InputError) as err:
+        read_mesh(path)
+    assert str(err.value).startswith(f"{path}: not a readable STL ({size} bytes of text: too short for a facet); ")

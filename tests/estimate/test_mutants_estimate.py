@@ -294,3 +294,88 @@ def test_rehman_cylinder_transverse_drag_is_within_two_percent_of_table_1():
     assert c.drag_coefficient[1] == pytest.approx(1.05 * (0.58 + 0.04 * 2 / 3), rel=1e-12)
     assert abs(c.drag_coefficient[1] / 0.65 - 1) < 0.021  # 2.0 % under
     assert cylinder(1.0, 0.25, drag_transverse=0.65).sources["drag_coefficient"].endswith("0.650 (given)")
+
+
+def test_lander_added_mass_magnitudes_are_positive_for_negative_derivatives():
+    # hydrodynamic derivatives X_u̇ … are negative; the magnitudes are −X_u̇ ½ρL³ (forces) and
+    # −M_q̇ ½ρL⁵ (moments), roll not given
+    from hydrokit.estimate.lander import dimensional_added_mass
+
+    nd = {"X_udot": -0.01, "Y_vdot": -0.02, "Z_wdot": -0.03, "M_qdot": -0.004, "N_rdot": -0.005}
+    rho, L = 1025.0, 2.0
+    q3, q5 = 0.5 * rho * 8.0, 0.5 * rho * 32.0
+    assert dimensional_added_mass(nd, rho, L) == pytest.approx(
+        [0.01 * q3, 0.02 * q3, 0.03 * q3, 0.0, 0.004 * q5, 0.005 * q5]
+    )
+
+
+def test_flat_plate_drag_runs_from_the_square_to_the_strip_and_only_normal():
+    from hydrokit.estimate.shapes import flat_plate
+
+    square = flat_plate(1.0, 1.0)
+    assert square.drag_coefficient.tolist() == [1.17, 0.0, 0.0]  # Hoerner's square plate; in-plane none
+    assert flat_plate(2.0, 1.0).drag_coefficient[0] == pytest.approx(1.17 + 0.83 * 0.5)
+    assert flat_plate(1000.0, 1.0).drag_coefficient[0] == pytest.approx(2.0, abs=1e-3)  # 2-D strip
+
+
+def test_thin_block_is_the_plate_of_its_other_two_sides():
+    # DNV-RP-H103 Table A-2: a plate a × b moving normal to itself has m_a = ρ C_a(b/a) π a² b / 4;
+    # a 1 cm thick block of 1 m × 2 m moving along its thickness is that plate (square prisms
+    # cover only bodies longer along the motion than across)
+    from hydrokit.estimate.shapes import block, flat_plate
+
+    thin = block(0.01, 1.0, 2.0, density=1000.0)
+    plate = flat_plate(2.0, 1.0, density=1000.0)
+    assert thin.added_mass[0, 0] == pytest.approx(plate.added_mass[0, 0], rel=1e-12)
+    assert thin.added_mass[0, 0] == pytest.approx(
+        1000.0 * 0.757 * math.pi * 1.0 * 2.0 / 4, rel=1e-3
+    )  # Table A-2: C_a(2) = 0.757
+    # a cube uses the square prism's C_a = 0.68 with V_R = a³ in all three directions
+    np.testing.assert_allclose(np.diag(block(1.0, 1.0, 1.0, density=1000.0).added_mass)[:3], 680.0)
+
+
+def test_force_fit_standard_errors_match_curve_fit_and_nan_is_named():
+    from scipy.optimize import curve_fit
+
+    from hydrokit.estimate.forces import fit_forces
+
+    rng = np.random.default_rng(4)
+    U = np.linspace(-1.5, 1.5, 13)
+    F = 3.0 * U + 20.0 * np.abs(U) * U + rng.normal(0.0, 0.5, U.size)
+    fit = fit_forces(U, F, 0.1, 1000.0)
+    p, pcov = curve_fit(lambda u, a, b: a * u + b * np.abs(u) * u, U, F, p0=(1.0, 1.0))  # s² (JᵀJ)⁻¹
+    assert [fit.K_L, fit.K_Q] == pytest.approx(p, rel=1e-6)
+    assert [fit.K_L_se, fit.K_Q_se] == pytest.approx(np.sqrt(np.diag(pcov)), rel=1e-5)
+    bad = U.copy()
+    bad[2] = np.nan
+    with pytest.raises(InputError) as err:
+        fit_forces(bad, F, 0.1, 1000.0)
+    assert (
+        str(err.value) == "column 'speed' (m/s) holds nan at sample 2 (of 13 samples; 1 bad): expected finite numbers"
+    )
+    assert "force" not in repr(fit) and "speed" not in repr(fit)  # the data arrays stay out of the repr
+
+
+def test_sphere_drag_defaults_to_sea_water_viscosity_and_parts_default_to_bem():
+    # ν = 1.05e-6 m²/s (sea water near 18 °C): the default Re of a 0.1 m sphere at 1 m/s is 95 238
+    from hydrokit.estimate.geometry import GeometryPart
+    from hydrokit.estimate.shapes import sphere
+
+    # (below Re = 1.2e5 the Mikhailov–Freire correlation)
+    cd = sphere(0.1).drag_coefficient[0]
+    assert cd == pytest.approx(sphere_drag_coefficient(0.1 / 1.05e-6, "Mikhailov-Freire"), rel=1e-12)
+    assert cd != pytest.approx(sphere_drag_coefficient(0.1 / 1.0e-6, "Mikhailov-Freire"), rel=1e-6)
+    assert GeometryPart(None, {}, "sphere", {"diameter": 0.1}).bem is True
+
+
+def test_a_composite_of_parts_without_volume_has_its_buoyancy_centre_at_the_origin():
+    # no displaced volume, no buoyancy: r_b is the origin (3 coordinates), r_g the mass centre
+    from hydrokit.estimate.composite import Part, combine
+
+    parts = [
+        Part("a", 2.0, 0.0, np.eye(3), np.zeros((6, 6)), position=np.array([1.0, 0.0, 0.0])),
+        Part("b", 2.0, 0.0, np.eye(3), np.zeros((6, 6)), position=np.array([-1.0, 2.0, 0.0])),
+    ]
+    c = combine(parts)
+    assert np.asarray(c.r_b).tolist() == [0.0, 0.0, 0.0]
+    assert np.asarray(c.r_g) == pytest.approx([0.0, 1.0, 0.0])

@@ -352,3 +352,12 @@ def test_peaks_refines_the_extreme_one_sample_before_the_record_ends():
     ((tp, ap),) = _peaks(t, np.array([0.0, 0.5, 1.0, -1.0]), 0.1)
     assert tp == pytest.approx(0.2 - 0.3 * 0.1, rel=1e-12)
     assert ap == pytest.approx(1.1125, rel=1e-12)
+
+
+def test_camera_sensor_defaults_to_30_fps_and_a_fifth_of_a_degree():
+    # ENG2009 filmed the rod at 30 fps; 0.2° is the tracking noise assumed for such video
+    from hydrokit.identify.virtual_rig import SensorModel
+
+    cam = SensorModel.camera()
+    assert (cam.sample_rate, cam.noise_std, cam.resolution) == (30.0, pytest.approx(math.radians(0.2)), 0.0)
+    assert cam.name == "camera 30 fps, 0.2° noise"

@@ -309,3 +309,32 @@ def test_propeller_command_for_a_vanishing_demand_keeps_its_sense(f):
     n = p.command(f, 0.5)
     assert math.copysign(1.0, n) == math.copysign(1.0, f) and n != 0.0
     assert PropellerCurve.command_batch([p], np.array([f]), np.array([0.5]))[0] == n
+
+
+def test_interp_table_matches_numpy_inside_and_holds_the_ends():
+    # a table whose first value (10) is larger than its first time (0): the hold before the
+    # first row must test the time column only
+    from hydrokit.model.dynamics import interp_table
+
+    tab = np.array([[0.0, 10.0, -1.0], [10.0, 20.0, 1.0], [12.0, 0.0, 1.0]])
+    for t in (-1.0, 0.0, 3.0, 5.0, 10.0, 11.0, 12.0, 20.0):
+        value, slope = interp_table(tab, t)
+        expect = [np.interp(t, tab[:, 0], tab[:, j]) for j in (1, 2)]
+        assert value == pytest.approx(expect), t
+    assert interp_table(tab, 5.0)[1] == pytest.approx([1.0, 0.2])
+    assert interp_table(tab, -1.0)[1].tolist() == [0.0, 0.0] == interp_table(tab, 13.0)[1].tolist()
+
+
+def test_pinv_allocation_warns_only_beyond_a_limit():
+    # two surge thrusters share 30 N: 15 N each. A 15 N limit is met, not exceeded; 10 N is exceeded
+    from hydrokit.model.allocation import allocate_pinv
+
+    T = np.zeros((6, 2))
+    T[0, :] = 1.0
+    tau = [30.0, 0, 0, 0, 0, 0]
+    at = allocate_pinv(T, tau, f_min=[-15.0, -20.0], f_max=[15.0, 20.0], names=["A", "B"])
+    assert not any("exceeds" in w for w in at.warnings)
+    over = allocate_pinv(T, tau, f_min=[-10.0, -20.0], f_max=[10.0, 20.0], names=["A", "B"])
+    assert "pseudo-inverse thrust exceeds the limits of A" in over.warnings
+    under = allocate_pinv(T, [-30.0, 0, 0, 0, 0, 0], f_min=[-10.0, -20.0], f_max=[10.0, 20.0], names=["A", "B"])
+    assert "pseudo-inverse thrust exceeds the limits of A" in under.warnings

@@ -15,6 +15,7 @@ from typing import Any
 import numpy as np
 
 from hydrokit._result import Result, jsonable
+from hydrokit.core.validate import finite_samples
 from hydrokit.errors import InputError
 
 
@@ -101,8 +102,8 @@ def fit_forces(speed: np.ndarray, force: np.ndarray, area: float, density: float
         raise InputError(f"speed and force must be 1-D of equal length, got {U.shape} and {F.shape}")
     if U.size < 3:
         raise InputError(f"only {U.size} point(s); expected at least 3 speed–force pairs to fit two coefficients")
-    if not (np.all(np.isfinite(U)) and np.all(np.isfinite(F))):
-        raise InputError("speed or force holds NaN or infinite values")
+    finite_samples(U, "speed", "m/s")
+    finite_samples(F, "force", "N")
     if np.unique(np.abs(U)).size < 2:
         raise InputError("all speeds are equal in magnitude; expected at least two different speeds")
     for k, v in (("area", area), ("density", density)):

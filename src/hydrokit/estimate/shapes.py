@@ -284,8 +284,10 @@ def block(
 ) -> ShapeCoefficients:
     """Rectangular block (length along x). Each translation uses the square-prism C_a(b/a) of
     DNV-RP-H103 Table A-2 with a = √(area across the motion), b = extent along it,
-    V_R = a² b (an approximation for non-square sections; unchecked transcription). C_D 1.05
-    (cube, Hoerner) in every direction unless given."""
+    V_R = a² b (an approximation for non-square sections; unchecked transcription); a block
+    thinner along the motion than across it is the flat plate of its other two sides (until
+    2026-11 the plate table was read at a/along, which put a 1 × 1 × 0.01 m block 73 % above
+    the square plate). C_D 1.05 (cube, Hoerner) in every direction unless given."""
     _positive(length=length, width=width, height=height)
     dims = (length, width, height)
     MA = np.zeros((6, 6))
@@ -294,11 +296,12 @@ def block(
         along = dims[i]
         across = [dims[j] for j in range(3) if j != i]
         a = math.sqrt(across[0] * across[1])
-        ca = (
-            _interp(BLOCK_CA, along / a)
-            if along >= a
-            else _interp(PLATE_CA, a / max(along, 1e-12)) * math.pi / 4 * a / along
-        )
+        if along >= a:
+            ca = _interp(BLOCK_CA, along / a)
+        else:  # thinner along the motion than across: the plate of the two other sides,
+            # C_a(q/p) with V_R = π p² q / 4 (Table A-2), written as C_a' over a² · along
+            p, q = sorted(across)
+            ca = _interp(PLATE_CA, q / p) * math.pi * p * p * q / (4 * a * a * along)
         cas.append(ca)
         MA[i, i] = density * ca * a * a * along
     V = length * width * height
