@@ -279,3 +279,17 @@ def test_damping_curve_skips_extremes_at_one_instant(monkeypatch: pytest.MonkeyP
     rows = damping_curve(t, np.cos(t), est, rig())
     assert [r["time"] for r in rows] == [1.5]
     assert rows[0]["value"] > 0
+
+
+@pytest.mark.parametrize("lead", [0.35, 0.4, 0.45, 0.5])
+def test_record_starting_in_outward_free_motion_releases_at_the_extreme(lead: float) -> None:
+    # a free decay (T = 2 s) recorded from `lead` periods before its first zero crossing: the
+    # body still swings outwards at the start, so the free decay the model can use starts at
+    # the extreme (t = 0), whichever candidate join time fits best (here the window's first)
+    period, sigma = 2.0, 0.05
+    wd = 2 * math.pi / period
+    t0 = period / 4 - lead * period
+    t = np.arange(t0, 14.0, 0.01)
+    y = 0.05 * np.exp(-sigma * t) * (np.cos(wd * t) + sigma / wd * np.sin(wd * t))
+    y += np.random.default_rng(1).normal(0.0, 2e-5, t.size)
+    assert detect_release(t - t0, y) + t0 == pytest.approx(0.0, abs=1e-3)
