@@ -18,7 +18,7 @@ import yaml
 from hydrokit.errors import InputError
 from hydrokit.identify.estimators import identify_launch
 from hydrokit.identify.preprocess import trim_launch
-from hydrokit.identify.rig_model import rig_constants, simulate_rig
+from hydrokit.identify.rig_model import rig_constants, simulate_extended, simulate_rig
 from hydrokit.identify.types import Rig, rig_document
 from hydrokit.identify.virtual_rig import SensorModel, simulate_launch
 from hydrokit.io.rig import parse_rig
@@ -412,3 +412,25 @@ def test_roll_speed_re_and_kc_use_the_tip_of_the_body() -> None:
     assert u == pytest.approx(0.5 * L * rate, rel=0.01)
     assert res.reynolds_max == pytest.approx(u * L / 1.0e-6, rel=1e-9)
     assert res.kc == pytest.approx(u * res.extra["period"] / L, rel=1e-9)
+
+
+def test_extended_fit_formal_covariance_is_curve_fits() -> None:
+    # a second method: scipy's curve_fit on the same model (the extended ODE, free ω², b, g, d,
+    # q0, v0, rest), started at the estimate, gives s² (JᵀJ)⁻¹ with s² = SSR/(n − p). A short
+    # record (n ≈ 200, p = 7) makes the degrees of freedom matter: n + p would be 7 % off
+    from scipy.optimize import curve_fit
+
+    rig = rig_of("pitch", {"gm": 0.3})
+    L = _extended_launch(rig, {"I_a": 2.0, "B1": 1.0, "B2": 3.0, "B3": 5.0}, math.radians(15), 2, duration=4.0)
+    _, est = identify_launch(rig, L, damping_model="cubic", return_estimator=True)
+    t, y = np.asarray(L.t, float), np.asarray(L.y, float)
+    shape, sub = est.constants_.restoring, est.substeps
+
+    def model(tt: np.ndarray, w2: float, b: float, g: float, d: float, q0: float, v0: float, c: float) -> np.ndarray:
+        q, _, _ = simulate_extended(tt, [w2, b, g, d, 0.0, 0.0], q0, v0, shape, sub)
+        return q + c
+
+    x = [*est.ext_[:4], est.q0_, est.v0_, est.offset_]
+    popt, pcov = curve_fit(model, t, y, p0=x, xtol=1e-14, ftol=1e-14)
+    assert popt[:4] == pytest.approx(x[:4], rel=1e-5)
+    np.testing.assert_allclose(est.pcov4_formal_, pcov[:4, :4], rtol=1e-3, atol=1e-3 * np.abs(pcov[:4, :4]).max())

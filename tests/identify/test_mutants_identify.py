@@ -361,3 +361,29 @@ def test_camera_sensor_defaults_to_30_fps_and_a_fifth_of_a_degree():
     cam = SensorModel.camera()
     assert (cam.sample_rate, cam.noise_std, cam.resolution) == (30.0, pytest.approx(math.radians(0.2)), 0.0)
     assert cam.name == "camera 30 fps, 0.2° noise"
+
+
+def test_a_launch_grabbed_mid_decay_ends_at_its_last_pass_near_the_rest_value():
+    # hold at 4 cm, released, grabbed after 4 s (still swinging) and lifted into a −3 cm hold.
+    # The launch must end at its last sample near the rest value before the grab: within the
+    # band max(4σ, 2 % of the hold's height above it) of the motion's median (the rest value
+    # the splitter sees between this hold and the next), not a sample later
+    from hydrokit.identify.split import split_launches, still_runs
+
+    rate, a1, a2 = 100.0, 0.04, -0.03
+    ramp = 0.5 * (1 - np.cos(np.linspace(0, np.pi, 150)))
+    td = np.arange(400) / rate
+    dec1 = a1 * np.exp(-SIGMA * td) * (np.cos(WD * td) + SIGMA / WD * np.sin(WD * td))
+    grab = dec1[-1] + (a2 - dec1[-1]) * ramp
+    td2 = np.arange(1200) / rate
+    dec2 = a2 * np.exp(-SIGMA * td2) * (np.cos(WD * td2) + SIGMA / WD * np.sin(WD * td2))
+    y = np.concatenate([np.zeros(100), a1 * ramp, np.full(200, a1), dec1, grab, np.full(200, a2), dec2])
+    y += np.random.default_rng(5).normal(0.0, 2e-5, y.size)
+    t = np.arange(y.size) / rate
+    first = split_launches(t, y)[0]
+    assert first.release == pytest.approx(450, abs=2)
+    nxt = next(a for a, _ in still_runs(t, y) if a > first.release)  # the next hold starts
+    motion = y[first.release + 1 : nxt]
+    centre = float(np.median(motion))
+    near = np.nonzero(np.abs(motion - centre) <= 0.02 * abs(a1 - centre))[0] + first.release + 1
+    assert first.end == near[-1] < 850  # before the grab (sample 850 on)
