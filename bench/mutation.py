@@ -99,6 +99,12 @@ EQUIVALENT: dict[tuple[str, str, str], str] = {
     ("core/rigid_body.py", "M[0:3, 3:6] = -mass * S", "6 -> 7"): (
         "M is 6 × 6: numpy clips the slice 3:7 to 3:6, the same block"
     ),
+    ("core/rigid_body.py", "H[0:3, 3:6] = skew(r).T", "6 -> 7"): (
+        "H is 6 × 6: numpy clips the slice 3:7 to 3:6, the same block"
+    ),
+    ("core/drag.py", "P[:, 6:9] = P[:, 6:9] @ absR.T", "9 -> 10 [1]"): (
+        "P has PACKED_WIDTH = 9 columns: numpy clips the slice 6:10 to 6:9, the same columns"
+    ),
     (
         "identify/virtual_rig.py",
         "zero = rng.uniform(-0.5, 0.5) * self.resolution if self.random_zero else 0.0",
@@ -119,6 +125,10 @@ EQUIVALENT: dict[tuple[str, str, str], str] = {
     ("identify/estimators.py", "shift = float(coef[-1]) / float(coef[0]) if coef[0] != 0 else 0.0", "0 -> 1 [2]"): (
         "coef[0] is the fitted ω² (1/s²): != 1 differs from != 0 only for a fit landing on exactly 0 or 1 "
         "to the last bit (probability 0 with any noise)"
+    ),
+    ("identify/estimators.py", "w = min(w, n - 1 if (n - 1) % 2 == 1 else n - 2)", "1 -> 2 [1]"): (
+        "for even n the cap becomes n − 2 instead of n − 1, and the next line makes an even window odd "
+        "by adding one: n − 1 either way"
     ),
     ("identify/result.py", 'ci_txt = f" [{ci[0]:.4g}, {ci[1]:.4g}]" if ci[0] is not None else ""', "0 -> 1"): (
         "a summary's interval is (None, None) or two numbers: ci[1] is None exactly when ci[0] is"

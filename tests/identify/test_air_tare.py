@@ -283,3 +283,17 @@ def test_a_nan_or_infinite_sample_in_either_column_is_named() -> None:
     assert str(err.value) == (
         f"air_inf.csv: column 't' (s) holds inf at sample 4 (of {n} samples; 2 bad): expected finite numbers"
     )
+
+
+def test_unevenly_sampled_launches_are_resampled_over_the_whole_record() -> None:
+    # camera frames with ±20 % timing jitter: resampled to the median step over the whole
+    # record, the fit finds the same length as the evenly sampled launch
+    rng = np.random.default_rng(8)
+    even = in_air(R, 0.004, 0.01, math.radians(20), 30.0, 1e-4, rng)
+    t = even.t + rng.uniform(-0.2, 0.2, even.t.size) / 30.0
+    t[0], t[-1] = even.t[0], even.t[-1]
+    jittered = Launch(t=t, y=np.interp(t, even.t, even.y), file="jitter.csv")
+    a = fit_air_tare([even], MASS, G)[0].effective_length
+    b = fit_air_tare([jittered], MASS, G)[0].effective_length
+    assert b == pytest.approx(a, rel=2e-3)
+    assert b == pytest.approx(R, rel=5e-3)

@@ -71,3 +71,16 @@ def test_a_perfect_sensor_has_no_bound_and_says_so(pendulum_rig):
     q = cramer_rao(pendulum_rig, 0.05, 0.02, 0.3, 0.1, 5.0, SensorModel(100.0, 0.0, r))
     w = cramer_rao(pendulum_rig, 0.05, 0.02, 0.3, 0.1, 5.0, SensorModel(100.0, r / math.sqrt(12.0), 0.0))
     assert q == pytest.approx(w, rel=1e-12)
+
+
+def test_damping_force_spread_is_the_gradient_through_the_covariance(pendulum_rig):
+    # F = K_L u + K_Q u² at the peak speed u: var F = gᵀ C g with g = (0, u, u²); relative to F
+    from hydrokit.identify.design import cramer_rao
+
+    out = cramer_rao(pendulum_rig, 0.05, 0.02, 0.3, 0.2, 10.0, SensorModel.imu())
+    C = np.asarray(out["covariance"])
+    assert np.sqrt(np.diag(C)) == pytest.approx([out["added_mass"], out["linear_damping"], out["quadratic_damping"]])
+    u = out["speed_max"]
+    g = np.array([0.0, u, u * u])
+    assert out["damping_force_rel"] == pytest.approx(math.sqrt(g @ C @ g) / (0.02 * u + 0.3 * u * u), rel=1e-9)
+    assert 0.1 < u < 1.0  # u² ≠ 1: a force written K_Q u/u would not pass

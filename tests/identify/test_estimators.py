@@ -261,3 +261,13 @@ def test_replay_before_the_release_is_the_closed_form_run_backwards(spring_rig):
     assert np.max(np.abs(est.predict(t + est.t0_) - est.offset_ - q)) < 1e-9
     v = -a * (wd**2 + sigma**2) / wd * np.exp(-sigma * t) * np.sin(wd * t)  # q̇ of the same closed form
     assert np.max(np.abs(est.velocity(t + est.t0_) - v)) < 1e-8
+
+
+def test_equation_error_fits_the_rest_value(pendulum_rig):
+    # the rest value is a fitted parameter (ρ(q − c) ≈ ρ(q) − c ρ'(q)): a 6 s, heavily damped
+    # record whose mean is far from its rest still gets it to 1e-4 of the 0.1 amplitude
+    launch = simulate_launch(pendulum_rig, 0.05, 0.15, 0.0, 0.1, 6.0, SensorModel(100, 1e-5, 0, 0), rng=0)
+    for rest in (0.0, 0.01):
+        est = make_estimator("equation-error", pendulum_rig).fit(launch.t, np.asarray(launch.y) + rest)
+        assert est.offset_ == pytest.approx(rest, abs=1e-5)
+        assert est.added_mass_ == pytest.approx(0.05, rel=1e-3)

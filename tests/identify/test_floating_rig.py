@@ -434,3 +434,5 @@ def test_extended_fit_formal_covariance_is_curve_fits() -> None:
     popt, pcov = curve_fit(model, t, y, p0=x, xtol=1e-14, ftol=1e-14)
     assert popt[:4] == pytest.approx(x[:4], rel=1e-5)
     np.testing.assert_allclose(est.pcov4_formal_, pcov[:4, :4], rtol=1e-3, atol=1e-3 * np.abs(pcov[:4, :4]).max())
+    # the stated (cycle-jackknife) covariance keeps d's own variance, never below the formal one
+    assert est.pcov4_[3, 3] >= est.pcov4_formal_[3, 3] > 0

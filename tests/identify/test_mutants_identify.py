@@ -387,3 +387,42 @@ def test_a_launch_grabbed_mid_decay_ends_at_its_last_pass_near_the_rest_value():
     centre = float(np.median(motion))
     near = np.nonzero(np.abs(motion - centre) <= 0.02 * abs(a1 - centre))[0] + first.release + 1
     assert first.end == near[-1] < 850  # before the grab (sample 850 on)
+
+
+def test_adequacy_without_a_period_measures_no_autocorrelation():
+    # an unknown (NaN) period: no lag to correlate at; the verdict rests on the noise ratio alone
+    from hydrokit.identify.estimators import adequacy
+
+    r = np.random.default_rng(0).normal(0.0, 1e-3, 500)
+    out = adequacy(r, np.arange(500) * 0.01, float("nan"), 1e-3)
+    assert out["acf_at_period"] is None and out["acf_at_half_period"] is None
+    assert out["residual_to_noise"] == pytest.approx(1.0, rel=0.1)
+    assert out["verdict"].startswith("adequate")
+
+
+def test_default_sensor_holds_half_a_second_before_the_release():
+    from hydrokit.identify.types import Rig
+    from hydrokit.identify.virtual_rig import SensorModel, simulate_launch
+
+    rig = Rig("spring", "surge", 9.81, 1000.0, 1e-6, 0.97, 344868e-9, 0.008, 0.09, stiffness=63.6)
+    sensor = SensorModel()
+    assert sensor.hold_time == 0.5
+    launch = simulate_launch(rig, 0.3, 0.8, 0.0, A0, 4.0, sensor, rng=0)
+    assert np.all(launch.y[:50] == A0) and launch.y[51] < A0  # 50 samples at 100 Hz, then it moves
+
+
+def test_slow_rigs_start_the_output_error_fit_from_the_other_methods_too():
+    # a rig slower than 1 rad/s (ω² < 1 1/s²) still gets the equation-error and log-decrement
+    # estimates as starting points, besides the one from the period alone
+    from hydrokit.identify.estimators import OutputErrorEstimator
+    from hydrokit.identify.preprocess import check_record, trim_launch
+    from hydrokit.identify.types import Rig
+    from hydrokit.identify.virtual_rig import SensorModel, simulate_launch
+
+    rig = Rig("spring", "surge", 9.81, 1000.0, 1e-6, 10.0, 0.005, 0.05, 0.3, stiffness=5.0)
+    launch = trim_launch(simulate_launch(rig, 2.0, 0.5, 0.0, 0.05, 60.0, SensorModel(20.0, 1e-5), rng=1))
+    est = OutputErrorEstimator(rig).fit(launch.t, launch.y)
+    assert est.p_[0] == pytest.approx(5.0 / 12.0, rel=0.01)  # ω² = k/(m + m_a) < 1
+    facts = check_record(launch)
+    starts = est._starts(launch.t - launch.t[0], launch.y, facts)
+    assert len(starts) == 3 and starts[0][0] == pytest.approx(5.0 / 12.0, rel=0.05)

@@ -74,3 +74,13 @@ def test_trim_launch_names_a_bad_sample_before_using_the_record(pendulum_rig):
     )
     with pytest.raises(InputError, match=r"^short.csv: time and signal must be 1-D of equal length, got \(\d+,\) and"):
         trim_launch(Launch(t, y[:-1], "short.csv"))
+
+
+def test_trim_end_is_found_about_a_rest_value_far_from_zero(pendulum_rig):
+    # a sensor whose zero is 0.3 away from the rest position: the quiet tail is measured against
+    # the rest value, so it is dropped just as for a rest at zero
+    launch = simulate_launch(pendulum_rig, 0.05, 0.15, 0.0, 0.1, 40.0, SensorModel(100, 1e-5, 0, 0), rng=0)
+    at_zero = trim_launch(launch)
+    shifted = trim_launch(Launch(launch.t, np.asarray(launch.y) + 0.3, "shifted.csv"))
+    assert shifted.t.size == at_zero.t.size < 0.8 * np.asarray(launch.t).size
+    assert any("samples of noise dropped" in n for n in shifted.notes)

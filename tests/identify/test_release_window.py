@@ -293,3 +293,45 @@ def test_record_starting_in_outward_free_motion_releases_at_the_extreme(lead: fl
     y = 0.05 * np.exp(-sigma * t) * (np.cos(wd * t) + sigma / wd * np.sin(wd * t))
     y += np.random.default_rng(1).normal(0.0, 2e-5, t.size)
     assert detect_release(t - t0, y) + t0 == pytest.approx(0.0, abs=1e-3)
+
+
+def test_damping_curve_takes_the_rest_value_from_three_extremes(monkeypatch: pytest.MonkeyPatch) -> None:
+    # three extremes of a geometric decay about c = 0.01: c + 1, c − 0.8, c + 0.64. The rest
+    # value (p1 p3 − p2²)/(p1 + p3 − 2 p2) = c exactly, so the half-cycle amplitudes are the
+    # means of 1, 0.8 and 0.8, 0.64
+    from types import SimpleNamespace
+
+    import hydrokit.identify.estimators as estimators
+    from hydrokit.identify.damping import damping_curve
+
+    c = 0.01
+    monkeypatch.setattr(estimators, "_peaks", lambda t, z, band: [(1.0, c + 1.0), (2.0, c - 0.8), (3.0, c + 0.64)])
+    est = SimpleNamespace(offset_=0.0, noise_=0.0, constants_=rig_constants(rig()))
+    rows = damping_curve(np.linspace(0.0, 4.0, 41), np.zeros(41), est, rig())
+    assert [r["amplitude"] for r in rows] == pytest.approx([0.9, 0.72], rel=1e-12)
+
+
+def test_equivalent_damping_error_is_the_delta_method_by_finite_differences() -> None:
+    # B_e(a) = (S/ω²)(b + (8/3π) ω a g + ¾ ω² a² d) with every parameter of (ω², b, g, d) set:
+    # with unit variances one at a time, the standard error is |∂B_e/∂p|, here by central differences
+    from types import SimpleNamespace
+
+    from hydrokit.identify.damping import equivalent_damping
+
+    c = rig_constants(rig())
+    p = np.array([0.4, 0.03, 0.8, 2.5])  # ω² 1/s², b 1/s, g, d (normalised)
+    a = 0.15
+
+    def value(q: np.ndarray) -> float:
+        w = math.sqrt(q[0])
+        return c.S / q[0] * (q[1] + 8 / (3 * math.pi) * w * a * q[2] + 0.75 * q[0] * a * a * q[3])
+
+    for k in range(4):
+        cov = np.zeros((4, 4))
+        cov[k, k] = 1.0
+        est = SimpleNamespace(constants_=c, p_=tuple(p[:3]), ext_=np.r_[p, 0.0, 0.0], pcov4_=cov, pcov4_formal_=None)
+        (row,) = equivalent_damping(est, rig(), [a])
+        h = np.zeros(4)
+        h[k] = 1e-6 * p[k]
+        assert row["value"] == pytest.approx(value(p), rel=1e-12)
+        assert row["std_error"] == pytest.approx(abs(value(p + h) - value(p - h)) / (2 * h[k]), rel=1e-6), k

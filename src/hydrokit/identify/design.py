@@ -30,13 +30,13 @@ def cramer_rao(
     amplitude: float,
     duration: float,
     sensor: SensorModel,
-) -> dict[str, float]:
+) -> dict[str, Any]:
     """Cramér–Rao standard deviations of (m_a, K_L, K_Q) for one launch.
 
     Parameters are those of :func:`hydrokit.identify.virtual_rig.simulate_launch`.
     Returns a dict of standard deviations in the reported units (kg, N·s/m, N·s²/m² or the
-    rotational ones), and the damping-force standard deviation at the peak speed
-    (``damping_force_rel``: relative).
+    rotational ones), their ``covariance`` (3 × 3, the same units), and the damping-force
+    standard deviation at the peak speed (``damping_force_rel``: relative).
     """
     var = sensor.noise_std**2 + sensor.resolution**2 / 12.0
     if var <= 0:
@@ -57,7 +57,8 @@ def cramer_rao(
     u = float(np.max(np.abs(v))) * c.speed_factor
     grad = np.array([0.0, u, u * u])  # ∂(K_L u + K_Q u²)/∂(m_a, K_L, K_Q)
     f = linear_damping * u + quadratic_damping * u * u
-    out = {k: float(s) for k, s in zip(COEFFS, sd)}
+    out: dict[str, Any] = {k: float(s) for k, s in zip(COEFFS, sd)}
+    out["covariance"] = cov_r.tolist()  # of (m_a, K_L, K_Q), reported units
     out["damping_force_rel"] = float(math.sqrt(grad @ cov_r @ grad) / abs(f)) if f else float("nan")
     out["speed_max"] = u
     return out
