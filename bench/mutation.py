@@ -130,6 +130,19 @@ EQUIVALENT: dict[tuple[str, str, str], str] = {
         "for even n the cap becomes n − 2 instead of n − 1, and the next line makes an even window odd "
         "by adding one: n − 1 either way"
     ),
+    ("identify/estimators.py", "shift = float(coef[-1]) / float(coef[0]) if coef[0] != 0 else 0.0", "0.0 -> 1.0"): (
+        "the else branch needs a fitted ω² of exactly 0.0 (probability 0 with any noise)"
+    ),
+    (
+        "identify/estimators.py",
+        "slow = acf is not None and acf >= 0.3 and acf_half is not None and acf_half > acf - 0.5",
+        ">= -> >",
+    ): ("differs only for an autocorrelation of exactly 0.3 to the last bit (probability 0): the verdict's edge"),
+    ("identify/split.py", "if stop - b < MIN_SAMPLES or (out and a <= out[-1].end):", "- -> +"): (
+        "a shortcut: a motion of fewer than MIN_SAMPLES = 20 samples after the hold is refused a few lines on "
+        "by trim_launch or check_record (too few samples after trimming, or not two cycles of decay in them), "
+        "whose InputError the loop catches and skips just the same"
+    ),
     ("identify/result.py", 'ci_txt = f" [{ci[0]:.4g}, {ci[1]:.4g}]" if ci[0] is not None else ""', "0 -> 1"): (
         "a summary's interval is (None, None) or two numbers: ci[1] is None exactly when ci[0] is"
     ),

@@ -297,3 +297,16 @@ def test_unevenly_sampled_launches_are_resampled_over_the_whole_record() -> None
     b = fit_air_tare([jittered], MASS, G)[0].effective_length
     assert b == pytest.approx(a, rel=2e-3)
     assert b == pytest.approx(R, rel=5e-3)
+
+
+def test_effective_length_scales_with_the_gravity_given() -> None:
+    # r = g/ω²: the same swing read with g = 0.5 m/s² (any g > 0 is a valid input) gives a
+    # length 0.5/9.81 of the one read with g = 9.81, the friction terms unchanged
+    rng = np.random.default_rng(12)
+    launch = in_air(R, 0.004, 0.01, math.radians(20), 50.0, 1e-4, rng)
+    earth, fit_e = fit_air_tare([launch], MASS, G)
+    low, fit_l = fit_air_tare([launch], MASS, 0.5)
+    assert low.effective_length == pytest.approx(earth.effective_length * 0.5 / G, rel=1e-9)
+    assert fit_l["beta"] == pytest.approx(fit_e["beta"], rel=1e-9)
+    with pytest.raises(InputError, match=r"gravity = 0"):
+        fit_air_tare([launch], MASS, 0.0)

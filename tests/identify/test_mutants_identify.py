@@ -426,3 +426,12 @@ def test_slow_rigs_start_the_output_error_fit_from_the_other_methods_too():
     facts = check_record(launch)
     starts = est._starts(launch.t - launch.t[0], launch.y, facts)
     assert len(starts) == 3 and starts[0][0] == pytest.approx(5.0 / 12.0, rel=0.05)
+
+
+def test_adequacy_with_a_period_as_long_as_the_record_has_no_autocorrelation_there():
+    from hydrokit.identify.estimators import adequacy
+
+    r = np.random.default_rng(1).normal(0.0, 1e-3, 400)
+    out = adequacy(r, np.arange(400) * 0.01, 4.0, 1e-3)  # one period = 400 samples: no pairs
+    assert out["acf_at_period"] is None
+    assert out["acf_at_half_period"] == pytest.approx(float(r[:-200] @ r[200:]) / float(r @ r), abs=0.05)

@@ -478,10 +478,10 @@ def check_record(launch: Launch) -> dict[str, float]:
         raise InputError(f"only {cycles:g} cycles; expected at least two cycles of free decay", launch.file)
     # refine the rest value: mean over whole cycles of the second half (the median of the
     # tail is biased when the tail holds a fraction of a cycle)
-    same = [c for c in crossings[::2] if c >= y.size // 2] if len(crossings) >= 3 else []
+    same = [c for c in crossings[::2] if c >= y.size // 2]  # (two cycles: at least 4 crossings)
     if len(same) >= 2:
         eq = float(np.mean(y[same[0] : same[-1]]))
     tc = t[np.asarray(crossings)]
     # full periods between crossings of the same direction: the hysteresis offsets cancel
-    period = float(np.median(tc[2:] - tc[:-2])) if tc.size >= 3 else 2.0 * float(tc[1] - tc[0])
+    period = float(np.median(tc[2:] - tc[:-2]))
     return {"period": period, "cycles": cycles, "offset": eq, "noise": sigma}
