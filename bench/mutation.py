@@ -189,6 +189,18 @@ EQUIVALENT: dict[tuple[str, str, str], str] = {
     ): (
         "differs only when the projection on the leg lands on its end to the last bit (s = 1.0 exactly): probability 0"
     ),
+    (
+        "model/allocation.py",
+        "self.thrust_scale = max(float(np.max(np.abs(np.concatenate([lo, hi])))), 1.0)",
+        "1.0 -> 2.0",
+    ): (
+        "only sets the slack (1e-8 × scale) of the check that stage 2 kept stage 1's residual, which it does by "
+        "construction (the fallback is the defensive 'pragma: no cover' branch): a slack of 1e-8 or 2e-8 N "
+        "picks stage 2 all the same"
+    ),
+    ("model/thrusters.py", "if norm < 1e-12:", "< -> <="): (
+        "differs only for a direction whose length is exactly 1e-12 to the last bit"
+    ),
     ("estimate/mesh.py", "if _STL_HEADER + _STL_RECORD * count > size:", "> -> >="): (
         "equality was read as binary and returned a few lines above: here 84 + 50·count ≠ size"
     ),
