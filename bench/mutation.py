@@ -201,6 +201,19 @@ EQUIVALENT: dict[tuple[str, str, str], str] = {
     ("model/thrusters.py", "if norm < 1e-12:", "< -> <="): (
         "differs only for a direction whose length is exactly 1e-12 to the last bit"
     ),
+    (
+        "estimate/composite.py",
+        "DQ_out = np.diag(np.asarray(shifted, float) + _shifted_diagonal(_own_elements(parts), slice(6, 9))).copy()",
+        "9 -> 10",
+    ): ("the packed drag table has PACKED_WIDTH = 9 columns: numpy clips slice(6, 10) to 6:9"),
+    (
+        "estimate/shapes.py",
+        "CYL_TRANSVERSE_CA = ((1.2, 0.62), (2.5, 0.78), (5.0, 0.90), (9.0, 0.96), (1e9, 1.0))",
+        "1000000000.0 -> 1000000001.0",
+    ): (
+        "the table's last knot stands for an infinitely long cylinder: between L/D = 9 and 1e9 the "
+        "interpolated C_a moves by 4e-11 of itself per unit of that knot, below any cylinder's precision"
+    ),
     ("estimate/mesh.py", "if _STL_HEADER + _STL_RECORD * count > size:", "> -> >="): (
         "equality was read as binary and returned a few lines above: here 84 + 50·count ≠ size"
     ),

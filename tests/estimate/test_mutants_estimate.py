@@ -144,7 +144,7 @@ def test_obj_quads_with_relative_indices_read_as_the_closed_unit_cube(tmp_path):
     # fanned into two triangles. Closed form: volume 1, 12 triangles, no open edge.
     from hydrokit.estimate.mesh import check_mesh, read_mesh
 
-    lines = [f"v {x} {y} {z}" for x, y, z in CUBE_V]
+    lines = ["# a unit cube", "", *(f"v {x} {y} {z}" for x, y, z in CUBE_V), "vt 0 0", "vn 0 0 1"]
     for k, q in enumerate(CUBE_Q):
         # alternate absolute ("i/vt/vn") and relative indices
         idx = [f"{i + 1}/1/1" for i in q] if k % 2 == 0 else [str(i - len(CUBE_V)) for i in q]
@@ -314,6 +314,7 @@ def test_flat_plate_drag_runs_from_the_square_to_the_strip_and_only_normal():
 
     square = flat_plate(1.0, 1.0)
     assert square.drag_coefficient.tolist() == [1.17, 0.0, 0.0]  # Hoerner's square plate; in-plane none
+    assert flat_plate(2.0, 0.5).reference_area.tolist() == [1.0, 0.0, 0.0]  # the face, normal to x only
     assert flat_plate(2.0, 1.0).drag_coefficient[0] == pytest.approx(1.17 + 0.83 * 0.5)
     assert flat_plate(1000.0, 1.0).drag_coefficient[0] == pytest.approx(2.0, abs=1e-3)  # 2-D strip
 
@@ -327,6 +328,10 @@ def test_thin_block_is_the_plate_of_its_other_two_sides():
     thin = block(0.01, 1.0, 2.0, density=1000.0)
     plate = flat_plate(2.0, 1.0, density=1000.0)
     assert thin.added_mass[0, 0] == pytest.approx(plate.added_mass[0, 0], rel=1e-12)
+    # a 0.5 m × 2 m plate (b/a = 4: C_a = 0.872): ρ C_a π a² b / 4
+    narrow = block(0.01, 0.5, 2.0, density=1000.0).added_mass[0, 0]
+    assert narrow == pytest.approx(flat_plate(2.0, 0.5, density=1000.0).added_mass[0, 0], rel=1e-12)
+    assert narrow == pytest.approx(1000.0 * 0.872 * math.pi * 0.25 * 2.0 / 4, rel=1e-3)
     assert thin.added_mass[0, 0] == pytest.approx(
         1000.0 * 0.757 * math.pi * 1.0 * 2.0 / 4, rel=1e-3
     )  # Table A-2: C_a(2) = 0.757
@@ -379,3 +384,72 @@ def test_a_composite_of_parts_without_volume_has_its_buoyancy_centre_at_the_orig
     c = combine(parts)
     assert np.asarray(c.r_b).tolist() == [0.0, 0.0, 0.0]
     assert np.asarray(c.r_g) == pytest.approx([0.0, 1.0, 0.0])
+
+
+@pytest.mark.parametrize(
+    ("ratio", "ca"),
+    [(1.0, 0.68), (2.0, 0.36), (3.0, 0.24), (4.0, 0.19), (5.0, 0.15), (6.0, 0.13), (7.0, 0.11), (10.0, 0.08)],
+)
+def test_block_added_mass_is_dnv_table_a2_square_prisms(ratio, ca):
+    # DNV-RP-H103 (2010) Table A-2, square prism moving along its length b (side a): C_A with
+    # V_R = a² b, as transcribed in shapes.BLOCK_CA (the same numbers as quoted from memory of the
+    # printed table; not yet checked against the page). A non-square section too: a = √(w h)
+    from hydrokit.estimate.shapes import block
+
+    assert block(ratio, 1.0, 1.0, density=1000.0).added_mass[0, 0] == pytest.approx(1000.0 * ca * ratio, rel=1e-12)
+    w, h = 0.5, 2.0  # √(w h) = 1: the same table entry
+    assert block(ratio, w, h, density=1000.0).added_mass[0, 0] == pytest.approx(1000.0 * ca * ratio, rel=1e-12)
+
+
+def test_short_cylinder_axial_added_mass_is_lambs_spheroid():
+    # along its axis a cylinder of L/D = 1.5 takes the k1 of the spheroid with the same ratio
+    # (Lamb's coefficient, SPEC §8), V_R = the cylinder's volume; a disc-like one (L/D ≤ 1) takes 0.5
+    from hydrokit.estimate.shapes import lamb_coefficients
+
+    c = cylinder(1.5, 1.0, density=1000.0)
+    k1 = lamb_coefficients(0.75, 0.5)[0]
+    assert c.added_mass[0, 0] == pytest.approx(1000.0 * k1 * math.pi / 4 * 1.5, rel=1e-12)
+    assert 0.2 < k1 < 0.5
+
+
+def test_parser_words_are_kept_unless_meshio_says_nothing():
+    from hydrokit.estimate.mesh import _why
+
+    assert _why(ValueError("bad facet"), "STL") == "ValueError: bad facet"
+    assert _why(ValueError(""), "STL") == "ValueError"
+    assert _why(ValueError("x\n  y"), "OBJ") == "ValueError: x y"
+
+
+def test_estimate_results_are_immutable():
+    import dataclasses
+
+    from hydrokit.estimate.composite import Composite
+    from hydrokit.estimate.geometry import Estimate
+
+    for cls in (Composite, Estimate):
+        assert dataclasses.fields(cls)  # a dataclass
+        assert cls.__dataclass_params__.frozen, cls  # type: ignore[attr-defined]
+
+
+def test_rotated_drag_warning_only_for_parts_with_drag():
+    # a part with per-axis drag turned by 30°: |R| turns it only approximately, and that is said;
+    # a part without drag turned the same way has nothing to approximate
+    from hydrokit.estimate.composite import Part, combine, rotation_from_degrees
+
+    R = rotation_from_degrees(yaw=30.0)
+    dragged = Part("fin", 1.0, 0.001, np.eye(3), np.zeros((6, 6)), quadratic_damping=np.diag([5.0] * 6), rotation=R)
+    bare = Part("box", 1.0, 0.001, np.eye(3), np.zeros((6, 6)), rotation=R)
+    warned = [w for w in combine([dragged, bare]).warnings if "not a multiple of 90°" in w]
+    assert len(warned) == 1 and warned[0].startswith("part fin:")
+
+
+def test_a_closed_mesh_enclosing_no_volume_is_named():
+    # a tetrahedron squashed flat (all four vertices in z = 0): every edge shared by two faces,
+    # volume exactly 0 (neither outward nor inward)
+    from hydrokit.estimate.mesh import SurfaceMesh, check_mesh
+
+    v = np.array([[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.3, 0.3, 0.0]])
+    f = np.array([[0, 2, 1], [0, 1, 3], [1, 2, 3], [0, 3, 2]])
+    with pytest.raises(InputError) as err:
+        check_mesh(SurfaceMesh(v, f, "sheet.obj"))
+    assert str(err.value) == "sheet.obj: the mesh encloses no volume"

@@ -377,3 +377,19 @@ def test_a_thruster_is_immutable():
     )
     with pytest.raises(dataclasses.FrozenInstanceError):
         th.max_thrust = 20.0  # type: ignore[misc]
+
+
+def test_pid_integral_is_bounded_for_a_small_integral_gain():
+    # the integral never needs more than max|output| / ki: with ki = 0.5 1/s and ±10 N that is
+    # 20 (error unit·s), whatever the integral gain's size (a gain below 1 included)
+    from hydrokit.model.control import PID
+
+    pid = PID(kp=0.0, ki=0.5, output_min=-10.0, output_max=10.0)
+    state = pid.initial_state()
+    for _ in range(400):  # measurement 1 below the setpoint for 40 s: ∫e dt would reach 40
+        out, state = pid.update(state, 0.0, 1.0, 0.1)
+    assert out == 10.0
+    assert abs(state.integral) == pytest.approx(20.0)
+    # and it comes off the limit as soon as the error changes sign (no wind-up to unwind)
+    out, _ = pid.update(state, 2.0, 1.0, 0.1)
+    assert out < 10.0

@@ -261,13 +261,16 @@ def _read_stl_ascii(path: Path, data: bytes, named: Path | None = None) -> Any:
 
 
 _RELATIVE_FACE = re.compile(r"(?m)^[ \t]*f[ \t][^\n]*?-")
+# texture coordinates, normals, parameter-space vertices: a hull needs none, and meshio refuses
+# an OBJ whose vt or vn count differs from its vertex count (as Blender exports write them)
+_VERTEX_DATA = re.compile(r"(?m)^[ \t]*v[tnp][ \t][^\n]*$")
 
 
 def _read_obj(p: Path) -> Any:
     """meshio's OBJ reader on the file's text (UTF-8; undecodable bytes replaced)."""
     import meshio
 
-    text = _bounded_bytes(p).decode("utf-8", "replace")
+    text = _VERTEX_DATA.sub("", _bounded_bytes(p).decode("utf-8", "replace"))
     if _RELATIVE_FACE.search(text):
         text = _absolute_obj_indices(text)
     return meshio.obj.read(io.StringIO(text, newline=None))

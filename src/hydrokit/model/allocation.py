@@ -354,17 +354,15 @@ def _polish(
     f: Array,
     lo: Array,
     hi: Array,
-    tol: Array | None = None,
+    tol: Array,
     pinvs: dict[bytes, Array] | None = None,
 ) -> Array:
     """Remove the penalty's small bias: keep the thrusters found at a limit, give the others
     the exact minimum-norm solution of T f = target (the KKT point for that active set).
     The polished point is used only if it stays within the limits.
 
-    ``tol`` is the limit tolerance (computed from lo, hi when None); ``pinvs`` caches the
-    pseudo-inverse of T's free columns per active set (for repeated calls with one T)."""
-    if tol is None:
-        tol = 1e-7 * np.maximum(np.maximum(np.abs(lo), np.abs(hi)), 1.0)
+    ``tol`` is the limit tolerance (N, per thruster); ``pinvs`` caches the pseudo-inverse of
+    T's free columns per active set (for repeated calls with one T)."""
     active = (f <= lo + tol) | (f >= hi - tol)
     if np.all(active):
         return f

@@ -384,7 +384,7 @@ class PropellerCurve(ThrustCurve):
         # thrust − f changes sign (thrust(0) = 0 and grows with n in both senses);
         # converges superlinearly and never leaves the bracket.
         side = 0
-        n = 0.5 * (lo + hi)
+        n = lo  # (set by the first step: the loop runs at least once)
         for it in range(_BISECTION_STEPS):
             # after 20 false-position steps (flat stretches of the clamped curve slow it
             # down) plain bisection guarantees the bracket halves every step
@@ -492,7 +492,7 @@ class PropellerCurve(ThrustCurve):
         tol_g = 1e-12 * abs(f)
         tol_n = 1e-12 * n_max
         side = 0
-        n = 0.5 * (lo + hi)
+        n = lo  # (set by the first step: the loop runs at least once)
         for it in range(_BISECTION_STEPS):
             n = (lo * g_hi - hi * g_lo) / (g_hi - g_lo) if it < 20 else 0.5 * (lo + hi)
             if n == 0.0:
