@@ -304,11 +304,16 @@ def test_damping_curve_takes_the_rest_value_from_three_extremes(monkeypatch: pyt
     import hydrokit.identify.estimators as estimators
     from hydrokit.identify.damping import damping_curve
 
-    c = 0.01
-    monkeypatch.setattr(estimators, "_peaks", lambda t, z, band: [(1.0, c + 1.0), (2.0, c - 0.8), (3.0, c + 0.64)])
     est = SimpleNamespace(offset_=0.0, noise_=0.0, constants_=rig_constants(rig()))
-    rows = damping_curve(np.linspace(0.0, 4.0, 41), np.zeros(41), est, rig())
-    assert [r["amplitude"] for r in rows] == pytest.approx([0.9, 0.72], rel=1e-12)
+    rows = {}
+    for c in (0.0, 0.01):
+        peaks = [(1.0, c + 1.0), (2.0, c - 0.8), (3.0, c + 0.64)]
+        monkeypatch.setattr(estimators, "_peaks", lambda t, z, band, peaks=peaks: peaks)
+        rows[c] = damping_curve(np.linspace(0.0, 4.0, 41), np.zeros(41), est, rig())
+    assert [r["amplitude"] for r in rows[0.01]] == pytest.approx([0.9, 0.72], rel=1e-12)
+    # the energy lost per half cycle depends on each extreme, not only their mean: the same
+    # values as about zero (unshifted, 1.01 and 0.79 would lose more energy than 1 and 0.8)
+    assert [r["value"] for r in rows[0.01]] == pytest.approx([r["value"] for r in rows[0.0]], rel=1e-9)
 
 
 def test_equivalent_damping_error_is_the_delta_method_by_finite_differences() -> None:

@@ -357,7 +357,7 @@ def test_a_thrust_curve_without_bollard_thrust_is_refused():
     from hydrokit.model.thrusters import PropellerCurve
 
     with pytest.raises(InputError, match=r"K_T\(0\) must be positive for both rotation senses"):
-        PropellerCurve(diameter=0.12, kt_forward=(-0.1, -0.2, 0.0), max_speed=40.0)
+        PropellerCurve(diameter=0.12, kt_forward=(-0.1, -0.2, 0.0), kt_reverse=(-0.3, 0.4), max_speed=40.0)
     with pytest.raises(InputError, match=r"K_T\(0\) must be positive for both rotation senses"):
         PropellerCurve(diameter=0.12, kt_forward=(-0.2, 0.4), kt_reverse=(-0.3, 0.0), max_speed=40.0)
 
