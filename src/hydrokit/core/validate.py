@@ -172,6 +172,23 @@ def increasing(values: np.ndarray, column: str, unit: str, source: str = "") -> 
     )
 
 
+def record(t: Any, y: Any, signal: str, unit: str, source: str = "") -> tuple[np.ndarray, np.ndarray]:
+    """A recorded time series (t in s, y in ``unit``) as float arrays, or one line naming the fault.
+
+    The one check of a record handed over from Python (files are checked row by row by their
+    readers): equal 1-D shapes (the message calls y the ``signal``), finite samples
+    (:func:`finite_samples`), strictly increasing time (:func:`increasing`).
+    """
+    t = np.asarray(t, float)
+    y = np.asarray(y, float)
+    if t.shape != y.shape or t.ndim != 1:
+        raise InputError(f"time and {signal} must be 1-D of equal length, got {t.shape} and {y.shape}", source)
+    finite_samples(t, "t", "s", source)
+    finite_samples(y, "y", unit, source)
+    increasing(t, "t", "s", source)
+    return t, y
+
+
 def mapping(value: Any, field: str, source: str = "") -> dict:
     """A mapping (YAML block of ``key: value`` lines) from a file field.
 

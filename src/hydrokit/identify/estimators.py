@@ -31,7 +31,7 @@ from typing import Any
 
 import numpy as np
 
-from hydrokit.core.validate import finite_samples, increasing
+from hydrokit.core.validate import record
 from hydrokit.errors import InputError
 from hydrokit.identify.preprocess import check_record
 from hydrokit.identify.rig_model import RigConstants, rig_constants, simulate_extended, simulate_normalised
@@ -180,13 +180,7 @@ class _DecayEstimator:
 
     def fit(self, t: Any, y: Any, file: str = "") -> _DecayEstimator:
         """Fit the launch (t in s from the release, y in m or rad). Returns self."""
-        t = np.asarray(t, float)
-        y = np.asarray(y, float)
-        if t.shape != y.shape or t.ndim != 1:
-            raise InputError(f"time and signal must be 1-D of equal length, got {t.shape} and {y.shape}", file)
-        finite_samples(t, "t", "s", file)
-        finite_samples(y, "y", "m or rad", file)
-        increasing(t, "t", "s", file)
+        t, y = record(t, y, "signal", "m or rad", file)
         self.constants_: RigConstants = rig_constants(self.rig)
         facts = check_record(Launch(t=t, y=y, file=file))
         self.period_ = facts["period"]

@@ -17,7 +17,7 @@ from typing import Any
 
 import numpy as np
 
-from hydrokit.core.validate import finite_samples, increasing
+from hydrokit.core.validate import record
 from hydrokit.errors import InputError
 from hydrokit.identify.types import Launch
 
@@ -351,13 +351,9 @@ def trim_launch(
     notes = list(launch.notes)
     if detrend not in DETRENDS:
         raise InputError(f"--detrend {detrend!r}: expected one of {', '.join(DETRENDS)}", launch.file)
-    if t.shape != y.shape or t.ndim != 1:
-        raise InputError(f"time and signal must be 1-D of equal length, got {t.shape} and {y.shape}", launch.file)
+    t, y = record(t, y, "signal", "m or rad", launch.file)
     if t.size < MIN_SAMPLES:
         raise InputError(f"only {t.size} samples; expected at least {MIN_SAMPLES}", launch.file)
-    finite_samples(t, "t", "s", launch.file)
-    finite_samples(y, "y", "m or rad", launch.file)
-    increasing(t, "t", "s", launch.file)
     sigma = noise_floor(y)
     if release is None:
         try:

@@ -20,7 +20,7 @@ from typing import Any
 import numpy as np
 
 from hydrokit.core.constants import GRAVITY
-from hydrokit.core.validate import finite_samples, increasing
+from hydrokit.core.validate import record
 from hydrokit.errors import InputError
 from hydrokit.identify.types import Launch, Rig
 
@@ -140,13 +140,7 @@ def _smooth(launch: Launch, window: int | None, polyorder: int) -> _Smoothed:
     from hydrokit.identify.estimators import _savgol_window
     from hydrokit.identify.preprocess import check_record
 
-    t = np.asarray(launch.t, float)
-    y = np.asarray(launch.y, float)
-    if t.shape != y.shape or t.ndim != 1:
-        raise InputError(f"time and angle must be 1-D of equal length, got {t.shape} and {y.shape}", launch.file)
-    finite_samples(t, "t", "s", launch.file)
-    finite_samples(y, "y", "rad", launch.file)
-    increasing(t, "t", "s", launch.file)
+    t, y = record(launch.t, launch.y, "angle", "rad", launch.file)
     facts = check_record(launch)  # too few samples, no oscillation, growing: InputError naming the file
     # the mean step, not the median: launch files round the time (0.1 ms), which at 30 fps puts
     # the median step 0.1 % off and α, through Δt², 0.2 % off
