@@ -453,3 +453,24 @@ def test_a_closed_mesh_enclosing_no_volume_is_named():
     with pytest.raises(InputError) as err:
         check_mesh(SurfaceMesh(v, f, "sheet.obj"))
     assert str(err.value) == "sheet.obj: the mesh encloses no volume"
+
+
+def test_a_millimetre_scale_part_keeps_its_inertia_in_the_written_vehicle(tmp_path):
+    # a 15 mm sphere of 3.7 g (a tank model's float): I = 2/5 m r² = 8.325e-8 kg·m² and
+    # m_a = ½ ρ V (closed forms); the vehicle document must carry them to 1e-9 of themselves,
+    # which fixed decimals (round(x, 9) → 8.3e-8) would not
+    from hydrokit.estimate.geometry import estimate_geometry
+    from hydrokit.io.geometry import parse_geometry
+
+    d, m, rho = 0.015, 0.0037, 1025.0
+    geo = parse_geometry(
+        {"name": "float", "fluid": {"density": rho}, "parts": [{"shape": "sphere", "diameter": d, "mass": m}]},
+        tmp_path / "float.yaml",
+    )
+    doc = estimate_geometry(geo).to_dict()
+    r = d / 2
+    inertia = np.asarray(doc["inertia"])
+    np.testing.assert_allclose(np.diag(inertia), [0.4 * m * r * r] * 3, rtol=1e-9)
+    volume = 4 / 3 * math.pi * r**3
+    assert doc["volume"] == pytest.approx(volume, rel=1e-9)
+    np.testing.assert_allclose(np.diag(np.asarray(doc["added_mass"]))[:3], [0.5 * rho * volume] * 3, rtol=1e-9)

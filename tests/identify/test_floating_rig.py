@@ -436,3 +436,40 @@ def test_extended_fit_formal_covariance_is_curve_fits() -> None:
     np.testing.assert_allclose(est.pcov4_formal_, pcov[:4, :4], rtol=1e-3, atol=1e-3 * np.abs(pcov[:4, :4]).max())
     # the stated (cycle-jackknife) covariance keeps d's own variance, never below the formal one
     assert est.pcov4_[3, 3] >= est.pcov4_formal_[3, 3] > 0
+
+
+def test_equivalent_damping_on_a_disturbed_record_keeps_the_cubic_terms_jackknife_variance() -> None:
+    # a 0.2° disturbance at 0.37 Hz that no damping law models: the residual is not the sensor's
+    # noise, so the stated covariance is the cycle jackknife, which is never below the formal one
+    # (estimators.py). B_e(a) = A(b + K2 ω a g + K3 ω² a² d) then carries d's jackknife variance:
+    # at 0.25 rad the K3 a² term dominates, and a covariance that dropped d's row would fall
+    # under the formal error
+    from hydrokit.identify.damping import equivalent_damping
+    from hydrokit.identify.types import Launch
+
+    rig = rig_of("pitch", {"gm": 0.3})
+    L = _extended_launch(rig, {"I_a": 2.0, "B1": 1.0, "B2": 3.0, "B3": 5.0}, math.radians(15), 3, duration=20.0)
+    t = np.asarray(L.t, float)
+    y = np.asarray(L.y, float) + math.radians(0.2) * np.sin(2 * math.pi * 0.37 * t)
+    _, est = identify_launch(rig, Launch(t, y, "disturbed"), damping_model="cubic", return_estimator=True)
+    assert not est.adequacy_["verdict"].startswith("adequate")
+    np.testing.assert_array_equal(est.pcov4_[:3, :3], est.pcov_)
+    # second method: the gradient of B_e over (ω², b, g, d) by central differences, over the
+    # jackknife 6×6 covariance the derived coefficients (B3, C3, C5) are stated with
+    jackknife = est._derived_[1][:4, :4]
+    S = est.constants_.S
+
+    def b_e(p: np.ndarray, a: float) -> float:
+        w2, b, g, d = p
+        return S / w2 * (b + 8 / (3 * math.pi) * math.sqrt(w2) * a * g + 0.75 * w2 * a * a * d)
+
+    p0 = np.asarray(est.ext_[:4], float)
+    for entry in equivalent_damping(est, rig, [0.1, 0.25]):
+        a = entry["amplitude"]
+        grad = np.zeros(4)
+        for i in range(4):
+            h = np.zeros(4)
+            h[i] = 1e-6 * max(abs(p0[i]), 1e-3)
+            grad[i] = (b_e(p0 + h, a) - b_e(p0 - h, a)) / (2 * h[i])
+        assert entry["std_error"] == pytest.approx(math.sqrt(grad @ jackknife @ grad), rel=1e-5)
+        assert entry["std_error"] >= entry["std_error_formal"] > 0, entry

@@ -124,6 +124,35 @@ def vector(value: Any, n: int, field: str, source: str = "") -> np.ndarray:
     return np.array([number(v, f"{field}[{i}]", source) for i, v in enumerate(value)], dtype=float)
 
 
+def matrix(value: Any, n: int, field: str, source: str = "", allow_diag: bool = True) -> np.ndarray:
+    """An n×n matrix from a file field: an n×n nested list, or (``allow_diag``) n numbers for
+    its diagonal. Entries must be finite numbers (in the field's own unit).
+
+    Raises
+    ------
+    InputError
+        Not a list, the wrong shape (rows and their lengths are named), or a bad entry
+        ``field[i][j]`` / ``field[i]``.
+    """
+    if not isinstance(value, list):
+        raise InputError(
+            f"field '{cut(field)}' = {cut_repr(value)}: expected a list of {n} numbers or an {n}x{n} matrix", source
+        )
+    if value and all(isinstance(r, list) for r in value):
+        if len(value) != n or any(len(r) != n for r in value):
+            raise InputError(
+                f"field '{cut(field)}': expected an {n}x{n} matrix, got {len(value)} rows of lengths "
+                f"{cut(str([len(r) for r in value]))}",
+                source,
+            )
+        return np.array(
+            [[number(x, f"{field}[{i}][{j}]", source) for j, x in enumerate(r)] for i, r in enumerate(value)]
+        )
+    if len(value) != n or not allow_diag:
+        raise InputError(f"field '{cut(field)}' has {len(value)} values; expected {n} (or an {n}x{n} matrix)", source)
+    return np.diag([number(x, f"{field}[{i}]", source) for i, x in enumerate(value)])
+
+
 def finite_samples(values: np.ndarray, column: str, unit: str, source: str = "") -> None:
     """Refuse a recorded column holding NaN or ±∞, naming the first bad sample.
 

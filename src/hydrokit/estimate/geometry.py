@@ -96,20 +96,33 @@ def mesh_part(
     gravity: float,
     buoyancy: float | None = None,
     inertia: np.ndarray | None = None,
+    center_of_gravity: np.ndarray | None = None,
     dims: dict[str, float] | None = None,
     resolution: int = 48,
 ) -> GeometryPart:
-    """A part given by a closed surface mesh (m); its added mass comes from the BEM solver.
+    """A part given by a closed surface mesh (m, part axes); its added mass comes from the BEM
+    solver, its centre of buoyancy is the enclosed volume's centroid.
 
-    ``buoyancy`` (N) overrides the mesh volume; ``inertia`` (kg·m², 3 values or 3×3) defaults
-    to a negligible tensor when the mesh part is, say, a thin shell.
+    ``buoyancy`` (N) overrides the mesh volume. Without ``inertia`` (kg·m², 3×3 about the CG) and
+    ``center_of_gravity`` (m, part axes) the part is a uniform solid filling the mesh
+    (:meth:`~hydrokit.estimate.mesh.SurfaceMesh.solid_inertia`); give both for a shell or a
+    ballasted hull.
     """
     vol = abs(mesh.volume()) if buoyancy is None else buoyancy / (density * gravity)
-    I = np.eye(3) * 1e-6 if inertia is None else np.asarray(inertia, float)
+    centroid, solid = mesh.solid_inertia(mass)
     part = Part(
-        name, mass, vol, I if I.shape == (3, 3) else np.diag(I), np.zeros((6, 6)), position=position, rotation=rotation
+        name,
+        mass,
+        vol,
+        solid if inertia is None else np.asarray(inertia, float),
+        np.zeros((6, 6)),
+        r_g=centroid if center_of_gravity is None else np.asarray(center_of_gravity, float),
+        r_b=centroid,
+        position=position,
+        rotation=rotation,
     )
-    return GeometryPart(part, {"added_mass": "BEM (mesh)"}, None, dims or {}, mesh, True, resolution)
+    sources = {"added_mass": "BEM (mesh)", "inertia": "given" if inertia is not None else "uniform solid (mesh)"}
+    return GeometryPart(part, sources, None, dims or {}, mesh, True, resolution)
 
 
 def shape_part(
@@ -127,6 +140,8 @@ def shape_part(
     drag_coefficient: float | None = None,
     axial_model: str = "spheroid",
     buoyancy: float | None = None,
+    inertia: np.ndarray | None = None,
+    center_of_gravity: np.ndarray | None = None,
     bem: bool = True,
     resolution: int = 48,
     where: str = "",
@@ -146,6 +161,8 @@ def shape_part(
     drag_coefficient : float, optional — overrides the table C_D (axial C_D for spheroid and cylinder)
     axial_model : str — cylinder axial added mass: "spheroid" (Lamb) or "rehman" (REHMAN's 2/π)
     buoyancy : float, optional — N, overrides ρ g × shape volume
+    inertia : (3, 3), optional — kg·m² about the CG, part axes; overrides the uniform solid's
+    center_of_gravity : (3,), optional — m, part axes; default the shape's centre (its CB)
     bem, resolution : eligibility for the BEM solver and its panel count
     where, source : the file field and file, for error messages
 
@@ -183,15 +200,17 @@ def shape_part(
         name,
         mass,
         vol,
-        solid_inertia(shape, mass, dims),
+        solid_inertia(shape, mass, dims) if inertia is None else np.asarray(inertia, float),
         sc.added_mass,
         np.zeros((6, 6)),
         np.diag(sc.quadratic_damping(density)),
+        r_g=np.zeros(3) if center_of_gravity is None else np.asarray(center_of_gravity, float),
         position=position,
         rotation=rotation,
         source=shape,
     )
-    return GeometryPart(part, dict(sc.sources), shape, dims, None, bem, resolution)
+    sources = dict(sc.sources) if inertia is None else {**sc.sources, "inertia": "given"}
+    return GeometryPart(part, sources, shape, dims, None, bem, resolution)
 
 
 @dataclass(frozen=True)
@@ -256,9 +275,9 @@ class Estimate(Result):
             ("parts", len(self.geometry.parts)),
             ("mass (kg)", c.mass),
             ("volume (m³)", c.volume),
-            ("added mass diagonal", [round(float(x), 4) for x in np.diag(c.added_mass)]),
+            ("added mass diagonal", [float(x) for x in np.diag(c.added_mass)]),
             ("quadratic damping model", c.quadratic_damping_model),
-            ("quadratic damping, single axis", [round(float(x), 4) for x in c.quadratic_damping_single_axis]),
+            ("quadratic damping, single axis", [float(x) for x in c.quadratic_damping_single_axis]),
             ("drag elements", len(c.drag_element_names)),
             ("BEM", self.bem),
         ]
@@ -335,14 +354,16 @@ def vehicle_fragment(geo: Geometry, comp: Any) -> dict[str, Any]:
     N·s/m, N·s²/m², body axes from the body origin). The model is named in ``sources``, and the
     composite's warnings go to ``warnings`` (both fields the vehicle reader keeps).
     """
-    r = lambda a: np.round(np.asarray(a, float), 9).tolist()  # noqa: E731
+    # 12 significant digits: drops the sums' round-off (stable files across BLAS builds) without
+    # flattening a millimetre-scale part's inertia (1e-10 kg·m²) as fixed decimals would
+    r = lambda a: np.vectorize(lambda v: float(f"{v:.12g}"), otypes=[float])(np.asarray(a, float)).tolist()  # noqa: E731
     model = getattr(comp, "quadratic_damping_model", "shifted")
     out: dict[str, Any] = {
         "name": geo.name,
         "gravity": geo.gravity,
         "fluid": {"density": geo.density},
-        "mass": round(float(comp.mass), 9),
-        "volume": round(float(comp.volume), 9),
+        "mass": r(comp.mass),
+        "volume": r(comp.volume),
         "inertia": r(comp.inertia_cg),
         "center_of_gravity": r(comp.r_g),
         "center_of_buoyancy": r(comp.r_b),

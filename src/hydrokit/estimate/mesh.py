@@ -72,6 +72,26 @@ class SurfaceMesh:
         v = self.vertices[self.triangles()]
         return float(np.einsum("ij,ij->i", v[:, 0], np.cross(v[:, 1], v[:, 2])).sum() / 6.0)
 
+    def solid_inertia(self, mass: float) -> tuple[np.ndarray, np.ndarray]:
+        """The enclosed body as a uniform solid of ``mass`` (kg): its centroid (3,), m, and its
+        inertia tensor (3, 3) about the centroid, kg·m², in mesh axes.
+
+        Exact for the polyhedron: each face triangle (a, b, c) closes a tetrahedron with the
+        origin of signed volume V = a·(b × c)/6, first moment V(a + b + c)/4 and second moment
+        ∫ x xᵀ dV = V/20 (a aᵀ + b bᵀ + c cᵀ + s sᵀ), s = a + b + c.
+        """
+        v = self.vertices[self.triangles()]
+        a, b, c = v[:, 0], v[:, 1], v[:, 2]
+        vol = np.einsum("ij,ij->i", a, np.cross(b, c)) / 6.0
+        s = a + b + c
+        total = float(vol.sum())
+        centroid = (vol[:, None] * s).sum(axis=0) / (4.0 * total)
+        second = np.einsum("k,ki,kj->ij", vol, a, a) + np.einsum("k,ki,kj->ij", vol, b, b)
+        second += np.einsum("k,ki,kj->ij", vol, c, c) + np.einsum("k,ki,kj->ij", vol, s, s)
+        second = second / 20.0 - total * np.outer(centroid, centroid)  # about the centroid
+        inertia = np.trace(second) * np.eye(3) - second
+        return centroid, inertia * (mass / total)
+
     def digest(self) -> str:
         """SHA-256 of the geometry (cache key)."""
         h = hashlib.sha256()

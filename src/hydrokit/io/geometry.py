@@ -14,13 +14,18 @@ parts:
     position: [0, 0, 0]        # m, part centre in the common frame
     rotation_deg: [0, 0, 0]    # roll, pitch, yaw of the part axes (shape axis = part x)
     drag_coefficient: 0.46     # optional override
+    center_of_gravity: [0, 0, 0.02]   # m, part axes, optional (default: the shape's centre)
+    inertia: [2.1, 2.1, 2.1]   # kg m^2 about the CG, diagonal or 3x3, optional (default: uniform solid)
   - name: minerva-1
     vehicle: minerva           # a vehicle file or bundled name: its mass, inertia, CG, CB, M_A, D
     position: [0, -1.85, 0]
   - name: hull
     mesh: hull.stl             # STL/OBJ (m): added mass by BEM (needs --bem)
-    mass: 12.0
+    mass: 12.0                 # without inertia / center_of_gravity: a uniform solid filling the mesh
 ```
+
+A ``vehicle:`` part takes only name, position and rotation_deg besides the vehicle; any other
+part key there is refused rather than ignored.
 """
 
 from __future__ import annotations
@@ -32,7 +37,7 @@ from typing import Any
 import numpy as np
 
 from hydrokit.core.constants import GRAVITY, SEAWATER_DENSITY
-from hydrokit.core.validate import number, vector
+from hydrokit.core.validate import matrix, number, vector
 from hydrokit.errors import InputError
 from hydrokit.estimate.geometry import Geometry, GeometryPart, mesh_part, shape_part, vehicle_part
 from hydrokit.io.yamlfile import read_yaml
@@ -56,6 +61,10 @@ PART_KEYS = {
     "resolution",
     *DIMENSIONS,
 }
+
+
+#: the keys a ``vehicle:`` part reads (its mass, inertia, shape come from the vehicle file)
+VEHICLE_PART_KEYS = frozenset({"name", "vehicle", "position", "rotation_deg"})
 
 
 def _num(v: Any, where: str, src: str, positive: bool = True) -> float:
@@ -115,6 +124,14 @@ def parse_geometry(data: dict[str, Any], p: Path, extra_part_keys: frozenset[str
         if "vehicle" in raw:
             from hydrokit.io.vehicle import load_vehicle
 
+            ignored = sorted(set(raw) & (PART_KEYS - VEHICLE_PART_KEYS))
+            if ignored:
+                raise InputError(
+                    f"field '{where}.{ignored[0]}': a vehicle part takes its body from the vehicle file; "
+                    "expected only name, vehicle, position, rotation_deg",
+                    src,
+                )
+
             parts.append(vehicle_part(name, load_vehicle(vehicle_ref(raw["vehicle"], p)), pos, R, str(raw["vehicle"])))
             continue
         if "mass" in raw:
@@ -126,12 +143,13 @@ def parse_geometry(data: dict[str, Any], p: Path, extra_part_keys: frozenset[str
         dims = {d: _num(raw[d], f"{where}.{d}", src) for d in DIMENSIONS if d in raw}
         buoyancy = _num(raw["buoyancy"], f"{where}.buoyancy", src) if "buoyancy" in raw else None
         resolution = int(raw.get("resolution", 48))
+        inertia = matrix(raw["inertia"], 3, f"{where}.inertia", src) if "inertia" in raw else None
+        cog = _vec(raw["center_of_gravity"], f"{where}.center_of_gravity", src) if "center_of_gravity" in raw else None
         if "mesh" in raw:
             from hydrokit.estimate.mesh import read_mesh
 
             mpath = Path(raw["mesh"])
             mesh = read_mesh(mpath if mpath.is_absolute() else p.parent / mpath)
-            inertia = np.array(raw["inertia"], float) if "inertia" in raw else None
             parts.append(
                 mesh_part(
                     name,
@@ -143,6 +161,7 @@ def parse_geometry(data: dict[str, Any], p: Path, extra_part_keys: frozenset[str
                     gravity=g,
                     buoyancy=buoyancy,
                     inertia=inertia,
+                    center_of_gravity=cog,
                     dims=dims,
                     resolution=resolution,
                 )
@@ -165,6 +184,8 @@ def parse_geometry(data: dict[str, Any], p: Path, extra_part_keys: frozenset[str
                 drag_coefficient=drag,
                 axial_model=str(raw.get("axial_model", "spheroid")),
                 buoyancy=buoyancy,
+                inertia=inertia,
+                center_of_gravity=cog,
                 bem=bool(raw.get("bem", True)),
                 resolution=resolution,
                 where=where,

@@ -43,7 +43,7 @@ import numpy as np
 
 from hydrokit.core.constants import GRAVITY, SEAWATER_DENSITY
 from hydrokit.core.drag import DragElement
-from hydrokit.core.validate import cut, cut_repr, mapping, number, vector
+from hydrokit.core.validate import cut, cut_repr, mapping, matrix, number, vector
 from hydrokit.errors import InputError
 from hydrokit.io.yamlfile import read_yaml
 from hydrokit.model.terms import TermSet, parse_term
@@ -119,27 +119,6 @@ def _vector(value: Any, n: int, field: str, source: str) -> np.ndarray:
     return vector(value, n, field, source)
 
 
-def _matrix(value: Any, n: int, field: str, source: str, allow_diag: bool = True) -> np.ndarray:
-    """n values (diagonal) or an n×n nested list."""
-    if not isinstance(value, list):
-        raise InputError(
-            f"field '{field}' = {cut_repr(value)}: expected a list of {n} numbers or an {n}x{n} matrix", source
-        )
-    if value and all(isinstance(r, list) for r in value):
-        if len(value) != n or any(len(r) != n for r in value):
-            raise InputError(
-                f"field '{field}': expected an {n}x{n} matrix, got {len(value)} rows of lengths "
-                f"{[len(r) for r in value]}",
-                source,
-            )
-        return np.array(
-            [[_number(x, f"{field}[{i}][{j}]", source) for j, x in enumerate(r)] for i, r in enumerate(value)]
-        )
-    if len(value) != n or not allow_diag:
-        raise InputError(f"field '{field}' has {len(value)} values; expected {n} (or an {n}x{n} matrix)", source)
-    return np.diag([_number(x, f"{field}[{i}]", source) for i, x in enumerate(value)])
-
-
 def _drag_elements(value: Any, source: str) -> list[DragElement]:
     """The ``drag_elements`` list (see module docstring); signs and unique names are checked by
     :func:`hydrokit.model.vehicle.make_vehicle`."""
@@ -206,11 +185,11 @@ def parse_vehicle(data: dict[str, Any], source: str) -> Vehicle:
     rho = _number(fluid["density"], "fluid.density", source, positive=True)
     mass = _number(data["mass"], "mass", source, positive=True)
     volume = _number(data["volume"], "volume", source, positive=True)
-    inertia = _matrix(data["inertia"], 3, "inertia", source)
+    inertia = matrix(data["inertia"], 3, "inertia", source)
     r_g = _vector(data["center_of_gravity"], 3, "center_of_gravity", source)
     r_b = _vector(data["center_of_buoyancy"], 3, "center_of_buoyancy", source)
-    M_A = _matrix(data["added_mass"], 6, "added_mass", source)
-    D_L = _matrix(data["linear_damping"], 6, "linear_damping", source)
+    M_A = matrix(data["added_mass"], 6, "added_mass", source)
+    D_L = matrix(data["linear_damping"], 6, "linear_damping", source)
     dq = data["quadratic_damping"]
     D_Q = _vector(dq, 6, "quadratic_damping", source)
     L = data.get("reference_length")

@@ -1,0 +1,57 @@
+"""Geometry-file part keys: CG and inertia overrides are used (not accepted and dropped), and a
+vehicle part refuses the body keys it would ignore."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from hydrokit.errors import InputError
+from hydrokit.estimate.composite import combine
+from hydrokit.io.geometry import parse_geometry
+
+
+def parts(*entries: dict) -> dict:
+    return {"name": "g", "fluid": {"density": 1000.0}, "parts": list(entries)}
+
+
+def test_shape_part_cg_and_inertia_overrides_reach_the_composite(tmp_path: Path):
+    # a 0.5 m sphere of 30 kg: uniform solid 2/5 m r² = 0.75 kg·m² about its centre; the ballasted
+    # one has its CG 0.05 m below the centre and the inertia the file gives
+    sphere = {"shape": "sphere", "diameter": 0.5, "mass": 30.0}
+    plain = combine([gp.part for gp in parse_geometry(parts(sphere), tmp_path / "g.yaml").parts])
+    np.testing.assert_allclose(plain.inertia_cg, 0.4 * 30.0 * 0.25**2 * np.eye(3), rtol=1e-12)
+    np.testing.assert_allclose(plain.r_g, 0.0, atol=1e-15)
+    given = {**sphere, "center_of_gravity": [0.0, 0.0, 0.05], "inertia": [[0.6, 0.01, 0], [0.01, 0.7, 0], [0, 0, 0.5]]}
+    geo = parse_geometry(parts(given), tmp_path / "g.yaml")
+    comp = combine([gp.part for gp in geo.parts])
+    np.testing.assert_allclose(comp.r_g, [0.0, 0.0, 0.05], atol=1e-15)
+    np.testing.assert_allclose(comp.r_b, 0.0, atol=1e-15)
+    np.testing.assert_allclose(comp.inertia_cg, [[0.6, 0.01, 0], [0.01, 0.7, 0], [0, 0, 0.5]], atol=1e-15)
+    assert geo.parts[0].sources["inertia"] == "given"
+
+
+@pytest.mark.parametrize(
+    "key, value, message",
+    [
+        ("inertia", "abc", r"parts\[0\]\.inertia' = 'abc': expected a list of 3 numbers or an 3x3 matrix"),
+        ("inertia", [1.0, float("nan"), 1.0], r"parts\[0\]\.inertia\[1\]' = nan"),
+        ("inertia", [[1, 0], [0, 1]], r"parts\[0\]\.inertia': expected an 3x3 matrix, got 2 rows"),
+        ("center_of_gravity", [0, 0], r"parts\[0\]\.center_of_gravity' = \[0, 0\]: expected a list of 3"),
+    ],
+)
+def test_bad_overrides_name_the_field(tmp_path: Path, key, value, message):
+    bad = {"shape": "sphere", "diameter": 0.5, "mass": 30.0, key: value}
+    with pytest.raises(InputError, match=message):
+        parse_geometry(parts(bad), tmp_path / "g.yaml")
+
+
+@pytest.mark.parametrize("key", ["mass", "inertia", "center_of_gravity", "diameter", "buoyancy"])
+def test_a_vehicle_part_refuses_body_keys_it_would_ignore(tmp_path: Path, key):
+    entry = {"name": "m", "vehicle": "minerva", key: 1.0}
+    with pytest.raises(InputError, match=rf"field 'parts\[0\]\.{key}': a vehicle part takes its body from the vehicle"):
+        parse_geometry(parts(entry), tmp_path / "g.yaml")
+    ok = parse_geometry(parts({"name": "m", "vehicle": "minerva", "position": [0, 1, 0]}), tmp_path / "g.yaml")
+    assert ok.parts[0].part.mass > 0
