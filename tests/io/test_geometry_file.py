@@ -40,6 +40,15 @@ def test_shape_part_cg_and_inertia_overrides_reach_the_composite(tmp_path: Path)
         ("inertia", [1.0, float("nan"), 1.0], r"parts\[0\]\.inertia\[1\]' = nan"),
         ("inertia", [[1, 0], [0, 1]], r"parts\[0\]\.inertia': expected an 3x3 matrix, got 2 rows"),
         ("center_of_gravity", [0, 0], r"parts\[0\]\.center_of_gravity' = \[0, 0\]: expected a list of 3"),
+        (
+            "resolution",
+            "abc",
+            r"parts\[0\]\.resolution' = 'abc': expected a whole number of panels around from 6 to 200",
+        ),
+        ("resolution", 201, r"parts\[0\]\.resolution' = 201: expected a whole number"),
+        ("resolution", 5, r"parts\[0\]\.resolution' = 5: expected a whole number"),
+        ("resolution", 48.5, r"parts\[0\]\.resolution' = 48\.5: expected a whole number"),
+        ("bem", "no", r"parts\[0\]\.bem' = 'no': expected true or false"),
     ],
 )
 def test_bad_overrides_name_the_field(tmp_path: Path, key, value, message):
@@ -55,3 +64,25 @@ def test_a_vehicle_part_refuses_body_keys_it_would_ignore(tmp_path: Path, key):
         parse_geometry(parts(entry), tmp_path / "g.yaml")
     ok = parse_geometry(parts({"name": "m", "vehicle": "minerva", "position": [0, 1, 0]}), tmp_path / "g.yaml")
     assert ok.parts[0].part.mass > 0
+
+
+@pytest.mark.parametrize("resolution", [6, 200])
+def test_resolution_bounds_are_inclusive(tmp_path: Path, resolution):
+    geo = parse_geometry(
+        parts({"shape": "sphere", "diameter": 0.5, "mass": 30.0, "resolution": resolution}), tmp_path / "g.yaml"
+    )
+    assert geo.parts[0].resolution == resolution
+
+
+def test_a_mesh_too_big_for_the_direct_solver_is_refused_before_solving(monkeypatch):
+    # two dense complex N×N matrices, 32 N² bytes, may use half the memory: with 1 GiB of
+    # "physical memory" the limit is √(2³⁰ / 64) = 4096 panels
+    import os
+
+    from hydrokit.estimate.bem import panel_memory_check
+
+    pages = {"SC_PHYS_PAGES": 2**18, "SC_PAGE_SIZE": 2**12}
+    monkeypatch.setattr(os, "sysconf", lambda name: pages[name])
+    panel_memory_check(4096, "hull.stl")
+    with pytest.raises(InputError, match=r"hull.stl: mesh has 4097 panels: .* expected at most 4096 panels"):
+        panel_memory_check(4097, "hull.stl")

@@ -25,7 +25,12 @@ from hydrokit.core.names import DOF_NAMES as DOF
     is_flag=True,
     help="Added mass of shape and mesh parts by the boundary-element solver (Capytaine; pip install 'hydrokit[bem]').",
 )
-@click.option("--resolution", type=int, default=None, help="BEM panels around the circumference (count; default 48).")
+@click.option(
+    "--resolution",
+    type=click.IntRange(6, 200),
+    default=None,
+    help="BEM panels around the circumference (count, 6 to 200; default 48 or the part's own).",
+)
 @click.option(
     "--damping-model",
     type=click.Choice(["elements", "rehman", "shifted"]),

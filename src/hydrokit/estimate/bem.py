@@ -36,6 +36,30 @@ def _capytaine():  # noqa: ANN202
     return capytaine
 
 
+#: the finest built-in mesh, panels around: a sphere then has ≈ MAX_RESOLUTION²/2 = 20 000 panels,
+#: the most the direct solver's dense matrices hold in a few GB (see :func:`panel_memory_check`)
+MAX_RESOLUTION = 200
+
+
+def panel_memory_check(panels: int, source: str = "") -> None:
+    """Refuse, before solving, a mesh whose direct BEM solve would not fit in memory: the
+    solver holds two dense complex panels × panels matrices (16 bytes an entry), here allowed at
+    most half of the machine's physical memory."""
+    need = 32.0 * panels * panels
+    try:
+        have = float(os.sysconf("SC_PHYS_PAGES") * os.sysconf("SC_PAGE_SIZE"))
+    except (ValueError, OSError, AttributeError):  # pragma: no cover - non-POSIX
+        have = 16e9
+    if need > 0.5 * have:
+        most = int(math.sqrt(0.5 * have / 32.0))
+        raise InputError(
+            f"mesh has {panels} panels: the direct BEM solve needs ≈ {need / 1e9:.1f} GB, more than half of "
+            f"this machine's {have / 1e9:.1f} GB; expected at most {most} panels (a coarser --resolution or "
+            "a decimated mesh)",
+            source,
+        )
+
+
 def shape_mesh(shape: str, resolution: int = 24, **dims: float) -> SurfaceMesh:
     """A closed, outward mesh of a named shape centred at the origin (axis x).
 
@@ -43,8 +67,8 @@ def shape_mesh(shape: str, resolution: int = 24, **dims: float) -> SurfaceMesh:
     (length, width, height); resolution : panels around the circumference (≈ count).
     """
     n = int(resolution)
-    if n < 6:
-        raise InputError(f"resolution = {resolution}: expected at least 6 panels around")
+    if not 6 <= n <= MAX_RESOLUTION:
+        raise InputError(f"resolution = {resolution}: expected from 6 to {MAX_RESOLUTION} panels around")
     if shape in ("sphere", "spheroid"):
         a = dims["length"] / 2 if shape == "spheroid" else dims["diameter"] / 2
         b = dims["diameter"] / 2
@@ -103,6 +127,7 @@ def added_mass_bem(
     Raises MissingExtraError without capytaine, InputError for an open or inward mesh.
     """
     check_mesh(mesh)
+    panel_memory_check(len(mesh.faces), mesh.source)
     ref = tuple(float(x) for x in reference_point)
     key = f"{mesh.digest()}-{density:.6g}-{ref[0]:.6g},{ref[1]:.6g},{ref[2]:.6g}"
     cfile = cache_dir() / f"{key[:40]}.json"

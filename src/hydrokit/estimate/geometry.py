@@ -18,6 +18,7 @@ from hydrokit._result import Result, html_table, jsonable
 from hydrokit.core.names import DOF_NAMES
 from hydrokit.errors import InputError
 from hydrokit.estimate.composite import QUADRATIC_DAMPING_MODELS, Composite, Part, combine
+from hydrokit.estimate.mesh import check_mesh
 
 #: what each quadratic-damping model means, for the sources list of the written vehicle fragment
 MODEL_NOTES = {
@@ -108,7 +109,8 @@ def mesh_part(
     (:meth:`~hydrokit.estimate.mesh.SurfaceMesh.solid_inertia`); give both for a shell or a
     ballasted hull.
     """
-    vol = abs(mesh.volume()) if buoyancy is None else buoyancy / (density * gravity)
+    check_mesh(mesh)  # closed and outward: the solid below and the BEM both need it
+    vol = mesh.volume() if buoyancy is None else buoyancy / (density * gravity)
     centroid, solid = mesh.solid_inertia(mass)
     part = Part(
         name,

@@ -37,8 +37,9 @@ from typing import Any
 import numpy as np
 
 from hydrokit.core.constants import GRAVITY, SEAWATER_DENSITY
-from hydrokit.core.validate import matrix, number, vector
+from hydrokit.core.validate import cut_repr, matrix, number, vector
 from hydrokit.errors import InputError
+from hydrokit.estimate.bem import MAX_RESOLUTION
 from hydrokit.estimate.geometry import Geometry, GeometryPart, mesh_part, shape_part, vehicle_part
 from hydrokit.io.yamlfile import read_yaml
 
@@ -142,7 +143,15 @@ def parse_geometry(data: dict[str, Any], p: Path, extra_part_keys: frozenset[str
             raise InputError(f"field '{where}': missing 'mass' (kg) or 'weight' (N)", src)
         dims = {d: _num(raw[d], f"{where}.{d}", src) for d in DIMENSIONS if d in raw}
         buoyancy = _num(raw["buoyancy"], f"{where}.buoyancy", src) if "buoyancy" in raw else None
-        resolution = int(raw.get("resolution", 48))
+        resolution = raw.get("resolution", 48)
+        if isinstance(resolution, bool) or not isinstance(resolution, int) or not 6 <= resolution <= MAX_RESOLUTION:
+            raise InputError(
+                f"field '{where}.resolution' = {cut_repr(resolution)}: expected a whole number of panels "
+                f"around from 6 to {MAX_RESOLUTION}",
+                src,
+            )
+        if not isinstance(raw.get("bem", True), bool):
+            raise InputError(f"field '{where}.bem' = {cut_repr(raw['bem'])}: expected true or false", src)
         inertia = matrix(raw["inertia"], 3, f"{where}.inertia", src) if "inertia" in raw else None
         cog = _vec(raw["center_of_gravity"], f"{where}.center_of_gravity", src) if "center_of_gravity" in raw else None
         if "mesh" in raw:
@@ -186,7 +195,7 @@ def parse_geometry(data: dict[str, Any], p: Path, extra_part_keys: frozenset[str
                 buoyancy=buoyancy,
                 inertia=inertia,
                 center_of_gravity=cog,
-                bem=bool(raw.get("bem", True)),
+                bem=raw.get("bem", True),
                 resolution=resolution,
                 where=where,
                 source=src,
