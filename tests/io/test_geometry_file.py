@@ -48,6 +48,9 @@ def test_shape_part_cg_and_inertia_overrides_reach_the_composite(tmp_path: Path)
         ("resolution", 201, r"parts\[0\]\.resolution' = 201: expected a whole number"),
         ("resolution", 5, r"parts\[0\]\.resolution' = 5: expected a whole number"),
         ("resolution", 48.5, r"parts\[0\]\.resolution' = 48\.5: expected a whole number"),
+        ("inertia", [[1, 0.2, 0], [0, 1, 0], [0, 0, 1]], r"parts\[0\]\.inertia' = .*: expected a symmetric tensor"),
+        ("inertia", [1.0, 1.0, 2.5], r"parts\[0\]\.inertia': principal moments \[1\.0, 1\.0, 2\.5\] kg·m²; expected"),
+        ("inertia", [0.0, 1.0, 1.0], r"parts\[0\]\.inertia': principal moments \[0\.0, 1\.0, 1\.0\]"),
         ("bem", "no", r"parts\[0\]\.bem' = 'no': expected true or false"),
     ],
 )
@@ -86,3 +89,11 @@ def test_a_mesh_too_big_for_the_direct_solver_is_refused_before_solving(monkeypa
     panel_memory_check(4096, "hull.stl")
     with pytest.raises(InputError, match=r"hull.stl: mesh has 4097 panels: .* expected at most 4096 panels"):
         panel_memory_check(4097, "hull.stl")
+
+
+def test_a_thin_plates_moments_are_a_rigid_bodys():
+    # a lamina in the x–y plane has I_z = I_x + I_y exactly: the limit of the triangle inequality
+    geo = parse_geometry(
+        parts({"shape": "sphere", "diameter": 0.5, "mass": 30.0, "inertia": [0.4, 0.6, 1.0]}), Path("g.yaml")
+    )
+    np.testing.assert_array_equal(geo.parts[0].part.inertia, np.diag([0.4, 0.6, 1.0]))

@@ -86,6 +86,12 @@ def vehicle_part(name: str, vehicle: Any, position: np.ndarray, rotation: np.nda
     return GeometryPart(part, {"all": f"vehicle {label}"}, None, {})
 
 
+def _tensor(inertia: Any) -> np.ndarray:
+    """3 values (principal moments on the part axes) or a 3×3 tensor, kg·m²."""
+    a = np.asarray(inertia, float)
+    return np.diag(a) if a.shape == (3,) else a
+
+
 def mesh_part(
     name: str,
     mesh: Any,
@@ -104,7 +110,8 @@ def mesh_part(
     """A part given by a closed surface mesh (m, part axes); its added mass comes from the BEM
     solver, its centre of buoyancy is the enclosed volume's centroid.
 
-    ``buoyancy`` (N) overrides the mesh volume. Without ``inertia`` (kg·m², 3×3 about the CG) and
+    ``buoyancy`` (N) overrides the mesh volume. Without ``inertia`` (kg·m², 3 values or 3×3 about
+    the CG) and
     ``center_of_gravity`` (m, part axes) the part is a uniform solid filling the mesh
     (:meth:`~hydrokit.estimate.mesh.SurfaceMesh.solid_inertia`); give both for a shell or a
     ballasted hull.
@@ -116,7 +123,7 @@ def mesh_part(
         name,
         mass,
         vol,
-        solid if inertia is None else np.asarray(inertia, float),
+        solid if inertia is None else _tensor(inertia),
         np.zeros((6, 6)),
         r_g=centroid if center_of_gravity is None else np.asarray(center_of_gravity, float),
         r_b=centroid,
@@ -163,7 +170,7 @@ def shape_part(
     drag_coefficient : float, optional — overrides the table C_D (axial C_D for spheroid and cylinder)
     axial_model : str — cylinder axial added mass: "spheroid" (Lamb) or "rehman" (REHMAN's 2/π)
     buoyancy : float, optional — N, overrides ρ g × shape volume
-    inertia : (3, 3), optional — kg·m² about the CG, part axes; overrides the uniform solid's
+    inertia : (3,) or (3, 3), optional — kg·m² about the CG, part axes; overrides the uniform solid's
     center_of_gravity : (3,), optional — m, part axes; default the shape's centre (its CB)
     bem, resolution : eligibility for the BEM solver and its panel count
     where, source : the file field and file, for error messages
@@ -202,7 +209,7 @@ def shape_part(
         name,
         mass,
         vol,
-        solid_inertia(shape, mass, dims) if inertia is None else np.asarray(inertia, float),
+        solid_inertia(shape, mass, dims) if inertia is None else _tensor(inertia),
         sc.added_mass,
         np.zeros((6, 6)),
         np.diag(sc.quadratic_damping(density)),

@@ -76,6 +76,22 @@ def _vec(v: Any, where: str, src: str) -> np.ndarray:
     return vector(v, 3, where, src)
 
 
+def _inertia(v: Any, where: str, src: str) -> np.ndarray:
+    """A part's inertia tensor (kg·m² about its CG): 3 values or 3×3, symmetric, with principal
+    moments a rigid body can have (positive, each at most the sum of the other two)."""
+    inertia = matrix(v, 3, where, src)
+    if not np.allclose(inertia, inertia.T, rtol=0, atol=1e-9 * np.abs(inertia).max()):
+        raise InputError(f"field '{where}' = {cut_repr(inertia.tolist())}: expected a symmetric tensor", src)
+    p = np.linalg.eigvalsh(inertia)
+    if not (p[0] > 0 and p[2] <= (p[0] + p[1]) * (1 + 1e-9)):
+        raise InputError(
+            f"field '{where}': principal moments {cut_repr([float(f'{x:.6g}') for x in p])} kg·m²; expected "
+            "positive moments, each at most the sum of the other two (a rigid body's)",
+            src,
+        )
+    return inertia
+
+
 def vehicle_ref(ref: Any, p: Path) -> str:
     """A part's ``vehicle:`` value: a path relative to the geometry file at ``p`` when such a
     file exists there, else as given (a bundled name or a path from the working folder)."""
@@ -152,7 +168,7 @@ def parse_geometry(data: dict[str, Any], p: Path, extra_part_keys: frozenset[str
             )
         if not isinstance(raw.get("bem", True), bool):
             raise InputError(f"field '{where}.bem' = {cut_repr(raw['bem'])}: expected true or false", src)
-        inertia = matrix(raw["inertia"], 3, f"{where}.inertia", src) if "inertia" in raw else None
+        inertia = _inertia(raw["inertia"], f"{where}.inertia", src) if "inertia" in raw else None
         cog = _vec(raw["center_of_gravity"], f"{where}.center_of_gravity", src) if "center_of_gravity" in raw else None
         if "mesh" in raw:
             from hydrokit.estimate.mesh import read_mesh
