@@ -214,6 +214,18 @@ EQUIVALENT: dict[tuple[str, str, str], str] = {
         "the table's last knot stands for an infinitely long cylinder: between L/D = 9 and 1e9 the "
         "interpolated C_a moves by 4e-11 of itself per unit of that knot, below any cylinder's precision"
     ),
+    ("identify/rig_model.py", "LINEAR, SINE, POLYNOMIAL, TABLE = 0, 1, 2, 3", "3 -> 4"): (
+        "TABLE is the fall-through of the compiled _restore (codes 0, 1, 2 are tested, anything else is "
+        "the table): no code compares a shape code with 3"
+    ),
+    (
+        "estimate/bem.py",
+        "faces = mesh.faces if mesh.faces.shape[1] == 4 else np.column_stack([mesh.faces, mesh.faces[:, 2]])",
+        "4 -> 5",
+    ): (
+        "quads then get a fifth column, and capytaine.Mesh keeps the first four columns of faces "
+        "(checked with capytaine 3.0: Mesh(faces=[[0, 1, 2, 3, 2]]).faces == [[0, 1, 2, 3]])"
+    ),
     ("estimate/mesh.py", "if _STL_HEADER + _STL_RECORD * count > size:", "> -> >="): (
         "equality was read as binary and returned a few lines above: here 84 + 50·count ≠ size"
     ),

@@ -54,6 +54,9 @@ def test_J_block_structure():
     J = J_euler(eta)
     np.testing.assert_allclose(J[:3, 3:], 0)
     np.testing.assert_allclose(J[:3, :3], rotation_zyx(0.1, 0.2, 0.3))
+    np.testing.assert_allclose(J[3:, :3], 0)
+    # the lower block is T at (φ, θ) = (0.1, 0.2): checked by the quaternion test above
+    np.testing.assert_array_equal(J[3:, 3:], euler_rate_matrix(0.1, 0.2))
 
 
 @given(st.lists(st.floats(-2, 2), min_size=6, max_size=6))

@@ -435,3 +435,50 @@ def test_adequacy_with_a_period_as_long_as_the_record_has_no_autocorrelation_the
     out = adequacy(r, np.arange(400) * 0.01, 4.0, 1e-3)  # one period = 400 samples: no pairs
     assert out["acf_at_period"] is None
     assert out["acf_at_half_period"] == pytest.approx(float(r[:-200] @ r[200:]) / float(r @ r), abs=0.05)
+
+
+def test_a_fit_without_a_restoring_omega_squared_is_refused(spring_rig, monkeypatch):
+    # ω² ≤ 0 (or not finite) is no oscillation: whatever a fit returns, the coefficients are not
+    # formed from it. A real decay never fits so; the fit is made to return −ω² here
+    from hydrokit.errors import InputError
+    from hydrokit.identify.estimators import EquationErrorEstimator
+
+    fit = EquationErrorEstimator._fit
+
+    def flipped(self, t, y, facts):  # noqa: ANN001, ANN202
+        fit(self, t, y, facts)
+        w2, b, g = self.p_
+        self.p_ = (-w2, b, g)
+
+    launch = linear_decay()
+    assert identify_launch(spring_rig, launch, "equation-error").added_mass > 0
+    monkeypatch.setattr(EquationErrorEstimator, "_fit", flipped)
+    with pytest.raises(InputError, match=r"fitted ω² = -\d.* 1/s²: not a restoring oscillation"):
+        identify_launch(spring_rig, launch, "equation-error")
+
+
+def test_air_tare_is_immutable():
+    # one tare is applied to every launch of a campaign: it must not change under them
+    import dataclasses
+
+    from hydrokit.identify.tare import AirTare
+
+    tare = AirTare(0.5, 0.1, 0.02)
+    with pytest.raises(dataclasses.FrozenInstanceError):
+        tare.linear_damping = 0.0  # type: ignore[misc]
+    assert {tare: 1}[AirTare(0.5, 0.1, 0.02)] == 1  # frozen dataclasses hash by value
+
+
+def test_simulate_rig_defaults_to_four_rk4_substeps_within_the_closed_form(spring_rig):
+    # the documented default (4 RK4 steps per sample) against the linear decay's closed form:
+    # at 200 Hz the global RK4 error is ~ ω t (ω h)⁴ / 120 ≈ 1e-9 of the amplitude
+    from hydrokit.identify.rig_model import rig_constants, simulate_rig
+
+    t = np.arange(1601) / 200.0
+    y = simulate_rig(spring_rig, t, 0.3, 0.5, 0.0, A0)
+    np.testing.assert_array_equal(y, simulate_rig(spring_rig, t, 0.3, 0.5, 0.0, A0, substeps=4))
+    assert not np.array_equal(y, simulate_rig(spring_rig, t, 0.3, 0.5, 0.0, A0, substeps=5))
+    w2, b, _ = rig_constants(spring_rig).to_normalised(0.3, 0.5, 0.0)
+    s, wd = b / 2, math.sqrt(w2 - b * b / 4)
+    exact = A0 * np.exp(-s * t) * (np.cos(wd * t) + s / wd * np.sin(wd * t))
+    assert np.max(np.abs(y - exact)) < 1e-8 * A0

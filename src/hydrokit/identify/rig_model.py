@@ -476,7 +476,7 @@ def simulate_normalised(
     g : float — quadratic damping per inertia, 1/(unit of q)
     q0, v0 : float — initial q (m or rad) and q̇ (m/s or rad/s) at t[0]
     sine : bool — pendulum restoring sin q instead of q
-    substeps : int — RK4 steps per sample interval
+    substeps : int — RK4 steps per sample interval (default 4)
     jacobian : bool — also integrate the forward sensitivities
     restoring : Restoring, optional — the shape ρ(q) (overrides ``sine``; floating rig)
 
@@ -510,7 +510,7 @@ def simulate_extended(
     p : 6 floats — (ω² 1/s², b 1/s, g 1/unit, d s/unit², a3 1/unit², a5 1/unit⁴), unit = m or rad
     q0, v0 : float — initial state at t[0]
     restoring : Restoring, optional — ρ(q) (default linear)
-    substeps : int — RK4 steps per sample interval
+    substeps : int — RK4 steps per sample interval (default 4)
     jacobian : bool — also integrate the forward sensitivities
 
     Returns
@@ -545,7 +545,7 @@ def simulate_rig(
     quadratic_damping : float — K_Q, N·s²/m² (N·m·s²/rad² for torsion)
     y0 : float — initial displacement at t[0], m (spring) or rad
     v0 : float — initial rate, m/s or rad/s
-    substeps : int — RK4 steps per sample interval
+    substeps : int — RK4 steps per sample interval (default 4)
 
     Returns
     -------
