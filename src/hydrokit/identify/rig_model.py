@@ -189,11 +189,11 @@ def rig_constants(rig: Rig) -> RigConstants:
         stiffness or length.
     """
     if rig.test == "spring":
-        if not rig.stiffness or rig.stiffness <= 0:
+        if not (rig.stiffness is not None and rig.stiffness > 0):  # also NaN
             raise InputError(f"spring.stiffness = {rig.stiffness}: expected a positive number (N/m)", rig.source)
         return RigConstants(rig.stiffness, rig.mass, 1.0, 1.0, 1.0, 1.0, False)
     if rig.test == "torsion":
-        if not rig.stiffness or rig.stiffness <= 0:
+        if not (rig.stiffness is not None and rig.stiffness > 0):  # also NaN
             raise InputError(f"torsion.stiffness = {rig.stiffness}: expected a positive number (N·m/rad)", rig.source)
         return RigConstants(rig.stiffness, rig.inertia, 1.0, 1.0, 1.0, 0.5 * rig.reference_length, False)
     if rig.test == "pendulum":
