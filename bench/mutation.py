@@ -214,6 +214,10 @@ EQUIVALENT: dict[tuple[str, str, str], str] = {
         "the table's last knot stands for an infinitely long cylinder: between L/D = 9 and 1e9 the "
         "interpolated C_a moves by 4e-11 of itself per unit of that knot, below any cylinder's precision"
     ),
+    ("identify/estimators.py", "w = min(w, n - 1 if (n - 1) % 2 == 1 else n - 2)", "1 -> 2 [3]"): (
+        "the cap becomes n − 2 also when n − 1 is odd: a window capped there is even and the next line's "
+        "w + 1 makes it n − 1 again; below the cap nothing changes"
+    ),
     ("identify/rig_model.py", "LINEAR, SINE, POLYNOMIAL, TABLE = 0, 1, 2, 3", "3 -> 4"): (
         "TABLE is the fall-through of the compiled _restore (codes 0, 1, 2 are tested, anything else is "
         "the table): no code compares a shape code with 3"

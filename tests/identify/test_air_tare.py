@@ -310,3 +310,49 @@ def test_effective_length_scales_with_the_gravity_given() -> None:
     assert fit_l["beta"] == pytest.approx(fit_e["beta"], rel=1e-9)
     with pytest.raises(InputError, match=r"gravity = 0"):
         fit_air_tare([launch], MASS, 0.0)
+
+
+def test_noise_bias_is_the_monte_carlo_mean_of_the_linearised_products() -> None:
+    # _noise_terms' bias promises E[ΔHᵀ Δe] for white raw-sample noise of the launch's variance.
+    # A second method: draw the noise 4000 times, filter it with the three kernels (the filters
+    # are linear, so ε_d is exact), form ΔH = [cos θ ε₀, −ε₁, −2|θ̇| ε₁, −sin θ ε₀] and
+    # Δe = ε₂ − A ε₀ + B ε₁, and average ΔHᵀ Δe: each entry within 4 Monte Carlo standard errors
+    from numpy.lib.stride_tricks import sliding_window_view
+
+    from hydrokit.identify.tare import _noise_terms, _smooth
+
+    rng = np.random.default_rng(11)
+    launch = in_air(R, 0.02, 0.05, math.radians(30), 50.0, math.radians(0.05), rng, duration=6.0)
+    part = _smooth(launch, 11, 4)
+    coef = np.array([-G / R, 0.3, 0.8, 0.6])  # α, β, γ, c
+    bias, _ = _noise_terms([part], coef)
+    q, qd = part.q, part.qd
+    A = coef[0] * np.cos(q) - coef[3] * np.sin(q)
+    B = coef[1] + 2.0 * coef[2] * np.abs(qd)
+    n = rng.normal(0.0, math.sqrt(part.noise_var), size=(4000, q.size + part.window - 1))
+    windows = sliding_window_view(n, part.window, axis=1)
+    e0, e1, e2 = (windows @ k for k in part.kernels)
+    de = e2 - A * e0 + B * e1
+    dH = (np.cos(q) * e0, -e1, -2.0 * np.abs(qd) * e1, -np.sin(q) * e0)
+    samples = np.stack([np.sum(h * de, axis=1) for h in dH], axis=1)
+    mean, se = samples.mean(axis=0), samples.std(axis=0) / math.sqrt(len(samples))
+    assert np.all(np.abs(bias - mean) < 4.0 * se), (bias, mean, se)
+    assert abs(bias[1]) > 10.0 * se[1]  # β's term is resolved, not lost in the Monte Carlo noise
+
+
+def test_uneven_stamps_are_resampled_over_the_whole_launch() -> None:
+    # stamps jittered by up to ±20 % of the 20 ms step (a webcam): resampled at the median
+    # step from the first stamp through the last whole step, so the smoothed record keeps all
+    # but the filter's edges (the 11-sample window's 10)
+    from hydrokit.identify.tare import _smooth
+
+    rng = np.random.default_rng(4)
+    even = in_air(R, 0.02, 0.05, math.radians(30), 50.0, math.radians(0.01), rng, duration=6.0)
+    t = np.asarray(even.t).copy()
+    t[1:-1] += rng.uniform(-0.004, 0.004, t.size - 2)
+    jittered = Launch(t=t, y=np.asarray(even.y), file="webcam")
+    dt = float(np.median(np.diff(t)))
+    part = _smooth(jittered, 11, 4)
+    steps = int((t[-1] - t[0]) // dt)  # whole median steps within the launch
+    assert steps * dt <= t[-1] - t[0] < (steps + 1) * dt
+    assert part.q.size == steps + 1 - 10

@@ -539,3 +539,39 @@ def test_a_lightly_damped_decay_of_three_cycles_is_free_from_the_start():
     y = 0.1 * np.exp(-0.0012 * 2 * math.pi * t) * np.cos(2 * math.pi * t)
     y += np.random.default_rng(1).normal(0.0, 2e-5, t.size)
     assert 0.0 <= detect_release(t, y) < 0.1
+
+
+@pytest.mark.parametrize("fixture", ["spring_rig", "pendulum_rig", "torsion_rig"])
+def test_covariance_jacobian_is_the_derivative_of_the_unit_map(fixture, request):
+    # second method: central differences of from_normalised at a typical fitted (ω², b, g);
+    # the pendulum's and the torsion rig's factors (r, r², r³; L/2) make every entry differ
+    from hydrokit.identify.rig_model import rig_constants
+
+    c = rig_constants(request.getfixturevalue(fixture))
+    p = np.array(c.to_normalised(0.4 * c.base_inertia, 0.05 * c.base_inertia, 0.3 * c.base_inertia))
+    J = c.jacobian_from_normalised(*p)
+    numeric = np.zeros((3, 3))
+    for k in range(3):
+        h = np.zeros(3)
+        h[k] = 1e-6 * p[k]
+        numeric[:, k] = (np.array(c.from_normalised(*(p + h))) - np.array(c.from_normalised(*(p - h)))) / (2 * h[k])
+    np.testing.assert_allclose(J, numeric, rtol=1e-6, atol=1e-9 * np.abs(numeric).max())
+
+
+@pytest.mark.parametrize("duration, cycles", [(2.1, 3), (2.5, 4)])
+def test_log_decrement_slope_variance_is_scipys_linregress(spring_rig, duration, cycles):
+    # g = 3π/4 κ from the straight line ζ = ζ_L + κ a through the cycles: its variance is
+    # (3π/4)² times the OLS slope variance with n − 2 degrees of freedom (scipy.stats.linregress,
+    # a second method); three cycles leave one degree of freedom
+    from scipy import stats
+
+    from hydrokit.identify.rig_model import simulate_rig
+
+    t = np.arange(int(duration * 200) + 1) / 200.0
+    y = simulate_rig(spring_rig, t, 0.3, 0.5, 30.0, 0.05) + np.random.default_rng(0).normal(0, 1e-5, t.size)
+    _, est = identify_launch(spring_rig, Launch(t, y, "short"), "log-decrement", return_estimator=True)
+    a = [c["amplitude"] for c in est.cycles_]
+    assert len(a) == cycles
+    fit = stats.linregress(a, [c["damping_ratio"] for c in est.cycles_])
+    assert est.p_[2] == pytest.approx(3 * math.pi / 4 * fit.slope, rel=1e-9)
+    assert est.pcov_[2, 2] == pytest.approx((3 * math.pi / 4 * fit.stderr) ** 2, rel=1e-6)

@@ -393,3 +393,19 @@ def test_pid_integral_is_bounded_for_a_small_integral_gain():
     # and it comes off the limit as soon as the error changes sign (no wind-up to unwind)
     out, _ = pid.update(state, 2.0, 1.0, 0.1)
     assert out < 10.0
+
+
+@pytest.mark.parametrize(
+    "X, flagged",
+    [(-40.0, False), (40.0, False), (-40.1, True), (40.1, True), (-39.9, False)],
+)
+def test_pinv_flags_only_thrust_beyond_a_limit(X, flagged):
+    # one surge thruster (T = e_X, 2 N·m of yaw per N) with limits ±40 N: the pseudo-inverse gives
+    # f = X exactly; a force on the limit is saturated, not beyond it
+    from hydrokit.model.allocation import allocate_pinv
+
+    T = np.array([[1.0], [0], [0], [0], [0], [2.0]])
+    res = allocate_pinv(T, [X, 0, 0, 0, 0, 2 * X], f_min=[-40.0], f_max=[40.0], names=["aft"])
+    assert res.thrust[0] == pytest.approx(X, rel=1e-12)
+    assert any("exceeds the limits of aft" in w for w in res.warnings) is flagged
+    assert (res.saturated == ["aft"]) is (abs(X) >= 40.0)

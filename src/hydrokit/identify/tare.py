@@ -147,7 +147,8 @@ def _smooth(launch: Launch, window: int | None, polyorder: int) -> _Smoothed:
     dt = float(t[-1] - t[0]) / (t.size - 1)
     if np.max(np.abs(np.diff(t) - dt)) > 0.05 * dt:
         dt = float(np.median(np.diff(t)))
-        tu = np.arange(t[0], t[-1], dt)
+        # every whole step from the first sample up to and including the last one
+        tu = t[0] + dt * np.arange(int(math.floor((t[-1] - t[0]) / dt * (1 + 1e-12))) + 1)
         y = np.interp(tu, t, y)
     w = window or _savgol_window(facts["period"], dt, y.size)
     if w % 2 == 0 or w <= polyorder or w >= y.size:
