@@ -218,6 +218,15 @@ EQUIVALENT: dict[tuple[str, str, str], str] = {
         "the cap becomes n − 2 also when n − 1 is odd: a window capped there is even and the next line's "
         "w + 1 makes it n − 1 again; below the cap nothing changes"
     ),
+    (
+        "model/allocation.py",
+        "if np.all(g >= lo) and np.all(g <= hi) and np.linalg.norm(T @ g - target) <= np.linalg.norm(T @ f - target):",
+        "<= -> < [2]",
+    ): (
+        "differs only when a free thruster's exact KKT force lands on its limit to the last bit, a thruster "
+        "the active-set test (within tol of the limit) has just called free: then f, within tol of the same "
+        "point, is returned instead"
+    ),
     ("identify/rig_model.py", "LINEAR, SINE, POLYNOMIAL, TABLE = 0, 1, 2, 3", "3 -> 4"): (
         "TABLE is the fall-through of the compiled _restore (codes 0, 1, 2 are tested, anything else is "
         "the table): no code compares a shape code with 3"

@@ -409,3 +409,15 @@ def test_pinv_flags_only_thrust_beyond_a_limit(X, flagged):
     assert res.thrust[0] == pytest.approx(X, rel=1e-12)
     assert any("exceeds the limits of aft" in w for w in res.warnings) is flagged
     assert (res.saturated == ["aft"]) is (abs(X) >= 40.0)
+
+
+def test_propeller_curve_without_loss_factors_is_the_open_water_law():
+    # REHMAN eq. 1.12 with no installation loss: f = K_T(J) ρ D⁴ |n| n in both senses; at
+    # V_a = 0, J = 0 and K_T(0) is the polynomial's constant term (0.4 forward, 0.3 reverse)
+    from hydrokit.model.thrusters import PropellerCurve
+
+    D, rho = 0.1, 1000.0
+    curve = PropellerCurve(D, (-0.2, 0.4), 40.0, kt_reverse=(-0.1, 0.3), density=rho)
+    assert curve.thrust(20.0) == pytest.approx(0.4 * rho * D**4 * 400.0, rel=1e-12)
+    assert curve.thrust(-20.0) == pytest.approx(-0.3 * rho * D**4 * 400.0, rel=1e-12)
+    assert curve.command(-0.3 * rho * D**4 * 400.0) == pytest.approx(-20.0, rel=1e-9)
