@@ -227,6 +227,10 @@ EQUIVALENT: dict[tuple[str, str, str], str] = {
         "the active-set test (within tol of the limit) has just called free: then f, within tol of the same "
         "point, is returned instead"
     ),
+    ("model/allocation.py", "Winv = np.diag(1.0 / w)", "1.0 -> 2.0"): (
+        "W⁻¹ Tᵀ (T W⁻¹ Tᵀ)⁺ is unchanged when W⁻¹ is scaled: c W⁻¹ Tᵀ (c T W⁻¹ Tᵀ)⁺ = W⁻¹ Tᵀ (T W⁻¹ Tᵀ)⁺ "
+        "(only the weights' ratios matter)"
+    ),
     ("identify/rig_model.py", "LINEAR, SINE, POLYNOMIAL, TABLE = 0, 1, 2, 3", "3 -> 4"): (
         "TABLE is the fall-through of the compiled _restore (codes 0, 1, 2 are tested, anything else is "
         "the table): no code compares a shape code with 3"

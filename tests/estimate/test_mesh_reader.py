@@ -182,6 +182,14 @@ def test_a_far_vertex_is_refused(tmp_path):
     (tmp_path / "far.obj").write_text(obj_text(v, QUADS))
     with pytest.raises(InputError, match=r"far\.obj: a vertex coordinate is 1e\+300 m"):
         read_mesh(tmp_path / "far.obj")
+    # the bound is ±10⁹ m (docs/hostile-input.md): on it a box still reads, half a metre past it not
+    v[2, 1] = 1e9
+    (tmp_path / "edge.obj").write_text(obj_text(v, QUADS))
+    assert float(np.abs(read_mesh(tmp_path / "edge.obj").vertices).max()) == 1e9
+    v[2, 1] = 1e9 + 0.5
+    (tmp_path / "past.obj").write_text(obj_text(v, QUADS))
+    with pytest.raises(InputError, match=r"past\.obj: a vertex coordinate is 1e\+09 m, beyond ±1e\+09 m"):
+        read_mesh(tmp_path / "past.obj")
 
 
 @pytest.mark.parametrize(

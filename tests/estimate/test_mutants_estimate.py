@@ -205,6 +205,18 @@ def test_named_cylinder_mesh_has_the_cylinder_volume():
     r = D / 2
     assert mesh.volume() == pytest.approx(n / 2 * r * r * math.sin(2 * math.pi / n) * L, rel=1e-9)
     assert mesh.volume() == pytest.approx(math.pi * D * D / 4 * L, rel=0.01)
+    # the volume cannot see where a flat cap's fan meets or whether panels are planar: every
+    # panel must lie on the side (radius r) or on one end cap (x = ±L/2, inside the disc),
+    # and the mesh must be closed and outward for the BEM
+    from hydrokit.estimate.mesh import check_mesh
+
+    check_mesh(mesh)
+    radius = np.hypot(mesh.vertices[:, 1], mesh.vertices[:, 2])
+    assert radius.max() == pytest.approx(r, rel=1e-12)
+    for face in mesh.faces:
+        x, rad = mesh.vertices[face, 0], radius[face]
+        on_cap = np.allclose(x, x[0], atol=1e-12) and abs(abs(x[0]) - L / 2) < 1e-12
+        assert on_cap or np.allclose(rad, r, rtol=1e-12), face
 
 
 def test_force_fit_curves_are_the_chin_and_morison_laws():
@@ -351,6 +363,10 @@ def test_force_fit_standard_errors_match_curve_fit_and_nan_is_named():
     p, pcov = curve_fit(lambda u, a, b: a * u + b * np.abs(u) * u, U, F, p0=(1.0, 1.0))  # s² (JᵀJ)⁻¹
     assert [fit.K_L, fit.K_Q] == pytest.approx(p, rel=1e-6)
     assert [fit.K_L_se, fit.K_Q_se] == pytest.approx(np.sqrt(np.diag(pcov)), rel=1e-5)
+    # the one-coefficient Morison fit F = K_D |U|U: s² (JᵀJ)⁻¹ with n − 1 degrees of freedom
+    (kd,), kd_cov = curve_fit(lambda u, k: k * np.abs(u) * u, U, F, p0=(1.0,))
+    assert fit.K_D == pytest.approx(kd, rel=1e-6)
+    assert fit.K_D_se == pytest.approx(math.sqrt(kd_cov[0, 0]), rel=1e-5)
     bad = U.copy()
     bad[2] = np.nan
     with pytest.raises(InputError) as err:
@@ -474,3 +490,26 @@ def test_a_millimetre_scale_part_keeps_its_inertia_in_the_written_vehicle(tmp_pa
     volume = 4 / 3 * math.pi * r**3
     assert doc["volume"] == pytest.approx(volume, rel=1e-9)
     np.testing.assert_allclose(np.diag(np.asarray(doc["added_mass"]))[:3], [0.5 * rho * volume] * 3, rtol=1e-9)
+
+
+@pytest.mark.parametrize("field", ["area", "density"])
+@pytest.mark.parametrize("value", [0.0, -0.1, math.inf, math.nan])
+def test_force_fit_needs_a_positive_finite_area_and_density(field, value):
+    from hydrokit.estimate.forces import fit_forces
+
+    U = np.array([0.5, 1.0, 1.5, 2.0])
+    args = {"area": 0.1, "density": 1000.0, field: value}
+    with pytest.raises(InputError, match=rf"^{field} = {value}: expected a positive number$"):
+        fit_forces(U, 20.0 * U * U, **args)
+
+
+def test_a_force_fit_from_coefficients_alone_is_immutable_and_has_no_rows():
+    # a fit rebuilt from its JSON (coefficients, no data) tabulates nothing and stays as read
+    import dataclasses
+
+    from hydrokit.estimate.forces import ForceFit
+
+    fit = ForceFit(3.0, 20.0, 0.1, 0.2, 0.99, 22.0, 0.3, 0.44, 0.98, 13)
+    assert fit.table() == (["speed", "force", "chin", "morison"], [])
+    with pytest.raises(dataclasses.FrozenInstanceError):
+        fit.K_D = 0.0  # type: ignore[misc]

@@ -421,3 +421,28 @@ def test_propeller_curve_without_loss_factors_is_the_open_water_law():
     assert curve.thrust(20.0) == pytest.approx(0.4 * rho * D**4 * 400.0, rel=1e-12)
     assert curve.thrust(-20.0) == pytest.approx(-0.3 * rho * D**4 * 400.0, rel=1e-12)
     assert curve.command(-0.3 * rho * D**4 * 400.0) == pytest.approx(-20.0, rel=1e-9)
+
+
+def test_model_level_allocations_carry_their_names_limits_and_tau():
+    # called straight from the model layer (a notebook), an allocation must tabulate and plot
+    # under the names it reports as saturated: two surge thrusters, ±40 N, asked for 100 N
+    import matplotlib
+
+    matplotlib.use("Agg")
+    from hydrokit.model.allocation import allocate_constrained, allocate_pinv
+
+    T = np.array([[1.0, 1.0], [0, 0], [0, 0], [0, 0], [0, 0], [0.2, -0.2]])
+    tau = [100.0, 0, 0, 0, 0, 0]
+    res = allocate_constrained(T, tau, [-40.0, -40.0], [40.0, 40.0], names=["port", "stbd"])
+    np.testing.assert_allclose(res.thrust, [40.0, 40.0], atol=1e-6)
+    assert res.saturated == ["port", "stbd"]
+    cols, rows = res.table()
+    assert [r[0] for r in rows] == ["port", "stbd"] and all(r[cols.index("saturated")] for r in rows)
+    np.testing.assert_array_equal(res.tau, tau)
+    ax = res.plot()
+    assert [tick.get_text() for tick in ax.get_xticklabels()] == ["port", "stbd"]
+    free = allocate_pinv(T, tau, names=["port", "stbd"])  # no limits: nothing to draw them with
+    np.testing.assert_allclose(free.thrust, [50.0, 50.0], atol=1e-9)
+    ax = free.plot()
+    assert [tick.get_text() for tick in ax.get_xticklabels()] == ["port", "stbd"]
+    assert ax.get_legend() is None

@@ -243,6 +243,11 @@ def allocate_pinv(
         uncontrollable=unc,
         warnings=warns,
         method="pinv" if weights is None else "weighted-pinv",
+        tau=tau,
+        names=list(names),
+        configuration_matrix=T,
+        f_min=None if f_min is None or f_max is None else np.asarray(f_min, float),
+        f_max=None if f_min is None or f_max is None else np.asarray(f_max, float),
     )
 
 
@@ -299,6 +304,11 @@ def allocate_constrained(
         uncontrollable=unc,
         warnings=warns,
         method="constrained",
+        tau=tau,
+        names=list(names),
+        configuration_matrix=T,
+        f_min=lo,
+        f_max=hi,
     )
 
 

@@ -13,15 +13,15 @@ def allocation_axes(names: list[str], thrust: np.ndarray, f_min: Any, f_max: Any
     """Bars of the allocated thrust (N) per thruster with its limits as whiskers; returns the axes."""
     ax = axes_or_new(ax)
     x = np.arange(len(names))
+    limited = f_min is not None and f_max is not None
     ax.bar(
         x,
         thrust,
-        color=[
-            "C3" if (lo is not None and hi is not None and (f <= lo + 1e-9 or f >= hi - 1e-9)) else "C0"
-            for f, lo, hi in zip(thrust, f_min, f_max)
-        ],
+        color=["C3" if (f <= lo + 1e-9 or f >= hi - 1e-9) else "C0" for f, lo, hi in zip(thrust, f_min, f_max)]
+        if limited
+        else "C0",
     )
-    if f_min is not None and f_max is not None:
+    if limited:
         ax.plot(x, f_min, "_", ms=14, color="0.3", label="limits")
         ax.plot(x, f_max, "_", ms=14, color="0.3")
         ax.legend(fontsize=8)
