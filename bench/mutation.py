@@ -227,6 +227,16 @@ EQUIVALENT: dict[tuple[str, str, str], str] = {
         "the active-set test (within tol of the limit) has just called free: then f, within tol of the same "
         "point, is returned instead"
     ),
+    **{
+        ("core/drag.py", code, what): (
+            "P is reshaped to (-1, PACKED_WIDTH) = 9 columns a few lines above: the slice 6:10 is 6:9"
+        )
+        for code, what in (
+            ("f = -P[:, 3:6] * vp - P[:, 6:9] * np.abs(vp) * vp", "9 -> 10"),
+            ("P[:, 6:9] = P[:, 6:9] @ absR.T", "9 -> 10 [1]"),
+            ("P[:, 6:9] = P[:, 6:9] @ absR.T", "9 -> 10 [2]"),
+        )
+    },
     ("model/allocation.py", "Winv = np.diag(1.0 / w)", "1.0 -> 2.0"): (
         "W⁻¹ Tᵀ (T W⁻¹ Tᵀ)⁺ is unchanged when W⁻¹ is scaled: c W⁻¹ Tᵀ (c T W⁻¹ Tᵀ)⁺ = W⁻¹ Tᵀ (T W⁻¹ Tᵀ)⁺ "
         "(only the weights' ratios matter)"

@@ -575,3 +575,24 @@ def test_log_decrement_slope_variance_is_scipys_linregress(spring_rig, duration,
     fit = stats.linregress(a, [c["damping_ratio"] for c in est.cycles_])
     assert est.p_[2] == pytest.approx(3 * math.pi / 4 * fit.slope, rel=1e-9)
     assert est.pcov_[2, 2] == pytest.approx((3 * math.pi / 4 * fit.stderr) ** 2, rel=1e-6)
+
+
+def test_a_release_or_end_leaving_fewer_than_twenty_samples_is_refused():
+    # the release is inside the record, but what follows it is too short to be a launch: one
+    # line naming both ends, not a 1-sample launch for the estimator to trip over
+    from hydrokit.errors import InputError
+    from hydrokit.identify.preprocess import MIN_SAMPLES, trim_launch
+
+    launch = linear_decay()
+    t = np.asarray(launch.t)
+    assert trim_launch(launch, release=float(t[-MIN_SAMPLES])).t.size == MIN_SAMPLES
+    for release in (float(t[-2]), float(t[-1]) - 0.001, float(t[-MIN_SAMPLES + 1])):
+        with pytest.raises(
+            InputError,
+            match=r"the launch from the release \(given, t = .* to the end .* holds \d+ samples; expected at least 20",
+        ):
+            trim_launch(launch, release=release)
+    with pytest.raises(InputError, match=r"holds 11 samples; expected at least 20"):
+        trim_launch(launch, release=1.0, end=1.05)
+    with pytest.raises(InputError, match=r"release = 8\.0 s: expected a time within the record \[0, 8\] s"):
+        trim_launch(launch, release=8.0)

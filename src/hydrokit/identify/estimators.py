@@ -111,7 +111,7 @@ def adequacy(residual: np.ndarray, t: np.ndarray, period: float, noise: float) -
     period), a drifting rest value or a slow disturbance does not (about as high as at one period).
     """
     r = np.asarray(residual, float) - float(np.mean(residual))
-    dt = float(np.mean(np.diff(t))) if t.size > 1 else 1.0
+    dt = float(t[-1] - t[0]) / max(t.size - 1, 1)  # the mean step (0 for a single sample: no lags)
     lag = int(round(period / dt)) if dt > 0 and math.isfinite(period) else 0
     half = int(round(0.5 * period / dt)) if dt > 0 and math.isfinite(period) else 0
     denom = float(r @ r)

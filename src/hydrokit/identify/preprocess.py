@@ -391,13 +391,16 @@ def trim_launch(
         notes.append(f"release {how} at t = {t_rel:.3f} s: {i0} samples before it dropped")
     if i1 < t.size - 1:
         notes.append(f"end {how_end} at t = {t[i1]:.3f} s: {t.size - 1 - i1} samples of noise dropped")
+    if i1 + 1 - i0 < MIN_SAMPLES:
+        raise InputError(
+            f"the launch from the release ({how}, t = {t_rel:g} s) to the end ({how_end}, t = {t[i1]:g} s) holds "
+            f"{i1 + 1 - i0} samples; expected at least {MIN_SAMPLES}",
+            launch.file,
+        )
     tt = t[i0 : i1 + 1] - t[i0]
     yy = y[i0 : i1 + 1].copy()
     info: dict[str, Any] = {"release_time": t_rel, "release": how}
-    if tt.size >= MIN_SAMPLES:
-        c0, c1 = rest_line(tt, yy, noise_floor(yy))
-    else:
-        c0, c1 = float(np.median(yy)), 0.0
+    c0, c1 = rest_line(tt, yy, noise_floor(yy))
     if detrend == "linear":
         yy = yy - (c0 + c1 * tt)
         notes.append(f"drift removed: rest value {c0:.4g} + {c1:.4g}·t")
