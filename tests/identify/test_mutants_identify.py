@@ -596,3 +596,20 @@ def test_a_release_or_end_leaving_fewer_than_twenty_samples_is_refused():
         trim_launch(launch, release=1.0, end=1.05)
     with pytest.raises(InputError, match=r"release = 8\.0 s: expected a time within the record \[0, 8\] s"):
         trim_launch(launch, release=8.0)
+
+
+def test_every_extreme_is_refined_by_its_parabola_even_on_the_second_sample():
+    # z = cos(ω(t − t_p)) sampled so that the first maximum falls 0.3 samples after sample 1:
+    # the parabola through samples 0, 1, 2 puts it within (ω h)² of t_p, and every later
+    # extreme too; the raw sample would be 0.3 h off
+    from hydrokit.identify.estimators import _peaks
+
+    h, w = 0.01, 2 * math.pi
+    tp = 1.3 * h
+    t = np.arange(301) * h
+    z = np.cos(w * (t - tp))
+    peaks = _peaks(t, z, 0.05)
+    assert len(peaks) == 6  # t_p + k/2 s, k = 0 … 5 (the half cycle cut by the end at 3 s is skipped)
+    for k, (time, value) in enumerate(peaks):
+        assert time == pytest.approx(tp + 0.5 * k, abs=0.01 * h)
+        assert abs(value) == pytest.approx(1.0, abs=(w * h) ** 2)

@@ -446,3 +446,37 @@ def test_model_level_allocations_carry_their_names_limits_and_tau():
     ax = free.plot()
     assert [tick.get_text() for tick in ax.get_xticklabels()] == ["port", "stbd"]
     assert ax.get_legend() is None
+
+
+@pytest.mark.parametrize("density", [0.0, -1000.0])
+def test_a_thruster_set_needs_a_positive_water_density(density):
+    from hydrokit.model.thrusters import Thruster, ThrusterSet
+
+    th = (Thruster("A", (0, 0, 0), (1, 0, 0), 50),)
+    assert ThrusterSet(th, density=1025.0).density == 1025.0
+    with pytest.raises(InputError, match=rf"fluid density = {density:g}.*expected a positive number"):
+        ThrusterSet(th, density=density)
+
+
+def test_added_mass_that_cancels_the_mass_exactly_is_refused():
+    # −X_udot = −m makes M_RB + M_A singular in surge (smallest eigenvalue exactly 0): the
+    # acceleration u̇ = X / 0 has no value, so the vehicle is refused, not only indefinite ones
+    with pytest.raises(InputError, match=r"not positive definite \(smallest eigenvalue 0\)"):
+        neutral_vehicle(added_mass=[-MASS, *ADDED[1:]])
+    assert neutral_vehicle(added_mass=[-0.99 * MASS, *ADDED[1:]]).mass == MASS
+
+
+def test_term_factors_and_autopilot_references_are_frozen():
+    # a vehicle's terms and a mission's set-points are shared by every step and every run
+    import dataclasses
+
+    from hydrokit.model.control import Reference
+    from hydrokit.model.terms import VEL, Factor
+
+    f = Factor(VEL, (0,))
+    with pytest.raises(dataclasses.FrozenInstanceError):
+        f.kind = 2  # type: ignore[misc]
+    ref = Reference(1.0, 5.0, 0.3)
+    with pytest.raises(dataclasses.FrozenInstanceError):
+        ref.depth = 3.0  # type: ignore[misc]
+    assert hash(f) == hash(Factor(VEL, (0,)))

@@ -534,12 +534,13 @@ def _peaks(t: np.ndarray, z: np.ndarray, min_abs: float) -> list[tuple[float, fl
                 if 0 < k < z.size - 1:
                     # vertex of the parabola through three samples (uniform spacing assumed)
                     y0, y1, y2 = z[k - 1], z[k], z[k + 1]
+                    # y1 is the extreme of its half cycle and its neighbours lie inside it or
+                    # beyond its crossings, so the vertex is within half a sample: |d| ≤ ½
                     den = y0 - 2 * y1 + y2
                     if den != 0:
                         d = 0.5 * (y0 - y2) / den
-                        if abs(d) < 1:
-                            tp = t[k] + d * (t[k + 1] - t[k - 1]) / 2
-                            ap = y1 - 0.25 * (y0 - y2) * d
+                        tp = t[k] + d * (t[k + 1] - t[k - 1]) / 2
+                        ap = y1 - 0.25 * (y0 - y2) * d
                 out.append((float(tp), float(ap)))
             if i < z.size:
                 state, start = s, i

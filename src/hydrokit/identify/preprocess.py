@@ -205,11 +205,9 @@ def detect_release(t: np.ndarray, y: np.ndarray, sigma: float | None = None, fil
         # refine between samples: the minimum of a parabola through the three costs
         c_m, c_0, c_p = costs[b - 1], costs[b], costs[b + 1]
         den = c_m - 2 * c_0 + c_p
-        if den > 0:
+        if den > 0:  # c_0 is the least of the three, so the vertex is within half a step: |d| ≤ ½
             d = 0.5 * (c_m - c_p) / den
-            if abs(d) < 1:
-                step = 0.5 * float(t[cands[b + 1]] - t[cands[b - 1]])
-                tr += d * step
+            tr += d * 0.5 * float(t[cands[b + 1]] - t[cands[b - 1]])
     # a hand may let go while the body still moves outwards: the free motion then starts at
     # the extreme that follows, where the rate of the fitted free response is zero
     coef = fit(tr)[1]
