@@ -78,7 +78,13 @@ TESTS = dict.fromkeys(PACKAGES, ("tests",))
 #: copied into each job's private tree (tests read docs/ and the bundled data under src/)
 COPY = ("src", "tests", "docs", "bench", "pyproject.toml", "README.md")
 
+
 #: (file relative to src/hydrokit, stripped source line, mutation) → why no test can kill it
+def _alike(path: str, reason: str, *mutants: tuple[str, str]) -> dict[tuple[str, str, str], str]:
+    """One reason for several mutants of a module, each given as (code, what)."""
+    return {(path, code, what): reason for code, what in mutants}
+
+
 EQUIVALENT: dict[tuple[str, str, str], str] = {
     ("core/drag.py", "P = np.asarray(packed, dtype=float).reshape(-1, PACKED_WIDTH).copy()", "1 -> 2"): (
         "reshape(-2, 9): numpy takes any negative size as the one inferred dimension"
@@ -227,33 +233,27 @@ EQUIVALENT: dict[tuple[str, str, str], str] = {
         "the active-set test (within tol of the limit) has just called free: then f, within tol of the same "
         "point, is returned instead"
     ),
-    **{
-        ("core/drag.py", code, what): (
-            "P is reshaped to (-1, PACKED_WIDTH) = 9 columns a few lines above: the slice 6:10 is 6:9"
-        )
-        for code, what in (
-            ("f = -P[:, 3:6] * vp - P[:, 6:9] * np.abs(vp) * vp", "9 -> 10"),
-            ("P[:, 6:9] = P[:, 6:9] @ absR.T", "9 -> 10 [1]"),
-            ("P[:, 6:9] = P[:, 6:9] @ absR.T", "9 -> 10 [2]"),
-        )
-    },
-    **{
-        ("model/allocation.py", "lo, hi = self.f_min.reshape(-1), self.f_max.reshape(-1)", what): (
-            "reshape(-2): numpy takes any negative size as the one inferred dimension"
-        )
-        for what in ("1 -> 2 [1]", "1 -> 2 [2]")
-    },
-    **{
-        ("model/thrusters.py", code, what): (
-            "a clamp written as a conditional: where J equals the bound, both branches give the same value"
-        )
-        for code, what in (
-            ("J = jlo if jlo > J else J  # max(J, jlo)", "> -> >="),
-            ("J = jhi if jhi < J else J  # min(J, jhi)", "< -> <="),
-            ("J = jlo if jlo > J else J", "> -> >="),
-            ("J = jhi if jhi < J else J", "< -> <="),
-        )
-    },
+    **_alike(
+        "core/drag.py",
+        "P is reshaped to (-1, PACKED_WIDTH) = 9 columns a few lines above: the slice 6:10 is 6:9",
+        ("f = -P[:, 3:6] * vp - P[:, 6:9] * np.abs(vp) * vp", "9 -> 10"),
+        ("P[:, 6:9] = P[:, 6:9] @ absR.T", "9 -> 10 [1]"),
+        ("P[:, 6:9] = P[:, 6:9] @ absR.T", "9 -> 10 [2]"),
+    ),
+    **_alike(
+        "model/allocation.py",
+        "reshape(-2): numpy takes any negative size as the one inferred dimension",
+        ("lo, hi = self.f_min.reshape(-1), self.f_max.reshape(-1)", "1 -> 2 [1]"),
+        ("lo, hi = self.f_min.reshape(-1), self.f_max.reshape(-1)", "1 -> 2 [2]"),
+    ),
+    **_alike(
+        "model/thrusters.py",
+        "a clamp written as a conditional: where J equals the bound, both branches give the same value",
+        ("J = jlo if jlo > J else J  # max(J, jlo)", "> -> >="),
+        ("J = jhi if jhi < J else J  # min(J, jhi)", "< -> <="),
+        ("J = jlo if jlo > J else J", "> -> >="),
+        ("J = jhi if jhi < J else J", "< -> <="),
+    ),
     ("identify/rig_model.py", "if abs(net) <= 1e-9 * max(rig.weight, rig.buoyancy, 1e-30) * r:", "<= -> <"): (
         "differs only when the net restoring moment is exactly 1e-9 of W·r to the last bit"
     ),

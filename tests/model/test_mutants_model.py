@@ -480,3 +480,39 @@ def test_term_factors_and_autopilot_references_are_frozen():
     with pytest.raises(dataclasses.FrozenInstanceError):
         ref.depth = 3.0  # type: ignore[misc]
     assert hash(f) == hash(Factor(VEL, (0,)))
+
+
+def test_a_thruster_without_a_time_constant_follows_its_command_at_once():
+    # τ = 0 by default (Thruster docstring): rotor_step reaches the target in one step of any
+    # length; with τ = 0.2 s it covers 1 − e^(−dt/τ) of the way (exact first-order solution)
+    from hydrokit.model.thrusters import Thruster, ThrusterSet
+
+    instant = ThrusterSet((Thruster("A", (0, 0, 0), (1, 0, 0), 50),), density=1000.0)
+    np.testing.assert_array_equal(instant.rotor_step([0.0], [30.0], 0.01), [30.0])
+    lagged = ThrusterSet((Thruster("A", (0, 0, 0), (1, 0, 0), 50, time_constant=0.2),), density=1000.0)
+    np.testing.assert_allclose(lagged.rotor_step([0.0], [30.0], 0.01), [30.0 * (1 - math.exp(-0.05))], rtol=1e-12)
+
+
+@pytest.mark.parametrize("name", ["", "   "])
+def test_a_drag_element_needs_a_visible_name(name):
+    # from Python (make_vehicle with DragElement objects); the file reader says so in its words
+    from hydrokit.core.drag import DragElement
+    from hydrokit.model.vehicle import make_vehicle
+
+    v = neutral_vehicle()
+    body = (v.name, v.mass, v.volume, v.gravity, v.density, v.inertia, v.r_g, v.r_b, v.M_A, v.D_L, v.D_Q)
+    fin = DragElement("fin", (0, 0, 0), (1, 1, 1), (1, 1, 1))
+    assert make_vehicle(*body, drag_elements=[fin]).drag_elements == (fin,)
+    with pytest.raises(InputError, match=r"field 'drag_elements\[0\]\.name' = '\s*': expected a non-empty name"):
+        make_vehicle(*body, drag_elements=[DragElement(name, (0, 0, 0), (1, 1, 1), (1, 1, 1))])
+
+
+def test_a_thrust_table_is_frozen():
+    import dataclasses
+
+    from hydrokit.model.thrusters import TableCurve
+
+    curve = TableCurve((-10.0, 0.0, 10.0), (-40.0, 0.0, 50.0))
+    assert curve.thrust(5.0) == pytest.approx(25.0)  # halfway along the table's last segment
+    with pytest.raises(dataclasses.FrozenInstanceError):
+        curve.thrusts = (0.0, 0.0, 0.0)  # type: ignore[misc]
