@@ -233,6 +233,10 @@ EQUIVALENT: dict[tuple[str, str, str], str] = {
         "the active-set test (within tol of the limit) has just called free: then f, within tol of the same "
         "point, is returned instead"
     ),
+    ("estimate/mesh.py", 'vol = np.einsum("ij,ij->i", a, np.cross(b, c)) / 6.0', "6.0 -> 7.0"): (
+        "solid_inertia uses the tetrahedra's volumes only in ratios (centroid Σ V s / 4ΣV, inertia "
+        "scaled by mass / ΣV): a common factor on every V cancels"
+    ),
     **_alike(
         "core/drag.py",
         "P is reshaped to (-1, PACKED_WIDTH) = 9 columns a few lines above: the slice 6:10 is 6:9",
