@@ -212,14 +212,21 @@ EQUIVALENT: dict[tuple[str, str, str], str] = {
         "DQ_out = np.diag(np.asarray(shifted, float) + _shifted_diagonal(_own_elements(parts), slice(6, 9))).copy()",
         "9 -> 10",
     ): ("the packed drag table has PACKED_WIDTH = 9 columns: numpy clips slice(6, 10) to 6:9"),
-    (
+    **_alike(
         "estimate/shapes.py",
-        "CYL_TRANSVERSE_CA = ((1.2, 0.62), (2.5, 0.78), (5.0, 0.90), (9.0, 0.96), (1e9, 1.0))",
-        "1000000000.0 -> 1000000001.0",
-    ): (
-        "the table's last knot stands for an infinitely long cylinder: between L/D = 9 and 1e9 the "
-        "interpolated C_a moves by 4e-11 of itself per unit of that knot, below any cylinder's precision"
+        "a table's last row (1e9, value) stands for the infinite ratio: _interp drops rows at or above 1e8 "
+        "from the finite part and reads only that row's value, never its abscissa",
+        (
+            "CYL_TRANSVERSE_CA = ((1.2, 0.62), (2.5, 0.78), (5.0, 0.90), (9.0, 0.96), (1e9, 1.0))",
+            "1000000000.0 -> 1000000001.0",
+        ),
+        ("(1e9, 1.0),", "1000000000.0 -> 1000000001.0"),
     ),
+    (
+        "estimate/geometry.py",
+        '{"name": n, "position": r(row[0:3]), "linear": r(row[3:6]), "quadratic": r(row[6:9])}',
+        "9 -> 10",
+    ): ("row is a packed drag element of core.drag, PACKED_WIDTH = 9 entries: the slice 6:10 is 6:9"),
     ("identify/estimators.py", "w = min(w, n - 1 if (n - 1) % 2 == 1 else n - 2)", "1 -> 2 [3]"): (
         "the cap becomes n − 2 also when n − 1 is odd: a window capped there is even and the next line's "
         "w + 1 makes it n − 1 again; below the cap nothing changes"

@@ -287,12 +287,25 @@ def test_coefficient_tables_are_ordered_and_tend_to_the_strip_limit():
 
 @pytest.mark.parametrize(
     "ratio,kappa",
-    [(1.0, 0.58), (2.0, 0.58), (5.0, 0.62), (10.0, 0.68), (20.0, 0.74), (40.0, 0.82), (50.0, 0.87), (100.0, 0.98)],
+    [
+        (1.0, 0.58),
+        (2.0, 0.58),
+        (5.0, 0.62),
+        (10.0, 0.68),
+        (20.0, 0.74),
+        (40.0, 0.82),
+        (50.0, 0.87),
+        (100.0, 0.98),
+        (200.0, 0.99),
+        (400.0, 0.995),
+    ],
 )
 def test_cylinder_transverse_drag_uses_the_finite_length_factor(ratio, kappa):
     # DNV-RP-C205 (2010) Table 6-2 (after Hoerner 1965), reduction factor κ for a cylinder of
     # finite length with free ends, subcritical flow: 0.58, 0.62, 0.68, 0.74, 0.82, 0.87, 0.98 at
-    # λ = L/D = 2, 5, 10, 20, 40, 50, 100 (held below λ = 2); the module takes C_D = 1.05 κ
+    # λ = L/D = 2, 5, 10, 20, 40, 50, 100 (held below λ = 2), 1 for λ = ∞; the module takes
+    # C_D = 1.05 κ. Beyond λ = 100 it goes linearly in 1/λ to the infinite limit:
+    # κ = 1 − 0.02 · 100/λ (0.99 at 200, 0.995 at 400)
     D = 0.05
     c = cylinder(ratio * D, D)
     assert c.drag_coefficient[1] == pytest.approx(1.05 * kappa, rel=1e-12)
@@ -513,3 +526,41 @@ def test_a_force_fit_from_coefficients_alone_is_immutable_and_has_no_rows():
     assert fit.table() == (["speed", "force", "chin", "morison"], [])
     with pytest.raises(dataclasses.FrozenInstanceError):
         fit.K_D = 0.0  # type: ignore[misc]
+
+
+def test_a_spheroid_with_equal_axes_is_refused_not_divided_by_zero():
+    from hydrokit.estimate.shapes import lamb_coefficients
+
+    with pytest.raises(InputError, match=r"prolate spheroid needs a > b \(a = 1\.0, b = 1\.0 m\)"):
+        lamb_coefficients(1.0, 1.0)
+    k1, k2, _ = lamb_coefficients(1.0 + 1e-6, 1.0)  # the sphere limit: k1 = k2 = ½
+    assert (k1, k2) == (pytest.approx(0.5, abs=1e-5), pytest.approx(0.5, abs=1e-5))
+
+
+def test_block_drag_acts_on_the_face_across_each_motion():
+    # a 0.6 × 0.3 × 0.2 m block: surge sees the 0.3 × 0.2 face, sway 0.6 × 0.2, heave 0.6 × 0.3;
+    # K_Q = ½ ρ C_D A per axis
+    from hydrokit.estimate.shapes import block
+
+    rho, cd = 1025.0, 1.05
+    c = block(0.6, 0.3, 0.2, density=rho, drag_coefficient=cd)
+    np.testing.assert_allclose(
+        c.quadratic_damping(rho)[:3], [0.5 * rho * cd * A for A in (0.06, 0.12, 0.18)], rtol=1e-12
+    )
+
+
+def test_estimate_table_has_one_row_per_dof_with_the_closed_form_sphere():
+    # a 0.5 m sphere in sea water: ½ ρ V in each translation, nothing in rotation, no linear damping
+    from pathlib import Path
+
+    from hydrokit.core.names import DOF_NAMES
+    from hydrokit.estimate.geometry import estimate_geometry
+    from hydrokit.io.geometry import parse_geometry
+
+    geo = parse_geometry({"parts": [{"shape": "sphere", "diameter": 0.5, "mass": 130.0}]}, Path("payload.yaml"))
+    cols, rows = estimate_geometry(geo).table()
+    assert cols[:4] == ["dof", "added_mass", "added_mass_diagonal_only", "linear_damping"]
+    assert [r[0] for r in rows] == list(DOF_NAMES)
+    half = 0.5 * 1025.0 * math.pi / 6 * 0.5**3
+    np.testing.assert_allclose([r[1] for r in rows], [half] * 3 + [0.0] * 3, atol=1e-12)
+    assert [r[3] for r in rows] == [0.0] * 6

@@ -516,3 +516,14 @@ def test_a_thrust_table_is_frozen():
     assert curve.thrust(5.0) == pytest.approx(25.0)  # halfway along the table's last segment
     with pytest.raises(dataclasses.FrozenInstanceError):
         curve.thrusts = (0.0, 0.0, 0.0)  # type: ignore[misc]
+
+
+def test_make_vehicle_includes_the_added_mass_coriolis_by_default():
+    # Fossen's C_A(ν_r) (the Munk moment) is part of the model unless a derivative set already
+    # holds its cross terms and says so
+    from hydrokit.model.vehicle import make_vehicle
+
+    v = neutral_vehicle()
+    body = (v.name, v.mass, v.volume, v.gravity, v.density, v.inertia, v.r_g, v.r_b, v.M_A, v.D_L, v.D_Q)
+    np.testing.assert_array_equal(make_vehicle(*body).M_coriolis, v.M_RB + v.M_A)
+    np.testing.assert_array_equal(make_vehicle(*body, added_mass_coriolis=False).M_coriolis, v.M_RB)
