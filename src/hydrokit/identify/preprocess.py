@@ -392,7 +392,7 @@ def trim_launch(
     if i1 + 1 - i0 < MIN_SAMPLES:
         raise InputError(
             f"the launch from the release ({how}, t = {t_rel:g} s) to the end ({how_end}, t = {t[i1]:g} s) holds "
-            f"{i1 + 1 - i0} samples; expected at least {MIN_SAMPLES}",
+            f"{i1 + 1 - i0} sample{'s' if i1 - i0 else ''}; expected at least {MIN_SAMPLES}",
             launch.file,
         )
     tt = t[i0 : i1 + 1] - t[i0]
