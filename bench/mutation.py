@@ -244,6 +244,9 @@ EQUIVALENT: dict[tuple[str, str, str], str] = {
         "solid_inertia uses the tetrahedra's volumes only in ratios (centroid Σ V s / 4ΣV, inertia "
         "scaled by mass / ΣV): a common factor on every V cancels"
     ),
+    ("core/drag.py", "vp = nu[:3] + np.cross(nu[3:6], r)", "6 -> 7"): (
+        "ν_r is the 6-vector [u, v, w, p, q, r] (make_dynamics passes exactly 6): the slice 3:7 is 3:6"
+    ),
     **_alike(
         "core/drag.py",
         "P is reshaped to (-1, PACKED_WIDTH) = 9 columns a few lines above: the slice 6:10 is 6:9",

@@ -30,3 +30,36 @@ def test_default_sea_water_reproduces_rehman_table_1_sphere():
     assert geo.density == constants.SEAWATER_DENSITY
     assert round(float(geo.parts[0].part.added_mass[0, 0]), 1) == 33.5
     assert geo.gravity == constants.GRAVITY == 9.81  # the sources' rig files (ENG2009, CELY2019)
+
+
+def test_coriolis_matrix_symmetrises_an_estimated_mass_matrix_by_default():
+    # Theorem 3.2 holds for M = Mᵀ: an M_A off by round-off (or a fit) is used through its
+    # symmetric part unless the caller says it is already exact; C(ν) is then skew-symmetric
+    import numpy as np
+
+    from hydrokit.core.coriolis import coriolis_matrix
+
+    rng = np.random.default_rng(3)
+    A = rng.normal(size=(6, 6))
+    M = A @ A.T + 6 * np.eye(6)
+    M[0, 4] += 0.3  # not symmetric
+    nu = rng.normal(size=6)
+    C = coriolis_matrix(M, nu)
+    np.testing.assert_allclose(C, coriolis_matrix(0.5 * (M + M.T), nu, symmetric=True), rtol=0, atol=1e-12)
+    np.testing.assert_allclose(C, -C.T, atol=1e-12)
+
+
+def test_a_single_drag_element_is_the_closed_form_point_drag():
+    # one element at r = (0, 0.5, 0) with linear and quadratic drag in surge only, the body
+    # surging at u = 2 m/s and yawing at r = 0.4 rad/s: the point moves at u − r·0.5 = 1.8 m/s,
+    # so F_x = −(K_L 1.8 + K_Q 1.8²) and the yaw moment is −0.5 · F_x (N = x F_y − y F_x)
+    import numpy as np
+
+    from hydrokit.core.drag import DragElement, drag_wrench, pack_elements
+
+    el = DragElement("fin", (0.0, 0.5, 0.0), linear=(3.0, 0.0, 0.0), quadratic=(7.0, 0.0, 0.0))
+    w = drag_wrench(pack_elements([el]), [2.0, 0.0, 0.0, 0.0, 0.0, 0.4])
+    fx = -(3.0 * 1.8 + 7.0 * 1.8**2)
+    np.testing.assert_allclose(w, [fx, 0, 0, 0, 0, -0.5 * fx], atol=1e-12)
+    # an element given only a position drags nothing
+    assert DragElement("tag", (1.0, 0.0, 0.0)).row().tolist() == [1.0, 0, 0, 0, 0, 0, 0, 0, 0]
