@@ -244,6 +244,11 @@ EQUIVALENT: dict[tuple[str, str, str], str] = {
         "solid_inertia uses the tetrahedra's volumes only in ratios (centroid Σ V s / 4ΣV, inertia "
         "scaled by mass / ΣV): a common factor on every V cancels"
     ),
+    ("core/rigid_body.py", "M[3:6, 0:3] = mass * S", "6 -> 7"): ("M is 6×6: the slice 3:7 is 3:6"),
+    ("identify/preprocess.py", "if q0 * v0 > 0:", "* -> /"): (
+        "q0/v0 > 0 iff q0 and v0 have one sign, as q0·v0 > 0; at v0 = 0 exactly (numpy floats: ±inf or "
+        "nan) the branch may run, but its shift atan(0)/ω_d is zero"
+    ),
     ("core/drag.py", "vp = nu[:3] + np.cross(nu[3:6], r)", "6 -> 7"): (
         "ν_r is the 6-vector [u, v, w, p, q, r] (make_dynamics passes exactly 6): the slice 3:7 is 3:6"
     ),

@@ -472,11 +472,14 @@ def test_air_tare_is_immutable():
 def test_simulate_rig_defaults_to_four_rk4_substeps_within_the_closed_form(spring_rig):
     # the documented default (4 RK4 steps per sample) against the linear decay's closed form:
     # at 200 Hz the global RK4 error is ~ ω t (ω h)⁴ / 120 ≈ 1e-9 of the amplitude
-    from hydrokit.identify.rig_model import rig_constants, simulate_rig
+    from hydrokit.identify.rig_model import rig_constants, simulate_normalised, simulate_rig
 
     t = np.arange(1601) / 200.0
     y = simulate_rig(spring_rig, t, 0.3, 0.5, 0.0, A0)
     np.testing.assert_array_equal(y, simulate_rig(spring_rig, t, 0.3, 0.5, 0.0, A0, substeps=4))
+    w2, b, _ = rig_constants(spring_rig).to_normalised(0.3, 0.5, 0.0)
+    q, _, _ = simulate_normalised(t, w2, b, 0.0, A0)  # the same integrator and default underneath
+    np.testing.assert_array_equal(q, y)
     assert not np.array_equal(y, simulate_rig(spring_rig, t, 0.3, 0.5, 0.0, A0, substeps=5))
     w2, b, _ = rig_constants(spring_rig).to_normalised(0.3, 0.5, 0.0)
     s, wd = b / 2, math.sqrt(w2 - b * b / 4)
@@ -613,3 +616,23 @@ def test_every_extreme_is_refined_by_its_parabola_even_on_the_second_sample():
     for k, (time, value) in enumerate(peaks):
         assert time == pytest.approx(tp + 0.5 * k, abs=0.01 * h)
         assert abs(value) == pytest.approx(1.0, abs=(w * h) ** 2)
+
+
+@pytest.mark.parametrize("detrend", ["mean", "linear", "none"])
+def test_trim_reports_the_rest_line_it_removed(detrend):
+    # a decay about the rest line 0.01 + 0.002 t: "linear" removes (and reports) both terms,
+    # "mean" only the offset at the release (slope 0), "none" nothing
+    from hydrokit.identify.preprocess import trim_launch
+
+    base = linear_decay()
+    t = np.asarray(base.t)
+    launch = Launch(t, np.asarray(base.y) + 0.01 + 0.002 * t, "drift")
+    info = trim_launch(launch, release=0.0, detrend=detrend).info["detrend"]
+    assert info["method"] == detrend
+    if detrend == "linear":
+        assert (info["offset"], info["slope"]) == (pytest.approx(0.01, abs=1e-4), pytest.approx(0.002, abs=1e-4))
+    elif detrend == "mean":
+        # the rest value at the release (the rest line's intercept), the drift left in the record
+        assert info["slope"] == 0.0 and info["offset"] == pytest.approx(0.01, abs=1e-4)
+    else:
+        assert (info["offset"], info["slope"]) == (0.0, 0.0)
