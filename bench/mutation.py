@@ -245,6 +245,10 @@ EQUIVALENT: dict[tuple[str, str, str], str] = {
         "scaled by mass / ΣV): a common factor on every V cancels"
     ),
     ("core/rigid_body.py", "M[3:6, 0:3] = mass * S", "6 -> 7"): ("M is 6×6: the slice 3:7 is 3:6"),
+    ("identify/rig_model.py", "th = np.linspace(0.0, 2.0 * math.pi, 257)[:-1]", "2.0 -> 3.0"): (
+        "every restoring shape is odd, so ρ(a cos θ) cos θ has period π: its mean over 256 even samples "
+        "of [0, 3π) equals the mean over [0, 2π)"
+    ),
     ("identify/preprocess.py", "if q0 * v0 > 0:", "* -> /"): (
         "q0/v0 > 0 iff q0 and v0 have one sign, as q0·v0 > 0; at v0 = 0 exactly (numpy floats: ±inf or "
         "nan) the branch may run, but its shift atan(0)/ω_d is zero"

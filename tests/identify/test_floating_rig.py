@@ -473,3 +473,14 @@ def test_equivalent_damping_on_a_disturbed_record_keeps_the_cubic_terms_jackknif
             grad[i] = (b_e(p0 + h, a) - b_e(p0 - h, a)) / (2 * h[i])
         assert entry["std_error"] == pytest.approx(math.sqrt(grad @ jackknife @ grad), rel=1e-5)
         assert entry["std_error"] >= entry["std_error_formal"] > 0, entry
+
+
+def test_heave_speed_for_re_and_kc_is_the_records_own_rate() -> None:
+    # a heaving body moves as a whole: u_max = max|ż| (no lever arm), Re = u L/ν
+    rig = rig_of("heave", {"waterplane_area": 0.05}, reference_length=0.4)
+    launch = simulate_launch(rig, 2.0, 1.0, 3.0, 0.05, 20.0, SensorModel(200.0, 0, 0, 0), rng=0)
+    res = identify_launch(rig, trim_launch(launch), "output-error")
+    t, y = np.asarray(launch.t), np.asarray(launch.y)
+    rate = float(np.max(np.abs(np.gradient(y, t))))  # m/s
+    assert res.extra["speed_max"] == pytest.approx(rate, rel=0.01)
+    assert res.reynolds_max == pytest.approx(rate * 0.4 / 1.0e-6, rel=0.01)

@@ -636,3 +636,85 @@ def test_trim_reports_the_rest_line_it_removed(detrend):
         assert info["slope"] == 0.0 and info["offset"] == pytest.approx(0.01, abs=1e-4)
     else:
         assert (info["offset"], info["slope"]) == (0.0, 0.0)
+
+
+def test_the_morison_fit_has_no_linear_damping(spring_rig):
+    # CELY2019's Morison variant fits K_Q alone: K_L is zero by construction, not fitted small
+    res = identify_launch(spring_rig, linear_decay(), "morison")
+    assert res.linear_damping == 0.0 and res.quadratic_damping > 0
+
+
+@pytest.mark.parametrize("duration", [0.0, -1.0, math.inf, math.nan])
+def test_a_virtual_launch_needs_a_positive_finite_duration(spring_rig, duration):
+    from hydrokit.errors import InputError
+
+    with pytest.raises(InputError, match=rf"duration = {duration}: expected a positive time \(s\)"):
+        simulate_launch(spring_rig, 0.3, 0.5, 30.0, A0, duration, SensorModel(200.0, 0, 0, 0), rng=0)
+
+
+@pytest.mark.parametrize("rate, ok", [(0.5, True), (0.0, False), (-10.0, False)])
+def test_a_slow_sensor_is_valid_a_zero_rate_is_not(rate, ok):
+    # a 0.5 Hz sample rate (a diver's stopwatch readings) is slow but a rate; 0 Hz is none
+    from hydrokit.errors import InputError
+
+    if ok:
+        assert SensorModel(rate).sample_rate == rate
+    else:
+        with pytest.raises(InputError, match=rf"sample_rate = {rate}: expected a positive number \(Hz\)"):
+            SensorModel(rate)
+
+
+def test_torsion_re_and_kc_use_the_tip_speed(torsion_rig):
+    # a body turning on a torsion spring: its tip, L/2 from the axis, moves at (L/2)|φ̇|
+    from hydrokit.identify.preprocess import trim_launch
+
+    L = torsion_rig.reference_length
+    launch = simulate_launch(
+        torsion_rig, 0.005, 0.002, 0.004, math.radians(20), 20.0, SensorModel(200.0, 0, 0, 0), rng=0
+    )
+    res = identify_launch(torsion_rig, trim_launch(launch), "output-error")
+    t, y = np.asarray(launch.t), np.asarray(launch.y)
+    rate = float(np.max(np.abs(np.gradient(y, t))))  # rad/s
+    assert res.extra["speed_max"] == pytest.approx(0.5 * L * rate, rel=0.01)
+
+
+def test_extended_sensitivities_are_finite_differences_of_the_solution():
+    # ∂q/∂(ω², b, g, d, a3, a5, q0, v0) integrated with the state, against central differences
+    # of the solution itself, with every parameter (C3 and C5 included) non-zero
+    from hydrokit.identify.rig_model import simulate_extended
+
+    t = np.arange(401) / 100.0
+    p = np.array([9.0, 0.2, 0.8, 0.3, -0.2, 0.05])
+    q0, v0 = 0.5, 0.1
+    _, _, J = simulate_extended(t, p, q0, v0, None, 8, True)
+    x = np.concatenate([p, [q0, v0]])
+    for k in range(8):
+        h = 1e-6 * max(abs(x[k]), 1.0)
+        up, dn = x.copy(), x.copy()
+        up[k] += h
+        dn[k] -= h
+        qu = simulate_extended(t, up[:6], up[6], up[7], None, 8)[0]
+        qd = simulate_extended(t, dn[:6], dn[6], dn[7], None, 8)[0]
+        np.testing.assert_allclose(J[:, k], (qu - qd) / (2 * h), rtol=1e-5, atol=1e-7 * np.abs(J[:, k]).max())
+
+
+def test_the_air_tare_rms_residual_is_the_equation_residual_of_the_fit():
+    # second method: the residual of θ̈ = α sin θ − β θ̇ − γ|θ̇|θ̇ + c cos θ recomputed from the
+    # smoothed launch with the reported coefficients and rest value
+    from hydrokit.identify.tare import _smooth, fit_air_tare
+
+    rng = np.random.default_rng(7)
+    t = np.arange(1501) / 50.0
+    from scipy.integrate import solve_ivp
+
+    r, beta, gamma = 0.4, 0.05, 0.1
+    sol = solve_ivp(
+        lambda _t, z: (z[1], -(9.81 / r) * math.sin(z[0]) - beta * z[1] - gamma * abs(z[1]) * z[1]),
+        (0, t[-1]), (0.5, 0.0), t_eval=t, rtol=1e-11, atol=1e-13,
+    )  # fmt: skip
+    launch = Launch(t, sol.y[0] + 0.002 + rng.normal(0, 2e-4, t.size), "air")
+    _, fit = fit_air_tare([launch], 1.0, 9.81)
+    s = _smooth(launch, fit["windows"][0], 4)
+    c = -fit["alpha"] * fit["rest_values"][0]
+    e = s.qdd - (fit["alpha"] * np.sin(s.q) - fit["beta"] * s.qd - fit["gamma"] * np.abs(s.qd) * s.qd + c * np.cos(s.q))
+    assert fit["rms_residual"] == pytest.approx(math.sqrt(float(e @ e) / e.size), rel=1e-9)

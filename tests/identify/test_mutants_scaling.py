@@ -70,3 +70,15 @@ def test_mass_and_volume_scale_with_the_cube(rotational):
     assert full["mass"] == pytest.approx(rho_body * (2 * a) ** 3, rel=1e-12)
     if not rotational:
         assert full["volume"] == pytest.approx((2 * a) ** 3, rel=1e-12)
+
+
+@pytest.mark.parametrize("lam", [1 / 0.3, 2.0])
+def test_body_mass_and_inertia_scale_like_a_similar_solid(lam):
+    # a uniform solid block a × b × c of density ρ_s: m = ρ_s abc (λ³), I_z = m (a² + b²)/12 (λ⁵)
+    def body(a: float, b: float, c: float) -> dict[str, float]:
+        m = 1200.0 * a * b * c
+        return {"mass": m, "inertia": m * (a * a + b * b) / 12.0}
+
+    scaled = scale_coefficients(body(0.3, 0.2, 0.1), lam, rotational=True)
+    full = body(0.3 * lam, 0.2 * lam, 0.1 * lam)
+    assert scaled == {k: pytest.approx(v, rel=1e-12) for k, v in full.items()}
