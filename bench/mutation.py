@@ -245,6 +245,10 @@ EQUIVALENT: dict[tuple[str, str, str], str] = {
         "scaled by mass / ΣV): a common factor on every V cancels"
     ),
     ("core/rigid_body.py", "M[3:6, 0:3] = mass * S", "6 -> 7"): ("M is 6×6: the slice 3:7 is 3:6"),
+    ("model/thrusters.py", "j_far = jhi if (va > 0) == fwd else jlo", "> -> >="): (
+        "j_far is used only where |n D|·1e6 ≤ |V_a|, and n is the speed limit (> 0): never at V_a = 0, "
+        "the one value where > and >= differ"
+    ),
     ("identify/rig_model.py", "th = np.linspace(0.0, 2.0 * math.pi, 257)[:-1]", "2.0 -> 3.0"): (
         "every restoring shape is odd, so ρ(a cos θ) cos θ has period π: its mean over 256 even samples "
         "of [0, 3π) equals the mean over [0, 2π)"

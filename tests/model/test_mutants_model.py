@@ -527,3 +527,26 @@ def test_make_vehicle_includes_the_added_mass_coriolis_by_default():
     body = (v.name, v.mass, v.volume, v.gravity, v.density, v.inertia, v.r_g, v.r_b, v.M_A, v.D_L, v.D_Q)
     np.testing.assert_array_equal(make_vehicle(*body).M_coriolis, v.M_RB + v.M_A)
     np.testing.assert_array_equal(make_vehicle(*body, added_mass_coriolis=False).M_coriolis, v.M_RB)
+
+
+def test_a_python_mission_has_the_mission_files_defaults():
+    # the same minimal mission (waypoints, duration and PID gains only) from a file and from
+    # create_mission: every default the file format documents (speed, radius, lookahead, dt) agrees
+    from pathlib import Path
+
+    from hydrokit.io.mission import parse_mission
+    from hydrokit.model.mission import create_mission
+
+    gains = {
+        "pid": {loop: {"kp": 100.0, "ki": 0.0, "kd": 10.0, "limit": 50.0} for loop in ("speed", "depth", "heading")}
+    }
+    points = [[0.0, 0.0, 2.0], [10.0, 0.0, 2.0]]
+    doc = {"vehicle": "minerva", "duration": 60.0, "controllers": gains, "guidance": {"waypoints": points}}
+    from_file = parse_mission(doc, "m.yaml", Path("."))
+    from_python = create_mission(points, gains, vehicle="minerva", duration=60.0)
+    for a, b in ((from_file, from_python), (from_file.path, from_python.path)):
+        for key in ("duration", "dt", "acceptance_radius", "lookahead"):
+            if hasattr(a, key):
+                assert getattr(a, key) == getattr(b, key), key
+    np.testing.assert_array_equal(from_file.path.speeds, from_python.path.speeds)
+    assert from_python.path.lookahead == 5.0  # m, guidance.lookahead's documented default

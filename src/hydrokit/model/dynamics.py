@@ -80,7 +80,7 @@ def pack(v: Vehicle) -> Packed:
 
 def scal_elements(scal: np.ndarray) -> np.ndarray:
     """The (n, 9) drag-element rows held in a packed ``scal`` (empty for none)."""
-    n = int(scal[8]) if scal.shape[0] > 8 else 0
+    n = int(scal[8])  # always packed, 0 without elements
     return scal[9 : 9 + PACKED_WIDTH * n].reshape(n, PACKED_WIDTH)
 
 

@@ -172,7 +172,7 @@ def deriv(t, x, quat, tau_tab, cur_tab, Minv, Mc, DL, DQ, scal, t_dof, t_coef, t
     f[4] += W * (g2 * d0 - g0 * d2) - B * (h2 * d0 - h0 * d2)
     f[5] += W * (g0 * d1 - g1 * d0) - B * (h0 * d1 - h1 * d0)
     # point drag elements (core.drag.drag_wrench): scal[8] = n, then rows [r, L, Q] of 9
-    n_el = int(scal[8]) if scal.shape[0] > 8 else 0
+    n_el = int(scal[8])
     for e in range(n_el):
         b = 9 + 9 * e
         rx, ry, rz = scal[b], scal[b + 1], scal[b + 2]
