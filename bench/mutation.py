@@ -245,6 +245,10 @@ EQUIVALENT: dict[tuple[str, str, str], str] = {
         "scaled by mass / ΣV): a common factor on every V cancels"
     ),
     ("core/rigid_body.py", "M[3:6, 0:3] = mass * S", "6 -> 7"): ("M is 6×6: the slice 3:7 is 3:6"),
+    ("model/control.py", "if self.ki > 0 and raw > self.output_max and e < 0:", "0 -> 1 [1]"): (
+        "with 0 ≤ e < 1 the branch runs too, but there the integral only grew (I + e dt ≥ I), and "
+        "max(I + e dt, min(I, at_limit)) keeps it: the output is unchanged"
+    ),
     ("model/thrusters.py", "j_far = jhi if (va > 0) == fwd else jlo", "> -> >="): (
         "j_far is used only where |n D|·1e6 ≤ |V_a|, and n is the speed limit (> 0): never at V_a = 0, "
         "the one value where > and >= differ"

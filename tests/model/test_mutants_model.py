@@ -550,3 +550,25 @@ def test_a_python_mission_has_the_mission_files_defaults():
                 assert getattr(a, key) == getattr(b, key), key
     np.testing.assert_array_equal(from_file.path.speeds, from_python.path.speeds)
     assert from_python.path.lookahead == 5.0  # m, guidance.lookahead's documented default
+
+
+def test_pid_defaults_are_a_pure_proportional_controller():
+    # PID(kp) alone: ki = kd = 0 and no output limits, so P = −kp e whatever the rate or the time
+    from hydrokit.model.control import PID
+
+    pid = PID(3.0)
+    state = pid.initial_state()
+    out, state = pid.update(state, 1.5, 1.0, 0.1, rate=4.0)  # e = y − y_d = 0.5, ẏ = 4
+    assert out == pytest.approx(-1.5, rel=1e-12)
+    out, _ = pid.update(state, 1.5, 1.0, 0.1, rate=-9.0)
+    assert out == pytest.approx(-1.5, rel=1e-12)
+
+
+def test_a_large_inertia_with_round_off_asymmetry_is_accepted():
+    # symmetry is checked relative to the tensor's size: 5000 kg·m² entries off by 1e-7 (2e-11 of
+    # them, the round-off of a CAD export) pass; off by 1e-3 (2e-7) they are refused
+    big = [[5000.0, 12.0, 0.0], [12.0 + 1e-7, 4800.0, 0.0], [0.0, 0.0, 5100.0]]
+    assert neutral_vehicle(inertia=big, mass=8000.0, volume=8.0).inertia[1, 0] == pytest.approx(12.0)
+    big[1][0] = 12.001
+    with pytest.raises(InputError, match=r"field 'inertia' = .*: expected a symmetric tensor"):
+        neutral_vehicle(inertia=big, mass=8000.0, volume=8.0)
