@@ -446,6 +446,13 @@ def test_model_level_allocations_carry_their_names_limits_and_tau():
     ax = free.plot()
     assert [tick.get_text() for tick in ax.get_xticklabels()] == ["port", "stbd"]
     assert ax.get_legend() is None
+    _, rows = free.table()
+    assert [[r[0], pytest.approx(r[1], rel=1e-12), r[2], r[3]] for r in rows] == [
+        ["port", 50.0, None, None],
+        ["stbd", 50.0, None, None],
+    ]
+    assert (free.method, res.method) == ("pinv", "constrained")
+    assert allocate_pinv(T, tau, weights=[1.0, 2.0]).method == "weighted-pinv"
 
 
 @pytest.mark.parametrize("density", [0.0, -1000.0])
@@ -572,3 +579,16 @@ def test_a_large_inertia_with_round_off_asymmetry_is_accepted():
     big[1][0] = 12.001
     with pytest.raises(InputError, match=r"field 'inertia' = .*: expected a symmetric tensor"):
         neutral_vehicle(inertia=big, mass=8000.0, volume=8.0)
+
+
+def test_guidance_takes_a_position_or_the_whole_pose():
+    # a notebook passes η = [x, y, z, φ, θ, ψ]; only its position steers the path
+    from hydrokit.model.guidance import Path
+
+    path = Path(np.array([[0.0, 0.0, 2.0], [20.0, 0.0, 2.0]]), np.array([0.6]), 1.0, 4.0)
+    state = path.initial_state()
+    ref_p, st_p = path.update(state, [5.0, 2.0, 2.5])
+    ref_eta, st_eta = path.update(state, [5.0, 2.0, 2.5, 0.3, -0.2, 1.0])
+    assert ref_eta == ref_p and st_eta == st_p
+    # LOS (Fossen 2011 eq. 10.73): cross-track error 2 m, lookahead 4 m → ψ_d = atan(−2/4)
+    assert ref_p.heading == pytest.approx(math.atan2(-2.0, 4.0), rel=1e-12)

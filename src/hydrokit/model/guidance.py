@@ -107,7 +107,8 @@ class Path:
     def update(
         self, state: GuidanceState, position: ArrayLike, vehicle_heading: float | None = None
     ) -> tuple[Reference, GuidanceState]:
-        """Reference for the vehicle at ``position`` (NED, m), and the new guidance state.
+        """Reference for the vehicle at ``position`` (NED x, y, z in m; the whole pose η may be
+        given, its first three entries are used), and the new guidance state.
 
         The returned state's ``leg`` advances past every waypoint reached at this position.
         With the vehicle's heading ψ (``vehicle_heading``, rad) given, the speed set-point is scaled by
