@@ -156,3 +156,37 @@ def test_quad_panels_give_the_cube_of_dnv_table_a2(tmp_path, monkeypatch):
     ]
     np.testing.assert_allclose(A, 680.0, rtol=0.02)
     np.testing.assert_allclose(A, B, rtol=0.02)
+
+
+def test_geometry_sends_bem_eligible_shapes_to_the_solver_and_keeps_the_others(tmp_path, monkeypatch):
+    # with --bem a sphere part gets capytaine's added mass, a block keeps its table
+    pytest.importorskip("capytaine")
+    monkeypatch.setenv("HYDROKIT_CACHE", str(tmp_path))
+    from pathlib import Path
+
+    from hydrokit.estimate.geometry import estimate_geometry
+    from hydrokit.io.geometry import parse_geometry
+
+    doc = {
+        "fluid": {"density": 1000.0},
+        "parts": [
+            {"name": "ball", "shape": "sphere", "diameter": 1.0, "mass": 500.0, "resolution": 24},
+            {
+                "name": "box",
+                "shape": "block",
+                "length": 0.4,
+                "width": 0.3,
+                "height": 0.2,
+                "mass": 20.0,
+                "position": [3, 0, 0],
+            },
+        ],
+    }
+    est = estimate_geometry(parse_geometry(doc, Path("g.yaml")), bem=True)
+    ball, box = est.geometry.parts
+    assert ball.sources["added_mass"].startswith("BEM (Capytaine")
+    assert not box.sources["added_mass"].startswith("BEM")
+    half = 0.5 * 1000.0 * math.pi / 6
+    # 24 panels around: a coarse mesh, 1–2 % under ½ρV, and so not the table's exact value
+    np.testing.assert_allclose(np.diag(ball.part.added_mass)[:3], half, rtol=0.03)
+    assert ball.part.added_mass[0, 0] != pytest.approx(half, rel=1e-6)

@@ -382,6 +382,10 @@ def test_force_fit_standard_errors_match_curve_fit_and_nan_is_named():
     (kd,), kd_cov = curve_fit(lambda u, k: k * np.abs(u) * u, U, F, p0=(1.0,))
     assert fit.K_D == pytest.approx(kd, rel=1e-6)
     assert fit.K_D_se == pytest.approx(math.sqrt(kd_cov[0, 0]), rel=1e-5)
+    # R² = 1 − SSR/SST of each fit, by numpy
+    sst = float(np.sum((F - F.mean()) ** 2))
+    assert fit.r2_chin == pytest.approx(1 - float(np.sum((F - fit.chin(U)) ** 2)) / sst, rel=1e-12)
+    assert fit.r2_morison == pytest.approx(1 - float(np.sum((F - fit.morison(U)) ** 2)) / sst, rel=1e-12)
     bad = U.copy()
     bad[2] = np.nan
     with pytest.raises(InputError) as err:
@@ -566,3 +570,30 @@ def test_estimate_table_has_one_row_per_dof_with_the_closed_form_sphere():
     half = 0.5 * 1025.0 * math.pi / 6 * 0.5**3
     np.testing.assert_allclose([r[1] for r in rows], [half] * 3 + [0.0] * 3, atol=1e-12)
     assert [r[3] for r in rows] == [0.0] * 6
+
+
+@pytest.mark.parametrize("model", ["elements", "rehman", "shifted"])
+def test_an_element_at_the_origin_keeps_its_linear_drag_in_every_model(model):
+    # a point element at the body origin with linear drag in surge only (3 N·s/m) and quadratic
+    # drag (5 N·s²/m²): in pure surge every model must give F = −(3u + 5u|u|), whether the
+    # element is folded into the diagonals or kept as an element
+    from hydrokit.core.drag import DragElement, drag_wrench, pack_elements
+    from hydrokit.estimate.composite import Part, combine
+
+    el = pack_elements([DragElement("probe", (0.0, 0.0, 0.0), (3.0, 0.0, 0.0), (5.0, 0.0, 0.0))])
+    part = Part("probe", 1.0, 0.001, 0.01 * np.eye(3), np.zeros((6, 6)), drag_elements=el)
+    comp = combine([part], model)
+    for u in (0.5, -1.2):
+        nu = np.array([u, 0, 0, 0, 0, 0])
+        f = -comp.linear_damping[0] @ nu - comp.quadratic_damping[0, 0] * u * abs(u)
+        if len(comp.drag_elements):
+            f += drag_wrench(comp.drag_elements, nu)[0]
+        assert f == pytest.approx(-(3.0 * u + 5.0 * u * abs(u)), rel=1e-12)
+
+
+def test_shape_volumes_are_the_closed_forms():
+    from hydrokit.estimate.shapes import block, flat_plate
+
+    assert block(0.6, 0.3, 0.2).volume == pytest.approx(0.036, rel=1e-12)
+    assert flat_plate(0.6, 0.3).volume == 0.0  # an ideal plate displaces nothing
+    assert flat_plate(0.6, 0.3, thickness=0.01).volume == pytest.approx(0.0018, rel=1e-12)

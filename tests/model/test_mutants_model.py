@@ -592,3 +592,13 @@ def test_guidance_takes_a_position_or_the_whole_pose():
     assert ref_eta == ref_p and st_eta == st_p
     # LOS (Fossen 2011 eq. 10.73): cross-track error 2 m, lookahead 4 m → ψ_d = atan(−2/4)
     assert ref_p.heading == pytest.approx(math.atan2(-2.0, 4.0), rel=1e-12)
+
+
+@pytest.mark.parametrize("weights", [[1.0, 0.0], [1.0, -2.0], [1.0, math.nan]])
+def test_allocation_weights_must_be_positive(weights):
+    # W⁻¹ needs every weight > 0: a zero weight would make that thruster "free" (1/0)
+    from hydrokit.model.allocation import allocate_pinv
+
+    T = np.array([[1.0, 1.0], [0, 0], [0, 0], [0, 0], [0, 0], [0.2, -0.2]])
+    with pytest.raises(InputError, match=r"allocation weights .*: expected 2 positive numbers"):
+        allocate_pinv(T, [10.0, 0, 0, 0, 0, 0], weights=weights)
