@@ -287,7 +287,6 @@ def test_coefficient_tables_are_ordered_and_tend_to_the_strip_limit():
 
 @pytest.mark.parametrize(
     "ratio,kappa",
-    # fmt: off
     [
         (1.0, 0.58),
         (2.0, 0.58),
@@ -300,7 +299,6 @@ def test_coefficient_tables_are_ordered_and_tend_to_the_strip_limit():
         (200.0, 0.99),
         (400.0, 0.995),
     ],
-    # fmt: on
 )
 def test_cylinder_transverse_drag_uses_the_finite_length_factor(ratio, kappa):
     # DNV-RP-C205 (2010) Table 6-2 (after Hoerner 1965), reduction factor κ for a cylinder of
