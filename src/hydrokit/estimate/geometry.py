@@ -111,8 +111,7 @@ def mesh_part(
     solver, its centre of buoyancy is the enclosed volume's centroid.
 
     ``buoyancy`` (N) overrides the mesh volume. Without ``inertia`` (kg·m², 3 values or 3×3 about
-    the CG) and
-    ``center_of_gravity`` (m, part axes) the part is a uniform solid filling the mesh
+    the CG) and ``center_of_gravity`` (m, part axes) the part is a uniform solid filling the mesh
     (:meth:`~hydrokit.estimate.mesh.SurfaceMesh.solid_inertia`); give both for a shell or a
     ballasted hull.
     """
