@@ -32,6 +32,7 @@ def atomic_path(path: str | os.PathLike[str]) -> Iterator[Path]:
     tmp_path = Path(tmp)
     try:
         yield tmp_path
+        raise_if_interrupted()
         # mkstemp creates 0600; give the file the permissions a plain open() would
         umask = os.umask(0)
         os.umask(umask)
@@ -68,6 +69,11 @@ TERMINATING = tuple(getattr(signal, name) for name in ("SIGTERM", "SIGINT", "SIG
 
 _committing = 0
 _pending: list[int] = []
+#: signals raised as Interrupted within the current interrupt_on_signals block. A raise can be
+#: lost: when the signal lands while Python code runs inside a C callback (numba's compiler
+#: calls back into Python while it caches), the callback's caller prints "Exception ignored" and
+#: goes on. Long loops call :func:`raise_if_interrupted` to raise it again.
+_received: list[int] = []
 
 
 class Interrupted(BaseException):  # noqa: N818 -- like KeyboardInterrupt: not an error of the input
@@ -88,7 +94,16 @@ def _on_signal(signum: int, frame: object) -> None:
     if _committing:
         _pending.append(signum)  # finish the moves first: never half a set
         return
+    _received.append(signum)
     raise Interrupted(signum)
+
+
+def raise_if_interrupted() -> None:
+    """Raise :class:`Interrupted` again if a termination signal arrived in this block but its
+    first raise was swallowed (see ``_received``); a no-op otherwise. Call it between steps of
+    long work (generations of a search, batches of runs)."""
+    if _received:
+        raise Interrupted(_received[0])
 
 
 @contextlib.contextmanager
@@ -102,6 +117,7 @@ def interrupt_on_signals(signums: tuple[int, ...] = TERMINATING) -> Iterator[Non
         yield
         return
     old = {s: signal.getsignal(s) for s in signums}
+    _received.clear()
     for s in signums:
         signal.signal(s, _on_signal)
     try:
@@ -109,6 +125,7 @@ def interrupt_on_signals(signums: tuple[int, ...] = TERMINATING) -> Iterator[Non
     finally:
         for s, handler in old.items():
             signal.signal(s, handler)
+        _received.clear()
 
 
 def _file_mode() -> int:
@@ -144,6 +161,7 @@ def commit(moves: Mapping[Path, Path]) -> None:
     back (kept as hard links) and new ones are removed, then the error is raised.
     """
     global _committing
+    raise_if_interrupted()  # a termination signal whose raise was lost: nothing gets written
     for dest in moves:
         if dest.is_dir():
             raise IsADirectoryError(errno.EISDIR, "is a folder; expected a file (or nothing)", str(dest))

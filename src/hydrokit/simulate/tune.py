@@ -259,6 +259,7 @@ def _search(
 ) -> TuneResult:
     from scipy.optimize import differential_evolution
 
+    from hydrokit._atomic import raise_if_interrupted
     from hydrokit.simulate.fleet import fly_fleet
 
     def fly(log_factors: np.ndarray) -> Any:
@@ -269,6 +270,7 @@ def _search(
     count = [0]
 
     def objective(x: np.ndarray) -> np.ndarray:
+        raise_if_interrupted()  # a SIGTERM swallowed inside numba's compiler callback stops here
         x2 = np.asarray(x, float).reshape(len(space), -1)
         j, _ = costs(fly(x2), w)
         count[0] += x2.shape[1]
