@@ -13,10 +13,12 @@ import errno
 import os
 import shutil
 import signal
+import sys
 import tempfile
 import threading
 from collections.abc import Iterator, Mapping
 from pathlib import Path
+from typing import Any
 
 
 @contextlib.contextmanager
@@ -117,7 +119,15 @@ def interrupt_on_signals(signums: tuple[int, ...] = TERMINATING) -> Iterator[Non
         yield
         return
     old = {s: signal.getsignal(s) for s in signums}
+    old_hook = sys.unraisablehook
+
+    def quiet(unraisable: Any) -> None:
+        # a swallowed Interrupted is raised again by raise_if_interrupted: no traceback on stderr
+        if not isinstance(unraisable.exc_value, Interrupted):
+            old_hook(unraisable)
+
     _received.clear()
+    sys.unraisablehook = quiet
     for s in signums:
         signal.signal(s, _on_signal)
     try:
@@ -125,6 +135,7 @@ def interrupt_on_signals(signums: tuple[int, ...] = TERMINATING) -> Iterator[Non
     finally:
         for s, handler in old.items():
             signal.signal(s, handler)
+        sys.unraisablehook = old_hook
         _received.clear()
 
 
