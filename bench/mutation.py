@@ -132,10 +132,6 @@ EQUIVALENT: dict[tuple[str, str, str], str] = {
         "coef[0] is the fitted ω² (1/s²): != 1 differs from != 0 only for a fit landing on exactly 0 or 1 "
         "to the last bit (probability 0 with any noise)"
     ),
-    ("identify/estimators.py", "w = min(w, n - 1 if (n - 1) % 2 == 1 else n - 2)", "1 -> 2 [1]"): (
-        "for even n the cap becomes n − 2 instead of n − 1, and the next line makes an even window odd "
-        "by adding one: n − 1 either way"
-    ),
     ("identify/estimators.py", "shift = float(coef[-1]) / float(coef[0]) if coef[0] != 0 else 0.0", "0.0 -> 1.0"): (
         "the else branch needs a fitted ω² of exactly 0.0 (probability 0 with any noise)"
     ),
@@ -227,10 +223,6 @@ EQUIVALENT: dict[tuple[str, str, str], str] = {
         '{"name": n, "position": r(row[0:3]), "linear": r(row[3:6]), "quadratic": r(row[6:9])}',
         "9 -> 10",
     ): ("row is a packed drag element of core.drag, PACKED_WIDTH = 9 entries: the slice 6:10 is 6:9"),
-    ("identify/estimators.py", "w = min(w, n - 1 if (n - 1) % 2 == 1 else n - 2)", "1 -> 2 [3]"): (
-        "the cap becomes n − 2 also when n − 1 is odd: a window capped there is even and the next line's "
-        "w + 1 makes it n − 1 again; below the cap nothing changes"
-    ),
     (
         "model/allocation.py",
         "if np.all(g >= lo) and np.all(g <= hi) and np.linalg.norm(T @ g - target) <= np.linalg.norm(T @ f - target):",
@@ -354,6 +346,13 @@ EQUIVALENT: dict[tuple[str, str, str], str] = {
         ("if t2 <= t1 or a1 <= 0 or a2 <= 0:", "<= -> < [1]"),
         ("if t2 <= t1 or a1 <= 0 or a2 <= 0:", "<= -> < [2]"),
         ("if t2 <= t1 or a1 <= 0 or a2 <= 0:", "<= -> < [3]"),
+    ),
+    (
+        "identify/estimators.py",
+        "if rms > 3.0 * noise and rms > 1e-9 * max(1.0, float(np.max(np.abs(y)))):",
+        "> -> >= [1]",
+    ): (
+        "differs only for an RMS residual of exactly 3 noise floors to the last bit (probability 0): the warning's edge"
     ),
     ("identify/estimators.py", "fwd = tt >= 0", ">= -> >"): (
         "a sample at t0 exactly is then replayed by the backward pass instead of the forward one: a grid "

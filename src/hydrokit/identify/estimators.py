@@ -305,11 +305,14 @@ def _rho_slope(q: np.ndarray, c: RigConstants) -> np.ndarray:
     return np.cos(q) if c.sine else np.ones_like(q)
 
 
-def _savgol_window(period: float, dt: float, n: int) -> int:
-    """Odd window spanning about a sixth of a period, at least 7 samples."""
-    w = int(round(period / dt / 6.0))
-    w = max(7, w)
-    w = min(w, n - 1 if (n - 1) % 2 == 1 else n - 2)
+def _savgol_window(period: float, dt: float) -> int:
+    """Odd window spanning about a sixth of a period, at least 7 samples.
+
+    No cap at the record length is needed: a record :func:`check_record` accepts holds at least
+    two cycles and its period is measured between crossings inside it, so the window is at most
+    (n − 1)/6 + 1 of its n samples, and n ≥ 20 leaves room for the floor of 7 (the callers still refuse a
+    window that does not fit, naming it)."""
+    w = max(7, int(round(period / dt / 6.0)))
     return w if w % 2 == 1 else w + 1
 
 
@@ -342,7 +345,7 @@ class EquationErrorEstimator(_DecayEstimator):
             tu = np.arange(t[0], t[-1], dt)
             y = np.interp(tu, t, y)
             t = tu
-        window = self.window or _savgol_window(self.period_, dt, y.size)
+        window = self.window or _savgol_window(self.period_, dt)
         if window <= self.polyorder or window >= y.size:
             raise InputError(
                 f"window = {window}: expected an odd number of samples between {self.polyorder + 1} and {y.size - 1}"
@@ -624,12 +627,11 @@ class OutputErrorEstimator(_DecayEstimator):
         noise = max(self.noise_, 1e-12)
         best = None
         starts = self._starts(t, y, facts)
-        for k, x0 in enumerate(starts[: 1 + self.restarts]):
+        for x0 in starts[: 1 + self.restarts]:
             sol = least_squares(resid, x0, jac=jac, method="lm", x_scale="jac", xtol=1e-12, ftol=1e-12, max_nfev=400)
             if best is None or sol.cost < best.cost:
                 best = sol
-            rms = math.sqrt(2 * best.cost / t.size)
-            if rms <= 2.0 * noise + 1e-12 and k >= 0:
+            if math.sqrt(2 * best.cost / t.size) <= 2.0 * noise + 1e-12:
                 break
         assert best is not None
         x = best.x

@@ -150,7 +150,7 @@ def _smooth(launch: Launch, window: int | None, polyorder: int) -> _Smoothed:
         # every whole step from the first sample up to and including the last one
         tu = t[0] + dt * np.arange(int(math.floor((t[-1] - t[0]) / dt * (1 + 1e-12))) + 1)
         y = np.interp(tu, t, y)
-    w = window or _savgol_window(facts["period"], dt, y.size)
+    w = window or _savgol_window(facts["period"], dt)
     if w % 2 == 0 or w <= polyorder or w >= y.size:
         raise InputError(
             f"window = {w}: expected an odd number of samples between {polyorder + 1} and {y.size - 1}", launch.file
