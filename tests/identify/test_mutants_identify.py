@@ -735,7 +735,7 @@ def test_a_decay_released_below_the_rest_value_counts_the_same_cycles():
     assert up["period"] == pytest.approx(2 * math.pi / WD, rel=2e-3)
 
 
-def test_the_rest_value_is_the_mean_over_whole_cycles_of_the_second_half():
+def test_the_rest_value_equals_the_closed_form_mean_of_the_second_half_cycles():
     # a clean decay about 0.01 m: the documented rest value is the record's mean over the whole
     # cycles between the first and last same-direction crossings in its second half. For the
     # linear decay, q = −(q̈ + 2σ q̇)/ω_n², so between two zeros ∫q dt = −[q̇]/ω_n² exactly; the
