@@ -354,6 +354,15 @@ EQUIVALENT: dict[tuple[str, str, str], str] = {
     ): (
         "differs only for an RMS residual of exactly 3 noise floors to the last bit (probability 0): the warning's edge"
     ),
+    ("model/dynamics.py", "nu = x[7:13]", "13 -> 14"): (
+        "the quaternion state is 13 long (position 3, quaternion 4, ν 6; solve_ivp and the fixed-step "
+        "loops pass exactly that): numpy clips the slice 7:14 to 7:13"
+    ),
+    (
+        "model/guidance.py",
+        "if math.sqrt(pb.dot(pb)) <= self.acceptance_radius or s >= 1.0:  # |p − b|, as np.linalg.norm",
+        "<= -> <",
+    ): ("differs only for a distance to the waypoint of exactly the acceptance radius to the last bit (probability 0)"),
     ("identify/estimators.py", "fwd = tt >= 0", ">= -> >"): (
         "a sample at t0 exactly is then replayed by the backward pass instead of the forward one: a grid "
         "step of zero length, which returns the initial state (q0, v0) bit for bit either way"

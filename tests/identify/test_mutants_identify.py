@@ -783,3 +783,29 @@ def test_the_residual_warning_states_the_fit_own_rms(spring_rig, damping_model):
     said = [w for w in est.warnings_ if w.startswith("RMS residual")]
     assert len(said) == 1
     assert float(said[0].split()[2]) == pytest.approx(rms, rel=2e-3)  # printed to 3 digits
+
+
+def test_log_decrement_covariance_is_the_delta_method_over_its_own_cycles(spring_rig):
+    # (ω², b, g) = (w², 2 w ζ_L, 3π/4 κ) from the mean ω_n of the cycles (variance of a mean) and
+    # the straight line ζ = ζ_L + κ a over them (numpy.polyfit's covariance, residual-scaled):
+    # the delta method with a central-difference Jacobian must give the estimator's pcov_
+    from hydrokit.identify.estimators import LogDecrementEstimator
+    from hydrokit.identify.preprocess import trim_launch
+
+    launch = trim_launch(simulate_launch(spring_rig, 0.3, 0.8, 15.0, A0, 8.0, SensorModel(200.0, 2e-5), rng=3))
+    est = LogDecrementEstimator(spring_rig).fit(launch.t, launch.y)
+    cyc = est.cycles_
+    wn = np.array([c["natural_frequency"] for c in cyc])
+    (kappa, zl), cz = np.polyfit([c["amplitude"] for c in cyc], [c["damping_ratio"] for c in cyc], 1, cov=True)
+    x = np.array([wn.mean(), zl, kappa])
+    cin = np.zeros((3, 3))
+    cin[0, 0] = wn.var(ddof=1) / wn.size
+    cin[1:, 1:] = cz[::-1, ::-1]  # polyfit orders (slope, intercept)
+
+    def f(v):
+        return np.array([v[0] ** 2, 2 * v[0] * v[1], 0.75 * math.pi * v[2]])
+
+    h = 1e-6 * np.maximum(np.abs(x), 1e-3)
+    J = np.column_stack([(f(x + h[i] * np.eye(3)[i]) - f(x - h[i] * np.eye(3)[i])) / (2 * h[i]) for i in range(3)])
+    assert len(cyc) >= 5 and cz[0, 1] != 0.0  # a real slope and a correlated line fit
+    np.testing.assert_allclose(est.pcov_, J @ cin @ J.T, rtol=1e-6, atol=1e-12 * np.max(np.abs(est.pcov_)))

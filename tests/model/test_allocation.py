@@ -228,3 +228,14 @@ def test_constrained_least_norm_agrees_with_slsqp(tau: list[float]) -> None:
     assume(sol.success)
     np.testing.assert_allclose(T @ sol.x, a_star, atol=1e-6)
     assert np.linalg.norm(res.thrust) <= np.linalg.norm(sol.x) + 1e-6 * 40
+
+
+def test_a_thrust_exactly_at_its_limit_is_not_saturation() -> None:
+    # forward-only thrusters (f_min = 0, f_max = 0 for a dead one): the unconstrained answer
+    # [25, 25, 0, 0] touches those limits but breaks none, so it is returned as is, unlimited
+    T = lingyun_T()
+    f, limited = Allocator(T, np.zeros(4), np.array([100.0, 100.0, 0.0, 0.0]))([50, 0, 0, 0, 0, 0])
+    assert not limited
+    np.testing.assert_allclose(f, [25, 25, 0, 0], rtol=1e-12)
+    f, limited = Allocator(T, np.zeros(4), np.full(4, 100.0))(np.zeros(6))
+    assert not limited and not np.any(f)
