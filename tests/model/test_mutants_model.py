@@ -602,3 +602,16 @@ def test_allocation_weights_must_be_positive(weights):
     T = np.array([[1.0, 1.0], [0, 0], [0, 0], [0, 0], [0, 0], [0.2, -0.2]])
     with pytest.raises(InputError, match=r"allocation weights .*: expected 2 positive numbers"):
         allocate_pinv(T, [10.0, 0, 0, 0, 0, 0], weights=weights)
+
+
+def test_short_k_t_polynomials_are_padded_to_the_cubic_the_fast_paths_unroll():
+    # K_T given as a line or a parabola is padded with leading zeros to exactly four
+    # coefficients, which the batch methods evaluate unrolled (a longer tuple sends them back
+    # to the reference thrust(): same values, several times slower); the padded cubic has the
+    # same value (here at J = 0.5)
+    from hydrokit.model.thrusters import PropellerCurve, _horner
+
+    p = PropellerCurve(diameter=0.12, kt_forward=(-0.25, 0.42), kt_reverse=(0.3,), max_speed=40.0)
+    kf, kr = p._fast[5], p._fast[6]
+    assert kf == (0.0, 0.0, -0.25, 0.42) and kr == (0.0, 0.0, 0.0, 0.3)
+    assert _horner(kf, 0.5) == -0.25 * 0.5 + 0.42
