@@ -363,6 +363,15 @@ EQUIVALENT: dict[tuple[str, str, str], str] = {
         "if math.sqrt(pb.dot(pb)) <= self.acceptance_radius or s >= 1.0:  # |p − b|, as np.linalg.norm",
         "<= -> <",
     ): ("differs only for a distance to the waypoint of exactly the acceptance radius to the last bit (probability 0)"),
+    ("model/thrusters.py", "if g_lo >= 0.0:  # (reverse)", ">= -> >"): (
+        "g_lo == 0 exactly: the root search's first false-position step (lo·g_hi − hi·g_lo)/(g_hi − g_lo) "
+        "is lo itself, where g = 0 meets the stopping test: the same reverse speed limit is returned"
+    ),
+    (
+        "model/allocation.py",
+        "self.Q: Array | None = np.where(reach > 0, 1.0 / np.where(reach > 0, reach, 1.0), 1.0)",
+        "1.0 -> 2.0 [2]",
+    ): ("the inner default only avoids 1/0 where reach == 0, and there the outer np.where takes its own 1.0"),
     ("identify/estimators.py", "fwd = tt >= 0", ">= -> >"): (
         "a sample at t0 exactly is then replayed by the backward pass instead of the forward one: a grid "
         "step of zero length, which returns the initial state (q0, v0) bit for bit either way"

@@ -615,3 +615,17 @@ def test_short_k_t_polynomials_are_padded_to_the_cubic_the_fast_paths_unroll():
     kf, kr = p._fast[5], p._fast[6]
     assert kf == (0.0, 0.0, -0.25, 0.42) and kr == (0.0, 0.0, 0.0, 0.3)
     assert _horner(kf, 0.5) == -0.25 * 0.5 + 0.42
+
+
+@pytest.mark.parametrize("f", [1.0, -1.0, 0.0])
+def test_propeller_command_for_one_newton_is_the_bollard_closed_form(f):
+    # at V_a = 0: n = sign(f) √(|f| / (K_T(0) ρ D⁴)) (no thrust loss), for the reference and the
+    # batch method alike; exactly 0 N needs no rotation
+    from hydrokit.model.thrusters import PropellerCurve
+
+    p = PropellerCurve(diameter=0.1, kt_forward=(0.4,), kt_reverse=(0.3,), max_speed=60.0)
+    kt0 = 0.4 if f > 0 else 0.3
+    n = math.copysign(math.sqrt(abs(f) / (kt0 * p.density * 0.1**4)), f) if f else 0.0
+    assert p.command(f) == pytest.approx(n, rel=1e-12)
+    assert p._command_fast(f, 0.0) == pytest.approx(n, rel=1e-12)
+    assert p.thrust(p.command(f)) == pytest.approx(f, rel=1e-12, abs=1e-15)
