@@ -629,3 +629,11 @@ def test_propeller_command_for_one_newton_is_the_bollard_closed_form(f):
     assert p.command(f) == pytest.approx(n, rel=1e-12)
     assert p._command_fast(f, 0.0) == pytest.approx(n, rel=1e-12)
     assert p.thrust(p.command(f)) == pytest.approx(f, rel=1e-12, abs=1e-15)
+
+
+def test_a_repeated_waypoint_is_named_where_it_repeats():
+    from hydrokit.model.guidance import Path
+
+    pts = [[0, 0, 0], [10, 0, 0], [10, 10, 0], [10, 10, 0], [0, 10, 0]]
+    with pytest.raises(InputError, match=r"waypoint 3 repeats waypoint 2 \(zero-length leg\)"):
+        Path(pts, [1.0] * 4)
