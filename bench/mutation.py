@@ -381,6 +381,10 @@ EQUIVALENT: dict[tuple[str, str, str], str] = {
         "the answer on its active set, and _polish then solves that set exactly; over 300 random "
         "6×(4–8) allocations with random limits the thrust moved by at most 3e-8 N (6e-10 of the limits)"
     ),
+    ("estimate/mesh.py", "size = 0", "0 -> 1"): (
+        "a placeholder for the type checker: size is read only by the MemoryError message, and every "
+        "path to that handler runs p.stat() first (a failing stat raises OSError, handled apart)"
+    ),
     ("identify/estimators.py", "fwd = tt >= 0", ">= -> >"): (
         "a sample at t0 exactly is then replayed by the backward pass instead of the forward one: a grid "
         "step of zero length, which returns the initial state (q0, v0) bit for bit either way"

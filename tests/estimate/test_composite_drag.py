@@ -3,6 +3,7 @@ diagonal and the dimensionally wrong Hᵀ D H shift kept for comparison."""
 
 from __future__ import annotations
 
+import math
 from types import SimpleNamespace
 
 import numpy as np
@@ -233,3 +234,39 @@ def test_shifted_model_moves_a_parts_own_drag_elements_with_h_transpose_d_h():
     got = np.diag(combine([part], "shifted").quadratic_damping)
     want = [cx, cy, cz, cz * ry**2, cz * rx**2, cx * ry**2 + cy * rx**2]
     np.testing.assert_allclose(got, want, rtol=1e-12, atol=1e-15)
+
+
+def test_a_vehicle_without_drag_elements_joins_one_with_them():
+    # a vehicle part with no point elements carries an empty packed table (0 × PACKED_WIDTH)
+    # that stacks with another part's elements
+    from hydrokit.core.drag import PACKED_WIDTH
+    from hydrokit.estimate.geometry import vehicle_part
+
+    plain = SimpleNamespace(
+        mass=10.0,
+        volume=0.01,
+        inertia=np.eye(3),
+        M_A=np.zeros((6, 6)),
+        D_L=np.zeros((6, 6)),
+        D_Q=np.zeros(6),
+        r_g=np.zeros(3),
+        r_b=np.zeros(3),
+    )
+    with_arm = SimpleNamespace(
+        **vars(plain), drag_elements=(DragElement("arm", (1.0, 0.0, 0.0), (3.0, 0.0, 0.0), (5.0, 7.0, 0.0)),)
+    )
+    bare = vehicle_part("bare", plain, np.zeros(3), rotation_from_degrees(), "test").part
+    assert bare.drag_elements.shape == (0, PACKED_WIDTH) == (0, 9)
+    other = vehicle_part("rov", with_arm, np.array([0.0, 2.0, 0.0]), rotation_from_degrees(), "test").part
+    comp = combine([bare, other])
+    assert comp.drag_element_names == ("rov/arm",)
+    np.testing.assert_allclose(comp.drag_elements[0], [1, 2, 0, 3, 0, 0, 5, 7, 0], atol=1e-12)
+
+
+def test_rotation_from_degrees_turns_about_each_axis_alone():
+    # each angle alone is the elementary rotation about its own axis (the others default to 0)
+    c, s = math.cos(math.radians(30)), math.sin(math.radians(30))
+    np.testing.assert_allclose(rotation_from_degrees(), np.eye(3), atol=0)
+    np.testing.assert_allclose(rotation_from_degrees(roll=30), [[1, 0, 0], [0, c, -s], [0, s, c]], atol=1e-15)
+    np.testing.assert_allclose(rotation_from_degrees(pitch=30), [[c, 0, s], [0, 1, 0], [-s, 0, c]], atol=1e-15)
+    np.testing.assert_allclose(rotation_from_degrees(yaw=30), [[c, -s, 0], [s, c, 0], [0, 0, 1]], atol=1e-15)
