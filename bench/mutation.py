@@ -385,6 +385,12 @@ EQUIVALENT: dict[tuple[str, str, str], str] = {
         "a placeholder for the type checker: size is read only by the MemoryError message, and every "
         "path to that handler runs p.stat() first (a failing stat raises OSError, handled apart)"
     ),
+    ("core/drag.py", "P = np.asarray(packed, dtype=float).reshape(-1, PACKED_WIDTH)", "1 -> 2"): (
+        "reshape(-2, 9): numpy takes any negative size as the one inferred dimension"
+    ),
+    ("core/rigid_body.py", "M[3:6, 3:6] = parallel_axis(I_cg, mass, r_g)", "6 -> 7 [2]"): (
+        "M is 6×6: numpy clips the slice 3:7 to 3:6, the same block"
+    ),
     ("identify/estimators.py", "fwd = tt >= 0", ">= -> >"): (
         "a sample at t0 exactly is then replayed by the backward pass instead of the forward one: a grid "
         "step of zero length, which returns the initial state (q0, v0) bit for bit either way"

@@ -79,3 +79,14 @@ def test_rotation_zyx_many_equals_the_scalar_one_row_by_row():
     R = rotation_zyx_many(A)
     for k in range(len(A)):
         assert np.allclose(R[k], rotation_zyx(*A[k]), rtol=0, atol=1e-15)
+
+
+def test_quaternion_to_euler_ignores_the_quaternion_length() -> None:
+    # an integrated quaternion drifts off unit length: the angles of q and 3 q are the same,
+    # and equal those it was built from
+    from hydrokit.core.kinematics import euler_to_quaternion, quaternion_to_euler
+
+    angles = np.array([0.3, -0.4, 2.0])
+    q = euler_to_quaternion(*angles)
+    np.testing.assert_allclose(quaternion_to_euler(q), angles, atol=1e-12)
+    np.testing.assert_allclose(quaternion_to_euler(3.0 * q), angles, atol=1e-12)

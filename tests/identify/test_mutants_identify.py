@@ -827,3 +827,16 @@ def test_equation_error_standard_errors_match_the_scatter_of_independent_launche
         ses.append(np.sqrt(np.diag(est.pcov_)))
     ratio = np.std(fits, axis=0, ddof=1) / np.mean(ses, axis=0)
     assert np.all((ratio > 0.12) & (ratio < 1.2)), ratio
+
+
+def test_per_cycle_reynolds_of_a_torsion_rig_uses_the_tip_speed(torsion_rig):
+    # the closed-form decay as a yaw angle (rad): the body's tip, L_ref/2 from the axis, moves at
+    # ω_n a L_ref/2 in a cycle of angular amplitude a
+    res = identify_launch(torsion_rig, linear_decay(), "log-decrement")
+    L, nu = torsion_rig.reference_length, torsion_rig.kinematic_viscosity
+    half = math.pi / WD
+    cycles = res.extra["cycles"]
+    assert len(cycles) >= 8
+    for c in cycles:
+        amp = A0 * math.exp(-SIGMA * (c["time"] + half))
+        assert c["reynolds"] == pytest.approx(WN * amp * (L / 2) * L / nu, rel=2e-3)
