@@ -840,3 +840,16 @@ def test_per_cycle_reynolds_of_a_torsion_rig_uses_the_tip_speed(torsion_rig):
     for c in cycles:
         amp = A0 * math.exp(-SIGMA * (c["time"] + half))
         assert c["reynolds"] == pytest.approx(WN * amp * (L / 2) * L / nu, rel=2e-3)
+
+
+def test_rest_line_from_just_two_extreme_triples():
+    # 1.8 s of a decay about 0.01 (amplitude 0.1): four half-cycle extremes, two triples, each
+    # giving c = (p1 p3 − p2²)/(p1 + p3 − 2 p2), exact for a geometric decay; the line through the
+    # two is the rest value (the record's tail alone is 5 % of the amplitude off)
+    from hydrokit.identify.preprocess import equilibrium, rest_line
+
+    t = np.arange(361) / 200.0
+    y = 0.01 + 0.1 * np.exp(-0.15 * t) * np.cos(2 * math.pi * t)
+    c0, c1 = rest_line(t, y, 0.0)
+    assert c0 == pytest.approx(0.01, abs=2e-5) and abs(c1) < 2e-5
+    assert abs(equilibrium(y) - 0.01) > 0.05

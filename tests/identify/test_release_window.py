@@ -358,3 +358,25 @@ def test_equivalent_damping_is_net_of_the_rig_tare() -> None:
     (net,) = equivalent_damping(est, tared, [a])
     w = math.sqrt(p[0])
     assert net["value"] == pytest.approx(bare["value"] - 0.5 - 8 / (3 * math.pi) * w * a * 0.2, rel=1e-12)
+
+
+def test_the_damping_curve_is_net_of_the_rig_tare() -> None:
+    # each half cycle's model-free B_e drops by tare K_L + (8/3π) ω a tare K_Q, with ω = π/(t2 − t1)
+    # = ω_d for a linear decay (its extremes are exactly half a damped period apart)
+    import dataclasses
+    from types import SimpleNamespace
+
+    from hydrokit.identify.damping import damping_curve
+
+    wn, zeta = 2.0, 0.02
+    wd = wn * math.sqrt(1 - zeta**2)
+    t = np.arange(6000) * 0.005
+    y = 0.2 * np.exp(-zeta * wn * t) * (np.cos(wd * t) + zeta * wn / wd * np.sin(wd * t))
+    est = SimpleNamespace(offset_=0.0, noise_=0.0, constants_=rig_constants(rig()))
+    bare = damping_curve(t, y, est, rig())
+    tared = dataclasses.replace(rig(), tare_linear_damping=0.5, tare_quadratic_damping=0.2)
+    net = damping_curve(t, y, est, tared)
+    assert len(bare) == len(net) >= 10
+    for b, n in zip(bare, net):
+        drop = 0.5 + 8 / (3 * math.pi) * wd * b["amplitude"] * 0.2
+        assert b["value"] - n["value"] == pytest.approx(drop, rel=1e-4)
