@@ -391,6 +391,10 @@ EQUIVALENT: dict[tuple[str, str, str], str] = {
     ("core/rigid_body.py", "M[3:6, 3:6] = parallel_axis(I_cg, mass, r_g)", "6 -> 7 [2]"): (
         "M is 6×6: numpy clips the slice 3:7 to 3:6, the same block"
     ),
+    ("model/thrusters.py", "if abs(g) <= tol_g or hi - lo <= tol_n:", "<= -> < [1]"): (
+        "the root search's stopping test: differs only for a thrust residual of exactly 1e-12 |f| to the "
+        "last bit (probability 0), and then one more Illinois step lands within the same tolerance"
+    ),
     ("identify/estimators.py", "fwd = tt >= 0", ">= -> >"): (
         "a sample at t0 exactly is then replayed by the backward pass instead of the forward one: a grid "
         "step of zero length, which returns the initial state (q0, v0) bit for bit either way"

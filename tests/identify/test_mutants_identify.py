@@ -853,3 +853,9 @@ def test_rest_line_from_just_two_extreme_triples():
     c0, c1 = rest_line(t, y, 0.0)
     assert c0 == pytest.approx(0.01, abs=2e-5) and abs(c1) < 2e-5
     assert abs(equilibrium(y) - 0.01) > 0.05
+
+
+def test_the_default_sensor_samples_at_100_hz(spring_rig):
+    # SensorModel() is the documented ideal 100 Hz sensor: a simulated launch is sampled 0.01 s apart
+    launch = simulate_launch(spring_rig, 0.3, 0.8, 0.0, A0, 2.0, SensorModel(), rng=0)
+    np.testing.assert_allclose(np.diff(launch.t), 0.01, rtol=1e-9)

@@ -637,3 +637,15 @@ def test_a_repeated_waypoint_is_named_where_it_repeats():
     pts = [[0, 0, 0], [10, 0, 0], [10, 10, 0], [10, 10, 0], [0, 10, 0]]
     with pytest.raises(InputError, match=r"waypoint 3 repeats waypoint 2 \(zero-length leg\)"):
         Path(pts, [1.0] * 4)
+
+
+def test_a_pinv_allocation_keeps_the_limits_it_was_given():
+    from hydrokit.model.allocation import allocate_pinv
+
+    T = np.array([[1.0, 1.0], [0, 0], [0, 0], [0, 0], [0, 0], [0.2, -0.2]])
+    tau = [10.0, 0, 0, 0, 0, 0]
+    limited = allocate_pinv(T, tau, f_min=[-15.0, -20.0], f_max=[15.0, 20.0], names=["A", "B"])
+    np.testing.assert_array_equal(limited.f_min, [-15.0, -20.0])
+    np.testing.assert_array_equal(limited.f_max, [15.0, 20.0])
+    free = allocate_pinv(T, tau, names=["A", "B"])
+    assert free.f_min is None and free.f_max is None

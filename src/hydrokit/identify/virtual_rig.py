@@ -29,7 +29,7 @@ class SensorModel:
 
     Parameters
     ----------
-    sample_rate : float — samples per second, Hz
+    sample_rate : float — samples per second, Hz (default 100)
     noise_std : float — standard deviation of white noise, m (spring) or rad
     resolution : float — quantisation step, m or rad (0 = none)
     hold_time : float — still record before the release, s
