@@ -395,6 +395,23 @@ EQUIVALENT: dict[tuple[str, str, str], str] = {
         "the root search's stopping test: differs only for a thrust residual of exactly 1e-12 |f| to the "
         "last bit (probability 0), and then one more Illinois step lands within the same tolerance"
     ),
+    (
+        "model/allocation.py",
+        "self.Q: Array | None = np.where(reach > 0, 1.0 / np.where(reach > 0, reach, 1.0), 1.0)",
+        "> -> >= [2]",
+    ): (
+        "where reach == 0 the inner np.where then yields 1/0 = inf, but the outer np.where takes its own "
+        "1.0 there: the weights are the same (numpy's divide warning is the only difference)"
+    ),
+    (
+        "estimate/mesh.py",
+        "if 80 <= size < _STL_HEADER:  # meshio reads a count from any file of 80 bytes or more",
+        "< -> <=",
+    ): (
+        "an ASCII STL of exactly 84 bytes is refused either way (the smallest facet, 'solid', 'facet "
+        "normal', 'outer loop', three 'vertex' lines and the end keywords, takes over 100 bytes): only "
+        "the wording of the one-line error differs, and messages are not mutated"
+    ),
     ("identify/estimators.py", "fwd = tt >= 0", ">= -> >"): (
         "a sample at t0 exactly is then replayed by the backward pass instead of the forward one: a grid "
         "step of zero length, which returns the initial state (q0, v0) bit for bit either way"

@@ -153,7 +153,9 @@ def test_a_file_over_the_size_bound_is_refused_before_parsing(tmp_path, monkeypa
     path = tmp_path / "big.obj"
     path.write_text(obj_text(box_vertices(), QUADS))
     assert path.stat().st_size > 100
-    with pytest.raises(InputError, match=r"big\.obj: the file has .* MB, more than the 0\.0001 MB a mesh may have"):
+    with pytest.raises(
+        InputError, match=r"big\.obj: the file has [0-9,]+ bytes \(.* MB\), more than the 100 bytes a mesh may have"
+    ):
         read_mesh(path)
     assert calls == []
 
@@ -311,3 +313,13 @@ def test_text_of_80_to_83_bytes_is_too_short_for_a_facet(tmp_path, size):
     with pytest.raises(InputError) as err:
         read_mesh(path)
     assert str(err.value).startswith(f"{path}: not a readable STL ({size} bytes of text: too short for a facet); ")
+
+
+def test_the_size_bound_is_200_megabytes(tmp_path):
+    # MAX_MESH_BYTES's documented 200 MB: one byte more is refused by its size alone (a sparse
+    # file: nothing is written to disk, and nothing is read)
+    path = tmp_path / "huge.stl"
+    with open(path, "wb") as f:
+        f.truncate(200_000_001)
+    with pytest.raises(InputError, match=r"has 200,000,001 bytes \(200 MB\), more than the 200,000,000 bytes"):
+        read_mesh(path)

@@ -595,3 +595,12 @@ def test_shape_volumes_are_the_closed_forms():
     assert block(0.6, 0.3, 0.2).volume == pytest.approx(0.036, rel=1e-12)
     assert flat_plate(0.6, 0.3).volume == 0.0  # an ideal plate displaces nothing
     assert flat_plate(0.6, 0.3, thickness=0.01).volume == pytest.approx(0.0018, rel=1e-12)
+
+
+def test_spheroid_reference_areas_are_its_silhouettes():
+    # a prolate spheroid of length 2a along x and diameter 2b: seen along x a circle π b², seen
+    # along y or z an ellipse π a b (the drag force ½ ρ C_D A u² uses these)
+    from hydrokit.estimate.shapes import spheroid
+
+    s = spheroid(length=1.2, diameter=0.3, density=1000.0)
+    np.testing.assert_allclose(s.reference_area, [math.pi * 0.15**2, math.pi * 0.6 * 0.15, math.pi * 0.6 * 0.15])

@@ -97,3 +97,12 @@ def test_a_thin_plates_moments_are_a_rigid_bodys():
         parts({"shape": "sphere", "diameter": 0.5, "mass": 30.0, "inertia": [0.4, 0.6, 1.0]}), Path("g.yaml")
     )
     np.testing.assert_array_equal(geo.parts[0].part.inertia, np.diag([0.4, 0.6, 1.0]))
+
+
+def test_a_flat_plate_without_thickness_displaces_nothing(tmp_path: Path):
+    # a plate is thin unless the file gives its thickness: volume L·W·t, zero when t is left out
+    plate = {"shape": "flat_plate", "length": 0.8, "width": 0.5, "mass": 2.0}
+    thin = combine([gp.part for gp in parse_geometry(parts(plate), tmp_path / "g.yaml").parts])
+    thick = combine([gp.part for gp in parse_geometry(parts({**plate, "thickness": 0.02}), tmp_path / "g.yaml").parts])
+    assert thin.volume == 0.0
+    assert thick.volume == pytest.approx(0.8 * 0.5 * 0.02, rel=1e-12)

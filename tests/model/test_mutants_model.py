@@ -247,7 +247,7 @@ def test_pid_integral_is_bounded_by_the_larger_output_limit():
     assert out == pytest.approx(-10.0, rel=1e-12)
 
 
-def test_mission_default_has_no_current():
+def test_mission_defaults_are_the_documented_ones():
     from hydrokit.model.mission import create_mission
 
     gains = {"pid": {"speed": {"kp": 1.0, "limit": 10.0}, "depth": {"kp": 1.0}, "heading": {"kp": 1.0}}}
@@ -256,6 +256,10 @@ def test_mission_default_has_no_current():
     except InputError as e:  # the gain set this test guessed is incomplete: say which
         pytest.fail(str(e))
     np.testing.assert_array_equal(m.current, [0.0, 0.0, 0.0])
+    # create_mission's docstring: 0.5 m/s legs, 300 s at 0.05 s steps, acceptance 1 m, lookahead 5 m
+    assert (m.duration, m.dt) == (300.0, 0.05)
+    assert m.path.acceptance_radius == 1.0 and m.path.lookahead == 5.0
+    np.testing.assert_array_equal(m.path.speeds, [0.5])
 
 
 def test_pid_integral_alone_never_demands_more_than_the_largest_output():
@@ -649,3 +653,36 @@ def test_a_pinv_allocation_keeps_the_limits_it_was_given():
     np.testing.assert_array_equal(limited.f_max, [15.0, 20.0])
     free = allocate_pinv(T, tau, names=["A", "B"])
     assert free.f_min is None and free.f_max is None
+
+
+def test_a_path_is_immutable():
+    # a Path is shared by every flight of a mission (the Monte Carlo flies it hundreds of times)
+    import dataclasses
+
+    from hydrokit.model.guidance import Path
+
+    path = Path([[0, 0, 0], [10, 0, 0]], [1.0])
+    with pytest.raises(dataclasses.FrozenInstanceError):
+        path.acceptance_radius = 2.0
+
+
+def test_the_empty_term_set_is_what_building_no_terms_gives():
+    from hydrokit.model.terms import TermSet
+
+    empty, built = TermSet.empty(), TermSet.build([])
+    assert empty.names == built.names == ()
+    for a, b in zip((empty.dof, empty.coef, empty.kinds, empty.idx), (built.dof, built.coef, built.kinds, built.idx)):
+        assert a.shape == b.shape and a.dtype == b.dtype
+    assert np.all(empty.force(np.ones(6)) == 0.0)
+
+
+def test_a_thruster_set_repr_shows_its_arguments_not_the_derived_arrays():
+    import dataclasses
+
+    from hydrokit.model.thrusters import Thruster, ThrusterSet
+
+    ts = ThrusterSet((Thruster("T0", (0, 0, 0), (1, 0, 0), max_thrust=10.0, min_thrust=-5.0),))
+    text = repr(ts)
+    assert text.startswith("ThrusterSet(thrusters=(Thruster(") and "density=" in text
+    derived = [f.name for f in dataclasses.fields(ts) if not f.init]
+    assert "directions" in derived and not any(f"{name}=" in text for name in derived)

@@ -176,8 +176,8 @@ def read_mesh(path: str | os.PathLike[str]) -> SurfaceMesh:
         size = p.stat().st_size
         if size > MAX_MESH_BYTES:
             raise InputError(
-                f"the file has {size / 1e6:.4g} MB, more than the {MAX_MESH_BYTES / 1e6:.4g} MB a mesh may have; "
-                "expected a coarser hull mesh",
+                f"the file has {size:,} bytes ({size / 1e6:.4g} MB), more than the {MAX_MESH_BYTES:,} bytes a mesh "
+                "may have; expected a coarser hull mesh",
                 src,
             )
         # nothing of meshio's or numpy's on stderr (e.g. an overflow warning): errors are one line

@@ -105,11 +105,11 @@ def create_mission(
     gains : kind ("pid" / "s-plane") → loop ("speed", "depth", "heading", …) → gains, as in a
         mission file (PID: kp, ki, kd, limit in N or N·m per unit error; S-plane: k1, k2, scale)
     vehicle : str — vehicle name or path, recorded only (the vehicle object is passed to fly)
-    speed : float — leg speed, m/s
-    duration, dt : float — s
+    speed : float — leg speed, m/s (default 0.5)
+    duration, dt : float — flight time and integration/control step, s (defaults 300 and 0.05)
     controller : str — default gain set, "pid" or "s-plane"
-    acceptance_radius, lookahead : float — m
-    current : 3 floats — NED current, m/s
+    acceptance_radius, lookahead : float — m (defaults 1 and 5)
+    current : 3 floats — NED current, m/s (default none)
     name : str
     output_every : int — keep every n-th step
 
