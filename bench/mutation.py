@@ -412,6 +412,17 @@ EQUIVALENT: dict[tuple[str, str, str], str] = {
         "normal', 'outer loop', three 'vertex' lines and the end keywords, takes over 100 bytes): only "
         "the wording of the one-line error differs, and messages are not mutated"
     ),
+    ("identify/tare.py", "if not (alpha < 0 and math.isfinite(alpha)):", "< -> <="): (
+        "differs only for a fitted α of exactly 0.0 to the last bit (probability 0 with any noise)"
+    ),
+    (
+        "identify/estimators.py",
+        "cov = 2 * best.cost / max(1, t.size - x.size) * np.linalg.inv(J.T @ J)",
+        "1 -> 2",
+    ): (
+        "the floor of the degrees of freedom: a fitted record has at least MIN_SAMPLES = 20 samples and "
+        "the extended fit at most 9 parameters, so n − p ≥ 11 and max(1, n − p) = max(2, n − p)"
+    ),
     ("identify/estimators.py", "fwd = tt >= 0", ">= -> >"): (
         "a sample at t0 exactly is then replayed by the backward pass instead of the forward one: a grid "
         "step of zero length, which returns the initial state (q0, v0) bit for bit either way"

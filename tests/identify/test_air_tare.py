@@ -356,3 +356,7 @@ def test_uneven_stamps_are_resampled_over_the_whole_launch() -> None:
     steps = int((t[-1] - t[0]) // dt)  # whole median steps within the launch
     assert steps * dt <= t[-1] - t[0] < (steps + 1) * dt
     assert part.q.size == steps + 1 - 10
+    # the clock's origin does not matter: the same launch recorded from t = 100 s
+    later = _smooth(Launch(t=t + 100.0, y=np.asarray(even.y), file="webcam"), 11, 4)
+    assert later.q.size == part.q.size
+    np.testing.assert_allclose(later.qdd, part.qdd, rtol=1e-9, atol=1e-9 * float(np.max(np.abs(part.qdd))))

@@ -859,3 +859,36 @@ def test_the_default_sensor_samples_at_100_hz(spring_rig):
     # SensorModel() is the documented ideal 100 Hz sensor: a simulated launch is sampled 0.01 s apart
     launch = simulate_launch(spring_rig, 0.3, 0.8, 0.0, A0, 2.0, SensorModel(), rng=0)
     np.testing.assert_allclose(np.diff(launch.t), 0.01, rtol=1e-9)
+
+
+def test_a_spring_campaign_groups_by_millimetres_and_tests_groups_of_two(spring_rig):
+    # launches from 20, 30 and 45 mm (two, three and two of them; independent noise): three
+    # amplitude groups labelled in mm (a spring moves, it does not turn), and every pair of
+    # groups gets its rank-sum test (a pair needs at least two values a side, two is enough)
+    from hydrokit.identify.preprocess import trim_launch
+    from hydrokit.identify.result import identify_launches
+
+    launches = [
+        trim_launch(simulate_launch(spring_rig, 0.3, 0.8, 15.0, a, 6.0, SensorModel(200.0, 2e-5), rng=k, file=f"{k}"))
+        for k, a in enumerate((0.02, 0.02, 0.03, 0.03, 0.03, 0.045, 0.045))
+    ]
+    res = identify_launches(spring_rig, launches, "log-decrement")
+    labels = ["L1 (20 mm)", "L2 (30 mm)", "L3 (45 mm)"]
+    assert sorted(res.groups) == labels
+    assert [len(res.groups[k]) for k in labels] == [2, 3, 2]
+    for c in ("added_mass", "linear_damping", "quadratic_damping"):
+        pairs = [p["pair"] for p in res.pairwise[c]]
+        assert pairs == [labels[:2], [labels[0], labels[2]], labels[1:]]
+
+
+@pytest.mark.parametrize("rate, release", [(100.0, 0.064), (50.0, 0.075)])
+def test_a_release_early_in_the_record_is_refined_between_samples(rate, release):
+    # a hold at A0 let go between two samples, so early that the best join time is the second
+    # candidate of the search window: the parabola through the three costs still places it to
+    # within 7 % of a sample step (the best sample alone is up to half a step off)
+    from hydrokit.identify.preprocess import detect_release
+
+    t = np.arange(int(8 * rate) + 1) / rate
+    s = np.maximum(t - release, 0.0)
+    y = A0 * np.exp(-SIGMA * s) * (np.cos(WD * s) + SIGMA / WD * np.sin(WD * s))
+    assert detect_release(t, y) == pytest.approx(release, abs=0.07 / rate)
