@@ -423,6 +423,11 @@ EQUIVALENT: dict[tuple[str, str, str], str] = {
         "the floor of the degrees of freedom: a fitted record has at least MIN_SAMPLES = 20 samples and "
         "the extended fit at most 9 parameters, so n − p ≥ 11 and max(1, n − p) = max(2, n − p)"
     ),
+    ("identify/preprocess.py", "big = np.nonzero(np.abs(y[i0:] - eq) > floor)[0]", "> -> >="): (
+        "differs only for a sample exactly 4 noise σ from the rest value to the last bit (σ is a scaled "
+        "MAD, or step/√12 for a quantised sensor whose samples sit whole steps from a median: never "
+        "exactly 4σ); probability 0"
+    ),
     ("identify/estimators.py", "fwd = tt >= 0", ">= -> >"): (
         "a sample at t0 exactly is then replayed by the backward pass instead of the forward one: a grid "
         "step of zero length, which returns the initial state (q0, v0) bit for bit either way"

@@ -56,3 +56,14 @@ def test_compiled_extended_integrator_equals_its_python_source(interpreted, name
     np.testing.assert_allclose(vc, v, rtol=1e-12, atol=1e-15)
     np.testing.assert_allclose(Jc, J, rtol=1e-12, atol=1e-15)
     assert np.any(J[1:] != 0) == jacobian  # (row 0 holds the seeds ∂q0/∂q0 = 1)
+
+
+def test_the_extended_integrator_without_extra_terms_is_the_normalised_one():
+    # d = a3 = a5 = 0 leaves q̈ = −ω² q − b q̇ − g |q̇| q̇: both integrators, released from rest
+    # by default, give the same record
+    t = np.linspace(0.0, 5.0, 300)
+    q, v, _ = rm.simulate_extended(t, [4.0, 0.2, 1.5, 0.0, 0.0, 0.0], 0.3)
+    qn, vn, _ = rm.simulate_normalised(t, 4.0, 0.2, 1.5, 0.3)
+    assert v[0] == 0.0
+    np.testing.assert_allclose(q, qn, rtol=1e-10, atol=1e-13)
+    np.testing.assert_allclose(v, vn, rtol=1e-10, atol=1e-13)

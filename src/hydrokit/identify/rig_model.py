@@ -508,7 +508,7 @@ def simulate_extended(
     ----------
     t : (n,) array — sample times, s
     p : 6 floats — (ω² 1/s², b 1/s, g 1/unit, d s/unit², a3 1/unit², a5 1/unit⁴), unit = m or rad
-    q0, v0 : float — initial state at t[0]
+    q0, v0 : float — initial state at t[0] (m or rad, m/s or rad/s; default: released from rest)
     restoring : Restoring, optional — ρ(q) (default linear)
     substeps : int — RK4 steps per sample interval (default 4)
     jacobian : bool — also integrate the forward sensitivities
