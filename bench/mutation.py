@@ -428,6 +428,11 @@ EQUIVALENT: dict[tuple[str, str, str], str] = {
         "MAD, or step/√12 for a quantised sensor whose samples sit whole steps from a median: never "
         "exactly 4σ); probability 0"
     ),
+    ("identify/estimators.py", "if math.sqrt(2 * best.cost / t.size) <= 2.0 * noise + 1e-12:", "<= -> <"): (
+        "the multi-start's early stop: differs only for an RMS residual of exactly 2 noise floors to the "
+        "last bit (probability 0), and then one more start is tried, whose fit replaces the best only "
+        "if its cost is lower"
+    ),
     ("identify/estimators.py", "fwd = tt >= 0", ">= -> >"): (
         "a sample at t0 exactly is then replayed by the backward pass instead of the forward one: a grid "
         "step of zero length, which returns the initial state (q0, v0) bit for bit either way"

@@ -892,3 +892,33 @@ def test_a_release_early_in_the_record_is_refined_between_samples(rate, release)
     s = np.maximum(t - release, 0.0)
     y = A0 * np.exp(-SIGMA * s) * (np.cos(WD * s) + SIGMA / WD * np.sin(WD * s))
     assert detect_release(t, y) == pytest.approx(release, abs=0.07 / rate)
+
+
+def test_the_rest_value_of_a_short_record_is_the_median_of_its_last_fifth():
+    # equilibrium(): the median of the last fifth (at least 5 samples); 25 samples 0..24 → 20..24
+    from hydrokit.identify.preprocess import equilibrium
+
+    assert equilibrium(np.arange(25.0)) == 22.0
+    assert equilibrium(np.arange(12.0)) == 9.0  # the floor of 5 samples: 7..11
+
+
+def test_noise_floor_of_five_samples_is_the_mad_of_their_second_differences():
+    # y = 0 1 3 3 0: second differences 1 −2 −3, median −2, absolute deviations 3 0 1, MAD 1;
+    # σ = 1.4826 MAD / √6 (white noise: second differences have std √6 σ); fewer than 5: 0
+    from hydrokit.identify.preprocess import noise_floor
+
+    assert noise_floor(np.array([0.0, 1.0, 3.0, 3.0, 0.0])) == pytest.approx(1.4826 / math.sqrt(6.0), rel=1e-12)
+    assert noise_floor(np.array([0.0, 1.0, 3.0, 3.0])) == 0.0
+
+
+def test_morison_covariance_has_no_linear_damping_row(spring_rig):
+    # Morison holds K_L = 0: the covariance of (ω², b, g) is symmetric, zero in b's row and
+    # column, and positive for ω² and g (it is the regression's covariance of the two)
+    from hydrokit.identify.estimators import MorisonEstimator
+    from hydrokit.identify.preprocess import trim_launch
+
+    launch = trim_launch(simulate_launch(spring_rig, 0.3, 0.0, 15.0, A0, 8.0, SensorModel(200.0, 2e-5), rng=5))
+    P = MorisonEstimator(spring_rig).fit(launch.t, launch.y).pcov_
+    np.testing.assert_allclose(P, P.T, rtol=1e-12)
+    assert not np.any(P[1]) and not np.any(P[:, 1])
+    assert P[0, 0] > 0 and P[2, 2] > 0 and P[0, 2] ** 2 < P[0, 0] * P[2, 2]

@@ -686,3 +686,48 @@ def test_a_thruster_set_repr_shows_its_arguments_not_the_derived_arrays():
     assert text.startswith("ThrusterSet(thrusters=(Thruster(") and "density=" in text
     derived = [f.name for f in dataclasses.fields(ts) if not f.init]
     assert "directions" in derived and not any(f"{name}=" in text for name in derived)
+
+
+def test_every_thrust_curve_defaults_to_bollard_conditions():
+    # thrust() and command() of the abstract curve and of every kind default to V_a = 0 m/s
+    import inspect
+
+    from hydrokit.model.thrusters import ThrustCurve
+
+    kinds = [ThrustCurve, *ThrustCurve.__subclasses__()]
+    assert len(kinds) >= 3
+    for cls in kinds:
+        for method in (cls.thrust, cls.command):
+            assert inspect.signature(method).parameters["advance_speed"].default == 0.0, (cls, method)
+
+
+def test_a_thruster_fixed_at_zero_is_the_same_as_no_thruster():
+    # a failed thruster (limits 0..0) in a saturated allocation: the others share the demand
+    # exactly as they do when it is left out of the configuration altogether
+    from hydrokit.model.allocation import allocate_constrained
+
+    T = np.array(
+        [
+            [1.0, 1.0, 0.0, 0.0],
+            [0.0, 0.0, 0.0, 0.0],
+            [0.0, 0.0, 1.0, 1.0],
+            [0.0, 0.0, 0.3, -0.3],
+            [0.0, 0.0, 0.0, 0.0],
+            [0.35, -0.35, 0.0, 0.0],
+        ]
+    )
+    tau = [150.0, 0.0, 60.0, 5.0, 0.0, 20.0]
+    lo, hi = np.array([-50.0, -50.0, 0.0, -50.0]), np.array([60.0, 60.0, 0.0, 60.0])
+    with_dead = allocate_constrained(T, tau, lo, hi)
+    without = allocate_constrained(T[:, [0, 1, 3]], tau, lo[[0, 1, 3]], hi[[0, 1, 3]])
+    assert with_dead.thrust[2] == 0.0
+    np.testing.assert_allclose(with_dead.thrust[[0, 1, 3]], without.thrust, atol=1e-9)
+
+
+def test_a_pid_loop_without_kp_has_no_proportional_gain():
+    from hydrokit.model.mission import create_mission
+
+    gains = {"pid": {"speed": {"ki": 2.0, "limit": 10.0}, "depth": {"kd": 1.0}, "heading": {"kp": 1.0}}}
+    ap = create_mission([[0.0, 0.0, 0.0], [10.0, 0.0, 0.0]], gains).autopilot()
+    assert (ap.speed.kp, ap.speed.ki, ap.speed.kd) == (0.0, 2.0, 0.0)
+    assert (ap.depth.kp, ap.depth.ki, ap.depth.kd) == (0.0, 0.0, 1.0)
