@@ -604,3 +604,29 @@ def test_spheroid_reference_areas_are_its_silhouettes():
 
     s = spheroid(length=1.2, diameter=0.3, density=1000.0)
     np.testing.assert_allclose(s.reference_area, [math.pi * 0.15**2, math.pi * 0.6 * 0.15, math.pi * 0.6 * 0.15])
+
+
+@pytest.mark.parametrize("resolution, ok", [(5, False), (6, True), (200, True), (201, False)])
+def test_shape_mesh_resolution_runs_from_6_to_200(resolution, ok):
+    from hydrokit.errors import InputError
+    from hydrokit.estimate.bem import MAX_RESOLUTION, shape_mesh
+    from hydrokit.estimate.mesh import check_mesh
+
+    assert MAX_RESOLUTION == 200
+    if ok:
+        check_mesh(shape_mesh("cylinder", resolution, length=1.0, diameter=0.2))
+    else:
+        with pytest.raises(InputError, match=rf"resolution = {resolution}: expected from 6 to 200 panels around"):
+            shape_mesh("cylinder", resolution, length=1.0, diameter=0.2)
+
+
+def test_a_face_pointing_one_past_the_last_vertex_is_refused():
+    from hydrokit.errors import InputError
+    from hydrokit.estimate.bem import shape_mesh
+    from hydrokit.estimate.mesh import SurfaceMesh, check_mesh
+
+    m = shape_mesh("sphere", 8, diameter=1.0)
+    faces = np.array(m.faces, copy=True)
+    faces[0, 0] = len(m.vertices)  # vertices are numbered 0 … n − 1
+    with pytest.raises(InputError, match="a face refers to a vertex that does not exist"):
+        check_mesh(SurfaceMesh(m.vertices, faces, "bad.stl"))

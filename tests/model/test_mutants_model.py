@@ -731,3 +731,11 @@ def test_a_pid_loop_without_kp_has_no_proportional_gain():
     ap = create_mission([[0.0, 0.0, 0.0], [10.0, 0.0, 0.0]], gains).autopilot()
     assert (ap.speed.kp, ap.speed.ki, ap.speed.kd) == (0.0, 2.0, 0.0)
     assert (ap.depth.kp, ap.depth.ki, ap.depth.kd) == (0.0, 0.0, 1.0)
+
+
+def test_thruster_sets_that_differ_only_in_their_reading_notes_are_equal():
+    from hydrokit.model.thrusters import Thruster, ThrusterSet
+
+    ths = (Thruster("T0", (0, 0, 0), (1, 0, 0), max_thrust=10.0, min_thrust=-5.0),)
+    assert ThrusterSet(ths) == ThrusterSet(ths, notes=("field 'colour' ignored",))
+    assert ThrusterSet(ths, density=1000.0) != ThrusterSet(ths, density=1025.0)

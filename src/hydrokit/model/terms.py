@@ -50,16 +50,6 @@ class Factor:
     def angular(self) -> bool:
         return all(i >= 3 for i in self.indices)
 
-    def text(self) -> str:
-        n = [VELS[i] for i in self.indices]
-        if self.kind == VEL:
-            return n[0]
-        if self.kind == ABS:
-            return f"|{n[0]}|"
-        if self.kind == SIGN:
-            return f"({n[0]}/|{n[0]}|)"
-        return "sqrt(" + "+".join(f"{x}^2" for x in n) + ")"
-
 
 @dataclass(frozen=True)
 class Term:
