@@ -310,8 +310,8 @@ def _savgol_window(period: float, dt: float) -> int:
 
     No cap at the record length is needed: a record :func:`check_record` accepts holds at least
     two cycles and its period is measured between crossings inside it, so the window is at most
-    (n − 1)/6 + 1 of its n samples, and n ≥ 20 leaves room for the floor of 7 (the callers still refuse a
-    window that does not fit, naming it)."""
+    (n − 1)/6 + 1 of its n samples, and n ≥ 20 leaves room for the floor of 7 (the callers still
+    refuse a window that does not fit, naming it)."""
     w = max(7, int(round(period / dt / 6.0)))
     return w if w % 2 == 1 else w + 1
 
