@@ -433,6 +433,26 @@ EQUIVALENT: dict[tuple[str, str, str], str] = {
         "last bit (probability 0), and then one more start is tried, whose fit replaces the best only "
         "if its cost is lower"
     ),
+    (
+        "identify/estimators.py",
+        "if ratio is not None and ratio <= 2.0 and (acf is None or abs(acf) < 0.3):",
+        "<= -> <",
+    ): (
+        "differs only for a residual of exactly twice the noise floor to the last bit (probability 0): the verdict's edge"
+    ),
+    (
+        "identify/estimators.py",
+        "s = 0 if i == z.size else (1 if z[i] > band else (-1 if z[i] < -band else 0))",
+        "1 -> 2 [1]",
+    ): (
+        "the half-cycle state above the band becomes 2 instead of 1: it is only compared with the next "
+        "state (2 ≠ −1, ≠ 0 as 1 was) and multiplies the half cycle before argmax, which a positive "
+        "factor does not move"
+    ),
+    ("identify/preprocess.py", "s = 1 if v > band else (-1 if v < -band else 0)", "1 -> 2 [1]"): (
+        "the state above the band becomes 2 instead of 1: it is only compared with the next state "
+        "(2 ≠ −1, ≠ 0 as 1 was), so the same crossings are recorded"
+    ),
     ("identify/estimators.py", "fwd = tt >= 0", ">= -> >"): (
         "a sample at t0 exactly is then replayed by the backward pass instead of the forward one: a grid "
         "step of zero length, which returns the initial state (q0, v0) bit for bit either way"

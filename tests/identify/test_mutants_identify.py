@@ -922,3 +922,14 @@ def test_morison_covariance_has_no_linear_damping_row(spring_rig):
     np.testing.assert_allclose(P, P.T, rtol=1e-12)
     assert not np.any(P[1]) and not np.any(P[:, 1])
     assert P[0, 0] > 0 and P[2, 2] > 0 and P[0, 2] ** 2 < P[0, 0] * P[2, 2]
+
+
+def test_adequacy_at_a_two_sample_period_uses_the_lag_one_autocorrelation():
+    # period = 2 Δt: the half-period lag is one sample, r[:-1]·r[1:] / r·r (of the de-meaned residual)
+    from hydrokit.identify.estimators import adequacy
+
+    r = np.random.default_rng(3).normal(0.0, 1e-3, 200)
+    out = adequacy(r, np.arange(200) * 0.01, 0.02, 1e-3)
+    c = r - r.mean()
+    assert out["acf_at_half_period"] == pytest.approx(float(c[:-1] @ c[1:]) / float(c @ c), rel=1e-12)
+    assert out["acf_at_period"] == pytest.approx(float(c[:-2] @ c[2:]) / float(c @ c), rel=1e-12)
