@@ -360,3 +360,10 @@ def test_uneven_stamps_are_resampled_over_the_whole_launch() -> None:
     later = _smooth(Launch(t=t + 100.0, y=np.asarray(even.y), file="webcam"), 11, 4)
     assert later.q.size == part.q.size
     np.testing.assert_allclose(later.qdd, part.qdd, rtol=1e-9, atol=1e-9 * float(np.max(np.abs(part.qdd))))
+
+
+def test_an_even_smoothing_window_is_refused() -> None:
+    # Savitzky–Golay needs a centre sample: an even window is named and refused
+    launch = in_air(R, 0.004, 0.01, math.radians(20), 50.0, 1e-4, np.random.default_rng(2), duration=8.0)
+    with pytest.raises(InputError, match=r"window = 10: expected an odd number of samples"):
+        fit_air_tare([launch], MASS, G, window=10)

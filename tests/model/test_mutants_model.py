@@ -739,3 +739,11 @@ def test_thruster_sets_that_differ_only_in_their_reading_notes_are_equal():
     ths = (Thruster("T0", (0, 0, 0), (1, 0, 0), max_thrust=10.0, min_thrust=-5.0),)
     assert ThrusterSet(ths) == ThrusterSet(ths, notes=("field 'colour' ignored",))
     assert ThrusterSet(ths, density=1000.0) != ThrusterSet(ths, density=1025.0)
+
+
+@pytest.mark.parametrize("name", ["", "   ", 7])
+def test_a_thruster_needs_a_name(name):
+    from hydrokit.model.thrusters import Thruster
+
+    with pytest.raises(InputError, match=r"thruster name .*: expected a non-empty string"):
+        Thruster(name, (0, 0, 0), (1, 0, 0), max_thrust=10.0, min_thrust=-5.0)
