@@ -162,10 +162,9 @@ def test_linear_damping_moved_with_h_is_the_linear_element_law():
         np.testing.assert_allclose(-comp.linear_damping @ nu, drag_wrench([[*r, *L, 0, 0, 0]], nu), rtol=1e-12)
 
 
-def test_vehicle_part_moves_its_own_elements():
-    from hydrokit.estimate.geometry import vehicle_part
-
-    vehicle = SimpleNamespace(
+def _plain_vehicle(**extra):
+    """A 10 kg vehicle with no added mass or damping of its own (``extra``: e.g. drag_elements)."""
+    return SimpleNamespace(
         mass=10.0,
         volume=0.01,
         inertia=np.eye(3),
@@ -174,8 +173,14 @@ def test_vehicle_part_moves_its_own_elements():
         D_Q=np.zeros(6),
         r_g=np.zeros(3),
         r_b=np.zeros(3),
-        drag_elements=(DragElement("arm", (1.0, 0.0, 0.0), (3.0, 0.0, 0.0), (5.0, 7.0, 0.0)),),
+        **extra,
     )
+
+
+def test_vehicle_part_moves_its_own_elements():
+    from hydrokit.estimate.geometry import vehicle_part
+
+    vehicle = _plain_vehicle(drag_elements=(DragElement("arm", (1.0, 0.0, 0.0), (3.0, 0.0, 0.0), (5.0, 7.0, 0.0)),))
     gp = vehicle_part("rov", vehicle, np.array([0.0, 2.0, 0.0]), rotation_from_degrees(0, 0, 90), "test")
     comp = combine([gp.part])
     assert comp.drag_element_names == ("rov/arm",)
@@ -242,16 +247,7 @@ def test_a_vehicle_without_drag_elements_joins_one_with_them():
     from hydrokit.core.drag import PACKED_WIDTH
     from hydrokit.estimate.geometry import vehicle_part
 
-    plain = SimpleNamespace(
-        mass=10.0,
-        volume=0.01,
-        inertia=np.eye(3),
-        M_A=np.zeros((6, 6)),
-        D_L=np.zeros((6, 6)),
-        D_Q=np.zeros(6),
-        r_g=np.zeros(3),
-        r_b=np.zeros(3),
-    )
+    plain = _plain_vehicle()
     with_arm = SimpleNamespace(
         **vars(plain), drag_elements=(DragElement("arm", (1.0, 0.0, 0.0), (3.0, 0.0, 0.0), (5.0, 7.0, 0.0)),)
     )
