@@ -453,6 +453,18 @@ EQUIVALENT: dict[tuple[str, str, str], str] = {
         "the state above the band becomes 2 instead of 1: it is only compared with the next state "
         "(2 ≠ −1, ≠ 0 as 1 was), so the same crossings are recorded"
     ),
+    ("identify/preprocess.py", "if not coef[1] < -3.0 * se:", "< -> <="): (
+        "differs only when the amplitude trend's slope is exactly −3 standard errors to the last bit "
+        "(probability 0): the edge of the 'still decaying' test"
+    ),
+    (
+        "model/thrusters.py",
+        "if all(cv is first for cv in curves) or all(cv == first for cv in curves):",
+        "is -> is not",
+    ): (
+        "the identity test is a short cut before the equality test: a curve is == itself (its "
+        "fields are finite numbers), so one shared curve still takes the single-table branch"
+    ),
     ("identify/estimators.py", "fwd = tt >= 0", ">= -> >"): (
         "a sample at t0 exactly is then replayed by the backward pass instead of the forward one: a grid "
         "step of zero length, which returns the initial state (q0, v0) bit for bit either way"

@@ -630,3 +630,22 @@ def test_a_face_pointing_one_past_the_last_vertex_is_refused():
     faces[0, 0] = len(m.vertices)  # vertices are numbered 0 … n − 1
     with pytest.raises(InputError, match="a face refers to a vertex that does not exist"):
         check_mesh(SurfaceMesh(m.vertices, faces, "bad.stl"))
+
+
+@pytest.mark.parametrize(("length", "diameter"), [(3.0, 0.4), (0.5, 0.8)])
+def test_cylinder_mesh_side_panels_are_nearly_square(length, diameter):
+    # the side is cut into rings of panels as long (along x) as they are wide (2πr/n around),
+    # the shape a panel method resolves best; L ≠ 1 m so that n·L and n/L differ
+    from hydrokit.estimate.bem import shape_mesh
+
+    n = 24
+    m = shape_mesh("cylinder", n, length=length, diameter=diameter)
+    V, F = np.asarray(m.vertices), np.asarray(m.faces)
+    r = np.hypot(V[:, 1], V[:, 2])
+    side = F[np.all(np.isclose(r[F], diameter / 2), axis=1)]
+    assert len(side) % n == 0 and len(side) >= 2 * n
+    axial = np.ptp(V[side][:, :, 0], axis=1)
+    assert np.allclose(axial, length / (len(side) // n))
+    around = 2 * math.pi * (diameter / 2) / n
+    assert axial[0] == pytest.approx(around, rel=0.1)
+    assert m.volume() == pytest.approx(length * n / 2 * (diameter / 2) ** 2 * math.sin(2 * math.pi / n), rel=1e-9)

@@ -473,6 +473,13 @@ def test_equivalent_damping_on_a_disturbed_record_keeps_the_cubic_terms_jackknif
             grad[i] = (b_e(p0 + h, a) - b_e(p0 - h, a)) / (2 * h[i])
         assert entry["std_error"] == pytest.approx(math.sqrt(grad @ jackknife @ grad), rel=1e-5)
         assert entry["std_error"] >= entry["std_error_formal"] > 0, entry
+    # B3 = d·S/ω² is stated over the same covariance as m_a, K_L, K_Q: the public pcov4_, here
+    # the jackknife, not the formal one the fit also keeps
+    r = identify_launch(rig, Launch(t, y, "disturbed"), damping_model="cubic")
+    w2, d = p0[0], p0[3]
+    g = np.array([-d * S / w2**2, 0.0, 0.0, S / w2])
+    assert r.std_error["cubic_damping"] == pytest.approx(math.sqrt(g @ est.pcov4_ @ g), rel=1e-6)
+    assert r.std_error["cubic_damping"] > 1.2 * math.sqrt(g @ est.pcov4_formal_ @ g)
 
 
 def test_heave_speed_for_re_and_kc_is_the_records_own_rate() -> None:

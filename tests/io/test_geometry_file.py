@@ -77,6 +77,12 @@ def test_resolution_bounds_are_inclusive(tmp_path: Path, resolution):
     assert geo.parts[0].resolution == resolution
 
 
+def test_a_part_without_resolution_takes_the_documented_default(tmp_path: Path):
+    # docs/estimate.md, "Geometry file": "resolution panels around (6 to 200, default 48)"
+    geo = parse_geometry(parts({"shape": "cylinder", "length": 1.0, "diameter": 0.2, "mass": 3.0}), tmp_path / "g.yaml")
+    assert geo.parts[0].resolution == 48
+
+
 def test_a_mesh_too_big_for_the_direct_solver_is_refused_before_solving(monkeypatch):
     # two dense complex N×N matrices, 32 N² bytes, may use half the memory: with 1 GiB of
     # "physical memory" the limit is √(2³⁰ / 64) = 4096 panels

@@ -747,3 +747,19 @@ def test_a_thruster_needs_a_name(name):
 
     with pytest.raises(InputError, match=r"thruster name .*: expected a non-empty string"):
         Thruster(name, (0, 0, 0), (1, 0, 0), max_thrust=10.0, min_thrust=-5.0)
+
+
+def test_current_table_shapes():
+    # None → still water; three numbers → a steady current; rows [t, vN, vE, vD] → a table;
+    # an empty table has no current at any time (interp_table would read row 0 of nothing)
+    from hydrokit.model.dynamics import current_table
+
+    np.testing.assert_array_equal(current_table(None), np.zeros((1, 4)))
+    np.testing.assert_array_equal(current_table([0.1, -0.2, 0.0]), [[0.0, 0.1, -0.2, 0.0]])
+    rows = [[0.0, 0.1, 0.0, 0.0], [5.0, 0.2, 0.0, 0.0]]
+    np.testing.assert_array_equal(current_table(rows), rows)
+    for bad in (np.zeros((0, 4)), [[0.0, 0.1, 0.0]], [[[0.0, 0.1, 0.0, 0.0]]]):
+        with pytest.raises(InputError, match=r"expected 3 values \(m/s, NED\) or rows \[t, vN, vE, vD\]"):
+            current_table(bad)
+    with pytest.raises(InputError, match="times must increase strictly"):
+        current_table([[0.0, 0.1, 0.0, 0.0], [0.0, 0.2, 0.0, 0.0]])

@@ -117,6 +117,11 @@ def test_table_curve_interpolates_and_inverts() -> None:
 def test_table_curve_rejects_non_increasing_table() -> None:
     with pytest.raises(InputError, match=r"table curve thrust_table: command and thrust must both be strictly"):
         TableCurve((0.0, 1.0, 2.0), (0.0, 5.0, 4.0))
+    # a flat stretch (two commands, one thrust) has no inverse: command(thrust) is ambiguous
+    with pytest.raises(InputError, match=r"table curve thrust_table: command and thrust must both be strictly"):
+        TableCurve((0.0, 1.0, 2.0), (0.0, 5.0, 5.0))
+    with pytest.raises(InputError, match=r"table curve thrust_table: command and thrust must both be strictly"):
+        TableCurve((0.0, 1.0, 1.0), (0.0, 5.0, 6.0))
     with pytest.raises(InputError, match="need the same length ≥ 2, got 2 and 3"):
         TableCurve((0.0, 1.0), (0.0, 5.0, 6.0))
 

@@ -29,6 +29,11 @@ MODEL_NOTES = {
 }
 
 
+# BEM panels around a sphere, spheroid or cylinder part whose file entry gives no resolution
+# (docs/estimate.md); ``--resolution`` overrides every part's
+DEFAULT_RESOLUTION = 48
+
+
 @dataclass
 class GeometryPart:
     """A parsed part: the composite Part, its coefficients' sources and the shape (for BEM)."""
@@ -39,7 +44,7 @@ class GeometryPart:
     dims: dict[str, float]
     mesh: Any = None
     bem: bool = True
-    resolution: int = 48
+    resolution: int = DEFAULT_RESOLUTION
 
 
 @dataclass
@@ -105,7 +110,7 @@ def mesh_part(
     inertia: np.ndarray | None = None,
     center_of_gravity: np.ndarray | None = None,
     dims: dict[str, float] | None = None,
-    resolution: int = 48,
+    resolution: int = DEFAULT_RESOLUTION,
 ) -> GeometryPart:
     """A part given by a closed surface mesh (m, part axes); its added mass comes from the BEM
     solver, its centre of buoyancy is the enclosed volume's centroid.
@@ -151,7 +156,7 @@ def shape_part(
     inertia: np.ndarray | None = None,
     center_of_gravity: np.ndarray | None = None,
     bem: bool = True,
-    resolution: int = 48,
+    resolution: int = DEFAULT_RESOLUTION,
     where: str = "",
     source: str = "",
 ) -> GeometryPart:

@@ -115,7 +115,6 @@ def split_launches(
         near = np.nonzero(np.abs(motion - centre) <= band)[0]
         # cut before a lift into the next hold: the last pass near the rest value
         cut = b + 2 + int(near[-1]) if near.size else stop
-        cut = min(stop, max(cut, b + 1 + MIN_SAMPLES))
         # the hold's last min_hold seconds: its level, free of the lift's settling
         a0 = max(a, b + 1 - max(5, int(round(min_hold / dt))))
         tt, yy = t[a0:cut], y[a0:cut]

@@ -40,7 +40,7 @@ from hydrokit.core.constants import GRAVITY, SEAWATER_DENSITY
 from hydrokit.core.validate import cut_repr, matrix, number, vector
 from hydrokit.errors import InputError
 from hydrokit.estimate.bem import MAX_RESOLUTION
-from hydrokit.estimate.geometry import Geometry, GeometryPart, mesh_part, shape_part, vehicle_part
+from hydrokit.estimate.geometry import DEFAULT_RESOLUTION, Geometry, GeometryPart, mesh_part, shape_part, vehicle_part
 from hydrokit.io.yamlfile import read_yaml
 
 DIMENSIONS = ("diameter", "length", "width", "height", "thickness")
@@ -159,7 +159,7 @@ def parse_geometry(data: dict[str, Any], p: Path, extra_part_keys: frozenset[str
             raise InputError(f"field '{where}': missing 'mass' (kg) or 'weight' (N)", src)
         dims = {d: _num(raw[d], f"{where}.{d}", src) for d in DIMENSIONS if d in raw}
         buoyancy = _num(raw["buoyancy"], f"{where}.buoyancy", src) if "buoyancy" in raw else None
-        resolution = raw.get("resolution", 48)
+        resolution = raw.get("resolution", DEFAULT_RESOLUTION)
         if isinstance(resolution, bool) or not isinstance(resolution, int) or not 6 <= resolution <= MAX_RESOLUTION:
             raise InputError(
                 f"field '{where}.resolution' = {cut_repr(resolution)}: expected a whole number of panels "

@@ -365,27 +365,24 @@ def _polish(
     lo: Array,
     hi: Array,
     tol: Array,
-    pinvs: dict[bytes, Array] | None = None,
+    pinvs: dict[bytes, Array],
 ) -> Array:
     """Remove the penalty's small bias: keep the thrusters found at a limit, give the others
     the exact minimum-norm solution of T f = target (the KKT point for that active set).
     The polished point is used only if it stays within the limits.
 
     ``tol`` is the limit tolerance (N, per thruster); ``pinvs`` caches the pseudo-inverse of
-    T's free columns per active set (for repeated calls with one T)."""
+    T's free columns per active set (one T per allocator, so the dict is the allocator's)."""
     active = (f <= lo + tol) | (f >= hi - tol)
     if np.all(active):
         return f
     fixed = np.where(f <= lo + tol, lo, hi)
     g = np.where(active, fixed, 0.0)
     free = ~active
-    if pinvs is None:
-        Tp = np.linalg.pinv(T[:, free])
-    else:
-        key = free.tobytes()
-        Tp = pinvs.get(key)  # type: ignore[assignment]
-        if Tp is None:
-            Tp = pinvs[key] = np.linalg.pinv(T[:, free])
+    key = free.tobytes()
+    if key not in pinvs:
+        pinvs[key] = np.linalg.pinv(T[:, free])  # type: ignore[assignment]
+    Tp = pinvs[key]
     g[free] = Tp @ (target - T[:, active] @ fixed[active])
     if np.all(g >= lo) and np.all(g <= hi) and np.linalg.norm(T @ g - target) <= np.linalg.norm(T @ f - target):
         return g

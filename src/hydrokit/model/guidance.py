@@ -119,7 +119,6 @@ class Path:
         k, heading = state.leg, state.heading
         n_legs = self.n_legs
         legs = self._legs  # type: ignore[attr-defined]
-        pa_d = 0.0
         while k <= n_legs:
             a, b, d, L2 = legs[k][:4]
             pa_d = float((p - a) @ d)
