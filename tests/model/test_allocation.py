@@ -239,3 +239,45 @@ def test_a_thrust_exactly_at_its_limit_is_not_saturation() -> None:
     np.testing.assert_allclose(f, [25, 25, 0, 0], rtol=1e-12)
     f, limited = Allocator(T, np.zeros(4), np.full(4, 100.0))(np.zeros(6))
     assert not limited and not np.any(f)
+
+
+def test_stage_two_finds_the_least_thrust_split_that_bounded_least_squares_misses() -> None:
+    # a layout with four parallel thrusters (one direction, four places) and limits that bind:
+    # BVLS (stage 1) reaches the least residual with one split of the parallel group, not the
+    # smallest; stage 2 must give the least-norm split, checked by SLSQP (a second method) on
+    # min |f|² s.t. T f = a*, limits
+    from scipy.optimize import lsq_linear, minimize
+
+    pos = [
+        (0.04, -0.39, -0.01),
+        (-0.42, 0.3, 0.34),
+        (-0.43, 0.13, -0.18),
+        (0.17, 0.38, -0.41),
+        (0.09, -0.46, -0.43),
+        (0.24, -0.24, -0.41),
+        (0.35, -0.22, 0.46),
+        (-0.11, -0.3, -0.32),
+    ]
+    group = (-0.99, -0.1, -0.03)
+    dirs = [group] * 4 + [(0.8, 0.56, 0.19), (-0.94, -0.34, -0.02), (-0.51, 0.47, -0.73), (0.12, 0.98, 0.16)]
+    T = configuration_matrix(pos, dirs)
+    lo = np.array([-1.4, -1.4, -1.9, -4.0, -2.1, -1.9, -1.7, -0.7])
+    hi = np.array([17.9, 8.1, 13.7, 6.2, 6.2, 5.2, 2.2, 11.6])
+    tau = np.array([-15.8, -1.7, 5.7, 4.5, -0.7, -0.1])
+    res = allocate_constrained(T, tau, lo, hi)
+    a_star = res.achieved_tau
+    sol = minimize(
+        lambda f: f @ f,
+        np.zeros(8),
+        jac=lambda f: 2 * f,
+        constraints=[{"type": "eq", "fun": lambda f: T @ f - a_star, "jac": lambda f: T}],
+        bounds=list(zip(lo, hi)),
+        method="SLSQP",
+        options={"ftol": 1e-12, "maxiter": 500},
+    )
+    assert sol.success
+    np.testing.assert_allclose(T @ sol.x, a_star, atol=1e-6)
+    assert np.linalg.norm(res.thrust) == pytest.approx(np.linalg.norm(sol.x), rel=1e-6)
+    np.testing.assert_allclose(res.thrust, sol.x, atol=1e-4)
+    bvls = lsq_linear(T, tau, bounds=(lo, hi), method="bvls", tol=1e-12).x
+    assert np.linalg.norm(bvls) > np.linalg.norm(sol.x) + 0.1  # stage 1 alone is not enough

@@ -119,6 +119,21 @@ def test_euler_rates_level_flight() -> None:
     assert zdot == pytest.approx(0.3) and psidot == pytest.approx(0.2)
 
 
+@pytest.mark.parametrize("side", [1.0, -1.0])
+def test_euler_rates_at_gimbal_lock_join_the_rates_just_beside_it(side: float) -> None:
+    # at θ = ±90° the zyx rates divide by cos θ = 0; the guard holds |cos θ| at its smallest
+    # value, so the rates there are those of the nearest unguarded pitch (cos θ just above
+    # the guard), not a jump. Second method: the formula's own value at that nearby pitch
+    nu = [0.0, 0.0, 0.0, 0.0, 0.2, 0.1]  # q, r in rad/s
+    phi = 0.3
+    _, phid, _, psid = euler_rates([0, 0, 0, phi, side * math.pi / 2, 0], nu)
+    near = side * (math.pi / 2 - 1.000001e-9)  # cos = 1.000001e-9, outside the guard
+    _, phid_n, _, psid_n = euler_rates([0, 0, 0, phi, near, 0], nu)
+    assert psid == pytest.approx(psid_n, rel=1e-5)
+    assert phid == pytest.approx(phid_n, rel=1e-5)
+    assert abs(psid) > 1e7  # the singularity shows as a huge rate, not a finite wrong one
+
+
 @pytest.mark.parametrize(
     ("kw", "match"),
     [

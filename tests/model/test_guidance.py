@@ -74,9 +74,12 @@ def test_bad_paths_rejected(pts, speeds, match) -> None:
         Path(points=np.array(pts, dtype=float).reshape(-1, 3) if pts else np.zeros((0, 3)), speeds=speeds)
 
 
-def test_bad_radius_rejected() -> None:
-    with pytest.raises(InputError, match="acceptance_radius = 0.0"):
-        Path(points=[[0, 0, 0], [1, 0, 0]], speeds=[1], acceptance_radius=0)
+@pytest.mark.parametrize("value", [0.0, -2.0, math.inf, math.nan])
+@pytest.mark.parametrize("key", ["acceptance_radius", "lookahead"])
+def test_bad_radius_or_lookahead_rejected(key: str, value: float) -> None:
+    # both are distances in m: positive and finite (an infinite lookahead steers nowhere)
+    with pytest.raises(InputError, match=rf"{key} = {value}: expected a positive distance in m"):
+        Path(points=[[0, 0, 0], [1, 0, 0]], speeds=[1], **{key: value})
 
 
 def test_speed_reduced_by_heading_error() -> None:

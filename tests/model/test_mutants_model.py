@@ -491,6 +491,12 @@ def test_term_factors_and_autopilot_references_are_frozen():
     with pytest.raises(dataclasses.FrozenInstanceError):
         ref.depth = 3.0  # type: ignore[misc]
     assert hash(f) == hash(Factor(VEL, (0,)))
+    from hydrokit.model.terms import parse_term
+
+    term = parse_term("X_u|u|")
+    with pytest.raises(dataclasses.FrozenInstanceError):
+        term.dof = 1  # type: ignore[misc]
+    assert hash(term) == hash(parse_term("X_u|u|"))
 
 
 def test_a_thruster_without_a_time_constant_follows_its_command_at_once():
@@ -739,6 +745,25 @@ def test_thruster_sets_that_differ_only_in_their_reading_notes_are_equal():
     ths = (Thruster("T0", (0, 0, 0), (1, 0, 0), max_thrust=10.0, min_thrust=-5.0),)
     assert ThrusterSet(ths) == ThrusterSet(ths, notes=("field 'colour' ignored",))
     assert ThrusterSet(ths, density=1000.0) != ThrusterSet(ths, density=1025.0)
+    # thrusters of two curve kinds: the sets group them by kind internally (index arrays),
+    # which must not enter the comparison
+    from hydrokit.model.thrusters import TableCurve
+
+    table = TableCurve((-1.0, 1.0), (-4.0, 8.0))
+    mixed = ths + tuple(Thruster(f"T{k}", (0, 0, k), (0, 1, 0), 8.0, -4.0, curve=table) for k in (1, 2))
+    mixed += (Thruster("T3", (0, 0, 0), (0, 0, 1), max_thrust=10.0),)
+    assert ThrusterSet(mixed) == ThrusterSet(mixed)
+    assert ThrusterSet(mixed) != ThrusterSet(mixed[:1])
+
+
+def test_a_vehicle_is_equal_only_to_itself_and_hashable():
+    from dataclasses import replace
+
+    from hydrokit import load_vehicle
+
+    v = load_vehicle("minerva")
+    assert v == v and {v: 1}[v] == 1
+    assert v != replace(v)  # same numbers, another vehicle: compare its arrays with numpy
 
 
 @pytest.mark.parametrize("name", ["", "   ", 7])
@@ -758,8 +783,59 @@ def test_current_table_shapes():
     np.testing.assert_array_equal(current_table([0.1, -0.2, 0.0]), [[0.0, 0.1, -0.2, 0.0]])
     rows = [[0.0, 0.1, 0.0, 0.0], [5.0, 0.2, 0.0, 0.0]]
     np.testing.assert_array_equal(current_table(rows), rows)
+    np.testing.assert_array_equal(current_table(rows[1:]), rows[1:])  # one row: held at all times
     for bad in (np.zeros((0, 4)), [[0.0, 0.1, 0.0]], [[[0.0, 0.1, 0.0, 0.0]]]):
         with pytest.raises(InputError, match=r"expected 3 values \(m/s, NED\) or rows \[t, vN, vE, vD\]"):
             current_table(bad)
     with pytest.raises(InputError, match="times must increase strictly"):
         current_table([[0.0, 0.1, 0.0, 0.0], [0.0, 0.2, 0.0, 0.0]])
+
+
+def test_subtree_of_a_part_holds_every_descendant():
+    # parent list of a carried payload: 0 root frame, 1 and 3 on it, 2 on 1, 4 on 2
+    from hydrokit.model.assembly import subtree_of
+
+    parents = (-1, 0, 1, 0, 2)
+    assert subtree_of(parents, 0) == (0, 1, 2, 3, 4)
+    assert subtree_of(parents, 1) == (1, 2, 4)
+    assert subtree_of(parents, 3) == (3,)
+    assert subtree_of(parents, 4) == (4,)
+    # a file may list a part before its parent: 1 hangs on 2, which hangs on the root
+    assert subtree_of((-1, 2, 0), 0) == (0, 1, 2)
+    assert subtree_of((-1, 2, 0), 2) == (1, 2)
+
+
+def test_allocation_summary_says_none_when_nothing_saturates_or_is_unactuated():
+    from hydrokit.model.allocation import allocate_constrained, configuration_matrix
+
+    T = configuration_matrix([(0, 0.2, 0), (0, -0.2, 0)], [(1, 0, 0), (1, 0, 0)])
+    rows = dict(allocate_constrained(T, [10, 0, 0, 0, 0, 0], [-50, -50], [50, 50]).summary_rows())
+    # sway, heave, roll and pitch have no thruster: named; nothing at a limit: "none"
+    assert rows["saturated"] == "none"
+    assert rows["not actuated"] == "sway, heave, roll, pitch"
+    rows = dict(allocate_constrained(T, [200, 0, 0, 0, 0, 0], [-50, -50], [50, 50]).summary_rows())
+    assert rows["saturated"] == "T1, T2"
+
+
+def test_small_positive_quadratic_damping_is_not_called_negative():
+    ok = neutral_vehicle(quadratic_damping=[0.5, 0.0, 0.2, 0.01, 0.9, 0.3])
+    assert not any("negative" in w for w in ok.warnings), ok.warnings
+    bad = neutral_vehicle(quadratic_damping=[0.5, -0.1, 0.2, 0.01, 0.9, 0.3])
+    assert any("quadratic_damping has negative entries" in w for w in bad.warnings)
+
+
+@pytest.mark.parametrize("fraction", [0.5, 2.0])
+def test_added_mass_asymmetry_is_judged_against_the_largest_entry(fraction):
+    # SYMMETRY_TOLERANCE (1e-3) of the largest entry of M_RB + M_A (19 kg here: mass 10 +
+    # heave added mass 9): half of it is symmetrised with a warning, twice of it refused
+    from hydrokit.model.vehicle import SYMMETRY_TOLERANCE
+
+    MA = np.diag(ADDED)
+    MA[0, 4] = fraction * SYMMETRY_TOLERANCE * (MASS + ADDED[2])
+    if fraction < 1:
+        v = neutral_vehicle(added_mass=MA.tolist())
+        assert any("symmetrised" in w for w in v.warnings)
+        assert v.M_A[0, 4] == pytest.approx(MA[0, 4] / 2, rel=1e-12)
+    else:
+        with pytest.raises(InputError, match="not symmetric"):
+            neutral_vehicle(added_mass=MA.tolist())

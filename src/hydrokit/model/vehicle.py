@@ -27,7 +27,7 @@ from hydrokit.model.terms import TermSet
 SYMMETRY_TOLERANCE = 1e-3
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, eq=False)
 class Vehicle:
     """Vehicle parameters (SI, NED body axes). Build with :func:`make_vehicle`.
 
@@ -52,6 +52,9 @@ class Vehicle:
         quadratic N·s²/m², body axes), evaluated at each point's own relative velocity
     thrusters : ThrusterSet or None — the vehicle file's ``thrusters:`` block, when loaded with
         it (:func:`hydrokit.load_vehicle` does); the open-loop model does not use it
+
+    A vehicle is equal only to itself (``eq=False``): its fields are arrays, which have no
+    single truth value; compare the fields of two vehicles with numpy.
     """
 
     name: str
@@ -70,7 +73,7 @@ class Vehicle:
     warnings: tuple[str, ...] = ()
     added_mass_coriolis: bool = True
     drag_elements: tuple[DragElement, ...] = ()
-    thrusters: Any = field(default=None, repr=False, compare=False)
+    thrusters: Any = field(default=None, repr=False)
 
     @property
     def M_RB(self) -> np.ndarray:
