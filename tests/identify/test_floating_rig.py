@@ -491,3 +491,52 @@ def test_heave_speed_for_re_and_kc_is_the_records_own_rate() -> None:
     rate = float(np.max(np.abs(np.gradient(y, t))))  # m/s
     assert res.extra["speed_max"] == pytest.approx(rate, rel=0.01)
     assert res.reynolds_max == pytest.approx(rate * 0.4 / 1.0e-6, rel=0.01)
+
+
+@pytest.mark.parametrize("damping_model", ["quadratic", "cubic"])
+def test_a_fit_at_the_noise_floor_tries_no_other_start(monkeypatch, damping_model) -> None:
+    # docs/identify.md (output-error): "restarts when the residual is above twice the noise
+    # floor": a clean launch of the fitted model is explained by the first start, so the
+    # least-squares solver runs once, for the quadratic and for the extended (cubic) fit alike
+    import scipy.optimize
+
+    rig = rig_of("pitch", {"gm": 0.3})
+    L = _extended_launch(rig, {"I_a": 2.0, "B1": 1.0, "B2": 3.0, "B3": 5.0 * (damping_model == "cubic")}, 0.26, 4)
+    calls = []
+    real = scipy.optimize.least_squares
+    monkeypatch.setattr(scipy.optimize, "least_squares", lambda *a, **k: calls.append(1) or real(*a, **k))
+    r, est = identify_launch(rig, L, damping_model=damping_model, return_estimator=True)
+    assert est.rms_residual_ <= 2.0 * est.noise_
+    assert len(calls) == 1
+    assert r.added_mass == pytest.approx(2.0, rel=0.01)
+
+
+def test_the_period_start_alone_fits_a_launch_about_a_distant_rest_value(monkeypatch) -> None:
+    # when neither equation error nor the log decrement gives a start, the output-error fit
+    # starts from the period alone (released at y[0], resting at the measured offset) and must
+    # still find the coefficients, here about a rest value 20 times the amplitude
+    from hydrokit.identify.estimators import EquationErrorEstimator, LogDecrementEstimator
+    from hydrokit.identify.types import Launch
+
+    def refuse(self, t, y, facts):  # noqa: ANN001, ANN202
+        raise InputError("no start from this method")
+
+    monkeypatch.setattr(EquationErrorEstimator, "_fit", refuse)
+    monkeypatch.setattr(LogDecrementEstimator, "_fit", refuse)
+    rig = rig_of("pitch", {"gm": 0.3})
+    L = _extended_launch(rig, {"I_a": 2.0, "B1": 1.0, "B2": 3.0}, 0.1, 5)
+    r = identify_launch(rig, Launch(L.t, np.asarray(L.y) + 2.0, "offset"), restarts=0)
+    assert r.added_mass == pytest.approx(2.0, rel=0.01)
+    assert r.linear_damping == pytest.approx(1.0, rel=0.1)
+
+
+@pytest.mark.parametrize(("rms", "peak", "warned"), [(1.5e-9, 0.5, True), (1.5e-9, 2.0, False), (4e-9, 2.0, True)])
+def test_residual_warning_floor_is_a_billionth_of_the_larger_of_one_and_the_peak(rms, peak, warned) -> None:
+    # docs/identify.md, adequacy: warned above 3× the noise floor and above 1e-9 × max(1, |y|max)
+    # (noise-free here, floored at 1e-12 as the fits do, so the 1e-9 floor decides)
+    from hydrokit.identify.estimators import OutputErrorEstimator
+
+    est = OutputErrorEstimator(rig_of("pitch", {"gm": 0.3}))
+    est.warnings_ = []
+    est._warn_residual(rms, 1e-12, np.array([0.0, -peak, 0.3 * peak]))  # the fits floor the noise at 1e-12
+    assert bool(est.warnings_) is warned

@@ -138,6 +138,9 @@ def test_amplitude_window_cuts_where_stated() -> None:
     assert w["end_time"] == pytest.approx(end, abs=1.5 / FS)
     assert (w["high"], w["low"]) == (hi, lo)
     assert w["start_amplitude"] <= hi and w["end_amplitude"] < lo
+    # cycles inside the window: the truth's half cycles from its first extreme ≤ HI to its
+    # first extreme < LO, two to a cycle
+    assert w["cycles"] == (np.argmax(ext_a < lo) - np.argmax(ext_a <= hi)) / 2
     assert w["cycles"] >= 2
     assert float(np.max(np.abs(trimmed.y))) <= hi + math.radians(0.05)
     assert any("amplitude window" in n for n in trimmed.notes)
@@ -279,6 +282,23 @@ def test_damping_curve_skips_extremes_at_one_instant(monkeypatch: pytest.MonkeyP
     rows = damping_curve(t, np.cos(t), est, rig())
     assert [r["time"] for r in rows] == [1.5]
     assert rows[0]["value"] > 0
+
+
+@pytest.mark.parametrize(("noise", "band"), [(0.01, 0.04), (1e-4, 0.01)])
+def test_damping_curve_counts_extremes_beyond_four_sigma_or_one_percent(monkeypatch, noise, band) -> None:
+    # docs/identify.md, "Equivalent damping and the damping curve": the band is 4 σ of the
+    # noise floor or 1 % of the largest excursion (here 1), whichever is larger
+    from types import SimpleNamespace
+
+    import hydrokit.identify.estimators as estimators
+    from hydrokit.identify.damping import damping_curve
+
+    seen = []
+    monkeypatch.setattr(estimators, "_peaks", lambda t, z, b: seen.append(b) or [])
+    est = SimpleNamespace(offset_=0.0, noise_=noise, constants_=rig_constants(rig()))
+    t = np.linspace(0.0, 3.0, 31)
+    assert damping_curve(t, np.cos(2 * t), est, rig()) == []
+    assert seen == [pytest.approx(band, rel=1e-12)]
 
 
 @pytest.mark.parametrize("lead", [0.35, 0.4, 0.45, 0.5])
