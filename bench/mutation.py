@@ -499,6 +499,21 @@ EQUIVALENT: dict[tuple[str, str, str], str] = {
         "differs only for a condition number between 1e14 and 1e14 + 1 (one part in 1e14): the edge "
         "of 'too ill-conditioned to invert'"
     ),
+    ("identify/rig_model.py", "if x >= xe:  # linear beyond the last knot", ">= -> >"): (
+        "at x = xe exactly the last Hermite piece gives the last knot's value y1 = par[2n] and slope "
+        "d1/h = par[3n], the same value and slope as the linear extension"
+    ),
+    **_alike(
+        "model/thrusters.py",
+        "the ideal curve and the thrust table ignore the advance speed (the same thrust at any inflow), "
+        "so its default is never read",
+        ("def thrust(self, command: float, advance_speed: float = 0.0) -> float:  # any inflow", "0.0 -> 1.0"),
+        ("def command(self, thrust: float, advance_speed: float = 0.0) -> float:  # any inflow", "0.0 -> 1.0"),
+    ),
+    ("model/thrusters.py", "if abs(g) <= 1e-12 * abs(f) or hi - lo <= 1e-12 * n_max:", "<= -> < [1]"): (
+        "differs only when the thrust error is exactly 1e-12 of the target to the last bit (f ≠ 0 here, "
+        "so g = 0 passes both): probability 0"
+    ),
     ("identify/estimators.py", "fwd = tt >= 0", ">= -> >"): (
         "a sample at t0 exactly is then replayed by the backward pass instead of the forward one: a grid "
         "step of zero length, which returns the initial state (q0, v0) bit for bit either way"

@@ -172,6 +172,12 @@ def test_wall_proximity_warning(pendulum_rig):
     res = identify_launch(rig, trim_launch(launch), "output-error")
     assert res.gap_ratio == pytest.approx(0.03 / 0.087)
     assert any("gap ratio" in w for w in res.warnings)
+    # the warning says "closer than one body size": a wall exactly one body size (L = 0.087 m)
+    # away is not closer, a wall 0.086 m away is
+    for wall, warned in ((0.087, False), (0.086, True)):
+        rig = replace(pendulum_rig, wall_distance=wall)
+        res = identify_launch(rig, trim_launch(launch), "output-error")
+        assert any("gap ratio" in w for w in res.warnings) is warned
 
 
 def test_tare_is_subtracted(pendulum_rig):

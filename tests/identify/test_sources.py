@@ -92,3 +92,12 @@ def test_rank_sum_pairs_tests_every_pair_once_and_skips_single_launch_groups():
         a, b = r["pair"]
         assert r["u"] == rank_sum(groups[a], groups[b])["u"]
     assert rows[0]["u"] == 36  # Table 8's U for wholly separated groups
+
+
+@pytest.mark.parametrize("ratio", [0, -0.3, float("inf"), float("nan"), "0.3", None])
+def test_scale_ratio_must_be_a_positive_finite_number(ratio):
+    from hydrokit.errors import InputError
+
+    with pytest.raises(InputError, match=r"scale ratio = .*: expected a positive model/full-size length ratio"):
+        scale_factor(ratio)  # type: ignore[arg-type]
+    assert scale_factor(0.25) == 4.0  # λ = full/model

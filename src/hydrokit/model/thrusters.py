@@ -138,11 +138,11 @@ class IdealCurve(ThrustCurve):
     kind: ClassVar[str] = "ideal"
     unit: ClassVar[str] = "N"
 
-    def thrust(self, command: float, advance_speed: float = 0.0) -> float:
+    def thrust(self, command: float, advance_speed: float = 0.0) -> float:  # any inflow
         """``command`` itself, N."""
         return float(command)
 
-    def command(self, thrust: float, advance_speed: float = 0.0) -> float:
+    def command(self, thrust: float, advance_speed: float = 0.0) -> float:  # any inflow
         """``thrust`` itself, N."""
         return float(thrust)
 
@@ -197,11 +197,11 @@ class TableCurve(ThrustCurve):
         object.__setattr__(self, "_c_arr", np.array(c, dtype=float))
         object.__setattr__(self, "_f_arr", np.array(f, dtype=float))
 
-    def thrust(self, command: float, advance_speed: float = 0.0) -> float:
+    def thrust(self, command: float, advance_speed: float = 0.0) -> float:  # any inflow
         """Interpolated thrust, N (the table holds for any advance speed)."""
         return float(np.interp(command, self.commands, self.thrusts))
 
-    def command(self, thrust: float, advance_speed: float = 0.0) -> float:
+    def command(self, thrust: float, advance_speed: float = 0.0) -> float:  # any inflow
         """Interpolated command (table unit) for ``thrust`` (N)."""
         return float(np.interp(thrust, self.thrusts, self.commands))
 
