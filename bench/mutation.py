@@ -514,6 +514,20 @@ EQUIVALENT: dict[tuple[str, str, str], str] = {
         "differs only when the thrust error is exactly 1e-12 of the target to the last bit (f ≠ 0 here, "
         "so g = 0 passes both): probability 0"
     ),
+    **_alike(
+        "model/thrusters.py",
+        "n = 0 returned 0.0 above, and this branch needs |va| ≥ 1e6 |n D| > 0: neither va nor n is zero "
+        "here, so > 0 and ≥ 0 agree",
+        ("J = hi if (va > 0) == (n > 0) else lo", "> -> >= [1]"),
+        ("J = hi if (va > 0) == (n > 0) else lo", "> -> >= [2]"),
+    ),
+    ("model/allocation.py", "t = np.asarray(tau, dtype=float).reshape(-1)", "1 -> 2"): (
+        "reshape(-2): numpy takes any negative size as the one inferred dimension"
+    ),
+    ("model/thrusters.py", "_BISECTION_STEPS = 80", "80 -> 81"): (
+        "an iteration cap never reached: after 20 false-position steps plain bisection halves a bracket "
+        "of width ≤ n_max, so it is below 1e-12 n_max (the stop test) within 40 more steps, by step 61"
+    ),
     ("identify/estimators.py", "fwd = tt >= 0", ">= -> >"): (
         "a sample at t0 exactly is then replayed by the backward pass instead of the forward one: a grid "
         "step of zero length, which returns the initial state (q0, v0) bit for bit either way"

@@ -839,3 +839,35 @@ def test_added_mass_asymmetry_is_judged_against_the_largest_entry(fraction):
     else:
         with pytest.raises(InputError, match="not symmetric"):
             neutral_vehicle(added_mass=MA.tolist())
+
+
+@pytest.mark.parametrize("w", [-0.1, 1.0, 1.5])
+def test_wake_fraction_is_below_one(w):
+    # V_a = (1 − w) u: w = 1 leaves the propeller no inflow at all, w > 1 reverses it
+    from hydrokit.model.thrusters import Thruster
+
+    with pytest.raises(InputError, match=rf"thruster 'T0' wake_fraction = {w}: expected 0 ≤ w < 1"):
+        Thruster("T0", (0, 0, 0), (1, 0, 0), 10.0, wake_fraction=w)
+    assert Thruster("T0", (0, 0, 0), (1, 0, 0), 10.0, wake_fraction=0.99).wake_fraction == 0.99
+
+
+def test_a_vehicle_is_frozen():
+    import dataclasses
+
+    from hydrokit import load_vehicle
+
+    v = load_vehicle("minerva")
+    with pytest.raises(dataclasses.FrozenInstanceError):
+        v.mass = 1.0  # type: ignore[misc]
+
+
+def test_a_thruster_with_a_range_under_one_newton_is_still_free():
+    # degenerate limits (min = max) are pinned for the solver; a narrow range is not: two
+    # collinear thrusters, one limited to [0, 0.5] N, share 0.8 N least-norm as 0.4 + 0.4
+    from hydrokit.model.allocation import allocate_constrained, configuration_matrix
+
+    T = configuration_matrix([(0, 0, 0)] * 2, [(1, 0, 0)] * 2)
+    res = allocate_constrained(T, [0.8, 0, 0, 0, 0, 0], [0.0, -10.0], [0.5, 10.0])
+    np.testing.assert_allclose(res.thrust, [0.4, 0.4], atol=1e-9)
+    res = allocate_constrained(T, [0.8, 0, 0, 0, 0, 0], [0.3, -10.0], [0.3, 10.0])  # pinned at 0.3 N
+    np.testing.assert_allclose(res.thrust, [0.3, 0.5], atol=1e-9)
