@@ -13,6 +13,7 @@ import math
 import numpy as np
 import pytest
 
+from hydrokit.errors import InputError
 from hydrokit.identify.estimators import identify_launch
 from hydrokit.identify.types import Launch
 from hydrokit.identify.virtual_rig import SensorModel, simulate_launch
@@ -407,6 +408,8 @@ def test_default_sensor_holds_half_a_second_before_the_release():
     rig = Rig("spring", "surge", 9.81, 1000.0, 1e-6, 0.97, 344868e-9, 0.008, 0.09, stiffness=63.6)
     sensor = SensorModel()
     assert sensor.hold_time == 0.5
+    # SensorModel's docstring: the named sensors hold as long by default
+    assert [s().hold_time for s in (SensorModel.imu, SensorModel.encoder, SensorModel.camera)] == [0.5] * 3
     launch = simulate_launch(rig, 0.3, 0.8, 0.0, A0, 4.0, sensor, rng=0)
     assert np.all(launch.y[:50] == A0) and launch.y[51] < A0  # 50 samples at 100 Hz, then it moves
 
@@ -933,3 +936,45 @@ def test_adequacy_at_a_two_sample_period_uses_the_lag_one_autocorrelation():
     c = r - r.mean()
     assert out["acf_at_half_period"] == pytest.approx(float(c[:-1] @ c[1:]) / float(c @ c), rel=1e-12)
     assert out["acf_at_period"] == pytest.approx(float(c[:-2] @ c[2:]) / float(c @ c), rel=1e-12)
+
+
+def _extremes_only(amps: np.ndarray, halfs: np.ndarray):  # noqa: ANN202
+    """A record of its extremes alone: alternating signs, half periods ``halfs`` apart (s)."""
+    t = np.concatenate([[0.0], np.cumsum(halfs)])[: amps.size]
+    z = amps * (-1.0) ** np.arange(amps.size)
+    return t, z, [(i, i, i) for i in range(amps.size)]
+
+
+@pytest.mark.parametrize(("stretch", "start"), [(1.2, 0), (1.4, 1)])
+def test_free_decay_starts_where_the_next_periods_agree_within_15_percent(stretch, start):
+    # the full periods after the release extreme must agree within 15 % of their median: a
+    # half period stretched by 20 % makes the first full period 10 % long (kept), by 40 %
+    # makes it 20 % long (the start moves to the next extreme, whose periods all agree)
+    from hydrokit.identify.preprocess import _free_start
+
+    halfs = np.full(11, 0.5)
+    halfs[1] *= stretch
+    t, z, ext = _extremes_only(0.8 ** np.arange(12), halfs)
+    assert _free_start(t, z, ext, band=1e-3, sigma=1e-4) == start
+
+
+@pytest.mark.parametrize(("zeta", "half_cycles"), [(0.3, 4), (0.35, 3)])
+def test_release_needs_two_cycles_of_extremes(zeta, half_cycles):
+    # a 1 Hz decay released at 0.5 s; at ζ = 0.3 four half cycles clear the band (two cycles:
+    # enough), at ζ = 0.35 three (refused with the count)
+    from hydrokit.identify.preprocess import detect_release, equilibrium, half_cycle_extremes, noise_floor
+
+    wn = 2 * math.pi
+    s, wd = zeta * wn, wn * math.sqrt(1 - zeta**2)
+    td = np.arange(0.0, 6.0, 0.005)
+    y = np.concatenate([np.ones(100), np.exp(-s * td) * (np.cos(wd * td) + s / wd * np.sin(wd * td))])
+    y += np.random.default_rng(0).normal(0.0, 1e-5, y.size)
+    t = np.arange(y.size) * 0.005
+    z = y - equilibrium(y)
+    band = max(4 * noise_floor(y), 0.01 * np.max(np.abs(z)))
+    assert len(half_cycle_extremes(t, z, band)) == half_cycles
+    if half_cycles >= 4:
+        assert detect_release(t, y) == pytest.approx(0.5, abs=0.005)
+    else:
+        with pytest.raises(InputError, match=r"only 1.5 cycles \(half cycles with an extreme: 3\)"):
+            detect_release(t, y)

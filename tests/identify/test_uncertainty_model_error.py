@@ -39,11 +39,13 @@ def test_cycle_jackknife_reduces_to_the_formal_errors_for_white_noise():
     assert np.all(mean > 0.97) and np.all(mean < 1.2), mean
 
 
-def test_cycle_jackknife_is_the_delete_one_cycle_refit_for_a_linear_model():
+@pytest.mark.parametrize("B", [3, 12])
+def test_cycle_jackknife_is_the_delete_one_cycle_refit_for_a_linear_model(B):
     # second method: actually refit without each cycle; for a linear model one Gauss–Newton step
-    # from the full solution lands exactly on the refit
+    # from the full solution lands exactly on the refit. Three cycles are the fewest it uses:
+    # with two, deleting one leaves a single cycle to spread over, and the formal one is kept
     rng = np.random.default_rng(4)
-    n, B = 600, 12
+    n = 600
     X = np.column_stack([np.ones(n), np.sin(np.linspace(0, 30, n)), np.linspace(-1, 1, n) ** 2])
     y = X @ np.array([0.5, -1.0, 2.0]) + rng.normal(0, 0.2, n)
     beta, *_ = np.linalg.lstsq(X, y, rcond=None)
@@ -53,6 +55,9 @@ def test_cycle_jackknife_is_the_delete_one_cycle_refit_for_a_linear_model():
     expected = (B - 1) / B * dev.T @ dev
     got = cycle_jackknife(X, X @ beta - y, cyc, np.zeros((3, 3)))  # r = Xβ − y, J = X
     np.testing.assert_allclose(got, expected, rtol=1e-9, atol=1e-15)
+    formal = np.eye(3)
+    two = cycle_jackknife(X, X @ beta - y, (np.arange(n) >= n // 2).astype(int), formal)
+    np.testing.assert_array_equal(two, formal)
 
 
 def test_cycle_jackknife_sees_residuals_correlated_within_a_cycle():

@@ -94,7 +94,7 @@ def _free_start(t: np.ndarray, z: np.ndarray, ext: list[tuple[int, int, int]], b
     for j in range(len(ext) - 3):
         m = min(len(ext), j + 7)
         a = amps[j:m]
-        if np.any(a[2:] > a[:-2] + tol) or a[0] < a[2] - tol:
+        if np.any(a[2:] > a[:-2] + tol):
             continue
         n = min(len(ext), j + 21)
         if n - j >= 6:

@@ -32,7 +32,7 @@ class SensorModel:
     sample_rate : float — samples per second, Hz (default 100)
     noise_std : float — standard deviation of white noise, m (spring) or rad
     resolution : float — quantisation step, m or rad (0 = none)
-    hold_time : float — still record before the release, s
+    hold_time : float — still record before the release, s (default 0.5, as for imu, encoder and camera)
     name : str — description for reports
     lag : float — first-order sensor time constant, s (0 = none; an IMU filter or a
         camera's exposure delays the recorded signal, which no estimator models)
