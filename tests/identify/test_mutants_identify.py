@@ -978,3 +978,26 @@ def test_release_needs_two_cycles_of_extremes(zeta, half_cycles):
     else:
         with pytest.raises(InputError, match=r"only 1.5 cycles \(half cycles with an extreme: 3\)"):
             detect_release(t, y)
+
+
+@pytest.mark.parametrize(("band", "start"), [(1 / 128, 0), (3 / 256, 0), (1 / 64, None)])
+def test_few_extremes_must_fall_by_more_than_twice_the_band(band, start):
+    # five extremes, too few for the slope test: the release extreme and the last same-sign one
+    # (4 half cycles later) must differ by more than twice the band (docstring of _free_start).
+    # They differ by 4/128: more than 2/128 and 3/128 (3/128 is what the opposite-sign extreme
+    # before it gives), not more than 2/64 (equal: refused)
+    from hydrokit.identify.preprocess import _free_start
+
+    t, z, ext = _extremes_only(1.0 - np.arange(5) / 128, np.full(4, 0.5))
+    assert _free_start(t, z, ext, band=band, sigma=1e-4) == start
+
+
+@pytest.mark.parametrize(("band", "start"), [(0.04, 1), (0.06, None)])
+def test_an_even_count_of_extremes_compares_the_same_sign_one(band, start):
+    # the first extreme is followed by a larger same-sign one (a hand still building the swing),
+    # so the decay can start at the second: from there four extremes, the last same-sign one
+    # two half cycles on, 0.1 lower; an opposite-sign one (0.15 lower) must not be taken
+    from hydrokit.identify.preprocess import _free_start
+
+    t, z, ext = _extremes_only(np.array([0.9, 1.0, 0.95, 0.9, 0.85]), np.full(4, 0.5))
+    assert _free_start(t, z, ext, band=band, sigma=1e-4) == start
