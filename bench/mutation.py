@@ -528,6 +528,11 @@ EQUIVALENT: dict[tuple[str, str, str], str] = {
         "an iteration cap never reached: after 20 false-position steps plain bisection halves a bracket "
         "of width ≤ n_max, so it is below 1e-12 n_max (the stop test) within 40 more steps, by step 61"
     ),
+    ("identify/preprocess.py", "s = 1 if z[i] > band else (-1 if z[i] < -band else 0)", "1 -> 2 [1]"): (
+        "the half-cycle state above the band becomes 2 instead of 1: it is only compared with the next "
+        "state (2 ≠ −1, ≠ 0 as 1 was) and multiplies the half cycle before argmax, which a positive "
+        "factor does not move"
+    ),
     ("identify/estimators.py", "fwd = tt >= 0", ">= -> >"): (
         "a sample at t0 exactly is then replayed by the backward pass instead of the forward one: a grid "
         "step of zero length, which returns the initial state (q0, v0) bit for bit either way"

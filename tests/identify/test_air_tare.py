@@ -362,8 +362,11 @@ def test_uneven_stamps_are_resampled_over_the_whole_launch() -> None:
     np.testing.assert_allclose(later.qdd, part.qdd, rtol=1e-9, atol=1e-9 * float(np.max(np.abs(part.qdd))))
 
 
-def test_an_even_smoothing_window_is_refused() -> None:
-    # Savitzky–Golay needs a centre sample: an even window is named and refused
+@pytest.mark.parametrize(("window", "polyorder"), [(10, 4), (3, 4), (3, 3)])
+def test_an_even_or_too_short_smoothing_window_is_refused(window, polyorder) -> None:
+    # Savitzky–Golay needs a centre sample (odd) and more samples than its polynomial order:
+    # a window of 3 cannot carry a quartic, nor a cubic (3 samples, 4 coefficients)
     launch = in_air(R, 0.004, 0.01, math.radians(20), 50.0, 1e-4, np.random.default_rng(2), duration=8.0)
-    with pytest.raises(InputError, match=r"window = 10: expected an odd number of samples"):
-        fit_air_tare([launch], MASS, G, window=10)
+    lowest = polyorder + 1
+    with pytest.raises(InputError, match=rf"window = {window}: expected an odd number of samples between {lowest} and"):
+        fit_air_tare([launch], MASS, G, window=window, polyorder=polyorder)
