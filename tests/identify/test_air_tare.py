@@ -370,3 +370,13 @@ def test_an_even_or_too_short_smoothing_window_is_refused(window, polyorder) -> 
     lowest = polyorder + 1
     with pytest.raises(InputError, match=rf"window = {window}: expected an odd number of samples between {lowest} and"):
         fit_air_tare([launch], MASS, G, window=window, polyorder=polyorder)
+
+
+@pytest.mark.parametrize("alpha", [0.0, 4.0, -math.inf, math.nan])
+def test_air_tare_needs_a_finite_restoring_alpha(alpha) -> None:
+    # α multiplies sin θ in θ̈ = α sin θ + …: only a negative finite α restores (r = −g/α > 0)
+    from hydrokit.identify.tare import air_tare
+
+    with pytest.raises(InputError, match=rf"alpha = {alpha}: expected a negative number \(1/s², restoring in air\)"):
+        air_tare(alpha, 0.01, 0.02, MASS)
+    assert air_tare(-G / 0.39, 0.01, 0.02, MASS, G).effective_length == pytest.approx(0.39, rel=1e-12)

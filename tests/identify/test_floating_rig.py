@@ -511,6 +511,26 @@ def test_a_fit_at_the_noise_floor_tries_no_other_start(monkeypatch, damping_mode
     assert r.added_mass == pytest.approx(2.0, rel=0.01)
 
 
+def test_a_fit_above_twice_the_noise_floor_tries_the_other_starts(monkeypatch) -> None:
+    # the other side of the restart rule: a 3.7 Hz ripple of 0.08° (no rig model has it) leaves
+    # a residual between 2 and 3 noise floors, so every start (equation error, log decrement,
+    # period) is tried
+    import scipy.optimize
+
+    from hydrokit.identify.types import Launch
+
+    rig = rig_of("pitch", {"gm": 0.3})
+    L = _extended_launch(rig, {"I_a": 2.0, "B1": 1.0, "B2": 3.0}, 0.26, 4)
+    t = np.asarray(L.t, float)
+    y = np.asarray(L.y, float) + math.radians(0.08) * np.sin(2 * math.pi * 3.7 * t)
+    calls = []
+    real = scipy.optimize.least_squares
+    monkeypatch.setattr(scipy.optimize, "least_squares", lambda *a, **k: calls.append(1) or real(*a, **k))
+    _, est = identify_launch(rig, Launch(t, y, "ripple"), return_estimator=True)
+    assert 2.0 < est.rms_residual_ / est.noise_ < 3.0
+    assert len(calls) == 3
+
+
 def test_the_period_start_alone_fits_a_launch_about_a_distant_rest_value(monkeypatch) -> None:
     # when neither equation error nor the log decrement gives a start, the output-error fit
     # starts from the period alone (released at y[0], resting at the measured offset) and must
