@@ -1001,3 +1001,15 @@ def test_an_even_count_of_extremes_compares_the_same_sign_one(band, start):
 
     t, z, ext = _extremes_only(np.array([0.9, 1.0, 0.95, 0.9, 0.85]), np.full(4, 0.5))
     assert _free_start(t, z, ext, band=band, sigma=1e-4) == start
+
+
+@pytest.mark.parametrize("phase", [0.4, 0.8])
+def test_a_coarse_record_starting_in_outward_free_motion_releases_at_its_first_sample(phase):
+    # 8 samples a period: too few to fit the hand before the release, so the detector falls back
+    # to the sample before the release half cycle; here that half cycle starts at the first
+    # sample (the body already swinging outwards), and nothing of the record may be dropped
+    from hydrokit.identify.preprocess import detect_release
+
+    t = np.arange(0.0, 12.0, 1.0 / 8)
+    y = np.exp(-0.1 * t) * np.cos(2 * math.pi * t - phase)
+    assert detect_release(t, y, sigma=1e-4) == 0.0
