@@ -164,6 +164,19 @@ def test_log_decrement_reports_drag_per_cycle(spring_rig):
     assert np.median([c["drag_coefficient"] for c in cyc[:4]]) == pytest.approx(cd_true, rel=0.15)
 
 
+def test_log_decrement_drag_per_cycle_on_a_pendulum_is_in_the_bodys_units(pendulum_rig):
+    # on a pendulum the fitted c_Q is r³ K_Q (rig_model.RigConstants.quadratic_factor): each
+    # cycle's C_D = 2 K_Q/(ρ A) must undo that factor like the fitted K_Q does; at r = 0.39 m a
+    # missing or doubled r³ moves it by 17× or 1/17
+    m_a, K_L, K_Q = TRUTH["pendulum"]
+    launch = simulate_launch(pendulum_rig, m_a, K_L, K_Q, 0.3, 10.0, SensorModel(200, 0, 0, 0), rng=0)
+    res = identify_launch(pendulum_rig, launch, "log-decrement")
+    cd = [c["drag_coefficient"] for c in res.extra["cycles"]]
+    cd_true = 2 * K_Q / (pendulum_rig.density * pendulum_rig.reference_area)
+    assert len(cd) >= 4
+    assert np.median(cd) == pytest.approx(cd_true, rel=0.25)
+
+
 def test_wall_proximity_warning(pendulum_rig):
     from dataclasses import replace
 

@@ -529,6 +529,12 @@ def test_a_fit_above_twice_the_noise_floor_tries_the_other_starts(monkeypatch) -
     _, est = identify_launch(rig, Launch(t, y, "ripple"), return_estimator=True)
     assert 2.0 < est.rms_residual_ / est.noise_ < 3.0
     assert len(calls) == 3
+    # restarts = extra starts after the first (docstring): 0 → one solve, 1 → two
+    for restarts in (0, 1):
+        for model in ("quadratic", "cubic"):
+            calls.clear()
+            identify_launch(rig, Launch(t, y, "ripple"), restarts=restarts, damping_model=model)
+            assert len(calls) == 1 + restarts, model
 
 
 def test_the_period_start_alone_fits_a_launch_about_a_distant_rest_value(monkeypatch) -> None:

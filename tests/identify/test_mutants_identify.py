@@ -1013,3 +1013,14 @@ def test_a_coarse_record_starting_in_outward_free_motion_releases_at_its_first_s
     t = np.arange(0.0, 12.0, 1.0 / 8)
     y = np.exp(-0.1 * t) * np.cos(2 * math.pi * t - phase)
     assert detect_release(t, y, sigma=1e-4) == 0.0
+
+
+def test_a_still_stretch_runs_to_its_last_still_sample():
+    # 1.5 s at rest (samples 0–149), then a smooth lift 0.05 (1 − cos 0.2 k) whose first sample
+    # (k = 0) is still at rest: the still run is samples 0 to 150, both ends included
+    from hydrokit.identify.split import still_runs
+
+    k = np.arange(150)
+    y = np.concatenate([np.zeros(150), 0.05 * (1 - np.cos(0.2 * k))])
+    y += np.random.default_rng(0).normal(0.0, 1e-5, y.size)
+    assert still_runs(np.arange(y.size) / 100.0, y, min_hold=1.0) == [(0, 150)]
