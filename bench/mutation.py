@@ -533,6 +533,10 @@ EQUIVALENT: dict[tuple[str, str, str], str] = {
         "state (2 ≠ −1, ≠ 0 as 1 was) and multiplies the half cycle before argmax, which a positive "
         "factor does not move"
     ),
+    ("identify/rig_model.py", "if m > 2:", "> -> >="): (
+        "m is 2 (no sensitivities) or more than 2; with m = 2 the mutant also fills the derivative "
+        "buffers' sensitivity entries, but the RK4 updates and the outputs read only the first m entries"
+    ),
     ("identify/estimators.py", "fwd = tt >= 0", ">= -> >"): (
         "a sample at t0 exactly is then replayed by the backward pass instead of the forward one: a grid "
         "step of zero length, which returns the initial state (q0, v0) bit for bit either way"

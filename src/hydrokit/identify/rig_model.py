@@ -483,7 +483,8 @@ def simulate_normalised(
     Returns
     -------
     q, qdot : (n,) arrays
-    J : (n, 5) array — ∂q/∂(ω², b, g, q0, v0) (zeros unless ``jacobian``)
+    J : (n, 5) array — ∂q/∂(ω², b, g, q0, v0) (unless ``jacobian``, zeros after row 0, which
+        holds the seed ∂q0/∂q0 = 1)
     """
     t = np.ascontiguousarray(t, dtype=float)
     shape = restoring if restoring is not None else Restoring(SINE if sine else LINEAR)
