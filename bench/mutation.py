@@ -537,6 +537,11 @@ EQUIVALENT: dict[tuple[str, str, str], str] = {
         "m is 2 (no sensitivities) or more than 2; with m = 2 the mutant also fills the derivative "
         "buffers' sensitivity entries, but the RK4 updates and the outputs read only the first m entries"
     ),
+    ("identify/split.py", "a0 = max(a, b + 1 - max(5, int(round(min_hold / dt))))", "+ -> -"): (
+        "the window starts two samples earlier but never before the still run's start a (a still run "
+        "is at least that long): both windows hold only samples of the same still hold, within the "
+        "stillness threshold, ahead of the same release"
+    ),
     ("identify/estimators.py", "fwd = tt >= 0", ">= -> >"): (
         "a sample at t0 exactly is then replayed by the backward pass instead of the forward one: a grid "
         "step of zero length, which returns the initial state (q0, v0) bit for bit either way"
