@@ -542,6 +542,14 @@ EQUIVALENT: dict[tuple[str, str, str], str] = {
         "is at least that long): both windows hold only samples of the same still hold, within the "
         "stillness threshold, ahead of the same release"
     ),
+    (
+        "identify/estimators.py",
+        "slow = acf is not None and acf >= 0.3 and acf_half is not None and acf_half > acf - 0.5",
+        "> -> >=",
+    ): (
+        "differs only when the half-period autocorrelation is exactly 0.5 below the full-period one to "
+        "the last bit (probability 0): the edge between 'model error' and 'drift'"
+    ),
     ("identify/estimators.py", "fwd = tt >= 0", ">= -> >"): (
         "a sample at t0 exactly is then replayed by the backward pass instead of the forward one: a grid "
         "step of zero length, which returns the initial state (q0, v0) bit for bit either way"

@@ -362,13 +362,17 @@ def test_uneven_stamps_are_resampled_over_the_whole_launch() -> None:
     np.testing.assert_allclose(later.qdd, part.qdd, rtol=1e-9, atol=1e-9 * float(np.max(np.abs(part.qdd))))
 
 
-@pytest.mark.parametrize(("window", "polyorder"), [(10, 4), (3, 4), (3, 3)])
-def test_an_even_or_too_short_smoothing_window_is_refused(window, polyorder) -> None:
+@pytest.mark.parametrize(("window", "polyorder"), [(10, 4), (3, 4), (3, 3), (401, 4)])
+def test_an_even_too_short_or_too_long_smoothing_window_is_refused(window, polyorder) -> None:
     # Savitzky–Golay needs a centre sample (odd) and more samples than its polynomial order:
-    # a window of 3 cannot carry a quartic, nor a cubic (3 samples, 4 coefficients)
+    # a window of 3 cannot carry a quartic, nor a cubic (3 samples, 4 coefficients); and the
+    # window must leave samples outside it: the whole record (8 s at 50 Hz: 401) is too long
     launch = in_air(R, 0.004, 0.01, math.radians(20), 50.0, 1e-4, np.random.default_rng(2), duration=8.0)
+    assert launch.t.size == 401
     lowest = polyorder + 1
-    with pytest.raises(InputError, match=rf"window = {window}: expected an odd number of samples between {lowest} and"):
+    with pytest.raises(
+        InputError, match=rf"window = {window}: expected an odd number of samples between {lowest} and 400"
+    ):
         fit_air_tare([launch], MASS, G, window=window, polyorder=polyorder)
 
 

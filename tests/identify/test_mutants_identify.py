@@ -470,6 +470,10 @@ def test_air_tare_is_immutable():
     with pytest.raises(dataclasses.FrozenInstanceError):
         tare.linear_damping = 0.0  # type: ignore[misc]
     assert {tare: 1}[AirTare(0.5, 0.1, 0.02)] == 1  # frozen dataclasses hash by value
+    # so is a sensor model: one model records every launch of a virtual campaign
+    sensor = SensorModel.imu()
+    with pytest.raises(dataclasses.FrozenInstanceError):
+        sensor.noise_std = 0.0  # type: ignore[misc]
 
 
 def test_simulate_rig_defaults_to_four_rk4_substeps_within_the_closed_form(spring_rig):

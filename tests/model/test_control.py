@@ -150,6 +150,11 @@ def test_bad_gains_rejected(kw: dict, match: str) -> None:
 def test_bad_s_plane_scale_rejected() -> None:
     with pytest.raises(InputError, match="S-plane scale = 0.0: expected a positive"):
         SPlane(k1=1, k2=1, scale=0)
+    # a negative gain turns the S-surface around: the controller would push the error up
+    for k in ("k1", "k2"):
+        with pytest.raises(InputError, match=rf"S-plane {k} = -1.0: expected a number ≥ 0"):
+            SPlane(**{"k1": 1.0, "k2": 1.0, "scale": 1.0, k: -1.0})
+    assert SPlane(k1=0.0, k2=0.0, scale=1.0).k2 == 0.0  # zero is allowed (no rate term)
 
 
 # --------------------------------------------------------------------------- closed loop
