@@ -137,10 +137,11 @@ def test_zero_mass_is_refused():
         )
 
 
-@pytest.mark.parametrize("north,east", [(0.3, 0.3), (-40.0, 10.0)])
+@pytest.mark.parametrize("north,east", [(0.3, 0.3), (-40.0, 10.0), (40.0, 0.0), (0.0, -3.0)])
 def test_leg_course_is_the_horizontal_bearing(north, east):
     # the course of a leg is atan2(ΔE, ΔN), whatever it climbs or dives, for legs of any
-    # horizontal length above the 1 µm "vertical leg" threshold (here 0.42 m and 41 m)
+    # horizontal length above the 1 µm "vertical leg" threshold (here 0.42 m to 41 m, due north
+    # and due west among them: either component alone makes a leg horizontal)
     from hydrokit.model.guidance import Path
 
     path = Path(np.array([[0.0, 0.0, 0.0], [north, east, 5.0]]), np.array([0.5]))
