@@ -550,6 +550,10 @@ EQUIVALENT: dict[tuple[str, str, str], str] = {
         "differs only when the half-period autocorrelation is exactly 0.5 below the full-period one to "
         "the last bit (probability 0): the edge between 'model error' and 'drift'"
     ),
+    ("model/thrusters.py", "if abs(nD) * 1e6 > va_abs:", "> -> >="): (
+        "at |n D|·1e6 = |V_a| exactly |J| = 1e6, far outside any K_T range: the clamped J of the first "
+        "branch and the sign-only J of the other are the same range end"
+    ),
     ("identify/estimators.py", "fwd = tt >= 0", ">= -> >"): (
         "a sample at t0 exactly is then replayed by the backward pass instead of the forward one: a grid "
         "step of zero length, which returns the initial state (q0, v0) bit for bit either way"

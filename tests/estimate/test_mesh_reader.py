@@ -120,6 +120,14 @@ def test_binary_stl_whose_header_lies_is_refused_before_parsing(tmp_path, monkey
     assert calls == []  # meshio never saw the file
 
 
+def _printable_cp1252(b: int) -> bool:
+    try:
+        ch = bytes([b]).decode("cp1252")
+    except UnicodeDecodeError:
+        return False
+    return ch.isprintable() and not ch.isspace()
+
+
 def test_text_whose_bytes_80_to_83_wrap_to_the_file_size_is_not_read_as_binary(tmp_path, capfd):
     # meshio computes 84 + 50·count in uint32: text can match the size modulo 2³² and would be
     # read as ~1.7e9 binary triangles (an 80 GiB allocation). Craft such a text file.
@@ -129,11 +137,19 @@ def test_text_whose_bytes_80_to_83_wrap_to_the_file_size_is_not_read_as_binary(t
         rest = b"\n" + body[:-1] + b" " * pad + b"\n"  # pad spaces: not a blank line
         half = len(rest) // 2
         choices = [half * inverse % 2**31, half * inverse % 2**31 + 2**31] if len(rest) % 2 == 0 else []
-        good = [n for n in choices if all(0x21 <= b < 0x7F for b in n.to_bytes(4, "little"))]
+        # count bytes that are printable text (Windows-1252: an odd multiple needs bytes above
+        # 0x7F), and 84 + 50·count an odd multiple of 2³² above the size: then it differs from
+        # the size modulo 2³³, so only the 32-bit wrap explains the match
+        good = [
+            n
+            for n in choices
+            if all(_printable_cp1252(b) for b in n.to_bytes(4, "little"))
+            and (84 + 50 * n - (84 + len(rest))) // 2**32 % 2 == 1
+        ]
         if good:
             data = b"solid box".ljust(80, b" ") + good[0].to_bytes(4, "little") + rest
             break
-    assert (84 + 50 * good[0]) % 2**32 == len(data) and 84 + 50 * good[0] != len(data)
+    assert (84 + 50 * good[0]) % 2**32 == len(data) and (84 + 50 * good[0]) % 2**33 != len(data)
     path = tmp_path / "wrap.stl"
     path.write_bytes(data)
     with pytest.raises(InputError, match=f"binary count of {good[0]} triangles that matches the size modulo"):

@@ -649,3 +649,12 @@ def test_cylinder_mesh_side_panels_are_nearly_square(length, diameter):
     around = 2 * math.pi * (diameter / 2) / n
     assert axial[0] == pytest.approx(around, rel=0.1)
     assert m.volume() == pytest.approx(length * n / 2 * (diameter / 2) ** 2 * math.sin(2 * math.pi / n), rel=1e-9)
+
+
+def test_drag_defaults_are_the_documented_ones():
+    # shapes.py docstrings: a block takes C_D 1.05 (a cube, Hoerner) in every direction; a
+    # spheroid 0.1 along its axis (streamlined) and 0.6 across it
+    from hydrokit.estimate.shapes import block
+
+    np.testing.assert_array_equal(block(1.0, 0.5, 0.4).drag_coefficient, [1.05, 1.05, 1.05])
+    np.testing.assert_array_equal(spheroid(2.0, 0.5).drag_coefficient, [0.1, 0.6, 0.6])

@@ -181,7 +181,7 @@ def spheroid(
 ) -> ShapeCoefficients:
     """Prolate spheroid (axis x, a = length/2 > b = diameter/2): Lamb's closed form,
     A11 = k1 ρV, A22 = A33 = k2 ρV, A55 = A66 = k′ (ρV/5)(a² + b²). Drag coefficients are
-    rough defaults (streamlined axial, transverse 0.6), override them with measured values."""
+    rough defaults (streamlined axial 0.1, transverse 0.6), override them with measured values."""
     _positive(length=length, diameter=diameter)
     a, b = length / 2, diameter / 2
     k1, k2, kp = lamb_coefficients(a, b)
