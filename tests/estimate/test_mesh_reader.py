@@ -120,6 +120,21 @@ def test_binary_stl_whose_header_lies_is_refused_before_parsing(tmp_path, monkey
     assert calls == []  # meshio never saw the file
 
 
+def test_binary_stl_whose_header_starts_with_solid_is_still_checked_as_binary(tmp_path, monkeypatch):
+    # some CAD exporters start the 80-byte binary header with "solid" too; the zero bytes of the
+    # triangle records give it away, so a lying count is refused as binary, not parsed as text
+    import meshio
+
+    calls: list[object] = []
+    monkeypatch.setattr(meshio.stl, "read", lambda *a: calls.append(a))
+    data = stl_binary(box_triangles(), count=13)
+    path = tmp_path / "hull.stl"
+    path.write_bytes(b"solid hull".ljust(80, b" ") + data[80:])
+    with pytest.raises(InputError, match="announces 13 triangles but is truncated: its 684 bytes hold 12"):
+        read_mesh(path)
+    assert calls == []
+
+
 def _printable_cp1252(b: int) -> bool:
     try:
         ch = bytes([b]).decode("cp1252")

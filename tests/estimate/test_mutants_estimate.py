@@ -476,6 +476,21 @@ def test_rotated_drag_warning_only_for_parts_with_drag():
     assert len(warned) == 1 and warned[0].startswith("part fin:")
 
 
+@pytest.mark.parametrize("mode", ["elements", "rehman"])
+def test_off_diagonal_quadratic_damping_is_named_only_where_there_is_some(mode):
+    # drag laws are per axis: a part's off-diagonal quadratic damping (here Y from |u|u) is dropped
+    # and that is said, for that part alone; the "shifted" mode moves whole matrices (Hᵀ D H)
+    from hydrokit.estimate.composite import Part, combine
+
+    cross = np.diag([5.0] * 6)
+    cross[1, 0] = 2.0
+    coupled = Part("hull", 1.0, 0.001, np.eye(3), np.zeros((6, 6)), quadratic_damping=cross)
+    plain = Part("fin", 1.0, 0.001, np.eye(3), np.zeros((6, 6)), quadratic_damping=np.diag([5.0] * 6))
+    warned = [w for w in combine([coupled, plain], mode).warnings if "off-diagonal" in w]
+    assert warned == ["part hull: off-diagonal quadratic damping ignored (a drag law per axis)"]
+    assert not [w for w in combine([coupled, plain], "shifted").warnings if "off-diagonal" in w]
+
+
 def test_a_closed_mesh_enclosing_no_volume_is_named():
     # a tetrahedron squashed flat (all four vertices in z = 0): every edge shared by two faces,
     # volume exactly 0 (neither outward nor inward)

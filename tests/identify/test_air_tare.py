@@ -362,6 +362,24 @@ def test_uneven_stamps_are_resampled_over_the_whole_launch() -> None:
     np.testing.assert_allclose(later.qdd, part.qdd, rtol=1e-9, atol=1e-9 * float(np.max(np.abs(part.qdd))))
 
 
+def test_a_dropped_frame_is_resampled_up_to_the_last_stamp_despite_rounding() -> None:
+    # 5 s at 50 Hz (251 stamps) with the middle frame dropped: the median step is 20 ms and
+    # the span 250 steps, but in floating point span / step = 249.99999999999977; the last
+    # stamp is still a whole step and is kept: 251 resampled samples, 241 after the 11-sample
+    # window's edges (a division by the same 1 + 1e-12 instead of the product would lose it)
+    from hydrokit.identify.tare import _smooth
+
+    even = in_air(R, 0.02, 0.05, math.radians(30), 50.0, math.radians(0.01), np.random.default_rng(4), duration=5.0)
+    t, y = np.delete(np.asarray(even.t), 125), np.delete(np.asarray(even.y), 125)
+    dt = float(np.median(np.diff(t)))
+    assert dt == pytest.approx(0.02, rel=1e-12) and (t[-1] - t[0]) / dt < 250.0  # the rounding at issue
+    part = _smooth(Launch(t=t, y=y, file="webcam"), 11, 4)
+    assert part.q.size == 251 - 10
+    # the resampled record is the even one (the dropped frame interpolated back)
+    full = _smooth(even, 11, 4)
+    np.testing.assert_allclose(part.q[:110], full.q[:110], rtol=0, atol=1e-12)
+
+
 @pytest.mark.parametrize(("window", "polyorder"), [(10, 4), (3, 4), (3, 3), (401, 4)])
 def test_an_even_too_short_or_too_long_smoothing_window_is_refused(window, polyorder) -> None:
     # Savitzky–Golay needs a centre sample (odd) and more samples than its polynomial order:

@@ -271,7 +271,7 @@ def test_split_launches_default_takes_holds_of_one_second():
     # holds of 1.3 s: longer than the default shortest hold (min_hold = 1 s), so every launch is
     # found, each starting the default keep_hold = 1 s before its release (inside the hold);
     # asking for 2 s holds finds none of these releases
-    from hydrokit.identify.split import split_launches
+    from hydrokit.identify.split import split_launches, still_runs
 
     t, y, releases = held_then_released((0.04, -0.03, 0.05), hold_samples=130)
     segs = split_launches(t, y)
@@ -279,6 +279,31 @@ def test_split_launches_default_takes_holds_of_one_second():
     assert [round(t[s.release] - t[s.start], 2) for s in segs] == [1.0, 1.0, 1.0]
     found = [s.release for s in split_launches(t, y, min_hold=2.0)]
     assert not any(abs(f - r) <= 2 for f in found for r in releases)
+    # the still-run finder has the same default: each 1.3 s hold is one still run
+    runs = still_runs(t, y)
+    assert [any(a <= r - 129 and b >= r - 1 for a, b in runs) for r in releases] == [True, True, True]
+    assert runs == still_runs(t, y, min_hold=1.0) != still_runs(t, y, min_hold=2.0)
+
+
+def test_a_motion_of_min_samples_after_a_hold_is_offered_as_a_launch():
+    # rest 1.5 s, smooth lift, 1.5 s hold, then a fast decay (period 3 samples) of 19 samples: from
+    # the hold's last still sample to the record's end is exactly MIN_SAMPLES samples, the
+    # shortest record trim_launch accepts, so the length guard lets it through (one sample less
+    # and no launch is found)
+    from hydrokit.identify.preprocess import MIN_SAMPLES
+    from hydrokit.identify.split import split_launches, still_runs
+
+    found = []
+    for n in (MIN_SAMPLES - 2, MIN_SAMPLES - 1):
+        k = np.arange(1, n + 1)
+        decay = 0.05 * np.exp(-0.02 * k) * np.cos(2 * np.pi / 3 * k)
+        lift = 0.025 * (1 - np.cos(np.linspace(0, np.pi, 100)))
+        y = np.concatenate([np.zeros(150), lift, np.full(150, 0.05), decay])
+        y += np.random.default_rng(0).normal(0.0, 1e-5, y.size)
+        t = np.arange(y.size) / 100.0
+        assert still_runs(t, y)[-1][1] == 399  # the hold's last still sample
+        found.append([(s.start >= 247, s.end >= 400) for s in split_launches(t, y)])
+    assert found == [[], [(True, True)]]
 
 
 @pytest.mark.parametrize("zeta", [0.03, 0.2])
@@ -399,6 +424,23 @@ def test_adequacy_without_a_period_measures_no_autocorrelation():
     assert out["acf_at_period"] is None and out["acf_at_half_period"] is None
     assert out["residual_to_noise"] == pytest.approx(1.0, rel=0.1)
     assert out["verdict"].startswith("adequate")
+
+
+def test_adequacy_calls_white_residuals_up_to_twice_the_noise_adequate():
+    # the documented rule: adequate when RMS ≤ 2× the noise and |ρ(T)| < 0.3. White residuals
+    # (ρ(T) ≈ 0): exactly 2× the noise is adequate (the edge belongs to it), 2.5× is not
+    from hydrokit.identify.estimators import adequacy
+
+    r = np.random.default_rng(3).normal(0.0, 1.0, 2000)
+    r -= r.mean()
+    rms = float(np.sqrt(np.mean(r**2)))
+    t = np.arange(r.size) * 0.01
+    edge = adequacy(r, t, 0.5, rms / 2.0)  # division by two is exact: the ratio is 2.0 exactly
+    assert edge["residual_to_noise"] == 2.0 and abs(edge["acf_at_period"]) < 0.1
+    assert edge["verdict"].startswith("adequate")
+    above = adequacy(r, t, 0.5, rms / 2.5)
+    assert above["residual_to_noise"] == pytest.approx(2.5)
+    assert above["verdict"].startswith("residual above the noise floor (2× the noise)")  # 2.5 → "2"
 
 
 def test_default_sensor_holds_half_a_second_before_the_release():

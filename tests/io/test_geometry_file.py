@@ -69,6 +69,18 @@ def test_a_vehicle_part_refuses_body_keys_it_would_ignore(tmp_path: Path, key):
     assert ok.parts[0].part.mass > 0
 
 
+@pytest.mark.parametrize(("key", "value"), [("bem", False), ("bem", True), ("resolution", 24)])
+def test_a_mesh_part_refuses_the_bem_keys_it_would_ignore(tmp_path: Path, key, value):
+    # a mesh part's added mass comes from BEM on its own panels: a BEM switch or a panel count
+    # would be ignored, so they are refused (like a vehicle part's body keys)
+    (tmp_path / "tet.obj").write_text("v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 3 2\nf 1 2 4\nf 1 4 3\nf 2 3 4\n")
+    entry = {"name": "hull", "mesh": "tet.obj", "mass": 1.0, key: value}
+    with pytest.raises(InputError, match=rf"field 'parts\[0\]\.{key}' = {value}: a mesh part always takes"):
+        parse_geometry(parts(entry), tmp_path / "g.yaml")
+    ok = parse_geometry(parts({"name": "hull", "mesh": "tet.obj", "mass": 1.0}), tmp_path / "g.yaml")
+    assert ok.parts[0].mesh is not None and ok.parts[0].bem
+
+
 @pytest.mark.parametrize("resolution", [6, 200])
 def test_resolution_bounds_are_inclusive(tmp_path: Path, resolution):
     geo = parse_geometry(

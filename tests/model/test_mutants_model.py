@@ -740,6 +740,45 @@ def test_a_pid_loop_without_kp_has_no_proportional_gain():
     assert (ap.depth.kp, ap.depth.ki, ap.depth.kd) == (0.0, 0.0, 1.0)
 
 
+def test_an_s_plane_loop_without_k2_has_no_rate_term():
+    # k2 (the rate gain) is optional in the gains file; left out, the loop has none (k2 = 0)
+    from hydrokit.model.mission import create_mission
+
+    loops = {"speed": {"k1": 1.0, "k2": 0.1, "scale": 30.0}, "depth": {"k1": 2.0, "scale": 40.0}}
+    gains = {"s-plane": {**loops, "heading": {"k1": 1.0, "k2": 0.5, "scale": 20.0}}}
+    ap = create_mission([[0.0, 0.0, 0.0], [10.0, 0.0, 0.0]], gains, controller="s-plane").autopilot()
+    assert (ap.depth.k1, ap.depth.k2, ap.depth.scale) == (2.0, 0.0, 40.0)
+    assert (ap.heading.k1, ap.heading.k2, ap.heading.angle) == (1.0, 0.5, True)
+
+
+def test_the_shortest_term_names_parse():
+    # three characters: a force/moment letter, '_' and one velocity (the linear derivatives)
+    from hydrokit.model.terms import parse_term
+
+    for name, dof in (("X_u", 0), ("Y_v", 1), ("N_r", 5)):
+        t = parse_term(name)
+        assert t.dof == dof and len(t.factors) == 1 and t.acceleration is None
+    for bad in ("X_", "Xu", "Q_u"):
+        with pytest.raises(InputError, match="unknown force/moment letter"):
+            parse_term(bad)
+
+
+def test_fast_propeller_command_equals_the_reference_for_vanishing_thrust():
+    # 1e-16 N at V_a = ±0.5 m/s: the root search visits speeds with |n D| below 1e-6 |V_a|,
+    # where J is taken from the signs alone (the range end: hi when V_a and n agree in sign);
+    # the fast path must give the reference's value bit for bit, there as elsewhere
+    from hydrokit.model.thrusters import PropellerCurve
+
+    p = PropellerCurve(
+        diameter=0.12, kt_forward=(-0.05, -0.1, -0.25, 0.42), kt_reverse=(0.02, 0.05, 0.3, 0.3), max_speed=40.0
+    )
+    for f in (1e-16, -1e-16, 1e-20):
+        for va in (0.5, -0.5, 1.0, 0.01):
+            n = p._command_fast(f, va)
+            assert n == p.command(f, va), (f, va)
+            assert math.copysign(1.0, n) == math.copysign(1.0, f)
+
+
 def test_thruster_sets_that_differ_only_in_their_reading_notes_are_equal():
     from hydrokit.model.thrusters import Thruster, ThrusterSet
 

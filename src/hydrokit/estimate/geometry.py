@@ -343,7 +343,7 @@ def estimate_geometry(
 
         new = []
         for gp in parts:
-            if gp.mesh is None and (gp.shape not in ("sphere", "spheroid", "cylinder") or not gp.bem):
+            if not gp.bem or (gp.mesh is None and gp.shape not in ("sphere", "spheroid", "cylinder")):
                 new.append(gp)
                 continue
             res = resolution or gp.resolution

@@ -173,6 +173,14 @@ def parse_geometry(data: dict[str, Any], p: Path, extra_part_keys: frozenset[str
         if "mesh" in raw:
             from hydrokit.estimate.mesh import read_mesh
 
+            for key in ("bem", "resolution"):  # BEM on the mesh's own panels, always
+                if key in raw:
+                    raise InputError(
+                        f"field '{where}.{key}' = {cut_repr(raw[key])}: a mesh part always takes its added "
+                        "mass from BEM on the mesh's own panels; remove the key",
+                        src,
+                    )
+
             mpath = Path(raw["mesh"])
             mesh = read_mesh(mpath if mpath.is_absolute() else p.parent / mpath)
             parts.append(
