@@ -579,6 +579,28 @@ EQUIVALENT: dict[tuple[str, str, str], str] = {
     ("model/thrusters.py", "k, loss = (kf, lf) if n > 0 else (kr, lr)", "> -> >="): (
         "n = 0 returned two lines above, so n ≥ 0 and n > 0 pick the same curve"
     ),
+    ("identify/estimators.py", "p0 = np.zeros(6)", "6 -> 7"): (
+        "p0 is read only at the fitted indices `free` (all below 6): a seventh zero is never read"
+    ),
+    ("identify/preprocess.py", "tt, aa = times[j:n] - times[j], amps[j:n]", "- -> +"): (
+        "the times shift by the constant 2·times[j]; the regression has a constant column, so only the "
+        "intercept moves: the slope and its standard error (the only things read) are unchanged"
+    ),
+    ("model/thrusters.py", "kt = 0.0 if kt < 0.0 else kt", "< -> <="): (
+        "at kt = ±0 both keep a zero; the thrust it multiplies enters only g = thrust − f, the same for +0 and −0"
+    ),
+    (
+        "estimate/composite.py",
+        "has_drag = np.any(np.diag(DQ) != 0) or np.asarray(p.drag_elements).size > 0",
+        "0 -> 1 [2]",
+    ): ("drag_elements is an (n, 9) array: its size is 0 or at least 9, so size > 1 and size > 0 agree"),
+    **_alike(
+        "estimate/shapes.py",
+        "the shape tables' rows are finite ratios up to 100 and the 1e9 row of the infinite-ratio limit: no "
+        "row lies at or near 1e8, where < and ≤ (or the bound 1e8 + 1) would part",
+        ("finite = [(a, b) for a, b in table if a < 1e8]", "< -> <="),
+        ("finite = [(a, b) for a, b in table if a < 1e8]", "100000000.0 -> 100000001.0"),
+    ),
     ("identify/estimators.py", "fwd = tt >= 0", ">= -> >"): (
         "a sample at t0 exactly is then replayed by the backward pass instead of the forward one: a grid "
         "step of zero length, which returns the initial state (q0, v0) bit for bit either way"

@@ -3,7 +3,9 @@
 from __future__ import annotations
 
 import dataclasses
+import math
 
+import numpy as np
 import pytest
 
 from hydrokit.core.drag import DragElement
@@ -63,3 +65,15 @@ def test_a_single_drag_element_is_the_closed_form_point_drag():
     np.testing.assert_allclose(w, [fx, 0, 0, 0, 0, -0.5 * fx], atol=1e-12)
     # an element given only a position drags nothing
     assert DragElement("tag", (1.0, 0.0, 0.0)).row().tolist() == [1.0, 0, 0, 0, 0, 0, 0, 0, 0]
+
+
+@pytest.mark.parametrize(("yaw", "pitch"), [(0.8217701239287258, -math.pi / 2), (-2.7541588563828316, math.pi / 2)])
+def test_euler_angles_at_gimbal_lock_survive_rounding_past_one(yaw, pitch):
+    # pitch ±90° with these yaw angles: R[2, 0] = −sin θ rounds to ±1.0000000000000002, outside
+    # asin's domain; the clamp keeps θ = ∓asin(±1) = ±π/2 instead of a domain error
+    from hydrokit.core.kinematics import quaternion_to_euler, quaternion_to_rotation
+
+    c, s = math.cos(pitch / 2), math.sin(pitch / 2)
+    q = np.array([math.cos(yaw / 2) * c, -math.sin(yaw / 2) * s, math.cos(yaw / 2) * s, math.sin(yaw / 2) * c])
+    assert abs(quaternion_to_rotation(q / np.linalg.norm(q))[2, 0]) > 1.0  # the rounding at issue
+    assert quaternion_to_euler(q)[1] == pytest.approx(pitch, abs=1e-12)

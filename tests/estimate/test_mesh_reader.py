@@ -191,6 +191,18 @@ def test_a_file_over_the_size_bound_is_refused_before_parsing(tmp_path, monkeypa
     assert calls == []
 
 
+def test_the_bounded_read_keeps_a_file_of_exactly_the_bound_and_refuses_one_byte_more(tmp_path, monkeypatch):
+    # the read after the size check takes one byte more than the bound, so a file that grew in
+    # between is caught; a file of exactly the bound is read whole
+    monkeypatch.setattr(mesh_module, "MAX_MESH_BYTES", 100)
+    path = tmp_path / "m.obj"
+    path.write_bytes(b"#" * 100)
+    assert mesh_module._bounded_bytes(path) == b"#" * 100
+    path.write_bytes(b"#" * 101)
+    with pytest.raises(InputError, match=r"m\.obj: the file has grown past 0\.0001 MB while being read"):
+        mesh_module._bounded_bytes(path)
+
+
 @pytest.mark.parametrize("fmt", ["ascii", "binary", "obj"])
 @pytest.mark.parametrize("bad", [float("nan"), float("inf"), -float("inf")])
 def test_non_finite_vertex_is_refused(tmp_path, fmt, bad):

@@ -491,6 +491,32 @@ def test_off_diagonal_quadratic_damping_is_named_only_where_there_is_some(mode):
     assert not [w for w in combine([coupled, plain], "shifted").warnings if "off-diagonal" in w]
 
 
+def test_a_shape_part_without_speed_takes_the_documented_one_metre_per_second():
+    # the geometry file's `speed` defaults to 1.0 m/s (io/geometry.py); the Python API alike:
+    # a sphere's Reynolds-dependent drag then equals the one at 1 m/s, not at 2 m/s
+    from hydrokit.estimate.geometry import shape_part
+
+    def ball(**kw):
+        gp = shape_part(
+            "ball", "sphere", 30.0, {"diameter": 0.5}, np.zeros(3), np.eye(3), density=1025.0, gravity=9.81, **kw
+        )
+        return np.diag(gp.part.quadratic_damping)
+
+    np.testing.assert_array_equal(ball(), ball(speed=1.0))
+    assert not np.array_equal(ball(), ball(speed=2.0))
+
+
+@pytest.mark.parametrize("axial_model", ["spheroid", "rehman"])
+def test_a_circular_cylinder_has_no_roll_added_mass(axial_model):
+    # turning a circular section about its own axis displaces no fluid (ideal flow): K_ṗ = 0,
+    # while pitch and yaw have the strip-theory value ρ C_a (π D²/4) L³/12 and the matrix is diagonal
+    from hydrokit.estimate.shapes import cylinder
+
+    MA = cylinder(length=1.2, diameter=0.2, density=1025.0, axial_model=axial_model).added_mass
+    assert MA[3, 3] == 0.0 and MA[4, 4] == MA[5, 5] > 0
+    np.testing.assert_array_equal(MA, np.diag(np.diag(MA)))
+
+
 def test_a_closed_mesh_enclosing_no_volume_is_named():
     # a tetrahedron squashed flat (all four vertices in z = 0): every edge shared by two faces,
     # volume exactly 0 (neither outward nor inward)

@@ -380,6 +380,16 @@ def test_a_dropped_frame_is_resampled_up_to_the_last_stamp_despite_rounding() ->
     np.testing.assert_allclose(part.q[:110], full.q[:110], rtol=0, atol=1e-12)
 
 
+def test_as_many_smoothed_samples_as_unknowns_is_refused() -> None:
+    # one 60-sample launch through a 57-sample window leaves 4 smoothed samples for the 4
+    # unknowns (α, β, γ and the launch's rest term): an exact solve with no residual to judge
+    # it by, so more samples than unknowns are required
+    t = np.arange(60) * 0.01
+    y = 0.3 * np.exp(-0.5 * t) * np.cos(2 * math.pi * t / 0.2) + np.random.default_rng(0).normal(0, 1e-4, 60)
+    with pytest.raises(InputError, match=r"only 4 samples left after smoothing 1 launch\(es\); expected more than 4"):
+        fit_air_tare([Launch(t, y, "air.csv")], 1.2, G, window=57)
+
+
 @pytest.mark.parametrize(("window", "polyorder"), [(10, 4), (3, 4), (3, 3), (401, 4)])
 def test_an_even_too_short_or_too_long_smoothing_window_is_refused(window, polyorder) -> None:
     # Savitzky–Golay needs a centre sample (odd) and more samples than its polynomial order:

@@ -135,6 +135,29 @@ def test_log_decrement_replay_starts_at_the_recorded_release(spring_rig):
     assert float(est.predict(np.array([0.0]))[0]) == pytest.approx(A0 + rest, rel=1e-4)
 
 
+@pytest.mark.parametrize(("samples_per_period", "window"), [(48, 9), (54, 9), (60, 11), (30, 7), (90, 15)])
+def test_savgol_window_is_the_odd_count_nearest_above_a_sixth_of_a_period(samples_per_period, window):
+    # a sixth of the period, rounded; an even count goes up by one (so 48/6 = 8 → 9), at least 7
+    from hydrokit.identify.estimators import _savgol_window
+
+    assert _savgol_window(samples_per_period * 0.01, 0.01) == window
+
+
+def test_log_decrement_skips_a_pair_of_peaks_that_grows(spring_rig):
+    # the closed-form decay (16 same-sign peak pairs in 8 s) with a bump at the fifth positive
+    # peak that lifts it above the fourth: that pair grows, has no logarithmic decrement, and is
+    # left out (15 cycles, every ζ positive); the pair after it decays the more (ζ > 0.03)
+    from hydrokit.identify.estimators import LogDecrementEstimator
+
+    launch = linear_decay()
+    t = np.asarray(launch.t)
+    y = np.asarray(launch.y) + 0.006 * np.exp(-0.5 * ((t - 4 * 2 * math.pi / WD) / 0.05) ** 2)
+    est = LogDecrementEstimator(spring_rig).fit(t, y)
+    zetas = [c["damping_ratio"] for c in est.cycles_]
+    assert len(zetas) == 15 and min(zetas) > 0
+    assert sum(z == pytest.approx(ZETA, rel=0.02) for z in zetas) == 14
+
+
 def test_formal_standard_errors_match_the_cramer_rao_bound(spring_rig):
     # white sensor noise σ: the formal σ̂² (JᵀJ)⁻¹ of the output-error fit estimates σ² from the
     # residual sum of squares / (N − p), so it must agree with the Cramér–Rao bound at the true
@@ -1060,6 +1083,18 @@ def test_a_coarse_record_starting_in_outward_free_motion_releases_at_its_first_s
     t = np.arange(0.0, 12.0, 1.0 / 8)
     y = np.exp(-0.1 * t) * np.cos(2 * math.pi * t - phase)
     assert detect_release(t, y, sigma=1e-4) == 0.0
+
+
+def test_still_means_a_range_within_eight_noise_sigmas(monkeypatch):
+    # the documented rule: still where the range over every min_hold window is within 8 noise
+    # std. With σ fixed at 1 mm, a 7.5 mm step inside 4 s of rest is still throughout; an 8.5 mm
+    # step splits the rest into two still runs, either side of it
+    import hydrokit.identify.split as split
+
+    monkeypatch.setattr(split, "noise_floor", lambda y: 1e-3)
+    t = np.arange(400) / 100.0
+    runs = {step: split.still_runs(t, np.where(np.arange(400) < 200, 0.0, step)) for step in (7.5e-3, 8.5e-3)}
+    assert runs == {7.5e-3: [(0, 399)], 8.5e-3: [(0, 199), (200, 399)]}
 
 
 def test_a_still_stretch_runs_to_its_last_still_sample():

@@ -301,11 +301,14 @@ def test_damping_curve_counts_extremes_beyond_four_sigma_or_one_percent(monkeypa
     assert seen == [pytest.approx(band, rel=1e-12)]
 
 
-@pytest.mark.parametrize("lead", [0.35, 0.4, 0.45, 0.5])
+@pytest.mark.parametrize("lead", [0.35, 0.4, 0.45, 0.5, 0.52, 0.55, 0.6])
 def test_record_starting_in_outward_free_motion_releases_at_the_extreme(lead: float) -> None:
     # a free decay (T = 2 s) recorded from `lead` periods before its first zero crossing: the
     # body still swings outwards at the start, so the free decay the model can use starts at
-    # the extreme (t = 0), whichever candidate join time fits best (here the window's first)
+    # the extreme (t = 0), whichever candidate join time fits best (here the window's first).
+    # From 0.52 on the record starts before the previous crossing, the window's first 5 % of a
+    # period is the join candidates' margin: a join there (almost no "hand" before it) would fit
+    # best and land on the record's start instead of the extreme
     period, sigma = 2.0, 0.05
     wd = 2 * math.pi / period
     t0 = period / 4 - lead * period
@@ -334,6 +337,24 @@ def test_damping_curve_takes_the_rest_value_from_three_extremes(monkeypatch: pyt
     # the energy lost per half cycle depends on each extreme, not only their mean: the same
     # values as about zero (unshifted, 1.01 and 0.79 would lose more energy than 1 and 0.8)
     assert [r["value"] for r in rows[0.01]] == pytest.approx([r["value"] for r in rows[0.0]], rel=1e-9)
+
+
+def test_damping_curve_of_a_spring_uses_the_spring_energy(monkeypatch: pytest.MonkeyPatch, spring_rig) -> None:
+    # a linear spring k: the energy lost between extremes 1 and −0.8 m one second apart is
+    # ΔE = k (1² − 0.8²)/2, and B_e = 2 ΔE / (π ω a²) with ω = π/1 s and a = 0.9 m (energy balance
+    # of a linear damper over half a cycle: ΔE = π B ω a² / 2)
+    from types import SimpleNamespace
+
+    import hydrokit.identify.estimators as estimators
+    from hydrokit.identify.damping import damping_curve
+    from hydrokit.identify.rig_model import rig_constants
+
+    monkeypatch.setattr(estimators, "_peaks", lambda t, z, band: [(0.0, 1.0), (1.0, -0.8)])
+    est = SimpleNamespace(offset_=0.0, noise_=0.0, constants_=rig_constants(spring_rig))
+    (row,) = damping_curve(np.linspace(0.0, 2.0, 21), np.zeros(21), est, spring_rig)
+    k = 63.6  # N/m, the fixture's spring
+    assert row["amplitude"] == pytest.approx(0.9, rel=1e-12)
+    assert row["value"] == pytest.approx(2.0 * (k * (1.0 - 0.64) / 2.0) / (math.pi * math.pi * 0.81), rel=1e-12)
 
 
 def test_equivalent_damping_error_is_the_delta_method_by_finite_differences() -> None:

@@ -155,4 +155,4 @@ def test_without_attitude_the_vehicle_starts_facing_the_first_leg(first, heading
     m = parse(doc)
     assert m.eta0[3:] == pytest.approx([0.0, 0.0, heading], abs=1e-15)
     py = create_mission(doc["guidance"]["waypoints"], doc["controllers"])
-    assert py.eta0[5] == m.eta0[5]
+    np.testing.assert_array_equal(py.eta0, m.eta0)  # level (φ = θ = 0) at waypoint 0, the same heading

@@ -759,8 +759,31 @@ def test_the_shortest_term_names_parse():
         t = parse_term(name)
         assert t.dof == dof and len(t.factors) == 1 and t.acceleration is None
     for bad in ("X_", "Xu", "Q_u"):
-        with pytest.raises(InputError, match="unknown force/moment letter"):
+        with pytest.raises(
+            InputError, match=r"unknown force/moment letter \(X Y Z K M N followed by '_'\) at position 1;"
+        ):
             parse_term(bad)
+
+
+@pytest.mark.parametrize(("name", "n"), [("Y_v", 1), ("Y_vvv", 3), ("N_uvvr", 4)])
+def test_a_nondimensional_term_of_n_velocities_scales_with_speed_to_the_two_minus_n(name, n):
+    # SPEC §3: a non-dimensional value becomes ½ ρ L^k U^(2 − n) value for n velocity factors
+    # (k the scale power); with U = 2 m/s the powers 1, −1, −2 are told apart
+    from hydrokit.model.terms import parse_term
+
+    t = parse_term(name)
+    assert t.order() == n
+    rho, L, U, v = 1025.0, 1.25, 2.0, -0.3
+    assert t.dimensional(v, rho, L, U) == pytest.approx(0.5 * rho * L ** t.scale_power() * v * U ** (2 - n), rel=1e-12)
+
+
+def test_a_mission_needs_two_waypoints():
+    from hydrokit.model.mission import create_mission
+
+    gains = {"pid": {"speed": {"kp": 1.0}, "depth": {"kp": 1.0}, "heading": {"kp": 1.0}}}
+    with pytest.raises(InputError, match=r"waypoints of shape \(1, 3\): expected at least 2 rows of x, y, z \(m\)"):
+        create_mission([[0.0, 0.0, 0.0]], gains)
+    assert create_mission([[0.0, 0.0, 0.0], [5.0, 0.0, 0.0]], gains).path is not None
 
 
 def test_fast_propeller_command_equals_the_reference_for_vanishing_thrust():
