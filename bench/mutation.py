@@ -601,6 +601,44 @@ EQUIVALENT: dict[tuple[str, str, str], str] = {
         ("finite = [(a, b) for a, b in table if a < 1e8]", "< -> <="),
         ("finite = [(a, b) for a, b in table if a < 1e8]", "100000000.0 -> 100000001.0"),
     ),
+    ("core/drag.py", "if P.shape[0] == 0:", "0 -> 1 [1]"): (
+        "a shortcut: P.shape[1] is always 9, so the mutant never returns early, and the general code "
+        "on a (0, 9) array sums empty forces and moments to the same zero wrench (checked by hand)"
+    ),
+    (
+        "identify/split.py",
+        "if nxt > b + 1 and float(np.max(np.abs(y[b + 1 : nxt] - level))) > big:",
+        "+ -> - [2]",
+    ): (
+        "the slice gains samples b − 1 and b, the still run's own last samples: they lie within the "
+        "stillness threshold of its median, below big (≥ 20 σ, and ≥ 2 % of the range), so they never "
+        "decide whether the largest excursion exceeds big"
+    ),
+    ("identify/estimators.py", "tf = np.linspace(t[0], t[-1], max(2000, 4 * t.size))", "1 -> 2"): (
+        "equivalent in effect (not exactly): the grid for the fitted response's peak speed ends one "
+        "sample early; a free decay peaks in its first cycle, so only the grid points move, which changes "
+        "the sampled maximum (Re, KC) by the grid's own resolution (measured on an 8 s closed-form decay: "
+        "1.5e-6 relative at 200 Hz, 4e-5 at 20 Hz)"
+    ),
+    ("identify/preprocess.py", "s = 1 if z[i] > band else (-1 if z[i] < -band else 0)", "1 -> 2 [2]"): (
+        "the half-cycle state below the band becomes −2 instead of −1: it is only compared with the next "
+        "state (−2 ≠ 1, ≠ 0 as −1 was) and multiplies the half cycle before argmax, which a positive "
+        "factor (2) does not move"
+    ),
+    **_alike(
+        "model/allocation.py",
+        "a thrust exactly at a limit ± its tolerance (1e-6 of the limit), to the last bit: the allocator "
+        "puts thrusts at the limit itself (inside the band either way) or away from it, never on the "
+        "band's edge except by coincidence",
+        (
+            "return [n for n, x, a, b, t in zip(names, f, lo, hi, tol) if x >= b - t or x <= a + t]",
+            "<= -> <",
+        ),
+        (
+            "return [n for n, x, a, b, t in zip(names, f, lo, hi, tol) if x >= b - t or x <= a + t]",
+            ">= -> >",
+        ),
+    ),
     ("identify/estimators.py", "fwd = tt >= 0", ">= -> >"): (
         "a sample at t0 exactly is then replayed by the backward pass instead of the forward one: a grid "
         "step of zero length, which returns the initial state (q0, v0) bit for bit either way"

@@ -90,6 +90,11 @@ def test_plot_without_axes_makes_a_figure(results: dict[str, object], name: str)
     assert matplotlib.get_backend() == before
 
 
+def campaign_cell(s: dict) -> str:
+    """A campaign summary cell: mean to 5 digits ± std to 2 [interval ends to 4]."""
+    return f"{s['mean']:.5g} ± {s['std']:.2g} [{s['ci'][0]:.4g}, {s['ci'][1]:.4g}]"
+
+
 def g5(x: float) -> str:
     return f"{x:.5g}"
 
@@ -97,7 +102,12 @@ def g5(x: float) -> str:
 # per result, (label, shown value) rows its notebook table must hold: counts and sizes from the
 # call that made it, closed forms where there is one, else the result's own number as 5 digits
 REPR_ROWS = {
-    "campaign": lambda r: [("method", "output-error"), ("launches", "6")],
+    "campaign": lambda r: [
+        ("method", "output-error"),
+        ("launches", "6"),
+        # every fitted coefficient: mean ± std [confidence interval] of the six launches
+        *[(f"{k} ({u})", campaign_cell(r.summary[k])) for k, u in (("added_mass", "kg"), ("linear_damping", "N s/m"))],
+    ],
     "trajectory": lambda r: [
         ("samples", "201"),  # 2 s at 0.01 s, both ends
         ("final velocity (m/s, rad/s)", "[" + ", ".join(g5(round(v, 4)) for v in r.nu[-1]) + "]"),  # 4 decimals

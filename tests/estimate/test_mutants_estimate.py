@@ -219,6 +219,20 @@ def test_named_cylinder_mesh_has_the_cylinder_volume():
         assert on_cap or np.allclose(rad, r, rtol=1e-12), face
 
 
+@pytest.mark.parametrize("n", [6, 7, 24, 49])
+@pytest.mark.parametrize(("length", "diameter"), [(0.5, 0.5), (8.0, 2.0), (0.2, 1.0)])
+def test_sphere_and_spheroid_meshes_face_outwards_as_built(n, length, diameter):
+    # the generated spheroid (a sphere when length = diameter) is closed and outward with no
+    # reorientation: its volume is positive and tends to the ellipsoid's π L D² / 6
+    from hydrokit.estimate.bem import shape_mesh
+    from hydrokit.estimate.mesh import check_mesh
+
+    mesh = shape_mesh("spheroid", n, length=length, diameter=diameter)
+    check_mesh(mesh)
+    exact = math.pi * length * diameter**2 / 6
+    assert 0.5 * exact < mesh.volume() <= exact * (1 + 1e-12)  # inscribed panels: a little less
+
+
 def test_force_fit_curves_are_the_chin_and_morison_laws():
     # synthetic F = K_L U + K_Q |U| U, fitted exactly; the Morison law is K_D |U| U
     from hydrokit.estimate.forces import fit_forces

@@ -47,6 +47,19 @@ def rig_of(axis: str, floating: dict[str, Any], **body: float) -> Rig:
 # -- parsing ---------------------------------------------------------------------------------
 
 
+@pytest.mark.parametrize("gm", [-0.3, 0.0, math.inf, math.nan])
+def test_a_floating_rig_without_positive_finite_restoring_is_refused(gm: float) -> None:
+    # the file reader refuses these first; a Rig built in Python meets the same rule where the
+    # constants are made: C1 = ρ g V GM must be positive and finite. A small C1 (0.5 N·m/rad) is fine
+    import dataclasses
+
+    rig = dataclasses.replace(rig_of("roll", {"gm": 0.3}), floating=("gm", gm))
+    with pytest.raises(InputError, match=r"floating restoring C1 = .*: expected a positive number"):
+        rig_constants(rig)
+    small = dataclasses.replace(rig, floating=("restoring", (0.5, 0.0, 0.0)))
+    assert rig_constants(small).S == 0.5
+
+
 def test_parse_gm_is_the_torsion_model() -> None:
     rig = rig_of("pitch", {"gm": 0.3})
     C = RHO * G * VOL * 0.3

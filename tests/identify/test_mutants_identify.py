@@ -143,6 +143,16 @@ def test_savgol_window_is_the_odd_count_nearest_above_a_sixth_of_a_period(sample
     assert _savgol_window(samples_per_period * 0.01, 0.01) == window
 
 
+def test_jackknife_cycles_are_whole_periods_counted_from_the_release(spring_rig):
+    # samples every quarter period from a release at t = 100 s: four to a cycle, cycle 0 first
+    from hydrokit.identify.estimators import OutputErrorEstimator
+
+    est = OutputErrorEstimator(spring_rig)
+    est.period_ = 1.0
+    t = 100.0 + 0.25 * np.arange(13)  # binary fractions: the cycle edges are exact
+    assert est._cycles(t).tolist() == [0, 0, 0, 0, 1, 1, 1, 1, 2, 2, 2, 2, 3]
+
+
 def test_log_decrement_skips_a_pair_of_peaks_that_grows(spring_rig):
     # the closed-form decay (16 same-sign peak pairs in 8 s) with a bump at the fifth positive
     # peak that lifts it above the fourth: that pair grows, has no logarithmic decrement, and is
@@ -1095,6 +1105,17 @@ def test_still_means_a_range_within_eight_noise_sigmas(monkeypatch):
     t = np.arange(400) / 100.0
     runs = {step: split.still_runs(t, np.where(np.arange(400) < 200, 0.0, step)) for step in (7.5e-3, 8.5e-3)}
     assert runs == {7.5e-3: [(0, 399)], 8.5e-3: [(0, 199), (200, 399)]}
+
+
+def test_a_still_record_exactly_one_hold_long_is_one_still_run():
+    # 1 s at 100 Hz with min_hold = 1 s: one window of 100 samples, still throughout; one sample
+    # fewer holds no whole window and no still run
+    from hydrokit.identify.split import still_runs
+
+    y = np.random.default_rng(2).normal(0.0, 1e-5, 100)
+    t = np.arange(100) / 100.0
+    assert still_runs(t, y, min_hold=1.0) == [(0, 99)]
+    assert still_runs(t[:99], y[:99], min_hold=1.0) == []
 
 
 def test_a_still_stretch_runs_to_its_last_still_sample():

@@ -146,6 +146,21 @@ def test_amplitude_window_cuts_where_stated() -> None:
     assert any("amplitude window" in n for n in trimmed.notes)
 
 
+@pytest.mark.parametrize("detrend", ["mean", "none"])
+def test_amplitude_window_measures_amplitudes_about_the_rest_value(detrend: str) -> None:
+    # the same launch resting at 2° instead of 0: amplitudes are measured from the rest value
+    # whether or not it is taken off the returned record, so the window is cut at the same times
+    from dataclasses import replace
+
+    L = hand_heel_record(0, drift=0.0, noise=0.005)
+    hi, lo = math.radians(8.0), math.radians(4.0)
+    ref = trim_launch(L, amplitude_window=(hi, lo)).info["amplitude_window"]
+    shifted = replace(L, y=np.asarray(L.y) + math.radians(2.0))
+    got = trim_launch(shifted, amplitude_window=(hi, lo), detrend=detrend).info["amplitude_window"]
+    assert got["start_time"] == pytest.approx(ref["start_time"], abs=1.5 / FS)
+    assert got["end_time"] == pytest.approx(ref["end_time"], abs=1.5 / FS)
+
+
 def test_no_free_decay_is_rejected() -> None:
     t = np.arange(3000) / FS
     rng = np.random.default_rng(0)

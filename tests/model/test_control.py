@@ -53,6 +53,21 @@ def test_anti_windup_bounds_the_integral() -> None:
     assert P < umax
 
 
+@pytest.mark.parametrize("ki", [0.5, 5.0])
+@pytest.mark.parametrize("sign", [1.0, -1.0])
+def test_anti_windup_holds_the_output_at_either_limit(ki: float, sign: float) -> None:
+    # the same out-of-reach set-point (±1 m/s, 3 N holds 0.6), forwards and backwards and with an
+    # integral gain below 1: the integral stops where the output sits exactly at the limit, so
+    # once the set-point is reachable again (±0.2 m/s) the output leaves saturation at once
+    umax = 3.0
+    pid = PID(kp=1.0, ki=ki, output_min=-umax, output_max=umax)
+    v, s, out = run_plant(pid, v_d=sign, t_end=100.0)
+    assert v == pytest.approx(sign * umax / D, rel=1e-6)
+    assert -pid.kp * (v - sign) - ki * s.integral == pytest.approx(sign * umax, rel=1e-6)  # just at the limit
+    P, _ = pid.update(s, v, 0.2 * sign, 0.01)
+    assert abs(P) < umax
+
+
 def test_derivative_on_measurement_has_no_setpoint_kick() -> None:
     pid = PID(kp=0.0, kd=100.0)
     s = pid.initial_state()

@@ -802,6 +802,21 @@ def test_fast_propeller_command_equals_the_reference_for_vanishing_thrust():
             assert math.copysign(1.0, n) == math.copysign(1.0, f)
 
 
+@pytest.mark.parametrize("target", [2.5, -2.5])
+def test_a_polished_allocation_beyond_a_limit_is_not_used(target):
+    # two parallel thrusters (±1 N each), both free: the exact minimum-norm split of 2.5 N is
+    # 1.25 N each, beyond the limits, so the penalty solution is kept as it was; a reachable
+    # 1.5 N is polished to 0.75 N each
+    from hydrokit.model.allocation import _polish
+
+    T = np.array([[1.0, 1.0]])
+    lo, hi = np.array([-1.0, -1.0]), np.array([1.0, 1.0])
+    f = np.array([0.5, 0.9]) * np.sign(target)
+    np.testing.assert_array_equal(_polish(T, np.array([target]), f, lo, hi, 1e-6, {}), f)
+    reach = np.array([1.5 * np.sign(target)])
+    np.testing.assert_allclose(_polish(T, reach, f, lo, hi, 1e-6, {}), [0.75 * np.sign(target)] * 2, rtol=1e-12)
+
+
 def test_thruster_sets_that_differ_only_in_their_reading_notes_are_equal():
     from hydrokit.model.thrusters import Thruster, ThrusterSet
 

@@ -93,10 +93,9 @@ def shape_mesh(shape: str, resolution: int = 24, **dims: float) -> SurfaceMesh:
         for j in range(nphi):
             faces.append([ring(nt - 2, j + 1), ring(nt - 2, j), last, last])
         F = np.array([f if len(f) == 4 else f + [f[-1]] for f in faces])
-        mesh = SurfaceMesh(V, F, shape)
-        if mesh.volume() < 0:
-            mesh = SurfaceMesh(V, F[:, ::-1], shape)
-        return mesh
+        # outward by construction: the faces run counter-clockwise seen from outside the unit
+        # sphere, and scaling the axes by a, b > 0 keeps the orientation
+        return SurfaceMesh(V, F, shape)
     if shape == "cylinder":
         L, r = dims["length"], dims["diameter"] / 2
         nx = max(2, int(round(n * L / (2 * math.pi * r))))
