@@ -107,6 +107,8 @@ REPR_ROWS = {
         ("launches", "6"),
         # every fitted coefficient: mean ± std [confidence interval] of the six launches
         *[(f"{k} ({u})", campaign_cell(r.summary[k])) for k, u in (("added_mass", "kg"), ("linear_damping", "N s/m"))],
+        # the bundled campaign is scaled to full size: those coefficients too
+        ("quadratic_damping, full scale (N s^2/m^2)", g5(r.full_scale["quadratic_damping"])),
     ],
     "trajectory": lambda r: [
         ("samples", "201"),  # 2 s at 0.01 s, both ends

@@ -85,3 +85,72 @@ def test_damping_force_spread_is_the_gradient_through_the_covariance(pendulum_ri
     g = np.array([0.0, u, u * u])
     assert out["damping_force_rel"] == pytest.approx(math.sqrt(g @ C @ g) / (0.02 * u + 0.3 * u * u), rel=1e-9)
     assert 0.1 < u < 1.0  # u² ≠ 1: a force written K_Q u/u would not pass
+
+
+def test_cramer_rao_is_the_fisher_bound_of_an_independent_simulation(spring_rig):
+    # the bound from scratch: the physical spring ODE (m + m_a) ẍ + K_L ẋ + K_Q |ẋ| ẋ + k x = 0
+    # integrated by scipy (DOP853, rtol 1e-12), its sensitivities to (m_a, K_L, K_Q, x0, ẋ0,
+    # offset) by central differences on the sample times 0, 0.05, …, 3 s (61 samples), and
+    # cov = σ² (JᵀJ)⁻¹; no normalised parameters, no compiled RK4. They agree to ~1e-4 (the
+    # RK4's and the differences' own errors); one sample more or fewer moves the bound by 3–6 %
+    from scipy.integrate import solve_ivp
+
+    from hydrokit.identify.design import cramer_rao
+
+    m, k = spring_rig.mass, spring_rig.stiffness
+    truth, a, rate, duration, sigma = (0.2866, 0.5, 5.0), 0.03, 20.0, 3.0, 1e-4
+    t = np.arange(61) / rate
+
+    def signal(p: np.ndarray) -> np.ndarray:
+        ma, kl, kq, x0, v0, off = p
+
+        def rhs(_: float, s: np.ndarray) -> list[float]:
+            return [s[1], -(kl * s[1] + kq * abs(s[1]) * s[1] + k * s[0]) / (m + ma)]
+
+        sol = solve_ivp(rhs, (0.0, t[-1]), [x0, v0], t_eval=t, rtol=1e-12, atol=1e-15, method="DOP853")
+        return sol.y[0] + off
+
+    p0 = np.array([*truth, a, 0.0, 0.0])
+    J = np.empty((t.size, 6))
+    for i in range(6):
+        dp = np.zeros(6)
+        dp[i] = 1e-6 * max(abs(p0[i]), 1e-3)
+        J[:, i] = (signal(p0 + dp) - signal(p0 - dp)) / (2 * dp[i])
+    sd = np.sqrt(np.diag(sigma**2 * np.linalg.inv(J.T @ J))[:3])
+    crb = cramer_rao(spring_rig, *truth, a, duration, SensorModel(rate, sigma, 0.0, 0.0))
+    got = [crb[c] for c in ("added_mass", "linear_damping", "quadratic_damping")]
+    np.testing.assert_allclose(got, sd, rtol=1e-3)
+
+
+def test_plan_defaults_to_one_twenty_second_launch_per_amplitude(pendulum_rig):
+    sensor = SensorModel.imu()
+    args = (pendulum_rig, 0.05, 0.02, 0.3, [0.1], sensor)
+    (default,) = plan_experiment(*args)
+    assert default == plan_experiment(*args, duration=20.0, launches=1)[0]
+    assert default["launches"] == 1
+    assert default["added_mass"] != plan_experiment(*args, duration=10.0)[0]["added_mass"]
+
+
+@pytest.mark.parametrize("amplitude", [0.0, math.nan, math.inf, -math.inf])
+def test_plan_refuses_a_zero_or_non_finite_amplitude(pendulum_rig, amplitude):
+    from hydrokit.errors import InputError
+
+    with pytest.raises(InputError, match=rf"amplitude = {amplitude}: expected a non-zero displacement"):
+        plan_experiment(pendulum_rig, 0.05, 0.02, 0.3, [0.1, amplitude], SensorModel.imu())
+    # any other amplitude is a candidate, a whole radian or a release to the other side
+    rows = plan_experiment(pendulum_rig, 0.05, 0.02, 0.3, [1.0, -0.1], SensorModel.imu(), duration=5.0)
+    assert [r["amplitude"] for r in rows] == [1.0, -0.1]
+
+
+def test_recommendation_names_the_best_amplitude_per_coefficient():
+    from hydrokit.identify.design import recommend
+
+    assert recommend([]) == "no candidate amplitudes"
+    rows = [
+        {"amplitude": 0.1, "quadratic_damping_rel": 0.5, "linear_damping_rel": 0.01, "added_mass_rel": 0.03},
+        {"amplitude": 0.3, "quadratic_damping_rel": 0.05, "linear_damping_rel": 0.02, "added_mass_rel": 0.002},
+    ]
+    text = recommend(rows)
+    assert "largest speeds (amplitude 0.3: ±5 %)" in text
+    assert "linear damping at amplitude 0.1 (±1 %)" in text
+    assert "added mass at 0.3 (±0.2 %)" in text

@@ -60,6 +60,25 @@ def test_a_floating_rig_without_positive_finite_restoring_is_refused(gm: float) 
     assert rig_constants(small).S == 0.5
 
 
+def test_a_torsion_rig_document_reads_back() -> None:
+    import dataclasses
+
+    # the JSON's rig section of a torsion rig: its stiffness under 'torsion', no floating section
+    torsion = Rig("torsion", "pitch", G, RHO, 1e-6, 100.0, VOL, 0.5, 1.0, inertia=8.0, stiffness=123.0)
+    doc_ = rig_document(torsion)
+    assert doc_["torsion"] == {"stiffness": 123.0} and "floating" not in doc_
+    assert parse_rig(doc_, "torsion.yaml") == dataclasses.replace(torsion, source="torsion.yaml")
+    # an air tare with only one of its two terms is written (and read back) too, and a wall distance and a model scale
+    for tare in (
+        {"tare_linear_damping": 0.3},
+        {"tare_quadratic_damping": 0.2},
+        {"wall_distance": 0.45},
+        {"scale": 0.3},
+    ):
+        tared = dataclasses.replace(torsion, source="torsion.yaml", **tare)
+        assert parse_rig(rig_document(tared), "torsion.yaml") == tared
+
+
 def test_parse_gm_is_the_torsion_model() -> None:
     rig = rig_of("pitch", {"gm": 0.3})
     C = RHO * G * VOL * 0.3

@@ -153,6 +153,27 @@ def test_jackknife_cycles_are_whole_periods_counted_from_the_release(spring_rig)
     assert est._cycles(t).tolist() == [0, 0, 0, 0, 1, 1, 1, 1, 2, 2, 2, 2, 3]
 
 
+def test_equivalent_damping_names_the_model_it_came_from(spring_rig):
+    # "fitted" keeps the fitted damping model (quadratic by default, or the method itself for
+    # the other methods); a cubic fit is its own cubic model, with no refit and no fitted-model
+    # columns; the default for a quadratic fit is the cubic refit, the fitted value kept beside it
+    from hydrokit.identify.result import fit_launch
+
+    launch = linear_decay()
+
+    def used(method, model, **settings):
+        extra = fit_launch(spring_rig, launch, method, [0.02], model, **settings).result.extra
+        return extra["equivalent_damping_model"], sorted(extra["equivalent_damping"][0])
+
+    assert used("output-error", "fitted")[0] == "quadratic"
+    assert used("log-decrement", "fitted")[0] == "log-decrement"
+    assert used("log-decrement", "cubic")[0] == "log-decrement"
+    model, keys = used("output-error", "cubic", damping_model="cubic")
+    assert model == "cubic" and "value_fitted_model" not in keys
+    model, keys = used("output-error", "cubic")
+    assert model == "cubic" and "value_fitted_model" in keys
+
+
 def test_log_decrement_skips_a_pair_of_peaks_that_grows(spring_rig):
     # the closed-form decay (16 same-sign peak pairs in 8 s) with a bump at the fifth positive
     # peak that lifts it above the fourth: that pair grows, has no logarithmic decrement, and is
@@ -197,6 +218,7 @@ def test_plan_relative_errors_are_the_errors_over_the_truth(spring_rig):
     for k, v in truth.items():
         assert row[k] == pytest.approx(crb[k] / 2.0, rel=1e-12)
         assert row[k + "_rel"] == pytest.approx(crb[k] / 2.0 / v, rel=1e-12)
+    assert row["damping_force_rel"] == pytest.approx(crb["damping_force_rel"] / 2.0, rel=1e-12)
 
 
 def test_outlier_exactly_at_the_threshold_is_kept():
@@ -1116,6 +1138,74 @@ def test_a_still_record_exactly_one_hold_long_is_one_still_run():
     t = np.arange(100) / 100.0
     assert still_runs(t, y, min_hold=1.0) == [(0, 99)]
     assert still_runs(t[:99], y[:99], min_hold=1.0) == []
+
+
+def test_a_noise_free_creep_is_still_within_a_millionth_of_the_range():
+    # no noise (σ ≈ 1e-16): the stillness threshold is 1e-6 of the record's range (here 2, from
+    # −1 to +1), so a creep of 1e-8 per sample (1e-6 per 1 s window) is still; its last sample
+    # ends the run, the jump to +1 is not
+    from hydrokit.identify.split import still_runs
+
+    y = np.array([-1.0 + 1e-8 * k for k in range(200)] + [1.0])
+    assert still_runs(np.arange(y.size) / 100.0, y) == [(0, 199)]
+
+
+def test_a_hold_shorter_than_five_samples_is_never_still():
+    # the shortest window is five samples, whatever min_hold asks (here 10 ms at 100 Hz)
+    from hydrokit.identify.split import still_runs
+
+    y = np.zeros(5)
+    assert still_runs(np.arange(5) / 100.0, y, min_hold=0.01) == [(0, 4)]
+    assert still_runs(np.arange(4) / 100.0, y[:4], min_hold=0.01) == []
+
+
+def test_a_launch_is_immutable_and_compared_without_its_trim_facts():
+    # a launch is shared by the campaign's parallel fits: frozen. What trimming found (info) is a
+    # record of the work, not part of the data: launches equal in t, y, file and notes are equal
+    import dataclasses
+
+    t, y = (0.0, 0.1, 0.2), (0.01, 0.0, -0.01)
+    a = Launch(t, y, "a.csv", info={"release_time": 1.5})
+    with pytest.raises(dataclasses.FrozenInstanceError):
+        a.file = "b.csv"  # type: ignore[misc]
+    assert a == Launch(t, y, "a.csv") != Launch(t, y, "b.csv")
+
+
+@pytest.mark.parametrize("lam", [0.0, -2.0, math.nan, math.inf])
+def test_scaling_refuses_a_ratio_that_is_not_positive_and_finite(lam):
+    from hydrokit.identify.scaling import scale_coefficients
+
+    with pytest.raises(InputError, match=rf"λ = {lam}: expected a positive length ratio L_full/L_model"):
+        scale_coefficients({"added_mass": 1.0}, lam)
+    # a full-size body smaller than the model (λ < 1) is allowed: m_a ∝ λ³
+    assert scale_coefficients({"added_mass": 8.0}, 0.5) == {"added_mass": 1.0}
+
+
+@pytest.mark.parametrize(("sigmas", "found"), [(20.5, 1), (19.5, 0)])
+def test_a_hold_starts_a_launch_when_the_motion_after_it_exceeds_twenty_noise_sigmas(monkeypatch, sigmas, found):
+    # the documented rule: a still run is a hold when the motion after it goes more than 20 noise
+    # std (or 2 % of the record's range) from its level. With the noise floor set so that the
+    # decay's largest excursion from the hold is 20.5 σ, the launch is found; at 19.5 σ it is not
+    import hydrokit.identify.split as split
+
+    t, y, (release,) = held_then_released((0.04,))
+    level = float(np.median(y[release - 150 : release + 1]))
+    excursion = float(np.max(np.abs(y[release + 1 :] - level)))
+    monkeypatch.setattr(split, "noise_floor", lambda _: excursion / sigmas)
+    segs = split.split_launches(t, y)
+    assert len(segs) == found
+    assert all(abs(s.release - release) <= 2 for s in segs)
+
+
+def test_a_segment_is_immutable():
+    import dataclasses
+
+    from hydrokit.identify.split import Segment
+
+    seg = Segment(0, 10, 100)
+    with pytest.raises(dataclasses.FrozenInstanceError):
+        seg.release = 5  # type: ignore[misc]
+    assert seg == Segment(0, 10, 100)
 
 
 def test_a_still_stretch_runs_to_its_last_still_sample():
