@@ -119,11 +119,6 @@ EQUIVALENT: dict[tuple[str, str, str], str] = {
         "the quantiser round((y + z)/r)·r − z is periodic in the zero z with period r: a zero uniform over "
         "two resolution steps gives the same output distribution as over one (only a seed-exact replay differs)"
     ),
-    ("identify/estimators.py", "return value < 0 and (se is None or -value > 2.0 * se)", "> -> >="): (
-        "differs only when a fitted coefficient is exactly −2 standard errors to the last bit: a fitted value "
-        "and its SE come from one least-squares solve, so the tie has probability 0 (the warning's edge, "
-        "like the hysteresis band edge below)"
-    ),
     ("identify/estimators.py", "pk = [(tp, a) for tp, a in peaks if math.copysign(1.0, a) == sign]", "== -> !="): (
         "the loop runs over both signs and the rows are sorted by time after it: != takes the negative "
         "extremes first and the positive second, the same rows"
@@ -651,6 +646,29 @@ EQUIVALENT: dict[tuple[str, str, str], str] = {
     ("identify/result.py", "for row, f in zip(rows, fitted, strict=True):", "True -> False"): (
         "a guard only: both lists come from equivalent_damping at the same amplitudes, one row each, so "
         "they are always the same length and zip never stops early"
+    ),
+    ("core/kinematics.py", "a = np.asarray(angles, dtype=float).reshape(-1, 3)", "1 -> 2"): (
+        "reshape(-2, 3): numpy takes any negative size as the one inferred dimension"
+    ),
+    (
+        "identify/estimators.py",
+        "s = 0 if i == z.size else (1 if z[i] > band else (-1 if z[i] < -band else 0))",
+        "> -> >=",
+    ): (
+        "differs only for a sample exactly on the hysteresis band (10 noise σ, at least 1e-15) to the last "
+        "bit: a coincidence of probability 0 for measured or simulated records"
+    ),
+    ("estimate/mesh.py", 'vol = np.einsum("ij,ij->i", a, np.cross(b, c)) / 6.0', "/ -> *"): (
+        "a common factor (36) on every tetrahedron's volume: the centroid divides by the total and the "
+        "inertia is scaled by mass / total, so the factor cancels in both (only rounding differs)"
+    ),
+    ("model/dynamics.py", "if elements.shape[0]:", "0 -> 1"): (
+        "a shortcut: shape[1] is always 9, so the mutant always calls drag_wrench, which returns the zero "
+        "wrench for no elements (its own shortcut, excused in core/drag.py)"
+    ),
+    ("identify/preprocess.py", "s = 1 if z[i] > band else (-1 if z[i] < -band else 0)", "< -> <="): (
+        "differs only for a sample exactly on the hysteresis band (3 noise σ) to the last bit: a "
+        "coincidence of probability 0 for measured or simulated records"
     ),
     ("identify/estimators.py", "fwd = tt >= 0", ">= -> >"): (
         "a sample at t0 exactly is then replayed by the backward pass instead of the forward one: a grid "

@@ -233,6 +233,20 @@ def test_sphere_and_spheroid_meshes_face_outwards_as_built(n, length, diameter):
     assert 0.5 * exact < mesh.volume() <= exact * (1 + 1e-12)  # inscribed panels: a little less
 
 
+def test_an_edge_shared_by_three_faces_is_refused():
+    # two tetrahedra glued along one edge plus a fin triangle on it: every edge has at least
+    # two faces (closed), but the shared edge has three: not a simple hull
+    from hydrokit.errors import InputError
+    from hydrokit.estimate.mesh import SurfaceMesh, check_mesh
+
+    v = np.array([(0, 0, 0), (1, 0, 0), (0, 1, 0), (0, 0, 1)], float)
+    faces = np.array([(0, 2, 1, 1), (0, 1, 3, 3), (0, 3, 2, 2), (1, 2, 3, 3)])
+    check_mesh(SurfaceMesh(v, faces, "tet.stl"))  # the tetrahedron alone is a simple closed hull
+    fin = np.vstack([faces, [(0, 1, 2, 2), (0, 2, 1, 1)]])  # the base face twice more, both ways
+    with pytest.raises(InputError, match=r"edge\(s\) shared by more than two faces; expected a simple closed hull"):
+        check_mesh(SurfaceMesh(v, fin, "fin.stl"))
+
+
 def test_force_fit_curves_are_the_chin_and_morison_laws():
     # synthetic F = K_L U + K_Q |U| U, fitted exactly; the Morison law is K_D |U| U
     from hydrokit.estimate.forces import fit_forces

@@ -79,6 +79,17 @@ def test_a_torsion_rig_document_reads_back() -> None:
         assert parse_rig(rig_document(tared), "torsion.yaml") == tared
 
 
+def test_a_restoring_shape_is_immutable() -> None:
+    # shared by the compiled kernels' parameter packing and the parallel fits: frozen
+    import dataclasses
+
+    from hydrokit.identify.rig_model import Restoring
+
+    shape = Restoring.polynomial(300.0, -200.0, 50.0)
+    with pytest.raises(dataclasses.FrozenInstanceError):
+        shape.kind = 0  # type: ignore[misc]
+
+
 def test_parse_gm_is_the_torsion_model() -> None:
     rig = rig_of("pitch", {"gm": 0.3})
     C = RHO * G * VOL * 0.3

@@ -189,6 +189,29 @@ def test_log_decrement_skips_a_pair_of_peaks_that_grows(spring_rig):
     assert sum(z == pytest.approx(ZETA, rel=0.02) for z in zetas) == 14
 
 
+def test_significantly_negative_means_below_zero_by_two_standard_errors():
+    from hydrokit.identify.estimators import _significantly_negative
+
+    assert _significantly_negative(-0.3, 0.1) and not _significantly_negative(-0.2, 0.1)
+    assert not _significantly_negative(0.5, None) and not _significantly_negative(0.0, None)
+    assert _significantly_negative(-1e-9, None)  # no standard error: any negative value
+
+
+@pytest.mark.parametrize(("k_l", "warned"), [(-0.05, True), (-0.0008, False), (0.02, False)])
+def test_negative_linear_damping_is_named_only_beyond_two_standard_errors(spring_rig, k_l, warned):
+    # a true K_L of −0.05 N·s/m (K_Q = 10 keeps it decaying) is fitted at ≈ −0.05 ± 0.0005: named;
+    # −0.0008 (fitted −0.00081 ± 0.00053, 1.5 standard errors) is within two: not named, nor is a
+    # positive K_L
+    from hydrokit.identify.preprocess import trim_launch
+    from hydrokit.identify.virtual_rig import SensorModel, simulate_launch
+
+    launch = simulate_launch(spring_rig, 0.2866, k_l, 10.0, 0.03, 6.0, SensorModel(200.0, 2e-5, 0.0, 0.0), rng=4)
+    res = identify_launch(spring_rig, trim_launch(launch), "output-error")
+    assert res.std_error["linear_damping"] < 0.001
+    named = [w for w in res.warnings if w.startswith("negative linear damping fitted")]
+    assert bool(named) == warned
+
+
 def test_formal_standard_errors_match_the_cramer_rao_bound(spring_rig):
     # white sensor noise σ: the formal σ̂² (JᵀJ)⁻¹ of the output-error fit estimates σ² from the
     # residual sum of squares / (N − p), so it must agree with the Cramér–Rao bound at the true

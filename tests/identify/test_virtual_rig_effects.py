@@ -27,6 +27,18 @@ def test_lag_is_the_exact_first_order_filter_on_a_ramp() -> None:
     assert np.array_equal(SensorModel(rate, 0.0, 0.0, 0.0).measure(s * t, np.random.default_rng(0)), s * t)
 
 
+def test_lag_filters_every_sample_after_the_first() -> None:
+    # a unit step at sample 1, filter started at rest on sample 0: y_f[k] = 1 − (1 − a)^k for
+    # k ≥ 1 (closed form of the recursion), so the first filtered sample is a, not the step
+    tau, rate = 0.05, 100.0
+    y = np.ones(50)
+    y[0] = 0.0
+    out = SensorModel(rate, 0.0, 0.0, 0.0, "lagged", lag=tau).measure(y, np.random.default_rng(0))
+    a = 1.0 - math.exp(-1.0 / (rate * tau))
+    k = np.arange(50)
+    np.testing.assert_allclose(out, np.where(k == 0, 0.0, 1.0 - (1.0 - a) ** k), rtol=1e-12, atol=1e-15)
+
+
 def test_random_zero_shifts_the_grid_per_launch() -> None:
     step = 1e-3 / 2.45
     sensor = SensorModel(100.0, 0.0, step, 0.0, "enc", random_zero=True)

@@ -817,6 +817,16 @@ def test_a_polished_allocation_beyond_a_limit_is_not_used(target):
     np.testing.assert_allclose(_polish(T, reach, f, lo, hi, 1e-6, {}), [0.75 * np.sign(target)] * 2, rtol=1e-12)
 
 
+@pytest.mark.parametrize("bad", [5, "fin", {"name": "fin"}, 2.5])
+def test_drag_elements_must_be_a_list(bad):
+    # text and mappings are iterable but not lists of elements; numbers are not iterable at all
+    from hydrokit.model.vehicle import _drag_elements
+
+    with pytest.raises(InputError, match=r"field 'drag_elements' = .*: expected a list of DragElement"):
+        _drag_elements(bad, "v.yaml")
+    assert _drag_elements([], "v.yaml") == () and _drag_elements(None, "v.yaml") == ()
+
+
 def test_thruster_sets_that_differ_only_in_their_reading_notes_are_equal():
     from hydrokit.model.thrusters import Thruster, ThrusterSet
 

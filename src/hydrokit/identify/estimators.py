@@ -244,8 +244,7 @@ class _DecayEstimator:
         self.rms_residual_ = float(np.sqrt(np.mean((pred - y) ** 2)))
 
         def significant(value: float, key: str) -> bool:
-            se = self.std_error_[key]
-            return value < 0 and (se is None or -value > 2.0 * se)
+            return _significantly_negative(value, self.std_error_[key])
 
         if significant(K_L, "linear_damping"):
             self.warnings_.append(
@@ -297,6 +296,12 @@ def _rho(q: np.ndarray, c: RigConstants) -> np.ndarray:
     if c.restoring is not None:
         return c.restoring(q)
     return np.sin(q) if c.sine else q
+
+
+def _significantly_negative(value: float, std_error: float | None) -> bool:
+    """A fitted damping worth a warning: below zero by more than two standard errors (any amount
+    below zero when no standard error could be computed)."""
+    return value < 0 and (std_error is None or -value > 2.0 * std_error)
 
 
 def _rho_slope(q: np.ndarray, c: RigConstants) -> np.ndarray:
