@@ -33,6 +33,22 @@ def test_a_sigterm_swallowed_inside_a_c_callback_is_raised_at_the_next_check(mon
         raise_if_interrupted()
 
 
+def test_a_failure_after_a_swallowed_signal_is_reported_as_the_signal():
+    # a SIGTERM landing inside numba's compiler is swallowed there and leaves the function half
+    # built; the next call fails with numba's "no compiled object yet". The block reports the
+    # signal (the CLI's "interrupted (SIGTERM)", exit 143), not an internal error. A failure
+    # without a signal stays what it is
+    callback = ctypes.CFUNCTYPE(None)(lambda: os.kill(os.getpid(), signal.SIGTERM))
+    with pytest.raises(Interrupted) as err:
+        with interrupt_on_signals():
+            callback()
+            raise RuntimeError("no compiled object yet")
+    assert err.value.signum == signal.SIGTERM and isinstance(err.value.__cause__, RuntimeError)
+    with pytest.raises(RuntimeError, match="a plain failure"):
+        with interrupt_on_signals():
+            raise RuntimeError("a plain failure")
+
+
 @pytest.mark.filterwarnings("ignore::pytest.PytestUnraisableExceptionWarning")
 def test_outputs_are_not_written_after_a_swallowed_signal(tmp_path):
     from hydrokit._atomic import write_files, write_text

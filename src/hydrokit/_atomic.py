@@ -132,6 +132,13 @@ def interrupt_on_signals(signums: tuple[int, ...] = TERMINATING) -> Iterator[Non
         signal.signal(s, _on_signal)
     try:
         yield
+    except Exception as exc:
+        if _received:
+            # the signal's raise was swallowed and the work then failed, most likely because of it
+            # (numba interrupted mid-compilation leaves a function with "no compiled object yet"):
+            # report the signal, not a consequence of it
+            raise Interrupted(_received[0]) from exc
+        raise
     finally:
         for s, handler in old.items():
             signal.signal(s, handler)
