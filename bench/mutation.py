@@ -151,10 +151,6 @@ EQUIVALENT: dict[tuple[str, str, str], str] = {
         "the 21st step of the bracketed root search takes false position instead of bisection: both keep "
         "the sign-change bracket and stop at the same tolerance (1e-12 of f or of n_max)"
     ),
-    ("model/thrusters.py", "if abs(nD) * 1e6 > va_abs:", "1000000.0 -> 1000001.0"): (
-        "the guard of J = va/(nD) near n = 0: for |nD| below 1e-6 |va| J is clamped to the table end "
-        "either way (|va/nD| ≥ 1e6 is clamped to j_far, the table end of its sign), so moving the guard by 1e-12 relative changes nothing"
-    ),
     ("model/allocation.py", "hi = np.asarray(f_max, dtype=float).reshape(-1)", "1 -> 2"): (
         "reshape(-2): numpy takes any negative size as the one inferred dimension"
     ),
@@ -545,10 +541,6 @@ EQUIVALENT: dict[tuple[str, str, str], str] = {
         "differs only when the half-period autocorrelation is exactly 0.5 below the full-period one to "
         "the last bit (probability 0): the edge between 'model error' and 'drift'"
     ),
-    ("model/thrusters.py", "if abs(nD) * 1e6 > va_abs:", "> -> >="): (
-        "at |n D|·1e6 = |V_a| exactly |J| = 1e6, far outside any K_T range: the clamped J of the first "
-        "branch and the sign-only J of the other are the same range end"
-    ),
     ("identify/estimators.py", "if best is None or sol.cost < best.cost:", "< -> <="): (
         "a later restart replaces the best one only at exactly the same cost to the last bit: two "
         "least-squares minima of the same residual with equal cost and different parameters do not occur "
@@ -563,13 +555,20 @@ EQUIVALENT: dict[tuple[str, str, str], str] = {
         "the free entries' fill value: every free entry is overwritten by the minimum-norm solution on the "
         "next lines (g[free] = ...) before g is read"
     ),
-    ("model/thrusters.py", "if abs(nD) * 1e6 > abs(va):", "1000000.0 -> 1000001.0"): (
+    # the advance-ratio guard, in thrust() / _thrust_fast (abs(va)) and _command_fast (va_abs)
+    **_alike(
+        "model/thrusters.py",
         "for 1e6 < |J| ≤ 1000001 both branches give the same range end: the first clamps J = V_a/(nD) to "
-        "hi or lo, the other picks hi or lo from the same signs"
+        "hi or lo, the other picks hi or lo from the same signs",
+        ("if abs(nD) * 1e6 > abs(va):", "1000000.0 -> 1000001.0"),
+        ("if abs(nD) * 1e6 > va_abs:", "1000000.0 -> 1000001.0"),
     ),
-    ("model/thrusters.py", "if abs(nD) * 1e6 > abs(va):", "> -> >="): (
+    **_alike(
+        "model/thrusters.py",
         "at |n D|·1e6 = |V_a| exactly |J| = 1e6, far outside any K_T range: the clamped J of the first "
-        "branch and the sign-only J of the other are the same range end"
+        "branch and the sign-only J of the other are the same range end",
+        ("if abs(nD) * 1e6 > abs(va):", "> -> >="),
+        ("if abs(nD) * 1e6 > va_abs:", "> -> >="),
     ),
     ("model/thrusters.py", "k, loss = (kf, lf) if n > 0 else (kr, lr)", "> -> >="): (
         "n = 0 returned two lines above, so n ≥ 0 and n > 0 pick the same curve"

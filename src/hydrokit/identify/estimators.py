@@ -243,14 +243,11 @@ class _DecayEstimator:
         self.amplitude_ = a0
         self.rms_residual_ = float(np.sqrt(np.mean((pred - y) ** 2)))
 
-        def significant(value: float, key: str) -> bool:
-            return _significantly_negative(value, self.std_error_[key])
-
-        if significant(K_L, "linear_damping"):
+        if _significantly_negative(K_L, self.std_error_["linear_damping"]):
             self.warnings_.append(
                 f"negative linear damping fitted (K_L = {K_L:.4g}); K_L and K_Q trade off, compare force curves"
             )
-        if significant(K_Q, "quadratic_damping"):
+        if _significantly_negative(K_Q, self.std_error_["quadratic_damping"]):
             self.warnings_.append(f"negative quadratic damping fitted (K_Q = {K_Q:.4g})")
         if m_a < 0:
             self.warnings_.append(
