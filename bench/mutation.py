@@ -135,7 +135,7 @@ EQUIVALENT: dict[tuple[str, str, str], str] = {
         "slow = acf is not None and acf >= 0.3 and acf_half is not None and acf_half > acf - 0.5",
         ">= -> >",
     ): ("differs only for an autocorrelation of exactly 0.3 to the last bit (probability 0): the verdict's edge"),
-    ("identify/split.py", "if stop - b < MIN_SAMPLES or (out and a <= out[-1].end):", "- -> +"): (
+    ("identify/split.py", "if stop - b < MIN_SAMPLES:", "- -> +"): (
         "a shortcut: a motion of fewer than MIN_SAMPLES = 20 samples after the hold is refused a few lines on "
         "by trim_launch or check_record (too few samples after trimming, or not two cycles of decay in them), "
         "whose InputError the loop catches and skips just the same"
@@ -668,6 +668,76 @@ EQUIVALENT: dict[tuple[str, str, str], str] = {
     ("identify/preprocess.py", "s = 1 if z[i] > band else (-1 if z[i] < -band else 0)", "< -> <="): (
         "differs only for a sample exactly on the hysteresis band (3 noise σ) to the last bit: a "
         "coincidence of probability 0 for measured or simulated records"
+    ),
+    ("identify/split.py", "flag = rng[: y.size - w + 1] <= thr", "<= -> <"): (
+        "differs only for a window whose range equals the stillness threshold max(8 σ, 1e-6 of the range) "
+        "to the last bit, σ itself estimated from the record: a tie of probability 0"
+    ),
+    ("identify/split.py", "near = np.nonzero(np.abs(motion - centre) <= band)[0]", "<= -> <"): (
+        "differs only for a sample exactly band (4 σ or 2 % of the hold's height, both estimated) from the "
+        "motion's median, to the last bit: a tie of probability 0"
+    ),
+    (
+        "identify/split.py",
+        "if nxt > b + 1 and float(np.max(np.abs(y[b + 1 : nxt] - level))) > big:",
+        "> -> >= [2]",
+    ): ("differs only for an excursion exactly big (20 σ or 2 % of the range) to the last bit: probability 0"),
+    **_alike(
+        "identify/split.py",
+        "the hold's level is the median of its still run (samples a..b, at least 5, all within 8 σ of one "
+        "another); dropping its last two samples or adding the first one after it moves the median by one "
+        "order statistic, a fraction of σ, against a decision threshold of at least 20 σ (here) and a rest "
+        "band of 2 % of the hold's height (there), which is itself at most a few σ off: equivalent in effect",
+        ("level = float(np.median(y[a : b + 1]))", "+ -> -"),
+        ("level = float(np.median(y[a : b + 1]))", "1 -> 2"),
+        ("band = max(4.0 * sigma, 0.02 * abs(float(np.median(y[a : b + 1])) - centre))", "+ -> -"),
+        ("band = max(4.0 * sigma, 0.02 * abs(float(np.median(y[a : b + 1])) - centre))", "1 -> 2"),
+    ),
+    **_alike(
+        "identify/split.py",
+        "equivalent in effect: the motion tested after a still run grows by the next still run (whose "
+        "samples stay within 8 σ of where that motion ended) or, for the last-but-one run, by the last run "
+        "and what follows; only a still run in a decay's tail followed by a small disturbance and then a "
+        "slow drift of more than 20 σ could newly pass as a candidate, and such a candidate is refused "
+        "as a launch by check_record; the launch before it would end at that still run, where its decay "
+        "is already inside the noise band the end detector stops at",
+        ("nxt = runs[k + 1][0] if k + 1 < len(runs) else y.size", "0 -> 1"),
+        ("nxt = runs[k + 1][0] if k + 1 < len(runs) else y.size", "1 -> 2 [2]"),
+    ),
+    (
+        "identify/split.py",
+        "if nxt > b + 1 and float(np.max(np.abs(y[b + 1 : nxt] - level))) > big:",
+        "1 -> 2 [1]",
+    ): (
+        "nxt = b + 2 exactly when one sample separates two still runs: a one-sample glitch (every window "
+        "holding it is unstill). Taking that run as a candidate (original) or not (mutant) gives the same "
+        "launches: its stretch ends at the next candidate; if that is the run right after the glitch the "
+        "stretch has 2 < MIN_SAMPLES samples and is skipped, else it holds the glitch, a still run and a "
+        "motion that did not make that run a candidate, which check_record refuses as a decay (the "
+        "glitch test in test_mutants_identify.py shows the launch after it unchanged)"
+    ),
+    ("identify/split.py", "a0 = max(a, b + 1 - max(5, int(round(min_hold / dt))))", "5 -> 6"): (
+        "only for min_hold under 5.5 samples: the release detector's stretch starts one hold sample "
+        "earlier, inside the same still run (at least 5 samples, and a ≤ a0 either way); as for "
+        "'1 -> 2' on this line, the release is found at the same absolute index"
+    ),
+    ("identify/tare.py", "if np.max(np.abs(np.diff(t) - dt)) > 0.05 * dt:", "> -> >="): (
+        "differs only for a largest step deviation of exactly 5 % of the mean step to the last bit: a tie"
+    ),
+    ("identify/tare.py", "if not np.all(np.isfinite(bread)) or np.linalg.cond(HtH) > 1e14:", "> -> >="): (
+        "differs only for a condition number of exactly 1e14 to the last bit: a tie"
+    ),
+    ("identify/tare.py", "se = np.sqrt(np.clip(np.diag(cov)[:3], 0.0, None))", "3 -> 4"): (
+        "se gains the first rest term's error, but only se[0], se[1], se[2] are read (α, β, γ)"
+    ),
+    (
+        "identify/tare.py",
+        "for _ in range(3):  # the bias depends (weakly) on the coefficients: a few fixed-point steps",
+        "3 -> 4",
+    ): (
+        "equivalent in effect (measured): a fourth fixed-point step moves α, β, γ by 1e-12 relative at "
+        "0.05° noise and by 7e-5 of β (under 1e-3 of its standard error) at 0.5° noise and 30 fps: the "
+        "iteration has converged after three"
     ),
     ("identify/estimators.py", "fwd = tt >= 0", ">= -> >"): (
         "a sample at t0 exactly is then replayed by the backward pass instead of the forward one: a grid "

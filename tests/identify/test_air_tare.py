@@ -412,3 +412,96 @@ def test_air_tare_needs_a_finite_restoring_alpha(alpha) -> None:
     with pytest.raises(InputError, match=rf"alpha = {alpha}: expected a negative number \(1/s², restoring in air\)"):
         air_tare(alpha, 0.01, 0.02, MASS)
     assert air_tare(-G / 0.39, 0.01, 0.02, MASS, G).effective_length == pytest.approx(0.39, rel=1e-12)
+
+
+@pytest.mark.parametrize("mass", [0.0, -1.0, math.nan, math.inf])
+def test_air_tare_needs_a_positive_finite_mass(mass) -> None:
+    # the pivot friction is taken off as forces on the body's mass: none, a negative one or a
+    # non-number is refused by name (a NaN once slipped through `mass <= 0`)
+    from hydrokit.identify.tare import air_tare
+
+    with pytest.raises(InputError, match=rf"mass = {mass}: expected a positive mass \(kg\)"):
+        air_tare(-G / 0.39, 0.01, 0.02, mass, G)
+
+
+def test_rounded_stamps_of_a_clip_starting_late_use_the_mean_step() -> None:
+    # a 30 fps clip cut from a longer video: stamps from t = 12.3456 s, rounded to 0.1 ms as the
+    # launch files store them. The steps are then 33.3 or 33.4 ms (under 5 % apart: no
+    # resampling), and the step used is the mean, (t_last − t_first)/(n − 1), which is 1/30 s to
+    # 1e-7 relative; the median (33.3 ms) would be 0.1 % short and α 0.2 % off. The samples are
+    # used as they are: the same length as the exactly timed launch to 1e-6 (resampled to a grid,
+    # as uneven stamps are, the interpolation alone moves it by 7e-5)
+    rng = np.random.default_rng(12)
+    exact = in_air(R, 0.004, 0.01, math.radians(20), 30.0, 1e-4, rng)
+    late = Launch(t=np.round(np.asarray(exact.t) + 12.3456, 4), y=np.asarray(exact.y), file="clip")
+    assert float(np.median(np.diff(late.t))) == pytest.approx(0.0333, abs=1e-9)
+    a = fit_air_tare([exact], MASS, G)[0].effective_length
+    b = fit_air_tare([late], MASS, G)[0].effective_length
+    assert b == pytest.approx(a, rel=1e-6)
+
+
+def test_noise_bias_of_two_launches_with_sensor_zeros_is_the_monte_carlo_mean() -> None:
+    # as the one-launch Monte Carlo check above, for two launches whose sensor zeros (25°, −15°)
+    # make Σ sin θ large, so each launch's own rest term (entries 3 and 4, the coefficients of
+    # cos θ) carries a resolved bias: every entry of the summed bias within 4 Monte Carlo standard
+    # errors of the mean of ΔHᵀ Δe drawn launch by launch
+    from numpy.lib.stride_tricks import sliding_window_view
+
+    from hydrokit.identify.tare import _noise_terms, _smooth
+
+    rng = np.random.default_rng(13)
+    parts = [
+        _smooth(in_air(R, 0.02, 0.05, math.radians(30), 50.0, math.radians(0.05), rng, 6.0, math.radians(z)), 11, 4)
+        for z in (25.0, -15.0)
+    ]
+    coef = np.array([-G / R, 0.3, 0.8, 0.6 * G / R, -0.3 * G / R])  # α, β, γ, c₁, c₂
+    bias, _ = _noise_terms(parts, coef)
+    draws = 3000
+    total = np.zeros((draws, coef.size))
+    for j, part in enumerate(parts):
+        q, qd = part.q, part.qd
+        A = coef[0] * np.cos(q) - coef[3 + j] * np.sin(q)
+        B = coef[1] + 2.0 * coef[2] * np.abs(qd)
+        n = rng.normal(0.0, math.sqrt(part.noise_var), size=(draws, q.size + part.window - 1))
+        e0, e1, e2 = (sliding_window_view(n, part.window, axis=1) @ k for k in part.kernels)
+        de = e2 - A * e0 + B * e1
+        for col, h in zip((0, 1, 2, 3 + j), (np.cos(q) * e0, -e1, -2.0 * np.abs(qd) * e1, -np.sin(q) * e0)):
+            total[:, col] += np.sum(h * de, axis=1)
+    mean, se = total.mean(axis=0), total.std(axis=0) / math.sqrt(draws)
+    assert np.all(np.abs(bias - mean) < 4.0 * se), (bias, mean, se)
+    assert np.all(np.abs(bias[3:]) > 10.0 * se[3:])  # the rest terms' bias is resolved
+
+
+@pytest.mark.parametrize("mass", [0.0, math.nan])
+def test_a_bad_mass_is_named_before_the_launches_are_examined(mass) -> None:
+    # argument errors first: with a bad mass and a too-short launch, the message is the mass's
+    # (the user fixes the command line before re-recording anything)
+    rng = np.random.default_rng(0)
+    good = in_air(R, 0.004, 0.01, math.radians(20), 30.0, 1e-4, rng)
+    short = Launch(t=good.t[:10], y=good.y[:10], file="air_short.csv")
+    with pytest.raises(InputError, match=rf"^mass = {mass}: expected a positive mass \(kg\)$"):
+        fit_air_tare([good, short], mass, G)
+
+
+def test_a_light_body_is_tared_in_proportion_to_its_mass() -> None:
+    # the tare's forces are the fitted per-unit-mass coefficients times the body's mass: a 0.5 kg
+    # body gets a tenth of the 5 kg body's linear friction, the same length
+    launch = in_air(R, 0.02, 0.05, math.radians(30), 50.0, math.radians(0.01), np.random.default_rng(6))
+    heavy, fit = fit_air_tare([launch], MASS, G)
+    light, _ = fit_air_tare([launch], 0.5, G)
+    assert light.effective_length == heavy.effective_length
+    assert light.linear_damping == pytest.approx(0.5 * fit["beta"], rel=1e-12)
+    assert light.linear_damping == pytest.approx(heavy.linear_damping / 10.0, rel=1e-12)
+    assert air_tare(fit["alpha"], fit["beta"], fit["gamma"], 0.5, G) == light
+
+
+def test_a_swing_too_small_to_show_quadratic_friction_is_refused() -> None:
+    # 1e-4 rad (0.006°) of swing: |θ̇| θ̇ is ~1e-7 of sin θ's scale, the normal matrix's condition
+    # number is far beyond 1e14 though its inverse is still finite: α, β and γ are not separated
+    launch = in_air(R, 0.004, 0.01, 1e-4, 30.0, 1e-7, np.random.default_rng(1))
+    with pytest.raises(InputError, match=r"^the in-air launches do not separate α, β and γ \(singular regression\)$"):
+        fit_air_tare([launch], MASS, G)
+    # a millirad swing is separated (γ poorly, but with a standard error that says so)
+    launch = in_air(R, 0.004, 0.01, 1e-3, 30.0, 1e-6, np.random.default_rng(1))
+    _, fit = fit_air_tare([launch], MASS, G)
+    assert fit["std_error"]["gamma"] > abs(fit["gamma"] - 0.01)

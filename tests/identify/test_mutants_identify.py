@@ -355,6 +355,7 @@ def test_split_launches_default_takes_holds_of_one_second():
     segs = split_launches(t, y)
     assert [abs(s.release - r) <= 2 for s, r in zip(segs, releases)] == [True, True, True]
     assert [round(t[s.release] - t[s.start], 2) for s in segs] == [1.0, 1.0, 1.0]
+    assert all(p.end < n.start for p, n in zip(segs, segs[1:]))  # each ends before the next hold
     found = [s.release for s in split_launches(t, y, min_hold=2.0)]
     assert not any(abs(f - r) <= 2 for f in found for r in releases)
     # the still-run finder has the same default: each 1.3 s hold is one still run
@@ -467,14 +468,10 @@ def test_camera_sensor_defaults_to_30_fps_and_a_fifth_of_a_degree():
     assert cam.name == "camera 30 fps, 0.2° noise"
 
 
-def test_a_launch_grabbed_mid_decay_ends_at_its_last_pass_near_the_rest_value():
-    # hold at 4 cm, released, grabbed after 4 s (still swinging) and lifted into a −3 cm hold.
-    # The launch must end at its last sample near the rest value before the grab: within the
-    # band max(4σ, 2 % of the hold's height above it) of the motion's median (the rest value
-    # the splitter sees between this hold and the next), not a sample later
-    from hydrokit.identify.split import split_launches, still_runs
-
-    rate, a1, a2 = 100.0, 0.04, -0.03
+def grabbed_session(a1: float = 0.04, a2: float = -0.03) -> tuple[np.ndarray, np.ndarray]:
+    """Rest 1 s, lift, hold at a1 (m) for 2 s, released (sample 450), grabbed 4 s later while still
+    swinging and lifted into a hold at a2 for 2 s, released again: t (s, 100 Hz) and y (m)."""
+    rate = 100.0
     ramp = 0.5 * (1 - np.cos(np.linspace(0, np.pi, 150)))
     td = np.arange(400) / rate
     dec1 = a1 * np.exp(-SIGMA * td) * (np.cos(WD * td) + SIGMA / WD * np.sin(WD * td))
@@ -483,7 +480,18 @@ def test_a_launch_grabbed_mid_decay_ends_at_its_last_pass_near_the_rest_value():
     dec2 = a2 * np.exp(-SIGMA * td2) * (np.cos(WD * td2) + SIGMA / WD * np.sin(WD * td2))
     y = np.concatenate([np.zeros(100), a1 * ramp, np.full(200, a1), dec1, grab, np.full(200, a2), dec2])
     y += np.random.default_rng(5).normal(0.0, 2e-5, y.size)
-    t = np.arange(y.size) / rate
+    return np.arange(y.size) / rate, y
+
+
+def test_a_launch_grabbed_mid_decay_ends_at_its_last_pass_near_the_rest_value():
+    # hold at 4 cm, released, grabbed after 4 s (still swinging) and lifted into a −3 cm hold.
+    # The launch must end at its last sample near the rest value before the grab: within the
+    # band max(4σ, 2 % of the hold's height above it) of the motion's median (the rest value
+    # the splitter sees between this hold and the next), not a sample later
+    from hydrokit.identify.split import split_launches, still_runs
+
+    a1 = 0.04
+    t, y = grabbed_session(a1)
     first = split_launches(t, y)[0]
     assert first.release == pytest.approx(450, abs=2)
     nxt = next(a for a, _ in still_runs(t, y) if a > first.release)  # the next hold starts
@@ -1273,3 +1281,46 @@ def test_an_amplitude_must_be_positive_and_finite(text):
     with pytest.raises(InputError, match=rf"--amplitude {text!r}: expected a positive amplitude"):
         parse_amplitude(text, translational=False, name="--amplitude")
     assert parse_amplitude("5deg", translational=False, name="--amplitude") == pytest.approx(math.radians(5))
+
+
+# --- split.py, exhaustive pass (session of 2026-11-26) ---------------------------------------
+
+
+def test_a_one_sample_glitch_inside_a_hold_does_not_hide_the_launch():
+    # a sensor glitch: one sample 1 cm off in the middle of a 3 s hold. It splits the hold into
+    # two still runs one sample apart (every window holding it has a 1 cm range); the glitch is
+    # the whole 'motion' after the first part, too short to be a launch, and the release after
+    # the second part is found as without it
+    from hydrokit.identify.split import split_launches, still_runs
+
+    t, y, (release,) = held_then_released((0.04,), hold_samples=300)
+    clean = split_launches(t, y)
+    glitch = release - 150
+    y = y.copy()
+    y[glitch] += 0.01
+    runs = still_runs(t, y)
+    assert any(b == glitch - 1 and nxt == glitch + 1 for (_, b), (nxt, _) in zip(runs, runs[1:]))
+    assert split_launches(t, y) == clean and len(clean) == 1
+    assert abs(clean[0].release - release) <= 2
+
+
+def test_a_grabbed_launch_ends_within_four_noise_sigmas_of_the_rest_value(monkeypatch):
+    # as the grab test above, with the noise floor the splitter uses set to 0.44 mm: the rest band
+    # is then max(4 σ, 2 % of the hold's height) = 4 σ = 1.76 mm, and the launch ends at the last
+    # sample within 1.76 mm of the motion's median before the grab (a 5 σ band ends it a sample later)
+    import hydrokit.identify.split as split
+
+    a1 = 0.04
+    t, y = grabbed_session(a1)
+    sigma = 4.4e-4
+    monkeypatch.setattr(split, "noise_floor", lambda _: sigma)
+    first = split.split_launches(t, y)[0]
+    assert first.release == pytest.approx(450, abs=2)
+    runs = split.still_runs(t, y)
+    b = next(b for a, b in runs if a <= first.release <= b)  # the hold's last still sample
+    nxt = next(a for a, _ in runs if a > b)  # the next hold starts
+    motion = y[b + 1 : nxt]
+    centre = float(np.median(motion))
+    assert 4 * sigma > 0.02 * abs(a1 - centre)
+    near = {k: np.nonzero(np.abs(motion - centre) <= k * sigma)[0] + b + 1 for k in (4, 5)}
+    assert first.end == near[4][-1] < near[5][-1]

@@ -106,8 +106,10 @@ def split_launches(
             cands.append((a, b))
     out: list[Segment] = []
     for k, (a, b) in enumerate(cands):
+        # the stretch ends where the next candidate's still run begins, so launches never overlap:
+        # each ends (at ``cut`` − 1 or before) ahead of the next one's hold
         stop = cands[k + 1][0] if k + 1 < len(cands) else y.size
-        if stop - b < MIN_SAMPLES or (out and a <= out[-1].end):
+        if stop - b < MIN_SAMPLES:
             continue
         motion = y[b + 1 : stop]
         centre = float(np.median(motion))

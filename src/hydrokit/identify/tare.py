@@ -98,7 +98,7 @@ def air_tare(
     check_convention(convention)
     if not (alpha < 0 and math.isfinite(alpha)):
         raise InputError(f"alpha = {alpha}: expected a negative number (1/s², restoring in air)")
-    if mass <= 0:
+    if not (math.isfinite(mass) and mass > 0):
         raise InputError(f"mass = {mass}: expected a positive mass (kg)")
     r = -gravity / alpha
     return AirTare(r, beta * mass, gamma * quadratic_factor(mass, r, convention))
