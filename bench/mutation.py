@@ -739,6 +739,58 @@ EQUIVALENT: dict[tuple[str, str, str], str] = {
         "0.05° noise and by 7e-5 of β (under 1e-3 of its standard error) at 0.5° noise and 30 fps: the "
         "iteration has converged after three"
     ),
+    ("identify/damping.py", "q = np.linspace(0.0, a, 201)", "0.0 -> 1.0"): (
+        "R(a) is only used as a difference R(a1) − R(a2) (the energy lost in a half cycle): a lower limit "
+        "of 1 instead of 0 subtracts the same ∫₀¹ ρ from both, up to the trapezoid rule's error "
+        "(h² ρ''/12 with h = a/200: ~1e-6 of R)"
+    ),
+    ("identify/damping.py", "q = np.linspace(0.0, a, 201)", "201 -> 202"): (
+        "equivalent in effect: 201 instead of 200 trapezoid intervals changes the quadrature error "
+        "(~1e-6 of R for a cubic or table shape at 0.4 rad) by 1 %, i.e. ~1e-8 of the damping value"
+    ),
+    ("identify/campaign.py", "groups = group_by_amplitude(results, angles=False)", "False -> True"): (
+        "the labels only key the groups inside summarize (never shown): mm or ° text, each prefixed with "
+        "its own L1, L2 …, gives the same partition of the launches"
+    ),
+    (
+        "identify/campaign.py",
+        "if groups and abs(r.amplitude - groups[-1][0].amplitude) <= rel_tol * max(abs(groups[-1][0].amplitude), 1e-12):",
+        "<= -> <",
+    ): ("differs only for two measured amplitudes exactly rel_tol (15 %) apart to the last bit: a tie"),
+    ("identify/virtual_rig.py", "if self.noise_std > 0:", "> -> >="): (
+        "equivalent in distribution: a noise-free sensor then adds N(0, 0) draws, i.e. zeros; only the "
+        "random stream moves on, so a random quantisation zero drawn after them is another uniform draw"
+    ),
+    ("identify/virtual_rig.py", "out += rng.normal(0.0, self.noise_std, out.shape)", "+ -> -"): (
+        "equivalent in distribution: subtracting zero-mean Gaussian noise is adding it (the noise test "
+        "checks its mean and std)"
+    ),
+    **_alike(
+        "identify/virtual_rig.py",
+        "equivalent in distribution: only the quantisation grid's offset modulo one resolution step "
+        "matters (readings are rounded to the grid and shifted back); a uniform offset over [−1.5, 0.5] "
+        "steps (two whole steps) is uniform modulo a step, and u/resolution for u uniform in ±½ spans "
+        "thousands of steps, equally uniform modulo one to within a step's fraction",
+        ("zero = rng.uniform(-0.5, 0.5) * self.resolution if self.random_zero else 0.0", "0.5 -> 1.5 [1]"),
+        ("zero = rng.uniform(-0.5, 0.5) * self.resolution if self.random_zero else 0.0", "* -> /"),
+    ),
+    (
+        "identify/virtual_rig.py",
+        "a0 = float(amplitude) * (1.0 + amplitude_jitter * rng.standard_normal()) if amplitude_jitter else float(amplitude)",
+        "+ -> -",
+    ): (
+        "equivalent in distribution: A (1 − j z) and A (1 + j z) are the same Gaussian for a standard "
+        "normal z (the jitter test checks that distribution)"
+    ),
+    (
+        "identify/virtual_rig.py",
+        "q, _, _ = simulate_normalised(t_run, w2, b, g, a0, v0, c.sine, 8, restoring=c.restoring)",
+        "8 -> 9",
+    ): (
+        "equivalent in effect: the truth integrated with 9 instead of 8 RK4 steps per sample; the global "
+        "error, ∝ (ω Δt / 8)⁴, is ~1e-8 of the amplitude already (ω = 7 rad/s at 100 Hz), far below any "
+        "sensor's noise or resolution"
+    ),
     ("identify/estimators.py", "fwd = tt >= 0", ">= -> >"): (
         "a sample at t0 exactly is then replayed by the backward pass instead of the forward one: a grid "
         "step of zero length, which returns the initial state (q0, v0) bit for bit either way"

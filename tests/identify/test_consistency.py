@@ -34,6 +34,11 @@ def test_overconfident_errors_are_caught_honest_ones_pass():
 def test_missing_errors_are_skipped_and_one_value_has_no_test():
     c = consistency([1.0, 2.0, None, 4.0], [0.1, None, 0.3, float("nan")])
     assert c["n"] == 1 and c["chi2"] is None and c["p"] is None
+    assert c == {"n": 1, "chi2": None, "dof": 0, "p": None, "birge_ratio": None, "weighted_mean": None}
+    # a zero standard error is no error estimate (its weight would be infinite): skipped too
+    z = consistency([1.0, 1.1, 1.3], [0.1, 0.0, 0.1])
+    assert (z["n"], z["dof"], z["weighted_mean"]) == (2, 1, pytest.approx(1.15, rel=1e-12))
+    assert z["chi2"] == pytest.approx(0.3**2 / (2 * 0.1**2), rel=1e-12)  # two equal weights: Δ²/(2σ²)
 
 
 def test_campaign_summary_holds_the_test_per_amplitude_group(pendulum_rig):

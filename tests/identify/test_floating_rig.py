@@ -418,6 +418,13 @@ def test_optional_fits_reject_what_they_cannot_do(pendulum_rig: Rig) -> None:
         identify_launch(pendulum_rig, L, restoring_terms=3)
     with pytest.raises(InputError, match="--restoring-terms"):
         identify_launch(rig, L, restoring_terms=4)
+    # the model-free damping curve, called directly, refuses the pendulum by name too
+    from hydrokit.identify.damping import damping_curve
+
+    _, est = identify_launch(rig, L, return_estimator=True)
+    assert damping_curve(L.t, L.y, est, rig)  # the pitch rig gets its curve
+    with pytest.raises(InputError, match=r"^the damping curve applies to .* not to the pendulum"):
+        damping_curve(L.t, L.y, est, pendulum_rig)
 
 
 def test_cli_optional_fits(run_cli, tmp_path: Path) -> None:
@@ -609,3 +616,17 @@ def test_residual_warning_floor_is_a_billionth_of_the_larger_of_one_and_the_peak
     est.warnings_ = []
     est._warn_residual(rms, 1e-12, np.array([0.0, -peak, 0.3 * peak]))  # the fits floor the noise at 1e-12
     assert bool(est.warnings_) is warned
+
+
+def test_a_floating_rig_built_with_only_its_linear_restoring_is_written_as_floating() -> None:
+    # a Rig made in Python for a roll decay may give C1 as its stiffness and no file spec: its
+    # document is a floating rig with restoring [C1] (once written as a torsion rig), which reads
+    # back to the same restoring constants
+    import dataclasses
+
+    bare = Rig("floating", "roll", G, RHO, 1e-6, 100.0, VOL, 0.5, 1.0, inertia=8.0, stiffness=123.0)
+    doc_ = rig_document(bare)
+    assert doc_["floating"] == {"restoring": [123.0]} and "torsion" not in doc_
+    back = parse_rig(doc_, "float.yaml")
+    assert back == dataclasses.replace(bare, source="float.yaml", floating=("restoring", (123.0, 0.0, 0.0)))
+    assert rig_constants(back).S == rig_constants(bare).S == 123.0

@@ -149,6 +149,10 @@ def test_summarize_groups_by_amplitude_by_default() -> None:
     s = summarize(results)
     assert s["quadratic_damping"]["rejected"] == []
     assert s["quadratic_damping"]["n"] == 18
+    # 95 % intervals by default: t_0.975 with 17 dof = 2.1098 (table value)
+    q = s["quadratic_damping"]
+    assert q["confidence"] == 0.95
+    assert q["ci"][1] - q["mean"] == pytest.approx(2.1098 * q["std"] / math.sqrt(18), rel=1e-4)
     assert s["quadratic_damping"]["without_rejection"]["n"] == 18
     assert "within each amplitude group" in s["outlier_rule"]
     # one launch of the 20 mm group far out: caught, the 10 mm group untouched
@@ -209,3 +213,30 @@ def test_the_identify_report_warning_gives_the_all_launch_statistics() -> None:
         f"K_L {fmt(every['mean'])} ± {fmt(every['std'])} [{fmt(lo)}, {fmt(hi)}]"
     )
     assert rejection_note("equation", {k: kept for k, _ in COEFS} | {"outlier_rule": "x"}) is None
+
+
+def test_a_group_of_exactly_five_may_lose_one_to_leave_four() -> None:
+    # the smallest judged group: five values, median 1.0, MAD 0.01 (robust σ 0.0148); 10.0 is
+    # 600 robust σ out and rejecting it leaves exactly the four required
+    vals = [1.0, 1.01, 0.99, 1.02, 10.0]
+    assert outliers(vals).tolist() == [False] * 4 + [True]
+    s = describe(vals, list("abcde"), groups=["g"] * 5)
+    assert s["rejected"] == ["e"] and s["n"] == 4
+    assert s["mean"] == pytest.approx(1.005, rel=1e-12)
+
+
+def test_no_finite_value_gives_empty_statistics() -> None:
+    # a coefficient no launch could give (all None or NaN): n = 0, no mean, no interval
+    s = describe([None, math.nan], ["a", "b"])
+    assert {k: s[k] for k in ("mean", "std", "ci", "n")} == {"mean": None, "std": None, "ci": [None, None], "n": 0}
+    assert s["without_rejection"]["n"] == 0 and s["rejected"] == []
+
+
+def test_one_launch_has_no_spread_and_two_have_the_sample_std() -> None:
+    # one value: std 0 and no interval (no degrees of freedom); two: the n − 1 sample std
+    # |x1 − x2|/√2 and the Student-t interval with 1 dof (t_0.975 = 12.706, table value)
+    one = describe([1.5], ["a"])
+    assert (one["mean"], one["std"], one["ci"], one["n"]) == (1.5, 0.0, [None, None], 1)
+    two = describe([1.0, 2.0], ["a", "b"])
+    assert two["std"] == pytest.approx(1 / math.sqrt(2), rel=1e-12)
+    assert two["ci"][1] - two["mean"] == pytest.approx(12.706 * two["std"] / math.sqrt(2), rel=1e-4)

@@ -101,3 +101,18 @@ def test_scale_ratio_must_be_a_positive_finite_number(ratio):
     with pytest.raises(InputError, match=r"scale ratio = .*: expected a positive model/full-size length ratio"):
         scale_factor(ratio)  # type: ignore[arg-type]
     assert scale_factor(0.25) == 4.0  # λ = full/model
+
+
+@pytest.mark.parametrize("continuity", [False, True])
+def test_rank_sum_with_ties_matches_scipys_tie_corrected_normal_p(continuity):
+    # tied values shrink σ_U by the tie term Σ(c³ − c)/(n(n − 1)); scipy's asymptotic
+    # Mann–Whitney p applies the same correction (and the same ½ continuity step): a second
+    # method. Here the ties are heavy (groups of 2 and 3), so a wrong tie term moves p visibly
+    from scipy import stats
+
+    x, y = [1.0, 2.0, 2.0, 3.0, 3.0, 3.0], [2.0, 3.0, 4.0, 4.0, 5.0, 5.0]
+    r = rank_sum(x, y, continuity=continuity)
+    ref = stats.mannwhitneyu(x, y, alternative="two-sided", method="asymptotic", use_continuity=continuity)
+    assert r["u"] == float(ref.statistic)
+    assert r["p"] == pytest.approx(float(ref.pvalue), rel=1e-10)
+    assert r["p_exact"] is None  # no exact distribution with ties

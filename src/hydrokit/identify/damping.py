@@ -40,11 +40,12 @@ def model_curve(a: Any, B1: float, B2: float, B3: float, w0: float) -> np.ndarra
     return B1 + K2 * w0 * a * B2 + K3 * w0 * w0 * a * a * B3
 
 
-def check_rig(rig: Rig) -> None:
-    """Equivalent damping needs damping in the recorded coordinate: not the pendulum."""
+def check_rig(rig: Rig, what: str = "--equivalent-at") -> None:
+    """Equivalent damping needs damping in the recorded coordinate: not the pendulum (``what``
+    names the feature in the message)."""
     if rig.test == "pendulum":
         raise InputError(
-            "--equivalent-at applies to the spring, torsion and floating rigs, not to the pendulum "
+            f"{what} applies to the spring, torsion and floating rigs, not to the pendulum "
             "(its damping acts along the path)"
         )
 
@@ -93,9 +94,10 @@ def equivalent_damping(est: Any, rig: Rig, amplitudes: Sequence[float]) -> list[
 
 
 def _potential(c: Any, a: float) -> float:
-    """R(a) = ∫₀ᵃ ρ(q) dq of the rig's restoring shape (a ≥ 0)."""
+    """R(a) = ∫₀ᵃ ρ(q) dq of the rig's restoring shape (a ≥ 0; linear unless the floating rig's
+    shape is given: the pendulum's sin θ is refused by :func:`check_rig`)."""
     if c.restoring is None:
-        return 1.0 - math.cos(a) if c.sine else 0.5 * a * a
+        return 0.5 * a * a
     q = np.linspace(0.0, a, 201)
     f = np.asarray(c.restoring(q), float)
     return float(np.sum(0.5 * (f[1:] + f[:-1]) * np.diff(q)))
@@ -109,7 +111,7 @@ def damping_curve(t: Any, y: Any, est: Any, rig: Rig) -> list[dict[str, float]]:
     t : s; y : m or rad (the record the estimator fitted)
     est : the fitted estimator (``offset_``, ``noise_``, the rig constants); the rest value is
         refined from the extremes
-    rig : Rig (its tare is subtracted as in the fitted coefficients)
+    rig : Rig (its tare is subtracted as in the fitted coefficients); not the pendulum
 
     Returns
     -------
@@ -118,6 +120,7 @@ def damping_curve(t: Any, y: Any, est: Any, rig: Rig) -> list[dict[str, float]]:
     """
     from hydrokit.identify.estimators import _peaks
 
+    check_rig(rig, "the damping curve")
     t = np.asarray(t, float)
     z = np.asarray(y, float) - float(est.offset_)
     c = est.constants_

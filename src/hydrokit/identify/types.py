@@ -169,8 +169,10 @@ def rig_document(rig: Rig) -> dict[str, Any]:
         out["pendulum"] = {"length": rig.pendulum_length, "rod_mass": rig.rod_mass, "rod_volume": rig.rod_volume}
     elif rig.test == "spring":
         out["spring"] = {"stiffness": rig.stiffness}
-    elif rig.test == "floating" and rig.floating is not None:
-        kind, value = rig.floating
+    elif rig.test == "floating":
+        # a rig built in Python may give only its linear restoring C1 (as ``stiffness``)
+        spec: tuple[str, Any] = rig.floating if rig.floating is not None else ("restoring", (rig.stiffness,))
+        kind, value = spec
         if kind == "restoring":
             value = list(value)
         elif kind == "gz":
