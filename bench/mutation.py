@@ -791,6 +791,23 @@ EQUIVALENT: dict[tuple[str, str, str], str] = {
         "error, ∝ (ω Δt / 8)⁴, is ~1e-8 of the amplitude already (ω = 7 rad/s at 100 Hz), far below any "
         "sensor's noise or resolution"
     ),
+    **_alike(
+        "model/thrusters.py",
+        "a speed path only: equal tables give equal numbers whichever way they are grouped. With the "
+        "mutants, tables that are equal but not the same object skip the one-call fast path, or are "
+        "interpolated group by group instead of together; np.interp gives an element of an array the "
+        "value it gives the number alone, so every thrust and command is the same",
+        ("if all(cv is first for cv in curves) or all(cv == first for cv in curves):", "== -> !="),
+        ("if all(cv is first for cv in curves) or all(cv == first for cv in curves):", "or -> and"),
+        (
+            "idx = [j for j in range(i, len(curves)) if not done[j] and (curves[j] is cv or curves[j] == cv)]",
+            "or -> and",
+        ),
+    ),
+    ("identify/preprocess.py", "sel = np.nonzero((t >= lo) & (t <= hi))[0]", "<= -> <"): (
+        "differs only for a sample exactly at hi = c0 − 0.1 T (a crossing time less a tenth of a period "
+        "measured from the extremes) to the last bit: a tie of probability 0"
+    ),
     ("identify/estimators.py", "fwd = tt >= 0", ">= -> >"): (
         "a sample at t0 exactly is then replayed by the backward pass instead of the forward one: a grid "
         "step of zero length, which returns the initial state (q0, v0) bit for bit either way"

@@ -245,6 +245,11 @@ def test_an_edge_shared_by_three_faces_is_refused():
     fin = np.vstack([faces, [(0, 1, 2, 2), (0, 2, 1, 1)]])  # the base face twice more, both ways
     with pytest.raises(InputError, match=r"edge\(s\) shared by more than two faces; expected a simple closed hull"):
         check_mesh(SurfaceMesh(v, fin, "fin.stl"))
+    # two tetrahedra either side of one face, kept once (an inner wall): closed, with exactly three
+    # faces on each of that face's three edges
+    wall = np.vstack([faces, [(0, 1, 4, 4), (1, 2, 4, 4), (2, 0, 4, 4)]])
+    with pytest.raises(InputError, match=r"wall.stl: 3 edge\(s\) shared by more than two faces"):
+        check_mesh(SurfaceMesh(np.vstack([v, [(0, 0, -1)]]), wall, "wall.stl"))
 
 
 def test_force_fit_curves_are_the_chin_and_morison_laws():
