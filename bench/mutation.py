@@ -419,7 +419,11 @@ EQUIVALENT: dict[tuple[str, str, str], str] = {
         "MAD, or step/√12 for a quantised sensor whose samples sit whole steps from a median: never "
         "exactly 4σ); probability 0"
     ),
-    ("identify/estimators.py", "if math.sqrt(2 * best.cost / t.size) <= 2.0 * noise + 1e-12:", "<= -> <"): (
+    (
+        "identify/estimators.py",
+        "if math.sqrt(2 * best.cost / t.size) <= 2.0 * noise:  # noise ≥ 1e-12 (set above)",
+        "<= -> <",
+    ): (
         "the multi-start's early stop: differs only for an RMS residual of exactly 2 noise floors to the "
         "last bit (probability 0), and then one more start is tried, whose fit replaces the best only "
         "if its cost is lower"
@@ -433,7 +437,7 @@ EQUIVALENT: dict[tuple[str, str, str], str] = {
     ),
     (
         "identify/estimators.py",
-        "s = 0 if i == z.size else (1 if z[i] > band else (-1 if z[i] < -band else 0))",
+        "s = 1 if z[i] > band else (-1 if z[i] < -band else 0)",
         "1 -> 2 [1]",
     ): (
         "the half-cycle state above the band becomes 2 instead of 1: it is only compared with the next "
@@ -651,7 +655,7 @@ EQUIVALENT: dict[tuple[str, str, str], str] = {
     ),
     (
         "identify/estimators.py",
-        "s = 0 if i == z.size else (1 if z[i] > band else (-1 if z[i] < -band else 0))",
+        "s = 1 if z[i] > band else (-1 if z[i] < -band else 0)",
         "> -> >=",
     ): (
         "differs only for a sample exactly on the hysteresis band (10 noise σ, at least 1e-15) to the last "
@@ -807,6 +811,42 @@ EQUIVALENT: dict[tuple[str, str, str], str] = {
     ("identify/preprocess.py", "sel = np.nonzero((t >= lo) & (t <= hi))[0]", "<= -> <"): (
         "differs only for a sample exactly at hi = c0 − 0.1 T (a crossing time less a tenth of a period "
         "measured from the extremes) to the last bit: a tie of probability 0"
+    ),
+    **_alike(
+        "identify/estimators.py",
+        "sign only orders the replay's times (argsort of sign · t): any positive factor gives the same order",
+        ("for mask, sign in ((fwd, 1.0), (~fwd, -1.0)):", "1.0 -> 2.0 [1]"),
+        ("for mask, sign in ((fwd, 1.0), (~fwd, -1.0)):", "1.0 -> 2.0 [2]"),
+    ),
+    **_alike(
+        "identify/estimators.py",
+        "equivalent in effect: the replay (plots, residuals after the fit) with 5 instead of 4 RK4 steps "
+        "per sample; its global error, ∝ (ω Δt / 4)⁴, is ~1e-7 of the amplitude at ω Δt = 0.07 and "
+        "only shrinks, far below any sensor's noise",
+        ("qq, vv, _ = simulate_extended(grid, ext, self.q0_, self.v0_, shape, 4)", "4 -> 5"),
+        ("qq, vv, _ = simulate_normalised(grid, w2, b, g, self.q0_, self.v0_, sine, 4, restoring=shape)", "4 -> 5"),
+    ),
+    ("identify/estimators.py", "tu = np.arange(t[0], t[-1], dt)", "0 -> 1"): (
+        "equivalent in effect: the even grid for jittered stamps starts at the second stamp instead of "
+        "the first; the rig equation is autonomous and equation-error fits it sample by sample, so the "
+        "record one step shorter gives the same coefficients to within its own noise"
+    ),
+    (
+        "identify/preprocess.py",
+        "cands = sel[(t[sel] > lo + 0.05 * period) & (t[sel] < c0 - 0.15 * period)]",
+        "> -> >=",
+    ): (
+        "differs only for a sample exactly 5 % of a measured period after the window's start, to the last "
+        "bit: a tie of probability 0"
+    ),
+    ("identify/estimators.py", "tf = np.linspace(t[0], t[-1], max(2000, 4 * t.size))", "2000 -> 2001"): (
+        "equivalent in effect, as '1 -> 2' on this line: one grid point more for the fitted response's "
+        "peak speed moves only the grid points, so the sampled maximum (Re, KC) changes by the grid's "
+        "own resolution (under 1e-5 relative)"
+    ),
+    ("identify/preprocess.py", "if last > 1.2 * first + band:", "> -> >="): (
+        "differs only for a last-third peak exactly 1.2 times the first third's plus the band, to the last "
+        "bit: a tie of probability 0"
     ),
     ("identify/estimators.py", "fwd = tt >= 0", ">= -> >"): (
         "a sample at t0 exactly is then replayed by the backward pass instead of the forward one: a grid "

@@ -360,6 +360,9 @@ def test_cubic_damping_model_recovers_b3() -> None:
         pytest.approx(3.0, rel=0.03),
     )
     assert r.extra["cubic_damping"] == pytest.approx(5.0, rel=0.03)
+    # the restoring was not extended (one term): no restoring correction is reported
+    assert (r.extra["damping_model"], r.extra["restoring_terms"]) == ("cubic", 1)
+    assert "restoring_correction" not in r.extra
     assert 0 < r.std_error["cubic_damping"] < 0.1  # type: ignore[operator]
     quad = identify_launch(rig, L)  # the quadratic model lacks B3: biased, and says so
     assert abs(quad.linear_damping - 1.0) > 0.3 and quad.warnings

@@ -474,7 +474,7 @@ class LogDecrementEstimator(_DecayEstimator):
         zl, kappa = float(coef[0]), float(coef[1])
         b = 2.0 * w * zl
         g = 3.0 * math.pi / 4.0 * kappa
-        var_w = float(np.var(wn, ddof=1)) / wn.size if wn.size > 1 else 0.0  # type: ignore[attr-defined]
+        var_w = float(np.var(wn, ddof=1)) / wn.size  # type: ignore[attr-defined]  # (≥ 2 rows, checked above)
         # ω² = w², b = 2 w ζ_L, g = 3π/4 κ
         J = np.array([[2 * w, 0, 0], [2 * zl, 2 * w, 0], [0, 0, 3 * math.pi / 4]])
         cin = np.zeros((3, 3))
@@ -528,11 +528,12 @@ def _peaks(t: np.ndarray, z: np.ndarray, min_abs: float) -> list[tuple[float, fl
     out: list[tuple[float, float]] = []
     state = 0
     start = 0
-    for i in range(z.size + 1):
-        s = 0 if i == z.size else (1 if z[i] > band else (-1 if z[i] < -band else 0))
-        if i == z.size or (s != 0 and s != state):
-            # the half-cycle cut off by the end of the record has no true extreme: skip it
-            if state != 0 and i < z.size:
+    # a half cycle is closed by the next crossing: the one cut off by the end of the record has no
+    # true extreme and is left out
+    for i in range(z.size):
+        s = 1 if z[i] > band else (-1 if z[i] < -band else 0)
+        if s != 0 and s != state:
+            if state != 0:
                 seg = z[start:i] * state
                 k = start + int(np.argmax(seg))
                 tp, ap = t[k], z[k]
@@ -547,8 +548,7 @@ def _peaks(t: np.ndarray, z: np.ndarray, min_abs: float) -> list[tuple[float, fl
                         tp = t[k] + d * (t[k + 1] - t[k - 1]) / 2
                         ap = y1 - 0.25 * (y0 - y2) * d
                 out.append((float(tp), float(ap)))
-            if i < z.size:
-                state, start = s, i
+            state, start = s, i
     # the first half-cycle starts at the release: its peak is the release value
     return out
 
@@ -633,7 +633,7 @@ class OutputErrorEstimator(_DecayEstimator):
             sol = least_squares(resid, x0, jac=jac, method="lm", x_scale="jac", xtol=1e-12, ftol=1e-12, max_nfev=400)
             if best is None or sol.cost < best.cost:
                 best = sol
-            if math.sqrt(2 * best.cost / t.size) <= 2.0 * noise + 1e-12:
+            if math.sqrt(2 * best.cost / t.size) <= 2.0 * noise:  # noise ≥ 1e-12 (set above)
                 break
         assert best is not None
         x = best.x
@@ -706,7 +706,7 @@ class OutputErrorEstimator(_DecayEstimator):
             sol = least_squares(resid, start, jac=jac, method="lm", x_scale="jac", xtol=1e-12, ftol=1e-12, max_nfev=600)
             if best is None or sol.cost < best.cost:
                 best = sol
-            if math.sqrt(2 * best.cost / t.size) <= 2.0 * noise + 1e-12:
+            if math.sqrt(2 * best.cost / t.size) <= 2.0 * noise:  # noise ≥ 1e-12 (set above)
                 break
         assert best is not None
         x = best.x
@@ -849,7 +849,8 @@ def identify_launch(
     )
     ext = getattr(est, "extended_", None)
     if ext is not None:
-        model, terms = getattr(est, "damping_model", "quadratic"), getattr(est, "restoring_terms", 1)
+        # only the output-error estimator fits the extended model (and carries these settings)
+        model, terms = est.damping_model, est.restoring_terms  # type: ignore[attr-defined]
         result.extra["damping_model"] = model
         result.extra["restoring_terms"] = terms
         if model == "linear":
