@@ -848,6 +848,11 @@ EQUIVALENT: dict[tuple[str, str, str], str] = {
         "differs only for a last-third peak exactly 1.2 times the first third's plus the band, to the last "
         "bit: a tie of probability 0"
     ),
+    ("identify/preprocess.py", "post = s >= 0", ">= -> >"): (
+        "only the sample at s = 0 (the candidate release itself) changes sides, and there both models "
+        "give the same regressor row [1, 0, 0, 0]: the hand's quadratic (1, s, s²) and the free response "
+        "(q_a = 1, q_b = 0, 1 − q_a = 0) join with the same position and rate"
+    ),
     ("identify/estimators.py", "fwd = tt >= 0", ">= -> >"): (
         "a sample at t0 exactly is then replayed by the backward pass instead of the forward one: a grid "
         "step of zero length, which returns the initial state (q0, v0) bit for bit either way"

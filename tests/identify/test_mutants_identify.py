@@ -1539,3 +1539,47 @@ def test_a_given_end_at_the_last_sample_drops_nothing_and_says_nothing():
     assert [n for n in short.notes if n.startswith("end given")] == [
         "end given at t = 5.980 s: 1 samples of noise dropped"
     ]
+
+
+def test_a_quantised_record_has_the_noise_of_its_step():
+    # a slow 2 mm swing read by a 0.1 mm encoder at 100 Hz: most samples repeat the one before, the
+    # second differences are mostly zero (MAD 0), and the noise floor is the quantisation noise
+    # of a uniform rounding error, step/√12 = 0.0289 mm
+    from hydrokit.identify.preprocess import noise_floor
+
+    step = 1e-4
+    t = np.arange(0.0, 20.0, 0.01)
+    y = np.round(0.002 * np.sin(0.5 * t) / step) * step  # a step every ≥ 10 samples
+    assert noise_floor(y) == pytest.approx(step / math.sqrt(12.0), rel=1e-9)
+
+
+def test_equation_error_smooths_with_a_quartic_by_default(spring_rig):
+    # the documented default polynomial order is 4: the default fit is the explicit quartic's,
+    # to the last bit, and a quintic (whose first derivative differs) gives other numbers
+    from hydrokit.identify.estimators import identify_launch
+
+    t = np.arange(0.0, 12.0, 0.01)
+    y = A0 * np.exp(-SIGMA * t) * (np.cos(WD * t) + SIGMA / WD * np.sin(WD * t))
+    y = y + np.random.default_rng(2).normal(0.0, 2e-5, t.size)
+    L = Launch(t, y, "rec.csv")
+    default = identify_launch(spring_rig, L, "equation-error")
+    quartic = identify_launch(spring_rig, L, "equation-error", polyorder=4)
+    quintic = identify_launch(spring_rig, L, "equation-error", polyorder=5)
+    assert (default.added_mass, default.linear_damping) == (quartic.added_mass, quartic.linear_damping)
+    assert quintic.linear_damping != quartic.linear_damping
+
+
+def test_the_detected_end_is_a_quarter_period_after_the_last_sample_above_the_noise():
+    # a 30 s decay sinking into 0.1 mm noise: the documented end is the last sample more than four
+    # noise floors from the rest value, plus a quarter period (the swing's next zero crossing);
+    # the quarter is measured from the record's crossings: T_d/4 = π/(2 ω_d) here, within a sample
+    from hydrokit.identify.preprocess import equilibrium, noise_floor, trim_launch
+
+    t = np.arange(0.0, 30.0, 0.01)
+    y = A0 * np.exp(-SIGMA * t) * (np.cos(WD * t) + SIGMA / WD * np.sin(WD * t))
+    # bounded noise (uniform, σ = 0.1 mm, never beyond 1.8 σ): no lone noise sample passes 4 σ
+    y = y + np.random.default_rng(4).uniform(-math.sqrt(3) * 1e-4, math.sqrt(3) * 1e-4, t.size)
+    trimmed = trim_launch(Launch(t, y, "rec.csv"), release=0.0)
+    above = np.nonzero(np.abs(y - equilibrium(y)) > 4.0 * noise_floor(y))[0][-1]
+    assert t[above] < 25.0  # the decay does sink into the noise before the record ends
+    assert float(trimmed.t[-1]) == pytest.approx(t[above] + math.pi / (2 * WD), abs=0.015)
