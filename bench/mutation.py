@@ -853,6 +853,19 @@ EQUIVALENT: dict[tuple[str, str, str], str] = {
         "give the same regressor row [1, 0, 0, 0]: the hand's quadratic (1, s, s²) and the free response "
         "(q_a = 1, q_b = 0, 1 − q_a = 0) join with the same position and rate"
     ),
+    ("identify/estimators.py", "if m_a < 0:", "< -> <="): (
+        "differs only for a fitted added mass of exactly 0 to the last bit (m_a = A − m from a "
+        "least-squares ω²): a tie of probability 0"
+    ),
+    ("identify/preprocess.py", "sp = np.where(post, s, 0.0)", "0.0 -> 1.0"): (
+        "sp only feeds the free-response columns q_a, q_b, 1 − q_a, which every row before the join "
+        "replaces by the hand's (1, s, s², 0) through np.where(pre, …): the value put there for s < 0 "
+        "(0 to keep exp from overflowing, or 1) is never used"
+    ),
+    ("model/thrusters.py", "kt = 0.0 if kt < 0.0 else kt  # max(kt, 0.0), NaN kept", "< -> <="): (
+        "differs only for kt exactly ±0.0: the mutant returns +0.0 where the original keeps kt, a zero "
+        "either way, so the thrust loss · kt · ρ D⁴ |n| n is zero either way"
+    ),
     ("identify/estimators.py", "fwd = tt >= 0", ">= -> >"): (
         "a sample at t0 exactly is then replayed by the backward pass instead of the forward one: a grid "
         "step of zero length, which returns the initial state (q0, v0) bit for bit either way"

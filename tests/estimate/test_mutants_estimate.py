@@ -732,3 +732,13 @@ def test_drag_defaults_are_the_documented_ones():
 
     np.testing.assert_array_equal(block(1.0, 0.5, 0.4).drag_coefficient, [1.05, 1.05, 1.05])
     np.testing.assert_array_equal(spheroid(2.0, 0.5).drag_coefficient, [0.1, 0.6, 0.6])
+
+
+def test_the_cylinder_table_between_its_last_two_finite_rows_is_linear():
+    # CYL_TRANSVERSE_CA: (5.0, 0.90), (9.0, 0.96), then the 1e9 limit row. At L/D = 7 (between the
+    # last two finite rows) the value is the plain linear 0.93; only beyond 9 does the reciprocal
+    # extrapolation towards the limit apply: at 18, 1.0 + (0.96 − 1.0)·9/18 = 0.98
+    from hydrokit.estimate.shapes import CYL_TRANSVERSE_CA, _interp
+
+    assert _interp(CYL_TRANSVERSE_CA, 7.0) == pytest.approx(0.93, rel=1e-12)
+    assert _interp(CYL_TRANSVERSE_CA, 18.0) == pytest.approx(0.98, rel=1e-12)

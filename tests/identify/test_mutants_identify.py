@@ -145,11 +145,12 @@ def test_savgol_window_is_the_odd_count_nearest_above_a_sixth_of_a_period(sample
 
 def test_jackknife_cycles_are_whole_periods_counted_from_the_release(spring_rig):
     # samples every quarter period from a release at t = 100 s: four to a cycle, cycle 0 first
+    # (a 0.5 s period, so that dividing by it and multiplying by it differ)
     from hydrokit.identify.estimators import OutputErrorEstimator
 
     est = OutputErrorEstimator(spring_rig)
-    est.period_ = 1.0
-    t = 100.0 + 0.25 * np.arange(13)  # binary fractions: the cycle edges are exact
+    est.period_ = 0.5
+    t = 100.0 + 0.125 * np.arange(13)  # binary fractions: the cycle edges are exact
     assert est._cycles(t).tolist() == [0, 0, 0, 0, 1, 1, 1, 1, 2, 2, 2, 2, 3]
 
 

@@ -57,6 +57,11 @@ def test_parses_units_and_controllers() -> None:
     assert isinstance(ap.speed, PID) and ap.speed.output_max == 150 and ap.heading.angle
     sp = m.autopilot("s-plane")
     assert isinstance(sp.depth, SPlane) and sp.depth.scale == 150
+    # a parsed mission is shared by the sweep's runs: frozen
+    import dataclasses
+
+    with pytest.raises(dataclasses.FrozenInstanceError):
+        m.current = np.zeros(3)  # type: ignore[misc]
 
 
 def test_waypoint_times_give_leg_speeds() -> None:

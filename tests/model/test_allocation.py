@@ -281,3 +281,33 @@ def test_stage_two_finds_the_least_thrust_split_that_bounded_least_squares_misse
     np.testing.assert_allclose(res.thrust, sol.x, atol=1e-4)
     bvls = lsq_linear(T, tau, bounds=(lo, hi), method="bvls", tol=1e-12).x
     assert np.linalg.norm(bvls) > np.linalg.norm(sol.x) + 0.1  # stage 1 alone is not enough
+
+
+def test_pinv_checks_either_limit_given_alone() -> None:
+    # LI2021's four thrusters asked for the wrench of 37.5 N on each (achievable: the pseudo-
+    # inverse returns exactly that). With only an upper
+    # limit of 30 N every one is reported over it; with only a lower limit of −30 N none is; a
+    # missing limit is no limit (not a reason to skip the other)
+    T = lingyun_T()
+    f_true = np.array([37.5, 37.5, 37.5, 37.5])
+    tau = T @ f_true
+    names = ["T1", "T2", "T3", "T4"]
+    upper = allocate_pinv(T, tau, f_max=[30.0] * 4, names=names)
+    np.testing.assert_allclose(upper.thrust, f_true, atol=1e-9)
+    assert upper.saturated == names
+    assert upper.warnings == ["pseudo-inverse thrust exceeds the limits of T1, T2, T3, T4"]
+    lower = allocate_pinv(T, tau, f_min=[-30.0] * 4, names=names)
+    assert lower.saturated == [] and lower.warnings == []
+
+
+def test_capability_weights_are_the_reciprocal_reach_even_below_one_newton() -> None:
+    # small thrusters (limits ±0.5 N): each DOF's reach Σ_j |T_ij| · 0.5 N is under 1 N (or
+    # N·m) for some DOFs; Q is still 1/reach for every DOF the layout reaches, and 1 where it
+    # reaches nothing
+    T = lingyun_T()
+    alloc = Allocator(T, [-0.5] * 4, [0.5] * 4)
+    assert alloc.Q is not None
+    reach = np.abs(T) @ np.full(4, 0.5)
+    assert np.any((reach > 0) & (reach < 1.0)) and np.any(reach == 0)
+    np.testing.assert_allclose(alloc.Q[reach > 0] * reach[reach > 0], 1.0, rtol=1e-12)
+    assert np.all(alloc.Q[reach == 0] == 1.0)

@@ -65,3 +65,11 @@ def test_order_one_nondimensional_needs_reference_speed():
         parse_term("Z_|w|").dimensional(-6.6, 1025.9, 1.25, None)
     # with U: ½ρL²U c'
     assert parse_term("Z_|w|").dimensional(-1.0, 1000.0, 2.0, 1.5) == pytest.approx(-0.5 * 1000 * 4 * 1.5)
+
+
+def test_a_speed_norm_over_surge_includes_the_surge_velocity():
+    # X_u*sqrt(u^2+v^2): X = c·u·√(u² + v²). Surge is velocity index 0, the first one a norm can
+    # name; at ν = (3, 4, 0, 0, 0, 0) the norm is 5, so X = 2·3·5 = 30 (and 2·3·4 = 24 without u)
+    ts = TermSet.build([(parse_term("X_u*sqrt(u^2+v^2)"), 2.0)])
+    out = ts.force(np.array([3.0, 4.0, 0.0, 0.0, 0.0, 0.0]))
+    np.testing.assert_allclose(out, [30.0, 0, 0, 0, 0, 0], rtol=1e-12)

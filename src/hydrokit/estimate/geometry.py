@@ -239,7 +239,7 @@ class Estimate(Result):
 
     geometry: Geometry
     composite: Composite
-    bem: bool = False
+    bem: bool
 
     def vehicle_fields(self) -> dict[str, Any]:
         """The combined body as vehicle-file fields (issue #3 format; full 6×6 matrices)."""

@@ -229,8 +229,9 @@ def allocate_pinv(
     achieved = T @ f
     unc, warns = _uncontrollable_warning(T, tau)
     sat: list[str] = []
-    if f_min is not None and f_max is not None:
-        lo, hi = np.asarray(f_min, float), np.asarray(f_max, float)
+    if f_min is not None or f_max is not None:  # either limit alone is checked too
+        lo = np.full(m, -np.inf) if f_min is None else np.asarray(f_min, float)
+        hi = np.full(m, np.inf) if f_max is None else np.asarray(f_max, float)
         over = [n for n, x, a, b in zip(names, f, lo, hi) if x > b * (1 + 1e-9) or x < a * (1 + 1e-9)]
         if over:
             warns.append(f"pseudo-inverse thrust exceeds the limits of {', '.join(over)}")
@@ -252,7 +253,9 @@ def allocate_pinv(
 
 
 def _at_limit(f: Array, lo: Array, hi: Array, names: list[str]) -> list[str]:
-    tol = 1e-6 * np.maximum(np.maximum(np.abs(lo), np.abs(hi)), 1.0)
+    # tolerance from the finite limits only (a missing limit is ±inf and never reached)
+    scale = np.maximum(np.abs(np.where(np.isfinite(lo), lo, 0.0)), np.abs(np.where(np.isfinite(hi), hi, 0.0)))
+    tol = 1e-6 * np.maximum(scale, 1.0)
     return [n for n, x, a, b, t in zip(names, f, lo, hi, tol) if x >= b - t or x <= a + t]
 
 
