@@ -135,10 +135,13 @@ EQUIVALENT: dict[tuple[str, str, str], str] = {
         "slow = acf is not None and acf >= 0.3 and acf_half is not None and acf_half > acf - 0.5",
         ">= -> >",
     ): ("differs only for an autocorrelation of exactly 0.3 to the last bit (probability 0): the verdict's edge"),
-    ("identify/split.py", "if stop - b < MIN_SAMPLES:", "- -> +"): (
-        "a shortcut: a motion of fewer than MIN_SAMPLES = 20 samples after the hold is refused a few lines on "
-        "by trim_launch or check_record (too few samples after trimming, or not two cycles of decay in them), "
-        "whose InputError the loop catches and skips just the same"
+    **_alike(
+        "identify/split.py",
+        "a shortcut: a motion of fewer than MIN_SAMPLES = 20 samples after the hold (or of exactly 20) is "
+        "refused a few lines on by trim_launch or check_record (too few samples after trimming, or not two "
+        "cycles of decay in them), whose InputError the loop catches and skips just the same",
+        ("if stop - b < MIN_SAMPLES:", "- -> +"),
+        ("if stop - b < MIN_SAMPLES:", "< -> <="),
     ),
     ("identify/result.py", 'ci_txt = f" [{ci[0]:.4g}, {ci[1]:.4g}]" if ci[0] is not None else ""', "0 -> 1"): (
         "a summary's interval is (None, None) or two numbers: ci[1] is None exactly when ci[0] is"
@@ -865,6 +868,22 @@ EQUIVALENT: dict[tuple[str, str, str], str] = {
     ("model/thrusters.py", "kt = 0.0 if kt < 0.0 else kt  # max(kt, 0.0), NaN kept", "< -> <="): (
         "differs only for kt exactly ±0.0: the mutant returns +0.0 where the original keeps kt, a zero "
         "either way, so the thrust loss · kt · ρ D⁴ |n| n is zero either way"
+    ),
+    (
+        "identify/preprocess.py",
+        "still = np.nonzero(np.abs(z[s0 : s1 + 1] - z[k0]) <= 0.02 * abs(float(z[k0])))[0]",
+        "<= -> <",
+    ): ("differs only for a sample exactly 2 % of the extreme from it, to the last bit: a tie"),
+    **_alike(
+        "identify/preprocess.py",
+        "the release half cycle's last sample (or the next half cycle's first) sits at the hysteresis band "
+        "or beyond it on the other side, far from the extreme (band ≤ max(4 σ, 1 % of the peak) against an "
+        "extreme that starts the decay): never within 2 % of the extreme, so it is never a hold sample",
+        ("still = np.nonzero(np.abs(z[s0 : s1 + 1] - z[k0]) <= 0.02 * abs(float(z[k0])))[0]", "+ -> -"),
+        ("still = np.nonzero(np.abs(z[s0 : s1 + 1] - z[k0]) <= 0.02 * abs(float(z[k0])))[0]", "1 -> 2"),
+    ),
+    ("identify/preprocess.py", "first = next((j for j, a in enumerate(amps) if a <= hi), None)", "<= -> <"): (
+        "differs only for a measured extreme exactly equal to the window's HI to the last bit: a tie"
     ),
     ("identify/estimators.py", "fwd = tt >= 0", ">= -> >"): (
         "a sample at t0 exactly is then replayed by the backward pass instead of the forward one: a grid "

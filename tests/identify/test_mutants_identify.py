@@ -365,25 +365,40 @@ def test_split_launches_default_takes_holds_of_one_second():
     assert runs == still_runs(t, y, min_hold=1.0) != still_runs(t, y, min_hold=2.0)
 
 
-def test_a_motion_of_min_samples_after_a_hold_is_offered_as_a_launch():
-    # rest 1.5 s, smooth lift, 1.5 s hold, then a fast decay (period 3 samples) of 19 samples: from
-    # the hold's last still sample to the record's end is exactly MIN_SAMPLES samples, the
-    # shortest record trim_launch accepts, so the length guard lets it through (one sample less
-    # and no launch is found)
+def test_a_coarse_decay_after_a_hold_is_released_at_the_hold_end():
+    # rest 1.5 s, smooth lift, 1.5 s hold (its last still sample is 399), then a decay sampled 8
+    # times a period, too coarse to fit the hand before the release: the release is the hold's
+    # last still sample (it was once where the lift crossed the band, 1 s early). 60 samples of
+    # decay make a launch; 19 (fewer than MIN_SAMPLES from the hold's end) make none
     from hydrokit.identify.preprocess import MIN_SAMPLES
     from hydrokit.identify.split import split_launches, still_runs
 
-    found = []
-    for n in (MIN_SAMPLES - 2, MIN_SAMPLES - 1):
+    found = {}
+    for n in (MIN_SAMPLES - 1, 60):
         k = np.arange(1, n + 1)
-        decay = 0.05 * np.exp(-0.02 * k) * np.cos(2 * np.pi / 3 * k)
+        decay = 0.05 * np.exp(-0.02 * k) * np.cos(2 * np.pi / 8 * k)
         lift = 0.025 * (1 - np.cos(np.linspace(0, np.pi, 100)))
         y = np.concatenate([np.zeros(150), lift, np.full(150, 0.05), decay])
         y += np.random.default_rng(0).normal(0.0, 1e-5, y.size)
         t = np.arange(y.size) / 100.0
         assert still_runs(t, y)[-1][1] == 399  # the hold's last still sample
-        found.append([(s.start >= 247, s.end >= 400) for s in split_launches(t, y)])
-    assert found == [[], [(True, True)]]
+        found[n] = [(s.start, s.release, s.end > 440) for s in split_launches(t, y)]
+    assert found == {MIN_SAMPLES - 1: [], 60: [(299, 399, True)]}
+
+
+def test_a_hold_released_into_a_coarsely_sampled_decay_releases_at_its_end():
+    # rest 2 s, a 1 s lift, held until 5.0 s, then a 1 s-period decay, read with 1 mm of noise at
+    # 6, 8 and 12 samples a period: too few to fit the hand, so the hold's last sample within
+    # 2 % of its level is the release — 5.0 s exactly, a sample of each grid
+    from hydrokit.identify.preprocess import detect_release
+
+    for fs in (6.0, 8.0, 12.0):
+        t = np.arange(0.0, 20.0, 1.0 / fs)
+        s = np.maximum(t - 5.0, 0.0)
+        y = np.where(t < 2, 0.0, np.where(t < 3, t - 2, 1.0))
+        y = np.where(t < 5.0, y, np.exp(-0.1 * s) * np.cos(2 * np.pi * s))
+        y = y + np.random.default_rng(1).normal(0.0, 1e-3, t.size)
+        assert detect_release(t, y) == pytest.approx(5.0, abs=1e-12), fs
 
 
 @pytest.mark.parametrize("zeta", [0.03, 0.2])
@@ -1584,3 +1599,21 @@ def test_the_detected_end_is_a_quarter_period_after_the_last_sample_above_the_no
     above = np.nonzero(np.abs(y - equilibrium(y)) > 4.0 * noise_floor(y))[0][-1]
     assert t[above] < 25.0  # the decay does sink into the noise before the record ends
     assert float(trimmed.t[-1]) == pytest.approx(t[above] + math.pi / (2 * WD), abs=0.015)
+
+
+def test_coarse_releases_of_a_three_sample_hold_and_of_a_kick_from_rest():
+    # 8 samples a period (1 s period), 1 mm noise. A hold of exactly three samples at its level
+    # (3.0, 3.125, 3.25 s) is a hold: released at its last sample, 3.25 s. A body at rest kicked
+    # at 1.0 s (a sine start, no hold): the release is the sample before the half cycle that
+    # leaves the rest band, the last one at rest, 1.0 s
+    from hydrokit.identify.preprocess import detect_release
+
+    t = np.arange(0.0, 20.0, 1.0 / 8.0)
+    noise = np.random.default_rng(1).normal(0.0, 1e-3, t.size)
+    s = np.maximum(t - 3.25, 0.0)
+    held = np.where(t < 2, 0.0, np.where(t < 3, t - 2, 1.0))
+    held = np.where(t < 3.25, held, np.exp(-0.1 * s) * np.cos(2 * np.pi * s))
+    assert detect_release(t, held + noise) == pytest.approx(3.25, abs=1e-12)
+    k = np.maximum(t - 1.0, 0.0)
+    kicked = np.exp(-0.1 * k) * np.sin(2 * np.pi * k)
+    assert detect_release(t, kicked + noise) == pytest.approx(1.0, abs=1e-12)

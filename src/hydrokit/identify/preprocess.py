@@ -176,6 +176,14 @@ def detect_release(t: np.ndarray, y: np.ndarray, sigma: float | None = None, fil
     tw, yw = t[sel], y[sel]
     cands = sel[(t[sel] > lo + 0.05 * period) & (t[sel] < c0 - 0.15 * period)]
     if cands.size == 0 or tw.size < 8:
+        # too few samples to fit the hand (under ~18 a period). A hold at the extreme — three or
+        # more samples of the release half cycle within 2 % of its extreme (a free swing sampled
+        # this coarsely has at most two: its samples are 20° or more of phase apart) — ends at its
+        # last such sample; otherwise the release is the sample before the half cycle. (The noise
+        # floor is no yardstick here: at this sampling the signal's own curvature inflates it.)
+        still = np.nonzero(np.abs(z[s0 : s1 + 1] - z[k0]) <= 0.02 * abs(float(z[k0])))[0]
+        if still.size >= 3:
+            return float(t[s0 + int(still[-1])])
         return float(t[max(0, s0 - 1)])
 
     def fit(tr: float) -> tuple[float, np.ndarray]:
