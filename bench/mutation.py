@@ -885,6 +885,24 @@ EQUIVALENT: dict[tuple[str, str, str], str] = {
     ("identify/preprocess.py", "first = next((j for j, a in enumerate(amps) if a <= hi), None)", "<= -> <"): (
         "differs only for a measured extreme exactly equal to the window's HI to the last bit: a tie"
     ),
+    **_alike(
+        "identify/estimators.py",
+        "start values of output-error's generic start (ζ, K_Q, q0 and v0), used after the "
+        "equation-error and log-decrement starts: Levenberg–Marquardt reaches the same minimum from "
+        "either (measured with both other starts failing, 4 launches × 3 damping/restoring models: "
+        "coefficients within 1.2e-6 of each other, a few evaluations more or less; "
+        "tests/identify/test_mutants_identify.py checks the generic start alone)",
+        ('starts.append(np.array([w * w, 0.1 * w, 0.0, y[0] - facts["offset"], 0.0, facts["offset"]]))', "* -> / [2]"),
+        (
+            'starts.append(np.array([w * w, 0.1 * w, 0.0, y[0] - facts["offset"], 0.0, facts["offset"]]))',
+            "0.0 -> 1.0 [1]",
+        ),
+        (
+            'starts.append(np.array([w * w, 0.1 * w, 0.0, y[0] - facts["offset"], 0.0, facts["offset"]]))',
+            "0.0 -> 1.0 [2]",
+        ),
+        ('starts.append(np.array([w * w, 0.1 * w, 0.0, y[0] - facts["offset"], 0.0, facts["offset"]]))', "0 -> 1"),
+    ),
     ("identify/estimators.py", "fwd = tt >= 0", ">= -> >"): (
         "a sample at t0 exactly is then replayed by the backward pass instead of the forward one: a grid "
         "step of zero length, which returns the initial state (q0, v0) bit for bit either way"

@@ -107,6 +107,15 @@ def test_quaternion_and_euler_paths_agree_and_pass_90_degrees():
     assert any("singularity" in w for w in d.warnings)
 
 
+@pytest.mark.parametrize("pitch_deg, warns", [(84.9, False), (85.3, True)])
+def test_euler_pitch_warning_starts_at_the_documented_85_degrees(pitch_deg, warns):
+    # docs/model.md: "warning when |θ| > 85°"; a held pose over two steps stays within 0.01°
+    v = load_vehicle("bluerov2-heavy")
+    tr = simulate(v, 0.002, 0.001, eta0=[0, 0, 0, 0, -math.radians(pitch_deg), 0])
+    assert np.max(np.abs(np.degrees(tr.eta[:, 4]) + pitch_deg)) < 0.01
+    assert any("singularity" in w for w in tr.warnings) is warns
+
+
 def test_current_gives_relative_velocity():
     # in a uniform current a drag-only vehicle drifts to the current's speed (no thrust)
     v = load_vehicle("bluerov2-heavy")

@@ -537,7 +537,7 @@ def _peaks(t: np.ndarray, z: np.ndarray, min_abs: float) -> list[tuple[float, fl
                 seg = z[start:i] * state
                 k = start + int(np.argmax(seg))
                 tp, ap = t[k], z[k]
-                if 0 < k < z.size - 1:
+                if k > 0:  # (k ≤ i − 1 ≤ z.size − 2: a closed half cycle always has a sample after it)
                     # vertex of the parabola through three samples (uniform spacing assumed)
                     y0, y1, y2 = z[k - 1], z[k], z[k + 1]
                     # y1 is the extreme of its half cycle and its neighbours lie inside it or

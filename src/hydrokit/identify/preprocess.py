@@ -50,16 +50,6 @@ def equilibrium(y: np.ndarray) -> float:
     return float(np.median(y[-max(5, y.size // 5) :]))
 
 
-def zero_crossings(t: np.ndarray, y: np.ndarray) -> np.ndarray:
-    """Times (s) where y changes sign, by linear interpolation."""
-    s = np.signbit(y)
-    idx = np.nonzero(s[1:] != s[:-1])[0]
-    y0, y1 = y[idx], y[idx + 1]
-    with np.errstate(divide="ignore", invalid="ignore"):
-        frac = np.where(y1 != y0, y0 / (y0 - y1), 0.5)
-    return t[idx] + frac * (t[idx + 1] - t[idx])
-
-
 def half_cycle_extremes(t: np.ndarray, z: np.ndarray, band: float) -> list[tuple[int, int, int]]:
     """One extreme per half cycle: (index of the extreme, first, last sample of the half cycle).
 
@@ -381,10 +371,17 @@ def trim_launch(
     if end is None:
         floor = max(4.0 * sigma, 1e-12)
         big = np.nonzero(np.abs(y[i0:] - eq) > floor)[0]
-        i1 = i0 + int(big[-1]) if big.size else t.size - 1
-        zc = zero_crossings(t[i0 : i1 + 1], y[i0 : i1 + 1] - eq)
-        quarter = 0.5 * float(np.median(np.diff(zc))) if zc.size >= 3 else 0.0
-        i1 = min(t.size - 1, int(np.searchsorted(t, t[i1] + quarter)))
+        if big.size:
+            # from the release to the last sample above the noise, then on to the sample nearest
+            # a quarter period later (the swing's next zero crossing): half the median spacing of
+            # the extremes above the noise (plain zero crossings multiply in the noisy tail and
+            # shorten it), none added when fewer than two extremes measure it
+            seg = slice(i0, i0 + int(big[-1]) + 1)
+            tk = t[seg][[k for k, _, _ in half_cycle_extremes(t[seg], y[seg] - eq, floor)]]
+            quarter = 0.5 * float(np.median(np.diff(tk))) if tk.size >= 2 else 0.0
+            i1 = _nearest(t, t[seg.stop - 1] + quarter)
+        else:
+            i1 = t.size - 1  # nothing above the noise: refused below (first as too short, if it is)
         how_end = "detected"
     else:
         if not (t[i0] < end <= t[-1] + 1e-12):
@@ -401,6 +398,12 @@ def trim_launch(
         raise InputError(
             f"the launch from the release ({how}, t = {t_rel:g} s) to the end ({how_end}, t = {t[i1]:g} s) holds "
             f"{i1 + 1 - i0} sample{'s' if i1 - i0 else ''}; expected at least {MIN_SAMPLES}",
+            launch.file,
+        )
+    if end is None and not big.size:
+        raise InputError(
+            f"after the release (t = {t_rel:g} s) the record stays within 4 noise floors ({floor:.3g}) of its "
+            "rest value: expected a free decay above the noise",
             launch.file,
         )
     tt = t[i0 : i1 + 1] - t[i0]

@@ -45,7 +45,9 @@ class Segment:
 
 def find_release(t: np.ndarray, y: np.ndarray) -> int:
     """Index of the last still sample before the release of a one-launch record (0 when the
-    record starts in motion). The detector of :func:`hydrokit.identify.preprocess.trim_launch`."""
+    record starts in motion or holds no free decay at all, which
+    :func:`hydrokit.identify.preprocess.check_record` then reports). The detector of
+    :func:`hydrokit.identify.preprocess.trim_launch`."""
     t = np.asarray(t, float)
     y = np.asarray(y, float)
     return _release_index(t, y, noise_floor(y))
