@@ -86,9 +86,6 @@ def _alike(path: str, reason: str, *mutants: tuple[str, str]) -> dict[tuple[str,
 
 
 EQUIVALENT: dict[tuple[str, str, str], str] = {
-    ("core/drag.py", "P = np.asarray(packed, dtype=float).reshape(-1, PACKED_WIDTH).copy()", "1 -> 2"): (
-        "reshape(-2, 9): numpy takes any negative size as the one inferred dimension"
-    ),
     **{
         ("identify/rig_model.py", f"{name} = np.{fn}(12)", "12 -> 13"): (
             "RK4 scratch buffer of the 12-state integrator: only entries below m ≤ 12 are ever read or written"
@@ -153,9 +150,6 @@ EQUIVALENT: dict[tuple[str, str, str], str] = {
     ): (
         "the 21st step of the bracketed root search takes false position instead of bisection: both keep "
         "the sign-change bracket and stop at the same tolerance (1e-12 of f or of n_max)"
-    ),
-    ("model/allocation.py", "hi = np.asarray(f_max, dtype=float).reshape(-1)", "1 -> 2"): (
-        "reshape(-2): numpy takes any negative size as the one inferred dimension"
     ),
     (
         "model/allocation.py",
@@ -256,12 +250,6 @@ EQUIVALENT: dict[tuple[str, str, str], str] = {
         ("f = -P[:, 3:6] * vp - P[:, 6:9] * np.abs(vp) * vp", "9 -> 10"),
         ("P[:, 6:9] = P[:, 6:9] @ absR.T", "9 -> 10 [1]"),
         ("P[:, 6:9] = P[:, 6:9] @ absR.T", "9 -> 10 [2]"),
-    ),
-    **_alike(
-        "model/allocation.py",
-        "reshape(-2): numpy takes any negative size as the one inferred dimension",
-        ("lo, hi = self.f_min.reshape(-1), self.f_max.reshape(-1)", "1 -> 2 [1]"),
-        ("lo, hi = self.f_min.reshape(-1), self.f_max.reshape(-1)", "1 -> 2 [2]"),
     ),
     **_alike(
         "model/thrusters.py",
@@ -378,9 +366,6 @@ EQUIVALENT: dict[tuple[str, str, str], str] = {
     ("estimate/mesh.py", "size = 0", "0 -> 1"): (
         "a placeholder for the type checker: size is read only by the MemoryError message, and every "
         "path to that handler runs p.stat() first (a failing stat raises OSError, handled apart)"
-    ),
-    ("core/drag.py", "P = np.asarray(packed, dtype=float).reshape(-1, PACKED_WIDTH)", "1 -> 2"): (
-        "reshape(-2, 9): numpy takes any negative size as the one inferred dimension"
     ),
     ("core/rigid_body.py", "M[3:6, 3:6] = parallel_axis(I_cg, mass, r_g)", "6 -> 7 [2]"): (
         "M is 6×6: numpy clips the slice 3:7 to 3:6, the same block"
@@ -519,9 +504,6 @@ EQUIVALENT: dict[tuple[str, str, str], str] = {
         ("J = hi if (va > 0) == (n > 0) else lo", "> -> >= [1]"),
         ("J = hi if (va > 0) == (n > 0) else lo", "> -> >= [2]"),
     ),
-    ("model/allocation.py", "t = np.asarray(tau, dtype=float).reshape(-1)", "1 -> 2"): (
-        "reshape(-2): numpy takes any negative size as the one inferred dimension"
-    ),
     ("model/thrusters.py", "_BISECTION_STEPS = 80", "80 -> 81"): (
         "an iteration cap never reached: after 20 false-position steps plain bisection halves a bracket "
         "of width ≤ n_max, so it is below 1e-12 n_max (the stop test) within 40 more steps, by step 61"
@@ -652,9 +634,6 @@ EQUIVALENT: dict[tuple[str, str, str], str] = {
     ("identify/result.py", "for row, f in zip(rows, fitted, strict=True):", "True -> False"): (
         "a guard only: both lists come from equivalent_damping at the same amplitudes, one row each, so "
         "they are always the same length and zip never stops early"
-    ),
-    ("core/kinematics.py", "a = np.asarray(angles, dtype=float).reshape(-1, 3)", "1 -> 2"): (
-        "reshape(-2, 3): numpy takes any negative size as the one inferred dimension"
     ),
     (
         "identify/estimators.py",
@@ -903,6 +882,52 @@ EQUIVALENT: dict[tuple[str, str, str], str] = {
         ),
         ('starts.append(np.array([w * w, 0.1 * w, 0.0, y[0] - facts["offset"], 0.0, facts["offset"]]))', "0 -> 1"),
     ),
+    **_alike(
+        "model/thrusters.py",
+        "the root search's bracket-width stop: differs only for a bracket exactly 1e-12 n_max wide to the "
+        "last bit (probability 0), and then one more step stays inside the same bracket",
+        ("if abs(g) <= tol_g or hi - lo <= tol_n:", "<= -> < [2]"),
+        ("if abs(g) <= 1e-12 * abs(f) or hi - lo <= 1e-12 * n_max:", "<= -> < [2]"),
+    ),
+    ("model/thrusters.py", "done[j] = True", "True -> False"): (
+        "done only skips curves already interpolated with an equal table: without it each later curve of "
+        "the group interpolates the group again and writes the same values to the same places"
+    ),
+    ("model/allocation.py", "self.scale = scale = max(float(np.linalg.norm(T, 2)), 1e-300)", "1e-300 -> 1.0"): (
+        "a configuration matrix of unit thrust directions has ‖T‖₂ ≥ 1, so both give ‖T‖₂; for a T scaled "
+        "down 100 or 1000 times (Python API) only the stage-2 penalty's weight changes, and _polish solves "
+        "the active set exactly: the thrusts of 150 random saturating demands agreed to 7e-10 N"
+    ),
+    ("model/allocation.py", "fixed = np.where(f <= lo + tol, lo, hi)", "<= -> <"): (
+        "f equals lo + tol (a limit plus 1e-7 of it) only by coincidence to the last bit: f at the limit "
+        "itself (clipped) passes both; probability 0 otherwise"
+    ),
+    **_alike(
+        "model/allocation.py",
+        "a thrust exactly a limit plus 1e-9 of it, to the last bit: probability 0 (a thrust at the limit "
+        "itself is tested, and passes both)",
+        (
+            "over = [n for n, x, a, b in zip(names, f, lo, hi) if x > b + 1e-9 * abs(b) or x < a - 1e-9 * abs(a)]",
+            "> -> >=",
+        ),
+        (
+            "over = [n for n, x, a, b in zip(names, f, lo, hi) if x > b + 1e-9 * abs(b) or x < a - 1e-9 * abs(a)]",
+            "< -> <=",
+        ),
+    ),
+    **_alike(
+        "model/allocation.py",
+        "what stands in for a missing (infinite) limit in the tolerance's scale: the tolerance is "
+        "1e-6 · max(scale, 1.0) just below, so 0 and 1 give the same",
+        (
+            "scale = np.maximum(np.abs(np.where(np.isfinite(lo), lo, 0.0)), np.abs(np.where(np.isfinite(hi), hi, 0.0)))",
+            "0.0 -> 1.0 [1]",
+        ),
+        (
+            "scale = np.maximum(np.abs(np.where(np.isfinite(lo), lo, 0.0)), np.abs(np.where(np.isfinite(hi), hi, 0.0)))",
+            "0.0 -> 1.0 [2]",
+        ),
+    ),
     ("identify/estimators.py", "fwd = tt >= 0", ">= -> >"): (
         "a sample at t0 exactly is then replayed by the backward pass instead of the forward one: a grid "
         "step of zero length, which returns the initial state (q0, v0) bit for bit either way"
@@ -942,7 +967,8 @@ class Mutant:
 
 
 def _skipped_nodes(tree: ast.AST) -> set[int]:
-    """ids of nodes never mutated: docstrings, f-strings, annotations, raise arguments."""
+    """ids of nodes never mutated: docstrings, f-strings, annotations, raise arguments, and the size
+    of an inferred (negative) ``reshape`` dimension (numpy reads −1 and −2 alike)."""
     skip: set[int] = set()
 
     def drop(node: ast.AST | None) -> None:
@@ -960,6 +986,10 @@ def _skipped_nodes(tree: ast.AST) -> set[int]:
             drop(node.returns)
         elif isinstance(node, ast.keyword) and node.arg == "stacklevel":
             drop(node.value)
+        elif isinstance(node, ast.Call) and isinstance(node.func, ast.Attribute) and node.func.attr == "reshape":
+            for a in node.args:
+                if isinstance(a, ast.UnaryOp) and isinstance(a.op, ast.USub):
+                    drop(a.operand)  # the sign stays mutable: reshape(1) is a different shape
         elif isinstance(node, ast.Assign) and any(isinstance(t, ast.Name) and t.id == "__all__" for t in node.targets):
             drop(node)
         if isinstance(node, (ast.Module, ast.ClassDef, ast.FunctionDef, ast.AsyncFunctionDef)) and node.body:

@@ -28,3 +28,15 @@ def test_every_equivalent_entry_names_a_mutant_and_gives_a_reason():
     stale = [k for k in runner.EQUIVALENT if k not in keys]
     assert not stale, f"EQUIVALENT entries that match no mutant: {stale}"
     assert all(len(reason) > 20 for reason in runner.EQUIVALENT.values())
+
+
+def test_an_inferred_reshape_size_keeps_its_sign_mutant_only():
+    # reshape(-1) and reshape(-2) are the same call to numpy, so the runner does not make the
+    # 1 -> 2 mutant; dropping the minus (reshape(1), a different shape) is still made
+    runner = _runner()
+    path = ROOT / "src" / "hydrokit" / "model" / "guidance.py"
+    code = "s = np.asarray(self.speeds, dtype=float).reshape(-1)"
+    assert code in path.read_text()
+    whats = {m.key[2] for m in runner.module_mutants(path, "model") if m.key[1] == code}
+    assert "drop unary -" in whats
+    assert not any(w.startswith("1 -> ") for w in whats)

@@ -161,3 +161,14 @@ def test_without_attitude_the_vehicle_starts_facing_the_first_leg(first, heading
     assert m.eta0[3:] == pytest.approx([0.0, 0.0, heading], abs=1e-15)
     py = create_mission(doc["guidance"]["waypoints"], doc["controllers"])
     np.testing.assert_array_equal(py.eta0, m.eta0)  # level (φ = θ = 0) at waypoint 0, the same heading
+
+
+def test_guidance_distances_default_to_the_documented_1_and_5_m() -> None:
+    # docs/control.md: acceptance_radius and lookahead default to 1 m and 5 m
+    import copy
+
+    doc = copy.deepcopy(BASE)
+    del doc["guidance"]["acceptance_radius"], doc["guidance"]["lookahead"]
+    m = parse(doc)
+    assert (m.path.acceptance_radius, m.path.lookahead) == (1.0, 5.0)
+    assert (parse(BASE).path.acceptance_radius, parse(BASE).path.lookahead) == (1.0, 4.0)

@@ -311,3 +311,68 @@ def test_capability_weights_are_the_reciprocal_reach_even_below_one_newton() -> 
     assert np.any((reach > 0) & (reach < 1.0)) and np.any(reach == 0)
     np.testing.assert_allclose(alloc.Q[reach > 0] * reach[reach > 0], 1.0, rtol=1e-12)
     assert np.all(alloc.Q[reach == 0] == 1.0)
+
+
+def test_a_row_no_larger_than_the_tolerance_counts_as_all_zero() -> None:
+    # ZERO_ROW_TOL = 1e-9: a yaw lever of 1e-9 (round-off of a pose given to 1e-3 m) is none;
+    # twice that is a lever; an explicit tol works the same way
+    T = np.eye(6)
+    for lever, unc in ((1e-9, ["yaw"]), (2e-9, [])):
+        T[5, 5] = lever
+        assert uncontrollable_dofs(T) == unc
+    T[5, 5] = 0.5
+    assert uncontrollable_dofs(T, tol=0.5) == ["yaw"]
+    assert uncontrollable_dofs(T, tol=0.4999) == []
+
+
+def test_pinv_reports_a_lower_limit_given_alone_and_keeps_the_limits_given() -> None:
+    # the wrench of −37.5 N on each of LI2021's four thrusters (achievable: residual 0). A lower
+    # limit of −30 N alone: every one is below it, and at it within 1e-6 of the limit; an upper
+    # limit of 50 N alone: none is over it. The JSON keeps the limit given and writes the
+    # missing one as null (no limit)
+    T = lingyun_T()
+    names = ["T1", "T2", "T3", "T4"]
+    tau = T @ np.full(4, -37.5)
+    lower = allocate_pinv(T, tau, f_min=[-30.0] * 4, names=names)
+    assert lower.residual < 1e-9
+    assert lower.saturated == names
+    assert lower.warnings == ["pseudo-inverse thrust exceeds the limits of T1, T2, T3, T4"]
+    assert lower.to_dict()["thrust_limits"] == [[-30.0, None]] * 4
+    upper = allocate_pinv(T, tau, f_max=[50.0] * 4, names=names)
+    assert upper.saturated == [] and upper.warnings == []
+    assert upper.to_dict()["thrust_limits"] == [[None, 50.0]] * 4
+    assert allocate_pinv(T, tau, names=names).to_dict()["thrust_limits"] is None
+
+
+def test_pinv_residual_is_what_the_thrusters_cannot_give() -> None:
+    # a surge thruster and a heave thruster at the origin: the sway part of τ is out of reach
+    T = np.zeros((6, 2))
+    T[0, 0] = T[2, 1] = 1.0
+    r = allocate_pinv(T, [10.0, 3.0, -4.0, 0.0, 0.0, 0.0])
+    np.testing.assert_allclose(r.thrust, [10.0, -4.0], atol=1e-12)
+    assert r.residual == pytest.approx(3.0, rel=1e-12)
+
+
+def test_thrust_within_a_millionth_of_a_limit_is_at_it() -> None:
+    # _at_limit's tolerance is 1e-6 of the limit (at least 1e-6 N): 37.5 − 3e-5 N against an upper
+    # limit of 37.5 N is at it, 37.5 − 5e-5 N is not
+    T = lingyun_T()
+    for f, at in ((37.5 - 3e-5, ["T1", "T2", "T3", "T4"]), (37.5 - 5e-5, [])):
+        r = allocate_pinv(T, T @ np.full(4, f), f_min=[-37.5] * 4, f_max=[37.5] * 4, names=["T1", "T2", "T3", "T4"])
+        assert r.saturated == at
+
+
+def test_pinv_thrust_at_a_limit_of_either_sign_is_not_beyond_it() -> None:
+    # T = I: thrust = demand. Limits [5, 20] N (a thruster that cannot idle) and [−20, −5] N: a
+    # thrust exactly at 5 or −5 N is at its limit, not beyond it (the relative margin once
+    # shrank the wrong way for a positive lower or a negative upper limit); 4.99 N is beyond
+    T = np.eye(6)
+    lo, hi = [5.0, -20.0, -20, -20, -20, -20], [20.0, -5.0, 20, 20, 20, 20]
+    at = allocate_pinv(T, [5.0, -5.0, 0, 0, 0, 0], f_min=lo, f_max=hi)
+    assert at.warnings == [] and at.saturated == ["T1", "T2"]
+    beyond = allocate_pinv(T, [4.99, -4.99, 0, 0, 0, 0], f_min=lo, f_max=hi)
+    assert beyond.warnings == ["pseudo-inverse thrust exceeds the limits of T1, T2"]
+    # round-off past ±20 N by 1e-8 N (5e-10 of the limit) is not beyond; by 1e-7 N (5e-9) it is
+    assert allocate_pinv(T, [10, -10, 20 + 1e-8, -20 - 1e-8, 0, 0], f_min=lo, f_max=hi).warnings == []
+    far = allocate_pinv(T, [10, -10, 20 + 1e-7, -20 - 1e-7, 0, 0], f_min=lo, f_max=hi)
+    assert far.warnings == ["pseudo-inverse thrust exceeds the limits of T3, T4"]

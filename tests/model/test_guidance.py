@@ -66,6 +66,7 @@ def test_path_distance_closed_form() -> None:
         ([], [], "at least 2 points"),
         ([[0, 0, 0]], [], "at least 2 points"),
         ([[0, 0, 0], [0, 0, 0], [1, 0, 0]], [1, 1], "waypoint 1 repeats waypoint 0"),
+        ([[0, 0, 0], [0.5, 0, 0], [0.5, 0, 0]], [1, 1], "waypoint 2 repeats waypoint 1"),  # after a short leg
         ([[0, 0, 0], [1, 0, 0]], [-1], "leg speeds"),
     ],
 )

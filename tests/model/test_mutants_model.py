@@ -263,18 +263,48 @@ def test_mission_defaults_are_the_documented_ones():
     np.testing.assert_array_equal(m.path.speeds, [0.5])
 
 
-def test_pid_integral_alone_never_demands_more_than_the_largest_output():
+@pytest.mark.parametrize("ki", [4.0, 0.5])
+def test_pid_integral_alone_never_demands_more_than_the_largest_output(ki):
     # PID Notes: |k_i I| ≤ max(|output_min|, |output_max|). Here a derivative term (rate −100)
     # keeps the output inside the limits while a steady error e = 1 integrates, so only that
-    # bound stops the integral: I = 10 / k_i = 2.5 (error unit · s)
+    # bound stops the integral: I = 10 / k_i (error unit · s), for a gain above or below 1
     from hydrokit.model.control import PID
 
-    pid = PID(kp=0.0, ki=4.0, kd=1.0, output_min=-10.0, output_max=10.0)
+    pid = PID(kp=0.0, ki=ki, kd=1.0, output_min=-10.0, output_max=10.0)
     state = pid.initial_state()
     for _ in range(400):
         out, state = pid.update(state, measurement=1.0, setpoint=0.0, dt=0.1, rate=-100.0)
-    assert state.integral == pytest.approx(2.5, rel=1e-12)
+    assert state.integral == pytest.approx(10.0 / ki, rel=1e-12)
     assert out == 10.0  # pd = 100 minus k_i I = 10 still above the upper limit
+
+
+def test_pid_first_step_and_a_zero_step_have_no_derivative_kick():
+    # without a given rate the derivative is the measurement's change over dt: none before a
+    # previous measurement exists, none over dt = 0; afterwards (0.5 − 0.3)/0.1 = 2 per s
+    from hydrokit.model.control import PID
+
+    pid = PID(kp=0.0, ki=0.0, kd=5.0)
+    out, state = pid.update(pid.initial_state(), measurement=0.1, setpoint=0.0, dt=0.1)
+    assert out == 0.0
+    out, state = pid.update(state, measurement=0.3, setpoint=0.0, dt=0.0)
+    assert out == 0.0
+    out, _ = pid.update(state, measurement=0.5, setpoint=0.0, dt=0.1)
+    assert out == pytest.approx(-5.0 * 2.0, rel=1e-9)
+
+
+def test_pid_refuses_equal_output_limits_and_is_immutable():
+    import dataclasses
+
+    from hydrokit.model.control import PID, AutopilotState
+
+    with pytest.raises(InputError, match=r"PID output limits \[3.0, 3.0\]: expected output_min < output_max"):
+        PID(kp=1.0, output_min=3.0, output_max=3.0)
+    pid = PID(kp=1.0)
+    with pytest.raises(dataclasses.FrozenInstanceError):
+        pid.kp = 2.0  # type: ignore[misc]
+    state = AutopilotState()
+    with pytest.raises(dataclasses.FrozenInstanceError):
+        state.loops = ()  # type: ignore[misc]
 
 
 @pytest.mark.parametrize("va", [0.3, 0.9, 2.5, -0.3, -0.9])
@@ -959,3 +989,36 @@ def test_a_thruster_with_a_range_under_one_newton_is_still_free():
     np.testing.assert_allclose(res.thrust, [0.4, 0.4], atol=1e-9)
     res = allocate_constrained(T, [0.8, 0, 0, 0, 0, 0], [0.3, -10.0], [0.3, 10.0])  # pinned at 0.3 N
     np.testing.assert_allclose(res.thrust, [0.3, 0.5], atol=1e-9)
+
+
+def test_propeller_curve_refuses_a_range_without_forward_ratios_and_a_nonpositive_density():
+    # the docstring's contracts: advance_ratio_range has low ≤ 0 < high (J = 0, bollard pull, must
+    # lie inside, and some forward J beyond it), and ρ > 0
+    from hydrokit.model.thrusters import PropellerCurve
+
+    kw = dict(diameter=0.1, kt_forward=(0.4,), max_speed=50.0)
+    assert PropellerCurve(**kw, advance_ratio_range=(0.0, 0.5)).advance_ratio_range == (0.0, 0.5)
+    for rng in ((-0.5, 0.0), (0.1, 0.5)):
+        with pytest.raises(InputError, match=r"advance_ratio_range = .*expected \[low ≤ 0, high > 0\]"):
+            PropellerCurve(**kw, advance_ratio_range=rng)
+    for rho in (0.0, -1000.0):
+        with pytest.raises(InputError, match="density"):
+            PropellerCurve(**kw, density=rho)
+
+
+def test_curves_and_thruster_sets_are_immutable():
+    # batch methods group thrusters by equal curves and ThrusterSet binds one density into them
+    # all: a curve or set changed after construction would silently break both
+    import dataclasses
+
+    from hydrokit.model.thrusters import PropellerCurve, ThrusterSet
+
+    curve = PropellerCurve(diameter=0.1, kt_forward=(0.4,), max_speed=50.0)
+    with pytest.raises(dataclasses.FrozenInstanceError):
+        curve.density = 1.0  # type: ignore[misc]
+    ts = _two_table_set()
+    assert isinstance(ts, ThrusterSet)
+    with pytest.raises(dataclasses.FrozenInstanceError):
+        ts.density = 1.0  # type: ignore[misc]
+    with pytest.raises(dataclasses.FrozenInstanceError):
+        ts.thrusters[0].max_thrust = 1.0  # type: ignore[misc]

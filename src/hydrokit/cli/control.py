@@ -81,8 +81,8 @@ def _print_allocation(doc: dict[str, Any]) -> None:
         tt.add_row(
             str(name),
             f"{doc['thrust'][i]:.4g}",
-            f"{lo:.4g}",
-            f"{hi:.4g}",
+            "none" if lo is None else f"{lo:.4g}",
+            "none" if hi is None else f"{hi:.4g}",
             f"{doc['command'][i]:.4g}",
             doc["command_unit"][i],
             "yes" if name in doc["saturated"] else "",

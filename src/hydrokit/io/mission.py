@@ -227,8 +227,10 @@ def _parse_guidance(value: Any, source: str) -> WaypointPath:
             f"field 'guidance.{cut(str(bad[0]))}': unknown (allowed: acceptance_radius, lookahead, speed, waypoints)",
             source,
         )
-    radius = _num(g.get("acceptance_radius", 1.0), "guidance.acceptance_radius", source, positive=True)
-    lookahead = _num(g.get("lookahead", 5.0), "guidance.lookahead", source, positive=True)
+    radius = _num(
+        g.get("acceptance_radius", WaypointPath.acceptance_radius), "guidance.acceptance_radius", source, positive=True
+    )
+    lookahead = _num(g.get("lookahead", WaypointPath.lookahead), "guidance.lookahead", source, positive=True)
     default_speed = _num(g.get("speed", 0.5), "guidance.speed", source, nonneg=True)
     wps = g.get("waypoints")
     if not isinstance(wps, list) or len(wps) < 2:

@@ -20,7 +20,7 @@ from hydrokit.errors import InputError
 Array = NDArray[np.float64]
 
 
-#: A row of T whose largest entry is below this (N per N, m) counts as all-zero: poses are
+#: A row of T whose largest entry is at most this (N per N, m) counts as all-zero: poses are
 #: given to ~1e-3 m, so anything smaller is round-off, not a lever arm.
 ZERO_ROW_TOL = 1e-9
 
@@ -229,10 +229,12 @@ def allocate_pinv(
     achieved = T @ f
     unc, warns = _uncontrollable_warning(T, tau)
     sat: list[str] = []
-    if f_min is not None or f_max is not None:  # either limit alone is checked too
+    lo = hi = None
+    if f_min is not None or f_max is not None:  # either limit alone is checked (the other is ±inf)
         lo = np.full(m, -np.inf) if f_min is None else np.asarray(f_min, float)
         hi = np.full(m, np.inf) if f_max is None else np.asarray(f_max, float)
-        over = [n for n, x, a, b in zip(names, f, lo, hi) if x > b * (1 + 1e-9) or x < a * (1 + 1e-9)]
+        # beyond a limit by more than 1e-9 of it (a limit of either sign)
+        over = [n for n, x, a, b in zip(names, f, lo, hi) if x > b + 1e-9 * abs(b) or x < a - 1e-9 * abs(a)]
         if over:
             warns.append(f"pseudo-inverse thrust exceeds the limits of {', '.join(over)}")
         sat = _at_limit(f, lo, hi, names)
@@ -247,8 +249,8 @@ def allocate_pinv(
         tau=tau,
         names=list(names),
         configuration_matrix=T,
-        f_min=None if f_min is None or f_max is None else np.asarray(f_min, float),
-        f_max=None if f_min is None or f_max is None else np.asarray(f_max, float),
+        f_min=lo,
+        f_max=hi,
     )
 
 

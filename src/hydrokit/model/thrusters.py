@@ -444,7 +444,7 @@ class PropellerCurve(ThrustCurve):
             J = jhi if jhi < J else J  # min(J, jhi)
         else:
             J = jhi if (va > 0) == (n > 0) else jlo
-        kt = (((0.0 * J + k[0]) * J + k[1]) * J + k[2]) * J + k[3]  # _horner, unrolled
+        kt = ((k[0] * J + k[1]) * J + k[2]) * J + k[3]  # _horner, unrolled (its 0.0 · J + k[0] is k[0]: J is finite)
         kt = 0.0 if kt < 0.0 else kt  # max(kt, 0.0), NaN kept
         return loss * kt * rho * D4 * abs(n) * n
 
@@ -478,7 +478,7 @@ class PropellerCurve(ThrustCurve):
             J = jhi if jhi < J else J
         else:
             J = j_far
-        kt = (((0.0 * J + k0) * J + k1) * J + k2) * J + k3
+        kt = ((k0 * J + k1) * J + k2) * J + k3
         kt = 0.0 if kt < 0.0 else kt
         t_end = loss * kt * rho * D4 * abs(n) * n
         if fwd:
@@ -505,7 +505,7 @@ class PropellerCurve(ThrustCurve):
                     J = jhi if jhi < J else J
                 else:
                     J = j_far
-                kt = (((0.0 * J + k0) * J + k1) * J + k2) * J + k3
+                kt = ((k0 * J + k1) * J + k2) * J + k3
                 kt = 0.0 if kt < 0.0 else kt
                 g = loss * kt * rho * D4 * abs(n) * n - f
             if abs(g) <= tol_g or hi - lo <= tol_n:
