@@ -928,6 +928,20 @@ EQUIVALENT: dict[tuple[str, str, str], str] = {
             "0.0 -> 1.0 [2]",
         ),
     ),
+    ("identify/estimators.py", "dof = max(1, H.shape[0] - H.shape[1])", "1 -> 2 [1]"): (
+        "a guard that never binds: a launch has at least MIN_SAMPLES = 20 samples, the Savitzky–Golay "
+        "edges take at most a third of them at the coarsest sampling a 2-cycle launch allows, so H has "
+        "13 or more rows against at most 6 columns (dof ≥ 7)"
+    ),
+    ("identify/estimators.py", "shift = float(coef[-1]) / float(coef[0]) if coef[0] != 0 else 0.0", "0 -> 1 [3]"): (
+        "coef[0] is the fitted ω² (rad²/s²) of a least-squares fit to measured accelerations: exactly "
+        "1.0 or exactly 0.0 to the last bit only by coincidence (probability 0)"
+    ),
+    ("identify/estimators.py", "if len(peaks) >= 3:", "3 -> 4"): (
+        "with exactly three extremes (signs alternate: one per half cycle) only one same-sign pair "
+        "exists, so the estimator refuses the record a few lines below ('fewer than two cycles') "
+        "whether or not the rest value was refined from them"
+    ),
     ("identify/estimators.py", "fwd = tt >= 0", ">= -> >"): (
         "a sample at t0 exactly is then replayed by the backward pass instead of the forward one: a grid "
         "step of zero length, which returns the initial state (q0, v0) bit for bit either way"

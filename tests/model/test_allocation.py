@@ -360,6 +360,10 @@ def test_thrust_within_a_millionth_of_a_limit_is_at_it() -> None:
     for f, at in ((37.5 - 3e-5, ["T1", "T2", "T3", "T4"]), (37.5 - 5e-5, [])):
         r = allocate_pinv(T, T @ np.full(4, f), f_min=[-37.5] * 4, f_max=[37.5] * 4, names=["T1", "T2", "T3", "T4"])
         assert r.saturated == at
+    # limits of ±0.5 N: the tolerance is its floor, 1e-6 N (0.5 − 0.8e-6 N is at it, 0.5 − 1.5e-6 N not)
+    for f, at in ((0.5 - 0.8e-6, ["T1", "T2", "T3", "T4"]), (0.5 - 1.5e-6, [])):
+        r = allocate_pinv(T, T @ np.full(4, f), f_min=[-0.5] * 4, f_max=[0.5] * 4, names=["T1", "T2", "T3", "T4"])
+        assert r.saturated == at
 
 
 def test_pinv_thrust_at_a_limit_of_either_sign_is_not_beyond_it() -> None:
