@@ -1714,3 +1714,29 @@ def test_log_decrement_corrects_the_pendulum_period_for_amplitude(pendulum_rig):
     ld = identify_launch(pendulum_rig, launch, "log-decrement")
     oe = identify_launch(pendulum_rig, launch, "output-error")
     assert ld.natural_frequency == pytest.approx(oe.natural_frequency, rel=5e-5)
+
+
+def test_speed_max_of_a_launch_that_starts_at_its_fastest(spring_rig):
+    # q = (V/ω_d) e^{−σt} sin ω_d t passes its rest value at t = 0 with q̇ = V and slows from
+    # there (q̈(0) = −2σV): the largest speed is V, at the launch's first sample — which the
+    # velocity grid must include
+    V = 0.25  # m/s
+    t = np.arange(0.0, 8.0 + 1e-9, 0.005)
+    y = V / WD * np.exp(-SIGMA * t) * np.sin(WD * t)
+    res = identify_launch(spring_rig, Launch(t, y, "closed-form"), "output-error")
+    assert res.extra["speed_max"] == pytest.approx(V, rel=2e-4)
+    assert res.reynolds_max == pytest.approx(V * spring_rig.reference_length / spring_rig.kinematic_viscosity, rel=2e-4)
+
+
+def test_peaks_leave_out_a_last_half_cycle_that_ends_inside_the_band():
+    # cos t from 0 to 3π + 1.5: maxima at 0 and 2π, minimum at π close their half cycles by
+    # crossing the far side of the ±0.1 band; the minimum at 3π is followed only by samples
+    # inside the band (cos(3π + 1.5) = −0.07), never crossed, so it is left out
+    from hydrokit.identify.estimators import _peaks
+
+    t = np.arange(0.0, 3 * np.pi + 1.5, 0.01)
+    peaks = _peaks(t, np.cos(t), 0.1)
+    np.testing.assert_allclose([tp for tp, _ in peaks], [0.0, np.pi, 2 * np.pi], atol=1e-6)
+    # extended until it leaves the band upwards, that minimum closes too
+    t2 = np.arange(0.0, 3 * np.pi + 1.7, 0.01)
+    assert len(_peaks(t2, np.cos(t2), 0.1)) == 4
