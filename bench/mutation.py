@@ -942,6 +942,9 @@ EQUIVALENT: dict[tuple[str, str, str], str] = {
         "exists, so the estimator refuses the record a few lines below ('fewer than two cycles') "
         "whether or not the rest value was refined from them"
     ),
+    ("identify/preprocess.py", "k = start + int(np.argmax(z[start:i] * state))", "* -> /"): (
+        "state is +1 or −1 here (a half cycle is only closed from a nonzero state), and z / ±1 is z · ±1 exactly"
+    ),
     ("identify/estimators.py", "fwd = tt >= 0", ">= -> >"): (
         "a sample at t0 exactly is then replayed by the backward pass instead of the forward one: a grid "
         "step of zero length, which returns the initial state (q0, v0) bit for bit either way"

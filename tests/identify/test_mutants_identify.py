@@ -1740,3 +1740,21 @@ def test_peaks_leave_out_a_last_half_cycle_that_ends_inside_the_band():
     # extended until it leaves the band upwards, that minimum closes too
     t2 = np.arange(0.0, 3 * np.pi + 1.7, 0.01)
     assert len(_peaks(t2, np.cos(t2), 0.1)) == 4
+
+
+def test_a_knock_beyond_twenty_extremes_leaves_the_release_alone():
+    # held at 1 until 2 s, then a 1 Hz decay (σ = 0.06 /s) and, ten cycles on, a knock as big as
+    # the release. The decay test reads up to 20 extremes from the release (extremes 0–19): a knock
+    # at extreme 20 is beyond them and the release stays at 2 s; at extreme 19 it is inside them,
+    # the amplitudes no longer fall, and the free decay is taken to start near the knock
+    from hydrokit.identify.preprocess import detect_release
+
+    t = np.arange(0.0, 30.0, 0.01)
+    s = np.maximum(t - 2.0, 0.0)
+    decay = np.where(t < 2.0, 1.0, np.exp(-0.06 * s) * np.cos(2 * np.pi * s))
+    noise = np.random.default_rng(0).normal(0.0, 1e-3, t.size)
+    for k, late in ((20, False), (19, True)):
+        tk = 2.0 + 0.5 * k  # the time of extreme k, signed like it
+        knock = np.exp(-(((t - tk) / 0.05) ** 2)) * np.sign(np.cos(np.pi * k))
+        tr = detect_release(t, decay + knock + noise)
+        assert (tr > tk - 1.0) if late else abs(tr - 2.0) < 0.005, (k, tr)

@@ -1022,3 +1022,18 @@ def test_curves_and_thruster_sets_are_immutable():
         ts.density = 1.0  # type: ignore[misc]
     with pytest.raises(dataclasses.FrozenInstanceError):
         ts.thrusters[0].max_thrust = 1.0  # type: ignore[misc]
+
+
+def test_a_vehicle_repr_leaves_out_its_thruster_set():
+    # the vehicle's repr lists its own coefficients; the thruster set (every curve's table) is
+    # left out, and printed on its own when wanted
+    import yaml
+
+    import hydrokit
+    from hydrokit.io.vehicle import resolve_vehicle
+
+    v = hydrokit.vehicle_from_dict(yaml.safe_load(resolve_vehicle("lingyun").read_text()), "lingyun")
+    assert v.thrusters is not None
+    text = repr(v)
+    assert text.startswith("Vehicle(") and "D_Q=" in text
+    assert "thrusters=" not in text and "ThrusterSet(" not in text

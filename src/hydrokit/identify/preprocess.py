@@ -86,7 +86,7 @@ def _free_start(t: np.ndarray, z: np.ndarray, ext: list[tuple[int, int, int]], b
         a = amps[j:m]
         if np.any(a[2:] > a[:-2] + tol):
             continue
-        n = min(len(ext), j + 21)
+        n = min(len(ext), j + 20)  # up to 20 extremes
         if n - j >= 6:
             tt, aa = times[j:n] - times[j], amps[j:n]
             H = np.column_stack([np.ones_like(tt), tt, (-1.0) ** np.arange(tt.size)])
@@ -157,7 +157,7 @@ def detect_release(t: np.ndarray, y: np.ndarray, sigma: float | None = None, fil
     wd = 2 * math.pi / period
     wn = wd / math.sqrt(1 - zeta**2)
     # the crossing that ends the release half cycle
-    c0 = float(t[min(s1 + 1, t.size - 1)])
+    c0 = float(t[s1 + 1])  # (a closed half cycle: s1 + 1 is its crossing sample, inside the record)
     if c0 - t[0] < 0.3 * period:
         return float(t[0])  # the record starts in free motion
     lo = max(float(t[0]), c0 - 0.55 * period)
