@@ -945,6 +945,17 @@ EQUIVALENT: dict[tuple[str, str, str], str] = {
     ("identify/preprocess.py", "k = start + int(np.argmax(z[start:i] * state))", "* -> /"): (
         "state is +1 or −1 here (a half cycle is only closed from a nonzero state), and z / ±1 is z · ±1 exactly"
     ),
+    ("model/terms.py", "VEL, ABS, SIGN, NORM = 1, 2, 3, 4", "4 -> 5"): (
+        "NORM is the one kind both evaluators (TermSet.force and the compiled loop) reach by 'else', "
+        "after 0 ends a term and 1–3 are matched: 4 and 5 take the same branch"
+    ),
+    ("model/terms.py", "-np.ones((0, MAX_FACTORS, 3), np.int64),", "drop unary -"): (
+        "the empty term set's index array has no elements (0 rows), so −1 or +1 fills nothing"
+    ),
+    ("model/terms.py", "for m, i in enumerate(f.indices[:3]):", "3 -> 4"): (
+        "a factor has at most three indices (the parser refuses a norm of more, every other factor "
+        "has one), so [:3] and [:4] take all of them"
+    ),
     ("identify/estimators.py", "fwd = tt >= 0", ">= -> >"): (
         "a sample at t0 exactly is then replayed by the backward pass instead of the forward one: a grid "
         "step of zero length, which returns the initial state (q0, v0) bit for bit either way"
@@ -1035,7 +1046,9 @@ def _jitted(tree: ast.AST) -> set[str]:
 
 def _scopes(tree: ast.AST) -> dict[int, int]:
     """id(node) → co_firstlineno of the innermost enclosing function (0 at module level, in a
-    class body, or in a numba-compiled function, whose calls a profiler cannot see)."""
+    class body, or in a numba-compiled function, whose calls a profiler cannot see). A function's
+    decorators and default values belong to the scope that defines it: they run once, at the
+    ``def``, even when the body never does (an abstract method's default)."""
     jitted = _jitted(tree)
     out: dict[int, int] = {}
 
@@ -1048,6 +1061,12 @@ def _scopes(tree: ast.AST) -> dict[int, int]:
                 s = 0 if c else min([child.lineno] + [d.lineno for d in child.decorator_list])
             out[id(child)] = s
             visit(child, s, c)
+            if isinstance(child, (ast.FunctionDef, ast.AsyncFunctionDef, ast.Lambda)):
+                # decorators and default values run where the def statement runs, not in the body
+                a = child.args
+                for o in [*getattr(child, "decorator_list", ()), *a.defaults, *(d for d in a.kw_defaults if d)]:
+                    out[id(o)] = scope
+                    visit(o, scope, compiled)
 
     visit(tree, 0, False)
     return out

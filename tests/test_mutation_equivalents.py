@@ -40,3 +40,19 @@ def test_an_inferred_reshape_size_keeps_its_sign_mutant_only():
     whats = {m.key[2] for m in runner.module_mutants(path, "model") if m.key[1] == code}
     assert "drop unary -" in whats
     assert not any(w.startswith("1 -> ") for w in whats)
+
+
+def test_a_default_value_belongs_to_the_scope_that_defines_its_function():
+    # ThrustCurve.command is abstract: its body never runs, but its default advance_speed = 0.0 is
+    # evaluated when the class is made. Its mutant must be tested by the tests that import the
+    # module (scope 0), not by the (no) tests that run the body; a body line keeps its function
+    runner = _runner()
+    path = ROOT / "src" / "hydrokit" / "model" / "thrusters.py"
+    lines = path.read_text().splitlines()
+    mutants = runner.module_mutants(path, "model")
+    line = next(
+        i for i, s in enumerate(lines, 1) if "def command(self, thrust: float, advance_speed: float = 0.0)" in s
+    )
+    assert {m.scope for m in mutants if m.line == line} == {0}
+    body = next(i for i, s in enumerate(lines, 1) if "if g_hi <= 0.0:  # even the speed limit" in s)
+    assert all(m.scope > 0 for m in mutants if m.line == body)

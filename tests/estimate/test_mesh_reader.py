@@ -104,6 +104,7 @@ def test_obj_polygons_are_fanned_and_mixed_with_quads(tmp_path):
         (13, r"announces 13 triangles but is truncated: its 684 bytes hold 12\)"),  # whole triangles, not 12.0
         (10**9, "announces 1000000000"),
         (11, "announces 11 triangles but 50 bytes follow them"),
+        (1, "announces 1 triangle but 550 bytes follow them"),  # one, in the singular
     ],
 )
 def test_binary_stl_whose_header_lies_is_refused_before_parsing(tmp_path, monkeypatch, count, match):
@@ -366,3 +367,27 @@ def test_the_size_bound_is_200_megabytes(tmp_path):
         f.truncate(200_000_001)
     with pytest.raises(InputError, match=r"has 200,000,001 bytes \(200 MB\), more than the 200,000,000 bytes"):
         read_mesh(path)
+
+
+def test_an_ascii_stl_facet_of_two_vertices_is_refused_in_words(tmp_path):
+    # meshio's ASCII reader raises a ReadError without a message for a facet that is not one
+    # 'facet normal' line and three 'vertex' lines: the error says that instead of nothing
+    path = tmp_path / "two.stl"
+    path.write_text(
+        "solid x\nfacet normal 0 0 0\n outer loop\n  vertex 0 0 0\n  vertex 1 0 0\n endloop\nendfacet\nendsolid x\n"
+    )
+    with pytest.raises(
+        InputError, match=r"\(ReadError: the facets are not each one 'facet normal' line and three 'vertex' lines\)"
+    ):
+        read_mesh(path)
+
+
+@pytest.mark.parametrize("quad", [[0, 1, 2, 2], [0, 1, 2, 0], [0, 1, 1, 2]])
+def test_a_quad_repeating_a_corner_is_one_triangle(quad):
+    # a quad face that repeats any of its corners is a triangle: its second half is degenerate
+    # (two equal corners) and left out, whichever corners they are
+    from hydrokit.estimate.mesh import SurfaceMesh
+
+    v = np.array([[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]])
+    tri = SurfaceMesh(v, np.array([quad])).triangles()
+    assert tri.shape == (1, 3) and sorted(tri[0].tolist()) == [0, 1, 2]

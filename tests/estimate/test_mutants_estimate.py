@@ -742,3 +742,12 @@ def test_the_cylinder_table_between_its_last_two_finite_rows_is_linear():
 
     assert _interp(CYL_TRANSVERSE_CA, 7.0) == pytest.approx(0.93, rel=1e-12)
     assert _interp(CYL_TRANSVERSE_CA, 18.0) == pytest.approx(0.98, rel=1e-12)
+
+
+def test_the_cylinder_table_starts_at_its_first_dnv_row():
+    # DNV-RP-H103 (2010) Table A-2, circular cylinder with free ends: C_A = 0.62 at L/D = 1.2 and
+    # 0.78 at 2.5; between them the linear 0.70 at L/D = 1.85
+    from hydrokit.estimate.shapes import CYL_TRANSVERSE_CA, _interp
+
+    assert _interp(CYL_TRANSVERSE_CA, 1.2) == pytest.approx(0.62, rel=1e-12)
+    assert _interp(CYL_TRANSVERSE_CA, 1.85) == pytest.approx(0.70, rel=1e-12)

@@ -58,6 +58,11 @@ def test_a_floating_rig_without_positive_finite_restoring_is_refused(gm: float) 
         rig_constants(rig)
     small = dataclasses.replace(rig, floating=("restoring", (0.5, 0.0, 0.0)))
     assert rig_constants(small).S == 0.5
+    # built in Python with neither a floating section nor a stiffness: no restoring at all
+    bare = dataclasses.replace(rig, floating=None, stiffness=None)
+    with pytest.raises(InputError, match=r"floating restoring C1 = 0.0: expected a positive number"):
+        rig_constants(bare)
+    assert rig_constants(dataclasses.replace(bare, stiffness=0.7)).S == 0.7
 
 
 def test_a_torsion_rig_document_reads_back() -> None:

@@ -1758,3 +1758,19 @@ def test_a_knock_beyond_twenty_extremes_leaves_the_release_alone():
         knock = np.exp(-(((t - tk) / 0.05) ** 2)) * np.sign(np.cos(np.pi * k))
         tr = detect_release(t, decay + knock + noise)
         assert (tr > tk - 1.0) if late else abs(tr - 2.0) < 0.005, (k, tr)
+
+
+@pytest.mark.parametrize(("hold", "release"), [(0.035, 0.0), (0.045, 0.07)])
+def test_a_record_starts_in_free_motion_only_if_its_first_crossing_comes_within_0_3_period(hold, release):
+    # held at 1 for `hold` s, then a 1 s-period decay, sampled every 35 ms. The first crossing of
+    # the band (0.2516 s after the release) comes at the sample 0.28 s or 0.315 s: under 0.3 period
+    # from the record's start, the record is taken to start in free motion (release t[0]); from
+    # 0.3 period on, the hold is found — at its last sample within 2 % of the level, 0.07 s
+    # (cos(2π·0.025) = 0.988), one sample after the true release at 0.045 s
+    from hydrokit.identify.preprocess import detect_release
+
+    t = np.arange(0.0, 20.0, 0.035)
+    s = np.maximum(t - hold, 0.0)
+    y = np.where(t < hold, 1.0, np.exp(-0.1 * s) * np.cos(2 * np.pi * s))
+    y = y + np.random.default_rng(0).normal(0.0, 1e-3, t.size)
+    assert detect_release(t, y) == pytest.approx(release, abs=1e-12)

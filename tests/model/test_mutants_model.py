@@ -305,6 +305,9 @@ def test_pid_refuses_equal_output_limits_and_is_immutable():
     state = AutopilotState()
     with pytest.raises(dataclasses.FrozenInstanceError):
         state.loops = ()  # type: ignore[misc]
+    axis = pid.initial_state()
+    with pytest.raises(dataclasses.FrozenInstanceError):
+        axis.integral = 1.0  # type: ignore[misc]
 
 
 @pytest.mark.parametrize("va", [0.3, 0.9, 2.5, -0.3, -0.9])
@@ -798,13 +801,16 @@ def test_the_shortest_term_names_parse():
 @pytest.mark.parametrize(("name", "n"), [("Y_v", 1), ("Y_vvv", 3), ("N_uvvr", 4)])
 def test_a_nondimensional_term_of_n_velocities_scales_with_speed_to_the_two_minus_n(name, n):
     # SPEC §3: a non-dimensional value becomes ½ ρ L^k U^(2 − n) value for n velocity factors
-    # (k the scale power); with U = 2 m/s the powers 1, −1, −2 are told apart
+    # (k the scale power); with U = 2 m/s the powers 1, −1, −2 are told apart, and a slow
+    # reference speed (0.5 m/s) is a speed like any other
     from hydrokit.model.terms import parse_term
 
     t = parse_term(name)
     assert t.order() == n
-    rho, L, U, v = 1025.0, 1.25, 2.0, -0.3
-    assert t.dimensional(v, rho, L, U) == pytest.approx(0.5 * rho * L ** t.scale_power() * v * U ** (2 - n), rel=1e-12)
+    rho, L, v = 1025.0, 1.25, -0.3
+    for U in (2.0, 0.5):
+        want = 0.5 * rho * L ** t.scale_power() * v * U ** (2 - n)
+        assert t.dimensional(v, rho, L, U) == pytest.approx(want, rel=1e-12)
 
 
 def test_a_mission_needs_two_waypoints():

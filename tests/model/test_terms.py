@@ -30,6 +30,17 @@ def test_acceleration_term():
     assert parse_term("M_qdot").scale_power() == 5  # moment / angular
     assert parse_term("X_udot").scale_power() == 3  # force / linear
     assert parse_term("Z_qdot").scale_power() == 4  # mixed
+    # p is angular too (velocity index 3, the first of p, q, r)
+    assert parse_term("K_pdot").scale_power() == 5
+    assert parse_term("Y_pdot").scale_power() == 4
+
+
+def test_a_term_takes_at_most_four_velocity_factors():
+    # MAX_FACTORS = 4 (the compiled evaluator's fixed width): N_uvvr is the longest term there is
+    assert parse_term("N_uvvr").order() == 4
+    for name in ("X_uuuuu", "N_uvvrr"):
+        with pytest.raises(InputError, match=rf"term '{name}': more than 4 factors"):
+            parse_term(name)
 
 
 def test_scaling_rule_of_spec_section_3():
@@ -53,11 +64,42 @@ def test_sign_factor_and_values():
 
 
 @pytest.mark.parametrize(
-    "bad", ["Q_uu", "X_uz", "X_u|u", "X_", "X_udotv", "X_(u/|v|)", "X_sqrt(u^2)", "__import__('os')"]
+    "bad",
+    [
+        "Q_uu",
+        "X_uz",
+        "X_u|u",
+        "X_",
+        "X_udotv",
+        "X_(u/|v|)",
+        "X_sqrt(u^2)",
+        "__import__('os')",
+        "X_|",  # a velocity expected where the name ends
+        "X_u*",  # '*' only between two factors
+        "X_*u",
+        "X_u**v",
+        "Z_sqrt(u^2+v^2+w^2+p^2)",  # a norm of at most three velocities
+    ],
 )
 def test_bad_names_are_one_line_errors(bad):
-    with pytest.raises(InputError, match="term"):
+    with pytest.raises(InputError, match="term") as err:
         parse_term(bad, "veh.yaml")
+    assert "\n" not in str(err.value) and str(err.value).startswith("veh.yaml: ")
+
+
+def test_the_largest_norm_and_an_empty_or_missing_name():
+    assert parse_term("Z_w*sqrt(u^2+v^2+w^2)").factors[1].indices == (0, 1, 2)
+    for name in ("  ", None, 3):
+        with pytest.raises(InputError, match=r"term name .*: expected text like X_uu"):
+            parse_term(name)  # type: ignore[arg-type]
+
+
+def test_terms_in_array_form_are_immutable():
+    import dataclasses
+
+    ts = TermSet.build([(parse_term("Y_v|v|"), -3.0)])
+    with pytest.raises(dataclasses.FrozenInstanceError):
+        ts.coef = np.zeros(1)  # type: ignore[misc]
 
 
 def test_order_one_nondimensional_needs_reference_speed():
@@ -65,6 +107,10 @@ def test_order_one_nondimensional_needs_reference_speed():
         parse_term("Z_|w|").dimensional(-6.6, 1025.9, 1.25, None)
     # with U: ½ρL²U c'
     assert parse_term("Z_|w|").dimensional(-1.0, 1000.0, 2.0, 1.5) == pytest.approx(-0.5 * 1000 * 4 * 1.5)
+    # a reference speed of zero is no speed either (0^(2−n) would be 0 or infinite)
+    for name in ("Z_|w|", "Y_vvv"):
+        with pytest.raises(InputError, match="reference_speed"):
+            parse_term(name).dimensional(-1.0, 1000.0, 2.0, 0.0)
 
 
 def test_a_speed_norm_over_surge_includes_the_surge_velocity():

@@ -172,6 +172,7 @@ def test_batch_equals_single():
         ({"mass": float("nan")}, "'mass'"),
         ({"terms": {"X_ux": -1.0}}, "term 'X_ux'"),
         ({"inertia": [1, 2]}, "'inertia' has 2 values"),
+        ({"inertia": [0.2, 0.3, 0.0]}, r"'inertia' = .*: expected a positive definite tensor"),  # a zero moment
     ],
 )
 def test_bad_vehicle_input(change, match):

@@ -131,6 +131,8 @@ class _Parser:
         accel = None
         while self.i < len(s):
             if self.peek("*"):
+                if not factors or self.i + 1 >= len(s) or s[self.i + 1] == "*":
+                    raise self.fail("'*' must stand between two factors")
                 self.i += 1
                 continue
             if self.peek("sqrt("):
