@@ -425,6 +425,14 @@ EQUIVALENT: dict[tuple[str, str, str], str] = {
     ),
     (
         "identify/estimators.py",
+        "if ratio is not None and ratio <= 2.0 and (acf is None or abs(acf) < 0.3):",
+        "< -> <=",
+    ): (
+        "differs only for a residual autocorrelation at one period of exactly ±0.3 to the last bit "
+        "(probability 0): the verdict's other edge"
+    ),
+    (
+        "identify/estimators.py",
         "s = 1 if z[i] > band else (-1 if z[i] < -band else 0)",
         "1 -> 2 [1]",
     ): (

@@ -1506,6 +1506,16 @@ def test_equation_error_resamples_jittered_stamps_onto_an_even_grid(spring_rig):
     assert even.added_mass == pytest.approx(ma, rel=0.01) and even.linear_damping == pytest.approx(kl, rel=0.01)
     assert jit.added_mass == pytest.approx(even.added_mass, rel=0.01)
     assert jit.linear_damping == pytest.approx(even.linear_damping, rel=0.01)
+    # the grid is the median step from the first stamp, up to (not at) the last: ⌈15 s / dt⌉
+    # samples (dt = 10.0145 ms here, the jitter's median); the even record is used as it is
+    dt = float(np.median(np.diff(tj)))
+    n = math.ceil((tj[-1] - tj[0]) / dt)
+    assert n == 1498
+    assert [w for w in jit.warnings if "uneven sampling" in w] == [
+        f"uneven sampling (intervals off the median 10.01 ms by up to 39%): resampled onto a uniform grid of "
+        f"{n} samples for the derivatives"
+    ]
+    assert not any("uneven sampling" in w for w in even.warnings)
 
 
 @pytest.mark.parametrize(("tstat", "free_from_first"), [(3.03, True), (2.97, False)])
@@ -1774,3 +1784,15 @@ def test_a_record_starts_in_free_motion_only_if_its_first_crossing_comes_within_
     y = np.where(t < hold, 1.0, np.exp(-0.1 * s) * np.cos(2 * np.pi * s))
     y = y + np.random.default_rng(0).normal(0.0, 1e-3, t.size)
     assert detect_release(t, y) == pytest.approx(release, abs=1e-12)
+
+
+def test_simulating_a_rig_without_inertia_is_refused(spring_rig):
+    # the spring rig's total inertia is m + m_a: an added mass of −m (exactly −0.97 kg) leaves
+    # none (the motion would be infinitely fast), and below that it is negative
+    from hydrokit.identify.rig_model import simulate_rig
+
+    t = np.linspace(0.0, 1.0, 11)
+    for ma in (-spring_rig.mass, -spring_rig.mass - 0.1):
+        with pytest.raises(InputError, match=r"added_mass = .*: total inertia must be positive"):
+            simulate_rig(spring_rig, t, ma, 0.1, 0.0, 0.01)
+    assert np.all(np.isfinite(simulate_rig(spring_rig, t, -spring_rig.mass + 0.1, 0.1, 0.0, 0.01)))

@@ -342,11 +342,16 @@ class EquationErrorEstimator(_DecayEstimator):
         from scipy.signal import savgol_filter
 
         dt = float(np.median(np.diff(t)))
-        if np.max(np.abs(np.diff(t) - dt)) > 0.05 * dt:
+        dev = float(np.max(np.abs(np.diff(t) - dt)))
+        if dev > 0.05 * dt:
             # uneven sampling: resample onto a uniform grid first
             tu = np.arange(t[0], t[-1], dt)
             y = np.interp(tu, t, y)
             t = tu
+            self.warnings_.append(
+                f"uneven sampling (intervals off the median {dt * 1e3:.4g} ms by up to {dev / dt:.0%}): "
+                f"resampled onto a uniform grid of {tu.size} samples for the derivatives"
+            )
         window = self.window or _savgol_window(self.period_, dt)
         if window <= self.polyorder or window >= y.size:
             raise InputError(
