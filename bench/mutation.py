@@ -906,6 +906,14 @@ EQUIVALENT: dict[tuple[str, str, str], str] = {
         "down 100 or 1000 times (Python API) only the stage-2 penalty's weight changes, and _polish solves "
         "the active set exactly: the thrusts of 150 random saturating demands agreed to 7e-10 N"
     ),
+    ("model/allocation.py", "active = (f <= lo + tol) | (f >= hi - tol)", "<= -> <"): (
+        "f equals lo + tol (a limit plus 1e-7 of it) only by coincidence to the last bit: f at the limit "
+        "itself (clipped) passes both; probability 0 otherwise"
+    ),
+    ("model/allocation.py", "active = (f <= lo + tol) | (f >= hi - tol)", ">= -> >"): (
+        "f equals hi − tol (a limit less 1e-7 of it) only by coincidence to the last bit: f at the limit "
+        "itself (clipped) passes both; probability 0 otherwise"
+    ),
     ("model/allocation.py", "fixed = np.where(f <= lo + tol, lo, hi)", "<= -> <"): (
         "f equals lo + tol (a limit plus 1e-7 of it) only by coincidence to the last bit: f at the limit "
         "itself (clipped) passes both; probability 0 otherwise"

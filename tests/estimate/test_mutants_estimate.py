@@ -751,3 +751,43 @@ def test_the_cylinder_table_starts_at_its_first_dnv_row():
 
     assert _interp(CYL_TRANSVERSE_CA, 1.2) == pytest.approx(0.62, rel=1e-12)
     assert _interp(CYL_TRANSVERSE_CA, 1.85) == pytest.approx(0.70, rel=1e-12)
+
+
+@pytest.mark.parametrize(
+    ("shape", "dims"), [("sphere", {"diameter": 0.4}), ("spheroid", {"length": 1.2, "diameter": 0.3})]
+)
+def test_a_generated_body_uses_every_vertex_and_closes_at_both_tips(shape, dims):
+    # the polar caps are fans from the tip vertices (0 and the last): every vertex is a corner of
+    # some face, both tips are, and the surface is closed and outward
+    from hydrokit.estimate.bem import shape_mesh
+    from hydrokit.estimate.mesh import check_mesh
+
+    mesh = shape_mesh(shape, 12, **dims)
+    used = set(np.unique(mesh.faces).tolist())
+    assert used == set(range(len(mesh.vertices)))
+    check_mesh(mesh)
+    last = len(mesh.vertices) - 1
+    for tip in (0, last):
+        assert int(np.sum(np.any(mesh.faces == tip, axis=1))) == 12  # one cap triangle per panel around
+
+
+def test_a_mesh_part_with_a_given_buoyancy_displaces_b_over_rho_g():
+    # buoyancy overrides the mesh volume: V = B / (ρ g); 100 N in water of 1000 kg/m³ at
+    # 9.81 m/s² is 10.19 L, and the part's buoyancy reads back 100 N
+    from hydrokit.estimate.bem import shape_mesh
+    from hydrokit.estimate.geometry import mesh_part
+
+    mesh = shape_mesh("sphere", 12, diameter=0.3)
+    part = mesh_part("hull", mesh, 8.0, np.zeros(3), np.eye(3), density=1000.0, gravity=9.81, buoyancy=100.0).part
+    assert part.volume == pytest.approx(100.0 / (1000.0 * 9.81), rel=1e-12)
+    # combined (one part), the body's weight is m g = 78.48 N and its buoyancy reads back 100 N
+    import dataclasses
+
+    from hydrokit.estimate.composite import combine
+
+    body = combine([part])
+    assert body.buoyancy(1000.0, 9.81) == pytest.approx(100.0, rel=1e-12)
+    assert body.weight(9.81) == pytest.approx(8.0 * 9.81, rel=1e-12)
+    for frozen in (part, body):
+        with pytest.raises(dataclasses.FrozenInstanceError):
+            frozen.mass = 1.0  # type: ignore[misc]

@@ -1796,3 +1796,16 @@ def test_simulating_a_rig_without_inertia_is_refused(spring_rig):
         with pytest.raises(InputError, match=r"added_mass = .*: total inertia must be positive"):
             simulate_rig(spring_rig, t, ma, 0.1, 0.0, 0.01)
     assert np.all(np.isfinite(simulate_rig(spring_rig, t, -spring_rig.mass + 0.1, 0.1, 0.0, 0.01)))
+
+
+def test_release_of_an_empty_or_single_sample_record_is_refused_in_words():
+    import warnings
+
+    from hydrokit.identify.preprocess import detect_release
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")  # no numpy warning about empty slices on the way
+        with pytest.raises(InputError, match="the record holds no samples"):
+            detect_release(np.array([]), np.array([]), file="empty.csv")
+    with pytest.raises(InputError, match="the record does not oscillate"):
+        detect_release(np.array([0.0]), np.array([1.0]))

@@ -342,6 +342,10 @@ def test_pinv_reports_a_lower_limit_given_alone_and_keeps_the_limits_given() -> 
     assert upper.saturated == [] and upper.warnings == []
     assert upper.to_dict()["thrust_limits"] == [[None, 50.0]] * 4
     assert allocate_pinv(T, tau, names=names).to_dict()["thrust_limits"] is None
+    import dataclasses
+
+    with pytest.raises(dataclasses.FrozenInstanceError):
+        lower.residual = 0.0  # type: ignore[misc]
 
 
 def test_pinv_residual_is_what_the_thrusters_cannot_give() -> None:

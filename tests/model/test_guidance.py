@@ -102,3 +102,11 @@ def test_default_guidance_state_is_the_start_of_the_path() -> None:
     assert GuidanceState() == path.initial_state()
     ref, s = path.update(GuidanceState(), [0.0, 0.0, 1.0])
     assert s.leg == 1 and ref.depth > 1.0 and ref.heading == 0.0
+
+
+def test_a_leg_speed_of_zero_is_allowed() -> None:
+    # "leg speeds ≥ 0 m/s": a leg flown at 0 m/s (hold position while turning) is no error
+    from hydrokit.model.guidance import Path
+
+    p = Path(points=[[0, 0, 0], [1, 0, 0], [1, 1, 0]], speeds=[0.0, 0.5])
+    np.testing.assert_array_equal(p.speeds, [0.0, 0.5])

@@ -302,6 +302,12 @@ def test_pid_refuses_equal_output_limits_and_is_immutable():
     pid = PID(kp=1.0)
     with pytest.raises(dataclasses.FrozenInstanceError):
         pid.kp = 2.0  # type: ignore[misc]
+    # by default the measured quantity is no angle: an error of 4 (not 4 − 2π) gives −4
+    assert pid.update(pid.initial_state(), measurement=4.0, setpoint=0.0, dt=0.1)[0] == pytest.approx(-4.0)
+    angle = PID(kp=1.0, angle=True)
+    assert angle.update(angle.initial_state(), measurement=4.0, setpoint=0.0, dt=0.1)[0] == pytest.approx(
+        2 * math.pi - 4.0
+    )
     state = AutopilotState()
     with pytest.raises(dataclasses.FrozenInstanceError):
         state.loops = ()  # type: ignore[misc]

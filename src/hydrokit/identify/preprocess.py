@@ -123,10 +123,12 @@ def detect_release(t: np.ndarray, y: np.ndarray, sigma: float | None = None, fil
     """
     t = np.asarray(t, float)
     y = np.asarray(y, float)
+    if not y.size:
+        raise InputError("the record holds no samples: no free decay found", file)
     if sigma is None:
         sigma = noise_floor(y)
     z = y - equilibrium(y)
-    peak = float(np.max(np.abs(z))) if z.size else 0.0
+    peak = float(np.max(np.abs(z)))
     band = max(4.0 * sigma, 0.01 * peak, 1e-300)
     ext = half_cycle_extremes(t, z, band)
     if not ext:
