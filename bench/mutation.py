@@ -910,10 +910,6 @@ EQUIVALENT: dict[tuple[str, str, str], str] = {
         "f equals lo + tol (a limit plus 1e-7 of it) only by coincidence to the last bit: f at the limit "
         "itself (clipped) passes both; probability 0 otherwise"
     ),
-    ("model/allocation.py", "active = (f <= lo + tol) | (f >= hi - tol)", ">= -> >"): (
-        "f equals hi − tol (a limit less 1e-7 of it) only by coincidence to the last bit: f at the limit "
-        "itself (clipped) passes both; probability 0 otherwise"
-    ),
     ("model/allocation.py", "fixed = np.where(f <= lo + tol, lo, hi)", "<= -> <"): (
         "f equals lo + tol (a limit plus 1e-7 of it) only by coincidence to the last bit: f at the limit "
         "itself (clipped) passes both; probability 0 otherwise"
