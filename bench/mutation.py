@@ -968,6 +968,10 @@ EQUIVALENT: dict[tuple[str, str, str], str] = {
         "a factor has at most three indices (the parser refuses a norm of more, every other factor "
         "has one), so [:3] and [:4] take all of them"
     ),
+    ("identify/estimators.py", "if terms > 1:", "1 -> 2"): (
+        "restoring_terms is 1, 3 or 5 (the estimator refuses anything else when it is made), and "
+        "> 1 and > 2 split those alike"
+    ),
     ("identify/estimators.py", "fwd = tt >= 0", ">= -> >"): (
         "a sample at t0 exactly is then replayed by the backward pass instead of the forward one: a grid "
         "step of zero length, which returns the initial state (q0, v0) bit for bit either way"

@@ -405,6 +405,10 @@ def test_restoring_terms_recover_c3_and_c5() -> None:
     assert abs(corr["C5"] - 50.0) < 3.0 * corr["std_error"]["C5"]
     for got, want in zip((r5.added_mass, r5.linear_damping, r5.quadratic_damping), (2.0, 1.0, 3.0)):
         assert got == pytest.approx(want, rel=0.01)
+    # three terms: C3 alone is reported (with its standard error), no C5
+    r3 = identify_launch(rig, L, restoring_terms=3)
+    assert set(r3.extra["restoring_correction"]) == {"C3", "std_error"}
+    assert set(r3.extra["restoring_correction"]["std_error"]) == {"C3"}
     r1 = identify_launch(rig, L)  # the rig's linear restoring alone misreads the softening
     assert abs(r1.added_mass / 2.0 - 1.0) > 0.05 and r1.warnings
 
