@@ -972,6 +972,14 @@ EQUIVALENT: dict[tuple[str, str, str], str] = {
         "restoring_terms is 1, 3 or 5 (the estimator refuses anything else when it is made), and "
         "> 1 and > 2 split those alike"
     ),
+    ("estimate/mesh.py", "data = f.read(MAX_MESH_BYTES + 1)", "1 -> 2"): (
+        "reading one or two bytes past the limit decides alike: len(data) > MAX_MESH_BYTES exactly when "
+        "the file holds more than MAX_MESH_BYTES bytes"
+    ),
+    ("estimate/shapes.py", "if x <= finite[-1][0] or len(finite) == len(table):", "<= -> <"): (
+        "at the last finite row itself both branches give that row's value: np.interp returns b0, the "
+        "reciprocal form b1 + (b0 − b1)·a0/a0 (to the rounding of one subtraction)"
+    ),
     ("identify/estimators.py", "fwd = tt >= 0", ">= -> >"): (
         "a sample at t0 exactly is then replayed by the backward pass instead of the forward one: a grid "
         "step of zero length, which returns the initial state (q0, v0) bit for bit either way"

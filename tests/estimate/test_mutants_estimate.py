@@ -791,3 +791,10 @@ def test_a_mesh_part_with_a_given_buoyancy_displaces_b_over_rho_g():
     for frozen in (part, body):
         with pytest.raises(dataclasses.FrozenInstanceError):
             frozen.mass = 1.0  # type: ignore[misc]
+
+
+def test_sphere_drag_below_reynolds_one_is_stokes_like():
+    # creeping flow is a valid regime, not an error: at Re = 0.5 Mikhailov–Freire's curve gives
+    # C_D above Stokes' 24/Re = 48 (Oseen's correction adds ~ 3/16 Re · 24/Re)
+    cd = sphere_drag_coefficient(0.5, "Mikhailov-Freire")
+    assert 48.0 < cd < 48.0 * 1.2

@@ -314,6 +314,11 @@ def test_pid_refuses_equal_output_limits_and_is_immutable():
     axis = pid.initial_state()
     with pytest.raises(dataclasses.FrozenInstanceError):
         axis.integral = 1.0  # type: ignore[misc]
+    from hydrokit.model.control import Autopilot
+
+    ap = Autopilot(speed=PID(kp=10), depth=PID(kp=20), heading=PID(kp=5, angle=True))
+    with pytest.raises(dataclasses.FrozenInstanceError):
+        ap.speed = PID(kp=1)  # type: ignore[misc]
 
 
 @pytest.mark.parametrize("va", [0.3, 0.9, 2.5, -0.3, -0.9])

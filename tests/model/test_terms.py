@@ -87,6 +87,11 @@ def test_bad_names_are_one_line_errors(bad):
     assert "\n" not in str(err.value) and str(err.value).startswith("veh.yaml: ")
 
 
+def test_a_star_before_a_last_one_letter_factor_is_fine():
+    # the '*' rule looks one character ahead: Y_v*r (r the last character) is Y_vr
+    assert parse_term("Y_v*r").factors == parse_term("Y_vr").factors
+
+
 def test_the_largest_norm_and_an_empty_or_missing_name():
     assert parse_term("Z_w*sqrt(u^2+v^2+w^2)").factors[1].indices == (0, 1, 2)
     for name in ("  ", None, 3):
