@@ -84,3 +84,30 @@ def test_force_fit_needs_two_1d_arrays_of_equal_length(speed, force):
     with pytest.raises(InputError) as err:
         fit_forces(speed, force, 0.1, 1000.0)
     assert str(err.value) == f"speed and force must be 1-D of equal length, got {np.shape(speed)} and {np.shape(force)}"
+
+
+def test_diagonal_only_added_mass_sums_each_parts_turned_diagonal():
+    # REHMAN's diagonal-only rule: each part's own diagonal, turned into the common axes, summed
+    # with no shift. Part A unturned, diagonal (1 … 6); part B turned 90° about z, diagonal
+    # (10 … 60), so its surge/sway and roll/pitch entries swap: (20, 10, 30, 50, 40, 60)
+    a = Part("a", 1.0, 1e-3, np.eye(3), np.diag([1.0, 2, 3, 4, 5, 6]), position=np.array([0.0, 1.0, 0.0]))
+    b = Part(
+        "b",
+        1.0,
+        1e-3,
+        np.eye(3),
+        np.diag([10.0, 20, 30, 40, 50, 60]),
+        position=np.array([0.5, 0.0, 0.0]),
+        rotation=rotation_from_degrees(0, 0, 90),
+    )
+    comp = combine([a, b])
+    np.testing.assert_allclose(comp.added_mass_diagonal_only, np.diag([21.0, 12, 33, 54, 45, 66]), atol=1e-12)
+
+
+def test_a_composite_built_by_hand_has_no_single_axis_drag_on_any_of_six_axes():
+    # the docstring: quadratic_damping_single_axis is (6,); by default all zero
+    from hydrokit.estimate.composite import Composite
+
+    z3, z6 = np.zeros(3), np.zeros((6, 6))
+    comp = Composite(1.0, 1e-3, np.eye(3), z3, z3, z6, z6, z6, z6, ("p",))
+    assert comp.quadratic_damping_single_axis.shape == (6,) and not np.any(comp.quadratic_damping_single_axis)
