@@ -980,6 +980,38 @@ EQUIVALENT: dict[tuple[str, str, str], str] = {
         "at the last finite row itself both branches give that row's value: np.interp returns b0, the "
         "reciprocal form b1 + (b0 − b1)·a0/a0 (to the rounding of one subtraction)"
     ),
+    ("estimate/composite.py", "a = np.abs(P[:, 0:3]) ** 3", "3 -> 4 [1]"): (
+        "a slice end past the three position columns adds a fourth column of a that no line reads "
+        "(a[:, 0], a[:, 1], a[:, 2] only)"
+    ),
+    ("estimate/composite.py", "Q = P[:, 6:9]", "9 -> 10"): (
+        "P has PACKED_WIDTH = 9 columns: the slices 6:9 and 6:10 are the same three"
+    ),
+    (
+        "estimate/mesh.py",
+        "key = np.round(mesh.vertices / max(1e-12, float(np.ptp(mesh.vertices))) * 1e9).astype(np.int64)",
+        "1000000000.0 -> 1000000001.0",
+    ): (
+        "a merge grid of 1/(1e9 + 1) instead of 1/1e9 of the extent splits or joins two vertices only "
+        "when they straddle a rounding boundary within 1e-18 of the extent"
+    ),
+    (
+        "estimate/mesh.py",
+        "if size >= _STL_HEADER and (_STL_HEADER + _STL_RECORD * _stl_count(data)) % 2**32 == size:",
+        ">= -> >",
+    ): (
+        "at exactly 84 bytes the wrap needs 50·count ≡ 0 (mod 2³²): count 0 or 2³¹, whose bytes 80–83 "
+        "end in 0x00 or 0x80; text reaches here with no NUL in its first KiB, and a copy without blank "
+        "lines ends in '\\n' (0x0a)"
+    ),
+    (
+        "estimate/composite.py",
+        "at_origin = np.all(elements[:, 0:3] == 0, axis=1) & np.all(elements[:, 3:6] == 0, axis=1)",
+        "3 -> 4 [1]",
+    ): (
+        "0:4 adds column 3, which the second test (3:6) requires to be zero as well: the conjunction "
+        "covers columns 0–5 either way"
+    ),
     ("identify/estimators.py", "fwd = tt >= 0", ">= -> >"): (
         "a sample at t0 exactly is then replayed by the backward pass instead of the forward one: a grid "
         "step of zero length, which returns the initial state (q0, v0) bit for bit either way"

@@ -111,3 +111,11 @@ def test_a_composite_built_by_hand_has_no_single_axis_drag_on_any_of_six_axes():
     z3, z6 = np.zeros(3), np.zeros((6, 6))
     comp = Composite(1.0, 1e-3, np.eye(3), z3, z3, z6, z6, z6, z6, ("p",))
     assert comp.quadratic_damping_single_axis.shape == (6,) and not np.any(comp.quadratic_damping_single_axis)
+
+
+@pytest.mark.parametrize("masses", [(0.0,), (0.0, 0.0), (2.0, -2.0)])
+def test_parts_of_no_total_mass_are_refused(masses):
+    # the centre of gravity divides by the total mass: zero (or less) is refused in words
+    parts = [Part(f"p{k}", m, 1e-3, np.eye(3), np.zeros((6, 6))) for k, m in enumerate(masses)]
+    with pytest.raises(InputError, match=r"total mass = 0(\.0)?: expected a positive mass"):
+        combine(parts)

@@ -391,3 +391,97 @@ def test_a_quad_repeating_a_corner_is_one_triangle(quad):
     v = np.array([[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]])
     tri = SurfaceMesh(v, np.array([quad])).triangles()
     assert tri.shape == (1, 3) and sorted(tri[0].tolist()) == [0, 1, 2]
+
+
+@pytest.mark.parametrize(("blanks", "reads"), [(1019, True), (1020, False)])
+def test_text_is_told_from_binary_by_its_first_kib(tmp_path, blanks, reads):
+    # the first 1024 bytes (mesh._STL_SNIFF) decide: 'solid' must begin within them. 1019 blanks
+    # leave 'solid' whole in the first KiB; 1020 cut it to 'soli', and the file is judged binary
+    # (whose header cannot match this size)
+    path = tmp_path / "box.stl"
+    path.write_bytes(b" " * blanks + stl_ascii(box_triangles()))
+    if reads:
+        assert read_mesh(path).volume() == pytest.approx(A * B * C, rel=1e-12)
+    else:
+        with pytest.raises(InputError, match="binary header announces"):
+            read_mesh(path)
+
+
+def test_digest_ignores_sub_nanometre_round_off_but_not_a_nanometre():
+    # the BEM cache key rounds vertices to 1e-9 m: 0.4 nm of re-export round-off keeps the key,
+    # a 2 nm move changes it, and so does a different face list
+    from hydrokit.estimate.mesh import SurfaceMesh
+
+    v, f = box_vertices(), np.array(QUADS)
+    key = SurfaceMesh(v, f).digest()
+    assert SurfaceMesh(v + 4e-10, f).digest() == key
+    assert SurfaceMesh(v + 2e-9, f).digest() != key
+    assert SurfaceMesh(v, f[:, ::-1]).digest() != key
+    assert len(key) == 64 and int(key, 16) >= 0  # SHA-256 hex
+
+
+def test_check_mesh_of_no_faces_says_so():
+    from hydrokit.estimate.mesh import SurfaceMesh
+
+    with pytest.raises(InputError, match="the mesh has no faces"):
+        check_mesh(SurfaceMesh(box_vertices(), np.zeros((0, 3), np.int64), "empty.obj"))
+
+
+def test_a_mesh_of_exactly_the_size_bound_is_read(tmp_path, monkeypatch):
+    # the bound is "at most MAX_MESH_BYTES": a box OBJ padded to exactly the bound reads, one
+    # byte more is refused by size
+    text = obj_text(box_vertices(), QUADS).encode()
+    bound = len(text) + 10
+    monkeypatch.setattr(mesh_module, "MAX_MESH_BYTES", bound)
+    path = tmp_path / "box.obj"
+    path.write_bytes(text + b"#" * 9 + b"\n")
+    assert path.stat().st_size == bound
+    assert read_mesh(path).volume() == pytest.approx(A * B * C, rel=1e-12)
+    path.write_bytes(text + b"#" * 10 + b"\n")
+    with pytest.raises(InputError, match=f"more than the {bound:,} bytes a mesh may have"):
+        read_mesh(path)
+
+
+def test_a_bare_84_byte_header_is_a_header_not_a_short_file(tmp_path):
+    # 84 bytes is a whole binary header: one announcing a triangle is truncated (0 follow), not
+    # "shorter than a binary header"; 83 bytes are
+    path = tmp_path / "h.stl"
+    path.write_bytes(stl_binary(box_triangles()[:1])[:84])
+    with pytest.raises(InputError, match=r"announces 1 triangle but is truncated: its 84 bytes hold 0\)"):
+        read_mesh(path)
+    path.write_bytes(stl_binary(box_triangles()[:1])[:83])
+    with pytest.raises(InputError, match="83 bytes: shorter than a binary header"):
+        read_mesh(path)
+
+
+def test_a_relative_index_of_a_non_ascii_digit_is_not_a_number(tmp_path):
+    # Python's int() reads '٣' (ARABIC-INDIC DIGIT THREE) as 3; an OBJ index is ASCII digits, so
+    # 'f -٣ -2 -1' is refused, while the same face with '-3' reads
+    tetra = "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf -{} -2 -1\nf -4 -3 -1\nf -4 -1 -2\nf -3 -2 -1\n"
+    path = tmp_path / "t.obj"
+    path.write_text(tetra.format("3"), encoding="utf-8")
+    assert read_mesh(path).faces.shape == (4, 3)
+    path.write_text(tetra.format("\u0663"), encoding="utf-8")
+    with pytest.raises(InputError, match="t.obj: a face refers to vertex"):
+        read_mesh(path)
+
+
+@pytest.mark.parametrize("extra", [" 1", " 0.5 0.2 0.9"])
+def test_obj_vertices_with_a_weight_or_colours_keep_x_y_z(tmp_path, extra):
+    # 'v x y z w' and 'v x y z r g b' are both written by exporters: the hull keeps x, y, z (m)
+    v = box_vertices()
+    lines = [ln + extra if ln.startswith("v ") else ln for ln in obj_text(v, QUADS).splitlines()]
+    path = tmp_path / "box.obj"
+    path.write_text("\n".join(lines) + "\n")
+    m = read_mesh(path)
+    assert m.vertices.shape == (8, 3)
+    np.testing.assert_array_equal(m.vertices, v)
+    assert m.volume() == pytest.approx(A * B * C, rel=1e-12)
+
+
+def test_a_flat_block_of_indices_is_cells_of_one_corner():
+    # meshio keeps cells as (k, corners); a flat block of k indices is k one-corner cells (points)
+    with pytest.raises(InputError, match=r"x\.obj: a face with 1 corner\(s\); expected 3 or more"):
+        mesh_module._corners(np.array([0, 1, 2]), 4, "x.obj")
+    with pytest.raises(InputError, match=r"a face with 2 corner\(s\)"):
+        mesh_module._corners(np.array([[0, 1], [1, 2]]), 4, "x.obj")

@@ -484,15 +484,21 @@ def test_parser_words_are_kept_unless_meshio_says_nothing():
     assert _why(ValueError("bad facet"), "STL") == "ValueError: bad facet"
     assert _why(ValueError(""), "STL") == "ValueError"
     assert _why(ValueError("x\n  y"), "OBJ") == "ValueError: x y"
+    # cut to 160 characters: "ValueError: " is 12, so 148 words' characters stay whole, 149 are cut
+    assert _why(ValueError("y" * 148), "OBJ") == "ValueError: " + "y" * 148
+    assert _why(ValueError("y" * 149), "OBJ").endswith("(161 characters)")
 
 
 def test_estimate_results_are_immutable():
     import dataclasses
 
-    from hydrokit.estimate.composite import Composite
+    from hydrokit.estimate.composite import Composite, Part
+    from hydrokit.estimate.forces import ForceFit
     from hydrokit.estimate.geometry import Estimate
+    from hydrokit.estimate.mesh import SurfaceMesh
+    from hydrokit.estimate.shapes import ShapeCoefficients
 
-    for cls in (Composite, Estimate):
+    for cls in (Composite, Part, Estimate, ForceFit, SurfaceMesh, ShapeCoefficients):
         assert dataclasses.fields(cls)  # a dataclass
         assert cls.__dataclass_params__.frozen, cls  # type: ignore[attr-defined]
 

@@ -1823,3 +1823,27 @@ def test_a_smoothing_window_as_long_as_the_record_is_refused(spring_rig):
     for window in (41, 43):
         with pytest.raises(InputError, match=rf"window = {window}: expected an odd number of samples between 5 and 40"):
             make_estimator("equation-error", spring_rig, window=window).fit(launch.t, launch.y)
+
+
+def test_output_error_formal_covariance_is_curve_fits(spring_rig):
+    # a second method: scipy's curve_fit on the same model (the rig ODE with free ω², b, g, q0,
+    # v0 and rest), started at the estimate, gives s² (JᵀJ)⁻¹ with s² = SSR/(n − p). A short
+    # record (n = 151, p = 6) makes the degrees of freedom matter: n + p would be 8 % off
+    from scipy.optimize import curve_fit
+
+    from hydrokit.identify.rig_model import simulate_normalised
+
+    launch = simulate_launch(spring_rig, 0.2866, 0.5, 5.0, 0.03, 1.5, SensorModel(100.0, 2e-4, 0.0, 0.0), rng=8)
+    _, est = identify_launch(spring_rig, launch, "output-error", return_estimator=True)
+    t = np.asarray(launch.t, float) - float(launch.t[0])
+    y = np.asarray(launch.y, float)
+    c = est.constants_
+
+    def model(tt: np.ndarray, w2: float, b: float, g: float, q0: float, v0: float, rest: float) -> np.ndarray:
+        q, _, _ = simulate_normalised(tt, w2, b, g, q0, v0, c.sine, est.substeps, restoring=c.restoring)
+        return q + rest
+
+    x = [*est.p_, est.q0_, est.v0_, est.offset_]
+    popt, pcov = curve_fit(model, t, y, p0=x, xtol=1e-14, ftol=1e-14)
+    assert popt[:3] == pytest.approx(x[:3], rel=1e-5)
+    np.testing.assert_allclose(est.pcov_formal_, pcov[:3, :3], rtol=1e-3, atol=1e-3 * np.abs(pcov[:3, :3]).max())

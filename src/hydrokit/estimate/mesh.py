@@ -47,6 +47,9 @@ MAX_COORDINATE = 1e9
 
 _STL_HEADER = 84  # bytes: 80-byte comment and the uint32 triangle count
 _STL_RECORD = 50  # bytes per binary triangle: normal and 3 vertices (12 float32), uint16 attribute
+# bytes that tell text from binary: text starts with 'solid' (after blank space) and holds no NUL
+# in its first KiB
+_STL_SNIFF = 1024
 _STL_EXPECTED = "expected ASCII or binary STL"
 _OBJ_EXPECTED = "expected Wavefront OBJ text with 'v x y z' and 'f i j k …' lines"
 
@@ -93,7 +96,8 @@ class SurfaceMesh:
         return centroid, inertia * (mass / total)
 
     def digest(self) -> str:
-        """SHA-256 of the geometry (cache key)."""
+        """SHA-256 of the geometry (the BEM cache key): vertices rounded to 1 nm (1e-9 m), so the
+        round-off of a re-export does not miss the cache."""
         h = hashlib.sha256()
         h.update(np.ascontiguousarray(np.round(self.vertices, 9)).tobytes())
         h.update(np.ascontiguousarray(self.faces.astype(np.int64)).tobytes())
@@ -196,7 +200,7 @@ def read_mesh(path: str | os.PathLike[str]) -> SurfaceMesh:
 
 
 def _why(exc: BaseException, kind: str) -> str:
-    """What the parser said, on one line and cut short (it may quote the file)."""
+    """What the parser said, on one line and cut to 160 characters (it may quote the file)."""
     name = type(exc).__name__
     text = " ".join(str(exc).split())
     if not text and kind == "STL" and name == "ReadError":  # meshio's ASCII reader says nothing
@@ -211,7 +215,7 @@ def _read_stl(p: Path) -> Any:
     import meshio
 
     with p.open("rb") as f:
-        head = f.read(1024)
+        head = f.read(_STL_SNIFF)
     size = p.stat().st_size
     if size >= _STL_HEADER and _STL_HEADER + _STL_RECORD * _stl_count(head) == size:
         return meshio.stl.read(str(p))  # binary: meshio reads exactly the announced triangles
@@ -349,7 +353,7 @@ def _surface(mesh: Any, src: str, kind: str) -> SurfaceMesh:
 
 def _corners(data: np.ndarray, n: int, src: str) -> np.ndarray:
     """One block of faces as (k, 3) or (k, 4) indices into ``n`` vertices; polygons fanned."""
-    width = data.shape[1] if data.ndim == 2 else 0
+    width = data.shape[1] if data.ndim == 2 else 1  # a flat block: one index per cell (points)
     if width < 3:
         raise InputError(f"a face with {width} corner(s); expected 3 or more", src)
     try:
