@@ -1012,6 +1012,21 @@ EQUIVALENT: dict[tuple[str, str, str], str] = {
         "0:4 adds column 3, which the second test (3:6) requires to be zero as well: the conjunction "
         "covers columns 0–5 either way"
     ),
+    ("model/control.py", "if self.ki > 0 and raw > self.output_max and e < 0:", "> -> >= [2]"): (
+        "at raw = output_max the integral already puts the output at the limit: at_limit equals it "
+        "(to the rounding of one division), and max(I, min(I_prev, I)) = I"
+    ),
+    ("model/control.py", "elif self.ki > 0 and raw < self.output_min and e > 0:", "< -> <="): (
+        "at raw = output_min the integral already puts the output at the limit: at_limit equals it "
+        "(to the rounding of one division), and min(I, max(I_prev, I)) = I"
+    ),
+    ("model/control.py", "if self.ki > 0 and raw > self.output_max and e < 0:", "< -> <="): (
+        "at e = 0 the integral is the previous one (inside ±bound, as every update leaves it), so "
+        "max(I, min(I, at_limit)) = I: the branch changes nothing"
+    ),
+    ("model/control.py", "cth = cth if abs(cth) > 1e-9 else math.copysign(1e-9, cth)", "> -> >="): (
+        "at |cos θ| = 1e-9 exactly both branches give cos θ itself: copysign(1e-9, cth) = cth"
+    ),
     ("identify/estimators.py", "fwd = tt >= 0", ">= -> >"): (
         "a sample at t0 exactly is then replayed by the backward pass instead of the forward one: a grid "
         "step of zero length, which returns the initial state (q0, v0) bit for bit either way"

@@ -68,6 +68,16 @@ def test_anti_windup_holds_the_output_at_either_limit(ki: float, sign: float) ->
     assert abs(P) < umax
 
 
+@pytest.mark.parametrize("sign", [1.0, -1.0])
+def test_a_saturated_pd_controller_without_integral_is_clipped(sign: float) -> None:
+    # ki = 0: no integral to stop, so saturation is a clip of −kp e (the anti-windup, which divides
+    # by ki, is skipped); the integral state still sums e dt (m·s) for a later look
+    pid = PID(kp=10.0, output_min=-3.0, output_max=3.0)
+    out, s = pid.update(pid.initial_state(), 0.0, sign, 0.1)  # e = −sign m/s → −kp e = 10 sign N
+    assert out == 3.0 * sign
+    assert s.integral == pytest.approx(-0.1 * sign, rel=1e-12)
+
+
 def test_derivative_on_measurement_has_no_setpoint_kick() -> None:
     pid = PID(kp=0.0, kd=100.0)
     s = pid.initial_state()
@@ -129,9 +139,41 @@ def test_autopilot_roll_and_pitch_hold() -> None:
     assert tau[4] == pytest.approx(-30 * math.tanh(-0.2), rel=1e-12)  # S-plane, e = theta
 
 
+@pytest.mark.parametrize("with_pitch", [False, True])
+def test_each_loop_keeps_its_own_integral(with_pitch: bool) -> None:
+    # loops are stored in the order speed, depth, heading, roll, pitch: each integral sums its
+    # own error (rad·s here), step after step, whatever other loops exist
+    pid = PID(kp=0.0, ki=1.0, angle=True)
+    ap = Autopilot(PID(kp=1), PID(kp=1), PID(kp=1, angle=True), roll=pid, pitch=pid if with_pitch else None)
+    eta = [0, 0, 0, 0.1, -0.2, 0]  # φ = 0.1 rad, θ = −0.2 rad
+    s = ap.initial_state()
+    for _ in range(3):
+        tau, s = ap.update(s, Reference(0, 0, 0), eta, np.zeros(6), 0.5)
+    assert s.loops[3].integral == pytest.approx(3 * 0.5 * 0.1, rel=1e-12)
+    assert tau[3] == pytest.approx(-1.0 * 3 * 0.5 * 0.1, rel=1e-12)
+    assert s.loops[4].integral == pytest.approx(3 * 0.5 * -0.2 if with_pitch else 0.0, rel=1e-12)
+    assert tau[4] == pytest.approx(0.3 if with_pitch else 0.0, rel=1e-12)
+
+
 def test_euler_rates_level_flight() -> None:
     zdot, _, _, psidot = euler_rates([0, 0, 0, 0, 0, 0], [1, 0, 0.3, 0, 0, 0.2])
     assert zdot == pytest.approx(0.3) and psidot == pytest.approx(0.2)
+
+
+@given(
+    angles=st.tuples(st.floats(-3.1, 3.1), st.floats(-1.5, 1.5)),
+    nu=st.lists(st.floats(-2.0, 2.0), min_size=6, max_size=6),
+)
+def test_euler_rates_are_the_kinematics_j_of_eta_times_nu(angles, nu) -> None:
+    # second method: core's J(η) (Fossen 2011 eq. 2.40, a matrix product) against the scalar
+    # rows the autopilot uses: ż is row 3 of R(Θ) v, and φ̇, θ̇, ψ̇ are T(Θ) ω
+    from hydrokit.core.kinematics import J_euler
+
+    phi, theta = angles
+    eta = np.array([0.0, 0.0, 0.0, phi, theta, 0.7])
+    want = J_euler(eta) @ np.asarray(nu)
+    got = euler_rates(eta, nu)
+    np.testing.assert_allclose(got, want[[2, 3, 4, 5]], rtol=1e-9, atol=1e-12)
 
 
 @pytest.mark.parametrize("side", [1.0, -1.0])

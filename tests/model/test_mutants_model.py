@@ -1054,3 +1054,25 @@ def test_a_vehicle_repr_leaves_out_its_thruster_set():
     text = repr(v)
     assert text.startswith("Vehicle(") and "D_Q=" in text
     assert "thrusters=" not in text and "ThrusterSet(" not in text
+
+
+def test_every_model_dataclass_is_a_frozen_value():
+    # a rule of the model layer: its objects (vehicles, thrusters, controllers, missions, terms)
+    # are shared by every step and every run, so each dataclass there is frozen. Found by
+    # walking the modules, so a class added later is held to the rule too
+    import dataclasses
+    import importlib
+    import inspect
+    import pkgutil
+
+    import hydrokit.model as pkg
+
+    seen = []
+    for info in pkgutil.iter_modules(pkg.__path__):
+        mod = importlib.import_module(f"hydrokit.model.{info.name}")
+        for _, cls in inspect.getmembers(mod, inspect.isclass):
+            if cls.__module__ == mod.__name__ and dataclasses.is_dataclass(cls):
+                seen.append(cls.__name__)
+                assert cls.__dataclass_params__.frozen, cls  # type: ignore[attr-defined]
+    assert {"SPlane", "PID", "Reference", "Factor", "Term", "Vehicle"} <= set(seen)
+    assert len(seen) >= 22  # every dataclass in src/hydrokit/model when this was written

@@ -87,6 +87,13 @@ def test_bad_names_are_one_line_errors(bad):
     assert "\n" not in str(err.value) and str(err.value).startswith("veh.yaml: ")
 
 
+@pytest.mark.parametrize(("bad", "at"), [("X_u**v", 4), ("X_u*", 4), ("X_*u", 3), ("N_vr*", 5)])
+def test_a_misplaced_star_is_named_at_its_own_position(bad, at):
+    # the position is 1-based and points at the first offending '*' (in '**' the first one)
+    with pytest.raises(InputError, match=rf"'\*' must stand between two factors at position {at};"):
+        parse_term(bad)
+
+
 def test_a_star_before_a_last_one_letter_factor_is_fine():
     # the '*' rule looks one character ahead: Y_v*r (r the last character) is Y_vr
     assert parse_term("Y_v*r").factors == parse_term("Y_vr").factors
