@@ -1027,6 +1027,19 @@ EQUIVALENT: dict[tuple[str, str, str], str] = {
     ("model/control.py", "cth = cth if abs(cth) > 1e-9 else math.copysign(1e-9, cth)", "> -> >="): (
         "at |cos θ| = 1e-9 exactly both branches give cos θ itself: copysign(1e-9, cth) = cth"
     ),
+    ("model/allocation.py", "_STAGE2_WEIGHT = 1e5", "100000.0 -> 100001.0"): (
+        "a weight of 1e5 + 1 instead of 1e5 moves the achieved τ off the stage-1 optimum by |f|/W², "
+        "about 1e-10 of the thrust scale either way (its comment)"
+    ),
+    (
+        "identify/preprocess.py",
+        "if per.size and np.max(np.abs(per / np.median(per) - 1.0)) > 0.15:",
+        "> -> >=",
+    ): ("a period exactly 15 % off the median, to the last bit, from sample times: the two tests split only there"),
+    ("identify/preprocess.py", "if c0 - t[0] < 0.3 * period:", "< -> <="): (
+        "the release half cycle's end exactly 0.3 median periods after the first sample, to the last "
+        "bit: the two tests split only there"
+    ),
     ("identify/estimators.py", "fwd = tt >= 0", ">= -> >"): (
         "a sample at t0 exactly is then replayed by the backward pass instead of the forward one: a grid "
         "step of zero length, which returns the initial state (q0, v0) bit for bit either way"

@@ -84,3 +84,18 @@ def test_trim_end_is_found_about_a_rest_value_far_from_zero(pendulum_rig):
     shifted = trim_launch(Launch(launch.t, np.asarray(launch.y) + 0.3, "shifted.csv"))
     assert shifted.t.size == at_zero.t.size < 0.8 * np.asarray(launch.t).size
     assert any("samples of noise dropped" in n for n in shifted.notes)
+
+
+@pytest.mark.parametrize(("rise", "start"), [(1.45, 0), (1.5, 0), (1.55, 1)])
+def test_free_start_allows_a_same_sign_rise_of_up_to_three_sigma(rise, start):
+    # the docstring's rule: an extreme may exceed the same-sign one a cycle before by at most
+    # 3 noise σ (σ = 0.5 → 1.5, exact in binary) before the motion counts as still driven. A
+    # decay 10·0.9^k, extremes every half period of 1 s, with extreme 2 raised to a0 + rise
+    from hydrokit.identify.preprocess import _free_start
+
+    k = np.arange(20)
+    a = 10.0 * 0.9**k
+    a[2] = a[0] + rise
+    z = a * (-1.0) ** k
+    ext = [(int(i), int(i), int(i)) for i in k]
+    assert _free_start(0.5 * k, z, ext, 0.1, 0.5) == start

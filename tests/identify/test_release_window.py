@@ -436,3 +436,18 @@ def test_the_damping_curve_is_net_of_the_rig_tare() -> None:
     for b, n in zip(bare, net):
         drop = 0.5 + 8 / (3 * math.pi) * wd * b["amplitude"] * 0.2
         assert b["value"] - n["value"] == pytest.approx(drop, rel=1e-4)
+
+
+@pytest.mark.parametrize(("noise", "found"), [(0.1296 / 4.5, True), (0.1296 / 3.5, False)])
+def test_release_needs_two_cycles_beyond_four_sigma(noise: float, found: bool) -> None:
+    # a decay losing 40 % a half cycle: extremes 1, 0.6, 0.36, 0.216, 0.13, 0.078 (rest 0). Its
+    # fifth excursion, 0.13, lies 4.5 σ out at the first noise level: five excursions past 4 σ
+    # close four half cycles, two cycles, and the record is a decay from its start. At 3.5 σ
+    # only four excursions leave the band (three closed half cycles): refused, in words
+    t = np.arange(0.0, 8.0, 1 / 200.0)
+    y = np.exp(-2 * math.log(1 / 0.6) * t) * np.cos(2 * math.pi * t)
+    if found:
+        assert detect_release(t, y, sigma=noise) == 0.0
+    else:
+        with pytest.raises(InputError, match=r"only 1\.5 cycles \(half cycles with an extreme: 3\)"):
+            detect_release(t, y, sigma=noise)

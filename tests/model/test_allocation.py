@@ -384,3 +384,52 @@ def test_pinv_thrust_at_a_limit_of_either_sign_is_not_beyond_it() -> None:
     assert allocate_pinv(T, [10, -10, 20 + 1e-8, -20 - 1e-8, 0, 0], f_min=lo, f_max=hi).warnings == []
     far = allocate_pinv(T, [10, -10, 20 + 1e-7, -20 - 1e-7, 0, 0], f_min=lo, f_max=hi)
     assert far.warnings == ["pseudo-inverse thrust exceeds the limits of T3, T4"]
+
+
+@pytest.mark.parametrize(
+    ("positions", "directions"),
+    [
+        ([(0, 0), (1, 1)], [(1, 0), (0, 1)]),  # matching shapes, but planar
+        ([(0, 0, 0), (1, 0, 0)], [(1, 0, 0)]),  # three-dimensional, but 2 positions and 1 direction
+        ([(0, 0, 0, 0)], [(1, 0, 0, 0)]),
+    ],
+)
+def test_configuration_matrix_needs_two_m_by_3_arrays(positions, directions):
+    with pytest.raises(InputError, match=r"positions \(.*\) and directions \(.*\): expected two \(m, 3\) arrays"):
+        configuration_matrix(positions, directions)
+
+
+def test_allocation_document_keeps_the_demand_and_the_matrix():
+    # the --json document is self-contained: τ (N, N·m) and T as given, each as plain floats
+    T = lingyun_T()
+    tau = np.array([10.0, 0.0, 0.0, 0.0, 0.0, 2.0])
+    doc = allocate_pinv(T, tau).to_dict()
+    assert doc["tau"] == tau.tolist()
+    assert doc["configuration_matrix"] == T.tolist()
+    assert doc["thrust"] == pytest.approx((np.linalg.pinv(T) @ tau).tolist(), abs=1e-12)
+
+
+@pytest.mark.parametrize(
+    ("f_min", "f_max", "limits"),
+    [
+        (None, None, None),
+        ([-30.0], None, [[-30.0, None]]),
+        (None, [50.0], [[None, 50.0]]),
+        ([-30.0], [50.0], [[-30.0, 50.0]]),
+    ],
+)
+def test_allocation_document_writes_a_missing_limit_side_as_null(f_min, f_max, limits):
+    # an Allocation made by hand with one side only: that side kept, the other null (no limit)
+    from hydrokit.model.allocation import Allocation
+
+    a = Allocation(np.array([1.0]), np.zeros(6), 0.0, [], [], f_min=f_min, f_max=f_max)
+    assert a.to_dict()["thrust_limits"] == limits
+
+
+def test_allocation_summary_shows_thrust_to_the_millinewton():
+    from hydrokit.model.allocation import Allocation
+
+    a = Allocation(np.array([1.23456, -0.0004]), np.zeros(6), 0.0, ["T1"], [], method="pinv", names=["T1", "T2"])
+    rows = dict(a.summary_rows())
+    assert rows["thrust (N)"] == [1.235, -0.0]
+    assert rows["method"] == "pinv" and rows["saturated"] == "T1" and rows["not actuated"] == "none"

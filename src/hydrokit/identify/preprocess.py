@@ -114,7 +114,9 @@ def detect_release(t: np.ndarray, y: np.ndarray, sigma: float | None = None, fil
     same-sign extremes shrink at a steady period marks the half cycle holding the release;
     there the record is fitted by a quadratic before the release (the hand) joined, with the same
     position and rate, to the free damped oscillation after it (period and decrement from the
-    following cycles), and the join time that fits best is the release.
+    following cycles), and the join time that fits best is the release. A half cycle counts
+    where the motion leaves a band of 4 noise σ (or 1 % of the peak) about the rest value, and
+    two cycles of them are needed.
 
     Raises
     ------
@@ -153,8 +155,8 @@ def detect_release(t: np.ndarray, y: np.ndarray, sigma: float | None = None, fil
     tk = t[ks]
     # _free_start returns j ≤ len(ext) − 4: at least three extremes follow, one full period
     period = float(np.median(tk[2:] - tk[:-2]))
-    same = [abs(z[a]) / abs(z[b]) for a, b in zip(ks[:-2], ks[2:]) if abs(z[b]) > 0]
-    delta = float(np.median(np.log(same))) if same else 0.0
+    # every extreme lies beyond the band (> 0), and at least one pair a cycle apart follows
+    delta = float(np.median([math.log(abs(z[a]) / abs(z[b])) for a, b in zip(ks[:-2], ks[2:])]))
     zeta = delta / math.sqrt(4 * math.pi**2 + delta**2)
     wd = 2 * math.pi / period
     wn = wd / math.sqrt(1 - zeta**2)

@@ -7,6 +7,7 @@ forces f (N) with τ = T f, where column i of the 6×m configuration matrix T is
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass, field
 from typing import Any
 
@@ -120,6 +121,10 @@ class Allocation(Result):
             # rev/s → rpm at the edge: the JSON contract states propeller speeds in rpm
             shown = [float(c) * 60.0 if u == "rev/s" else float(c) for c, u in zip(self.command, self.command_unit)]
         T = self.configuration_matrix
+        n = len(self.thrust)  # a missing side is no limit (±∞), written as null
+        lo = [-math.inf] * n if self.f_min is None else self.f_min
+        hi = [math.inf] * n if self.f_max is None else self.f_max
+        limits = [[float(a), float(b)] for a, b in zip(lo, hi)]
         return jsonable(
             {
                 "vehicle": self.vehicle,
@@ -128,9 +133,7 @@ class Allocation(Result):
                 "tau": None if self.tau is None else [float(x) for x in self.tau],
                 "configuration_matrix": None if T is None else [[float(x) for x in row] for row in T],
                 "thrust": [float(x) for x in self.thrust],
-                "thrust_limits": None
-                if self.f_min is None or self.f_max is None
-                else [[float(a), float(b)] for a, b in zip(self.f_min, self.f_max)],
+                "thrust_limits": None if self.f_min is None and self.f_max is None else limits,
                 "command": shown,
                 "command_unit": ["rpm" if u == "rev/s" else u for u in self.command_unit],
                 "achieved_tau": [float(x) for x in self.achieved_tau],
