@@ -1040,6 +1040,9 @@ EQUIVALENT: dict[tuple[str, str, str], str] = {
         "the release half cycle's end exactly 0.3 median periods after the first sample, to the last "
         "bit: the two tests split only there"
     ),
+    ("model/allocation.py", "if q2 <= q1 + 1e-8 * self.thrust_scale * self.q_max:", "<= -> <"): (
+        "stage 2 losing exactly the tolerance, to the last bit: the two tests split only there"
+    ),
     ("identify/estimators.py", "fwd = tt >= 0", ">= -> >"): (
         "a sample at t0 exactly is then replayed by the backward pass instead of the forward one: a grid "
         "step of zero length, which returns the initial state (q0, v0) bit for bit either way"

@@ -99,3 +99,23 @@ def test_free_start_allows_a_same_sign_rise_of_up_to_three_sigma(rise, start):
     z = a * (-1.0) ** k
     ext = [(int(i), int(i), int(i)) for i in k]
     assert _free_start(0.5 * k, z, ext, 0.1, 0.5) == start
+
+
+def test_rest_line_of_a_record_with_two_extremes_is_flat_at_the_tail_median():
+    # fewer than three extremes: no three-extreme estimate, so the rest value is the record's
+    # equilibrium (the tail median) and the drift is exactly zero
+    from hydrokit.identify.preprocess import equilibrium, rest_line
+
+    t = np.linspace(0.0, 1.0, 201)
+    y = 0.02 + 0.1 * np.exp(-3.0 * t) * np.cos(2 * np.pi * 0.9 * t)  # under one cycle
+    assert rest_line(t, y, 1e-4) == (equilibrium(y), 0.0)
+
+
+@pytest.mark.parametrize(("hi", "lo"), [(0.05, 0.05), (0.02, 0.05), (0.05, 0.0)])
+def test_an_amplitude_window_needs_hi_above_lo_above_zero(hi, lo):
+    from hydrokit.identify.preprocess import _amplitude_window
+
+    t = np.linspace(0.0, 10.0, 2001)
+    z = 0.1 * np.exp(-0.3 * t) * np.cos(2 * np.pi * t)
+    with pytest.raises(InputError, match=r"\(HI, LO\): expected HI > LO > 0"):
+        _amplitude_window(t, z, 1e-4, (hi, lo), "r.csv")

@@ -112,8 +112,10 @@ def test_constrained_trades_surge_against_yaw_by_least_squares() -> None:
     T = lingyun_T()
     lim = np.full(4, 100.0)
     res = allocate_constrained(T, [150, 0, 0, 0, 0, 0.35 * 100], -lim, lim)
-    assert res.thrust[0] == pytest.approx(100.0, abs=1e-8)
-    assert res.thrust[1] == pytest.approx(50 / (1 + R_HY**2), rel=1e-9)
+    # exact to round-off: the polish puts HT1 at its limit and solves HT2 in closed form (the
+    # stage-2 penalty alone is 3e-8 N off)
+    assert res.thrust[0] == pytest.approx(100.0, abs=1e-10)
+    assert res.thrust[1] == pytest.approx(50 / (1 + R_HY**2), rel=1e-12)
     assert np.all(res.thrust <= lim + 1e-12) and np.all(res.thrust >= -lim - 1e-12)
 
 
@@ -124,8 +126,9 @@ def test_constrained_equals_pinv_when_within_limits() -> None:
     a = allocate_constrained(T, tau, -lim, lim)
     b = allocate_pinv(T, tau)
     # pinv is the minimum-norm exact solution; stage 2 of the constrained method finds the
-    # same one (1e-6 N: the stage-2 weighting tolerance documented in allocation.py)
-    np.testing.assert_allclose(a.thrust, b.thrust, atol=1e-6)
+    # same one: its penalty alone leaves 2e-8 N, the polish (no thruster at a limit: all free,
+    # solved by the pseudo-inverse) makes it exact to round-off
+    np.testing.assert_allclose(a.thrust, b.thrust, rtol=0, atol=1e-10)
 
 
 def test_constrained_picks_smallest_thrust_among_equal_residuals() -> None:
@@ -433,3 +436,68 @@ def test_allocation_summary_shows_thrust_to_the_millinewton():
     rows = dict(a.summary_rows())
     assert rows["thrust (N)"] == [1.235, -0.0]
     assert rows["method"] == "pinv" and rows["saturated"] == "T1" and rows["not actuated"] == "none"
+
+
+@pytest.mark.parametrize("sign", [1.0, -1.0])
+def test_redundant_thrusters_share_exactly_once_one_is_at_its_limit(sign: float) -> None:
+    # three collinear surge thrusters, the first capped at 10 N, the others at 30 N; X = ±50 N.
+    # The least-norm split with T f = τ (KKT, by hand): the first at its limit, the other two
+    # share the rest, 20 N each. The polish fixes the thruster found at the limit and solves
+    # the free ones exactly: 1e-12 N (the stage-2 penalty alone leaves about 1e-9 N)
+    T = configuration_matrix([(0, 0, 0)] * 3, [(1, 0, 0)] * 3)
+    hi = np.array([10.0, 30.0, 30.0])
+    res = allocate_constrained(T, [sign * 50.0, 0, 0, 0, 0, 0], -hi, hi)
+    np.testing.assert_allclose(res.thrust, sign * np.array([10.0, 20.0, 20.0]), rtol=0, atol=1e-12)
+    assert res.saturated == ["T1"]
+
+
+@pytest.mark.parametrize("excess", [0.5, 2.0])
+def test_stage_two_is_kept_unless_it_loses_more_than_its_tolerance(monkeypatch, excess: float) -> None:
+    # the two-stage guard: stage 2 (least norm) may give up at most 1e-8 · thrust scale · max
+    # DOF weight of stage 1's weighted residual (here 1e-8 · 100 N · 2 = 2e-6); beyond that
+    # stage 1's answer is returned with its own residual. A polish made to miss τ by a chosen
+    # weighted amount tries both sides of the tolerance
+    from hydrokit.model import allocation as alloc
+
+    T = lingyun_T()
+    Q = np.array([2.0, 1, 1, 1, 1, 1])
+    tol = 1e-8 * 100.0 * 2.0
+    d = excess * tol / float(np.linalg.norm(Q * T[:, 0]))  # N on HT1 → weighted miss = excess·tol
+    monkeypatch.setattr(alloc, "_polish", lambda T, a1, f, *rest: f + np.array([d, 0.0, 0.0, 0.0]))
+    lim = np.full(4, 100.0)
+    res = allocate_constrained(T, [50.0, 0, 0, 0, 0, 0], -lim, lim, dof_weights=Q)
+    exact = np.array([25.0, 25.0, 0.0, 0.0])  # T has full column rank: the one exact split
+    if excess < 1:
+        # stage 2's penalty point (within 3e-9 N of the exact split, unpolished here) plus d
+        np.testing.assert_allclose(res.thrust, exact + [d, 0, 0, 0], rtol=0, atol=1e-8)
+        assert res.residual == pytest.approx(d * float(np.linalg.norm(T[:, 0])), rel=0.02)
+    else:
+        np.testing.assert_allclose(res.thrust, exact, rtol=0, atol=1e-12)
+        assert res.residual < 1e-12
+
+
+def test_allocator_saturated_calls_are_allocate_constrained_with_the_same_weights() -> None:
+    # X = 150 N against N = 35 N·m with ±100 N (the surge/yaw trade above): weighting surge ten
+    # times moves the split; the allocator's saturated path is allocate_constrained bit for bit
+    T = lingyun_T()
+    lim = np.full(4, 100.0)
+    tau = [150.0, 0, 0, 0, 0, 35.0]
+    Q = [10.0, 1, 1, 1, 1, 1]
+    f, limited = Allocator(T, -lim, lim, dof_weights=Q)(tau)
+    assert limited
+    np.testing.assert_array_equal(f, allocate_constrained(T, tau, -lim, lim, dof_weights=Q).thrust)
+    plain = allocate_constrained(T, tau, -lim, lim).thrust
+    assert abs(f[1] - plain[1]) > 1.0  # the weights matter here (N)
+
+
+def test_allocator_takes_a_fixed_thruster_and_refuses_mismatched_limits() -> None:
+    # min = max is a thruster held at one thrust (allowed); limits of the wrong count, or a
+    # min above its max, are refused in words when the allocator is made
+    T = lingyun_T()
+    lo, hi = np.array([-100.0, -100, 5.0, -100]), np.array([100.0, 100, 5.0, 100])
+    f, limited = Allocator(T, lo, hi)([300.0, 0, 0, 0, 0, 0])
+    assert limited and f[2] == pytest.approx(5.0, abs=1e-9)
+    np.testing.assert_allclose(f[:2], [100.0, 100.0], atol=1e-8)
+    for bad_lo, bad_hi in [(np.full(3, -10.0), np.full(4, 10.0)), (np.full(4, -10.0), [10.0, 10, 10]), (hi, lo)]:
+        with pytest.raises(InputError, match="thrust limits: expected 4 pairs with min ≤ max"):
+            Allocator(T, bad_lo, bad_hi)

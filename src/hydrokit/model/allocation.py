@@ -363,7 +363,7 @@ class _ConstrainedSolver:
         q2 = float(np.linalg.norm(Q * (a2 - tau)))
         if q2 <= q1 + 1e-8 * self.thrust_scale * self.q_max:
             return f2, a2, r2
-        return f1, a1, r1  # pragma: no cover - defensive; stage 2 is designed not to lose residual
+        return f1, a1, r1  # defensive: stage 2 is designed not to lose residual (tested by forcing it)
 
 
 def _polish(
@@ -424,8 +424,12 @@ class Allocator:
         dof_weights: ArrayLike | str | None = "capability",
     ) -> None:
         self.T = np.asarray(T, dtype=float)
-        self.f_min = np.asarray(f_min, dtype=float)
-        self.f_max = np.asarray(f_max, dtype=float)
+        self.f_min = np.asarray(f_min, dtype=float).reshape(-1)
+        self.f_max = np.asarray(f_max, dtype=float).reshape(-1)
+        m = self.T.shape[1]
+        lo, hi = self.f_min, self.f_max
+        if lo.shape != (m,) or hi.shape != (m,) or np.any(lo > hi):
+            raise InputError(f"thrust limits: expected {m} pairs with min ≤ max, got {lo} and {hi}")
         self.P = weighted_pinv(self.T, weights)
         self.unactuated = np.array([d in uncontrollable_dofs(self.T) for d in DOF_NAMES])
         if isinstance(dof_weights, str):
@@ -448,9 +452,5 @@ class Allocator:
         # its τ-independent parts kept between calls
         solver = self._solver
         if solver is None:
-            lo, hi = self.f_min.reshape(-1), self.f_max.reshape(-1)
-            m = self.T.shape[1]
-            if lo.shape != (m,) or hi.shape != (m,) or np.any(lo > hi):
-                raise InputError(f"thrust limits: expected {m} pairs with min ≤ max, got {lo} and {hi}")
-            solver = self._solver = _ConstrainedSolver(self.T, lo, hi, self.Q)
+            solver = self._solver = _ConstrainedSolver(self.T, self.f_min, self.f_max, self.Q)
         return solver.solve(tau_eff)[0], True
