@@ -1847,3 +1847,29 @@ def test_output_error_formal_covariance_is_curve_fits(spring_rig):
     popt, pcov = curve_fit(model, t, y, p0=x, xtol=1e-14, ftol=1e-14)
     assert popt[:3] == pytest.approx(x[:3], rel=1e-5)
     np.testing.assert_allclose(est.pcov_formal_, pcov[:3, :3], rtol=1e-3, atol=1e-3 * np.abs(pcov[:3, :3]).max())
+
+
+def test_adequacy_of_a_residual_that_is_all_zero_has_no_autocorrelation():
+    # a fit through every sample: r = 0 about its mean, r·r = 0, so no lag has a defined
+    # autocorrelation (None, not a division by zero)
+    from hydrokit.identify.estimators import adequacy
+
+    t = np.arange(200) * 0.01
+    a = adequacy(np.full(200, 0.003), t, period=0.5, noise=1e-4)
+    assert a["acf_at_period"] is None and a["acf_at_half_period"] is None
+    assert a["residual_to_noise"] == 0.0
+
+
+@pytest.mark.parametrize(
+    ("r", "acf", "words"),
+    [([2.0, 1, -1, -2, 0], 0.3, "model error"), ([2.0, 1, -2, -1, 0], 0.2, "residual above the noise floor")],
+)
+def test_adequacy_calls_an_autocorrelation_of_exactly_0_3_model_error(r, acf, words):
+    # the rule is "at least 0.3 one period apart": r = (2, 1, −1, −2, 0) (mean 0, r·r = 10) has a
+    # lag-one product of 3, so exactly 0.3 at a one-step period; (2, 1, −2, −1, 0) has 2 (0.2).
+    # Both are 14× the noise, so neither is adequate
+    from hydrokit.identify.estimators import adequacy
+
+    a = adequacy(np.array(r), np.arange(5) * 0.1, period=0.1, noise=0.1)
+    assert a["acf_at_period"] == acf
+    assert a["verdict"].startswith(words)

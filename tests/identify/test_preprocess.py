@@ -119,3 +119,32 @@ def test_an_amplitude_window_needs_hi_above_lo_above_zero(hi, lo):
     z = 0.1 * np.exp(-0.3 * t) * np.cos(2 * np.pi * t)
     with pytest.raises(InputError, match=r"\(HI, LO\): expected HI > LO > 0"):
         _amplitude_window(t, z, 1e-4, (hi, lo), "r.csv")
+
+
+@pytest.mark.parametrize("n", [19, 20])
+def test_check_record_takes_twenty_samples_and_refuses_nineteen(n):
+    # MIN_SAMPLES = 20 is "at least": two cycles of a 1 s decay at 10 Hz (20 samples) pass, one
+    # sample fewer is refused in words
+    from hydrokit.identify.preprocess import check_record
+    from hydrokit.identify.types import Launch
+
+    t = np.arange(n) * 0.1
+    launch = Launch(t=t, y=np.exp(-0.2 * t) * np.cos(2 * np.pi * t), file="r.csv")
+    if n == 20:
+        assert check_record(launch)["period"] == pytest.approx(1.0, rel=1e-9)
+    else:
+        with pytest.raises(InputError, match="r.csv: only 19 samples after trimming; expected at least 20"):
+            check_record(launch)
+
+
+def test_growth_is_judged_by_thirds_so_a_late_release_is_not_growth():
+    # 3 s of stillness, then a decay from 1 (period 1 s, 15 %/s): the first third (to 3.3 s)
+    # holds the release peak, the last third a smaller swing (0.58), so the record decays. By
+    # quarters the first would hold stillness only and the decay would read as growth
+    from hydrokit.identify.preprocess import check_record
+    from hydrokit.identify.types import Launch
+
+    t = np.arange(1001) * 0.01
+    y = np.where(t < 3.0, 0.0, np.exp(-0.15 * (t - 3.0)) * np.cos(2 * np.pi * (t - 3.0)))
+    facts = check_record(Launch(t=t, y=y, file="r.csv"))
+    assert facts["cycles"] == 7.0 and facts["period"] == pytest.approx(1.0, rel=1e-9)
