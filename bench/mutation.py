@@ -1043,6 +1043,27 @@ EQUIVALENT: dict[tuple[str, str, str], str] = {
     ("model/allocation.py", "if q2 <= q1 + 1e-8 * self.thrust_scale * self.q_max:", "<= -> <"): (
         "stage 2 losing exactly the tolerance, to the last bit: the two tests split only there"
     ),
+    (
+        "model/thrusters.py",
+        "return (0.0,) * (4 - len(coeffs)) + tuple(coeffs) if len(coeffs) <= 4 else tuple(coeffs)",
+        "<= -> <",
+    ): ("four coefficients padded with (0.0,) * 0 are the same tuple as tuple(coeffs)"),
+    ("identify/estimators.py", "if len(peaks) >= 3:", ">= -> >"): (
+        "three alternating peaks (+ − + or − + −) hold one same-sign pair, one row, so the fit refuses "
+        "'fewer than two cycles' either way: the shift (p1 p3 − p2²)/(p1 + p3 − 2 p2) lies strictly "
+        "between the middle peak and the smaller outer one, so no peak changes sign"
+    ),
+    ("model/thrusters.py", "loss = self.thrust_loss_forward if n > 0 else self.thrust_loss_reverse", "> -> >="): (
+        "n = 0 returns 0.0 before this line, so n > 0 and n >= 0 pick the same loss"
+    ),
+    ("identify/estimators.py", "restarts: int = 3,", "3 -> 4"): (
+        "_starts gives at most three starts (equation-error, log-decrement, the period's guess): "
+        "starts[: 1 + 3] and starts[: 1 + 4] are the same list"
+    ),
+    ("model/thrusters.py", "if g < 0.0:", "< -> <="): (
+        "in both root searches g = 0 meets the |g| <= tolerance test on the line before (a tolerance of "
+        "at least 0) and breaks out first"
+    ),
     ("identify/estimators.py", "fwd = tt >= 0", ">= -> >"): (
         "a sample at t0 exactly is then replayed by the backward pass instead of the forward one: a grid "
         "step of zero length, which returns the initial state (q0, v0) bit for bit either way"

@@ -1076,3 +1076,23 @@ def test_every_model_dataclass_is_a_frozen_value():
                 assert cls.__dataclass_params__.frozen, cls  # type: ignore[attr-defined]
     assert {"SPlane", "PID", "Reference", "Factor", "Term", "Vehicle"} <= set(seen)
     assert len(seen) >= 22  # every dataclass in src/hydrokit/model when this was written
+
+
+@pytest.mark.parametrize("n", [12.0, -12.0])
+def test_a_thruster_without_thrust_losses_gives_the_open_water_thrust(n):
+    # thrust_loss_forward/reverse default to 1 (no loss): the thruster's curve is then the
+    # open-water K_T(0) ρ D⁴ |n| n of the given polynomials (coefficients highest power first)
+    from hydrokit.model.thrusters import Thruster
+
+    th = Thruster(
+        "A",
+        (0.0, 0.0, 0.0),
+        (1.0, 0.0, 0.0),
+        200.0,
+        diameter=0.1,
+        kt_forward=(0.1, 0.4),
+        kt_reverse=(0.1, 0.3),
+        max_speed=30.0,
+    )
+    kt0 = 0.4 if n > 0 else 0.3
+    assert th.curve.thrust(n) == pytest.approx(kt0 * 1025.0 * 0.1**4 * abs(n) * n, rel=1e-12)
