@@ -1064,6 +1064,17 @@ EQUIVALENT: dict[tuple[str, str, str], str] = {
         "in both root searches g = 0 meets the |g| <= tolerance test on the line before (a tolerance of "
         "at least 0) and breaks out first"
     ),
+    ("model/thrusters.py", "v, w = nu[:3], nu[3:6]", "6 -> 7"): (
+        "every caller passes the six-component ν of a state (x[6:12], nu, nu_r): nu[3:6] and nu[3:7] are the same three"
+    ),
+    (
+        "model/thrusters.py",
+        "curves: tuple[ThrustCurve, ...] = field(init=False, repr=False, compare=False)",
+        "False -> True [3]",
+    ): (
+        "the curves are the thrusters' own curve objects, which comparing the thrusters already "
+        "compares: two sets equal by their thrusters have equal curves"
+    ),
     ("identify/estimators.py", "fwd = tt >= 0", ">= -> >"): (
         "a sample at t0 exactly is then replayed by the backward pass instead of the forward one: a grid "
         "step of zero length, which returns the initial state (q0, v0) bit for bit either way"

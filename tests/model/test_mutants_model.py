@@ -1096,3 +1096,12 @@ def test_a_thruster_without_thrust_losses_gives_the_open_water_thrust(n):
     )
     kt0 = 0.4 if n > 0 else 0.3
     assert th.curve.thrust(n) == pytest.approx(kt0 * 1025.0 * 0.1**4 * abs(n) * n, rel=1e-12)
+
+
+@pytest.mark.parametrize("given", ["table_command", "table_thrust"])
+def test_half_a_thrust_table_is_refused_not_taken_for_an_ideal_thruster(given):
+    from hydrokit.errors import InputError
+    from hydrokit.model.thrusters import Thruster
+
+    with pytest.raises(InputError, match=r"thruster 'C' thrust_table .* = None: expected a list of finite numbers"):
+        Thruster("C", (0.0, 0.0, 0.0), (1.0, 0.0, 0.0), 50.0, **{given: (0.0, 1.0, 2.0)})
