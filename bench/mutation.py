@@ -1075,6 +1075,9 @@ EQUIVALENT: dict[tuple[str, str, str], str] = {
         "the curves are the thrusters' own curve objects, which comparing the thrusters already "
         "compares: two sets equal by their thrusters have equal curves"
     ),
+    ("identify/estimators.py", "if c.sine and est.amplitude_ > math.radians(20):", "> -> >="): (
+        "a fitted launch amplitude of exactly 20°, to the last bit: the two tests split only there"
+    ),
     ("identify/estimators.py", "fwd = tt >= 0", ">= -> >"): (
         "a sample at t0 exactly is then replayed by the backward pass instead of the forward one: a grid "
         "step of zero length, which returns the initial state (q0, v0) bit for bit either way"

@@ -1873,3 +1873,13 @@ def test_adequacy_calls_an_autocorrelation_of_exactly_0_3_model_error(r, acf, wo
     a = adequacy(np.array(r), np.arange(5) * 0.1, period=0.1, noise=0.1)
     assert a["acf_at_period"] == acf
     assert a["verdict"].startswith(words)
+
+
+def test_drag_coefficient_is_two_k_q_over_rho_a(spring_rig):
+    # C_D = 2 K_Q / (ρ A) (SPEC §2: F = ½ ρ C_D A |u| u = K_Q |u| u), from the launch's own K_Q
+    launch = simulate_launch(spring_rig, 0.2866, 0.5, 5.0, 0.03, 6.0, SensorModel(200.0, 2e-5, 0.0, 0.0), rng=3)
+    res = identify_launch(spring_rig, launch, "equation-error")
+    assert res.quadratic_damping > 1.0  # kg/m: a drag the two readings would tell apart
+    want = 2.0 * res.quadratic_damping / (spring_rig.density * spring_rig.reference_area)
+    assert res.drag_coefficient == pytest.approx(want, rel=1e-12, abs=1e-15)
+    assert spring_rig.density != 1.0 and spring_rig.reference_area != 1.0  # the two factors tell
