@@ -1078,6 +1078,15 @@ EQUIVALENT: dict[tuple[str, str, str], str] = {
     ("identify/estimators.py", "if c.sine and est.amplitude_ > math.radians(20):", "> -> >="): (
         "a fitted launch amplitude of exactly 20°, to the last bit: the two tests split only there"
     ),
+    (
+        "model/thrusters.py",
+        "return (0.0,) * (4 - len(coeffs)) + tuple(coeffs) if len(coeffs) <= 4 else tuple(coeffs)",
+        "4 -> 5 [2]",
+    ): ("five coefficients padded with (0.0,) * -1 = () are the same tuple as tuple(coeffs)"),
+    ("identify/preprocess.py", "i = int(np.clip(np.searchsorted(t, time), 0, t.size - 1))", "0 -> 1"): (
+        "a time at or before t[0] (searchsorted 0) then starts at i = 1, and the next line steps back: "
+        "time − t0 ≤ 0 < t1 − time gives index 0 either way (one sample: the clip's upper end 0 wins)"
+    ),
     ("identify/estimators.py", "fwd = tt >= 0", ">= -> >"): (
         "a sample at t0 exactly is then replayed by the backward pass instead of the forward one: a grid "
         "step of zero length, which returns the initial state (q0, v0) bit for bit either way"

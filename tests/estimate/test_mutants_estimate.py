@@ -465,6 +465,9 @@ def test_block_added_mass_is_dnv_table_a2_square_prisms(ratio, ca):
     assert block(ratio, 1.0, 1.0, density=1000.0).added_mass[0, 0] == pytest.approx(1000.0 * ca * ratio, rel=1e-12)
     w, h = 0.5, 2.0  # √(w h) = 1: the same table entry
     assert block(ratio, w, h, density=1000.0).added_mass[0, 0] == pytest.approx(1000.0 * ca * ratio, rel=1e-12)
+    # the table is in b/a: a block of side 0.4 m and length 0.4·ratio m reads the same row
+    small = block(0.4 * ratio, 0.4, 0.4, density=1000.0).added_mass[0, 0]
+    assert small == pytest.approx(1000.0 * ca * 0.4**3 * ratio, rel=1e-12)
 
 
 def test_short_cylinder_axial_added_mass_is_lambs_spheroid():
@@ -804,3 +807,12 @@ def test_sphere_drag_below_reynolds_one_is_stokes_like():
     # C_D above Stokes' 24/Re = 48 (Oseen's correction adds ~ 3/16 Re · 24/Re)
     cd = sphere_drag_coefficient(0.5, "Mikhailov-Freire")
     assert 48.0 < cd < 48.0 * 1.2
+
+
+@pytest.mark.parametrize("bad", [0, 0.0, -0.5, float("nan"), float("inf"), "1", True])
+def test_shape_dimensions_must_be_positive_finite_numbers(bad):
+    # a sphere of diameter 0 has no volume to scale C_a by: refused, naming the dimension (m)
+    from hydrokit.estimate.shapes import sphere
+
+    with pytest.raises(InputError, match=r"diameter = .*: expected a positive dimension \(m\)"):
+        sphere(bad, density=1025.0)

@@ -1105,3 +1105,12 @@ def test_half_a_thrust_table_is_refused_not_taken_for_an_ideal_thruster(given):
 
     with pytest.raises(InputError, match=r"thruster 'C' thrust_table .* = None: expected a list of finite numbers"):
         Thruster("C", (0.0, 0.0, 0.0), (1.0, 0.0, 0.0), 50.0, **{given: (0.0, 1.0, 2.0)})
+
+
+@pytest.mark.parametrize("d", [0.0, -0.1])
+def test_a_propeller_thruster_needs_a_positive_diameter(d):
+    from hydrokit.errors import InputError
+    from hydrokit.model.thrusters import Thruster
+
+    with pytest.raises(InputError, match=rf"thruster 'A' diameter = {d}: expected a positive number in m"):
+        Thruster("A", (0.0, 0.0, 0.0), (1.0, 0.0, 0.0), 50.0, diameter=d, kt_forward=(0.1, 0.4), max_speed=30.0)

@@ -106,7 +106,8 @@ class ShapeCoefficients:
 
 def _positive(**dims: float) -> None:
     for k, v in dims.items():
-        if not (isinstance(v, (int, float)) and math.isfinite(v) and v > 0):
+        # bool is an int subclass: True is not a length of 1 m
+        if not (isinstance(v, (int, float)) and not isinstance(v, bool) and math.isfinite(v) and v > 0):
             raise InputError(f"{k} = {v}: expected a positive dimension (m)")
 
 

@@ -7,7 +7,6 @@ forces f (N) with τ = T f, where column i of the 6×m configuration matrix T is
 
 from __future__ import annotations
 
-import math
 from dataclasses import dataclass, field
 from typing import Any
 
@@ -121,10 +120,10 @@ class Allocation(Result):
             # rev/s → rpm at the edge: the JSON contract states propeller speeds in rpm
             shown = [float(c) * 60.0 if u == "rev/s" else float(c) for c, u in zip(self.command, self.command_unit)]
         T = self.configuration_matrix
-        n = len(self.thrust)  # a missing side is no limit (±∞), written as null
-        lo = [-math.inf] * n if self.f_min is None else self.f_min
-        hi = [math.inf] * n if self.f_max is None else self.f_max
-        limits = [[float(a), float(b)] for a, b in zip(lo, hi)]
+        n = len(self.thrust)  # a missing side is no limit, written as null (as ±∞ is)
+        lo = [None] * n if self.f_min is None else [float(a) for a in self.f_min]
+        hi = [None] * n if self.f_max is None else [float(b) for b in self.f_max]
+        limits = [[a, b] for a, b in zip(lo, hi)]
         return jsonable(
             {
                 "vehicle": self.vehicle,
