@@ -1087,6 +1087,18 @@ EQUIVALENT: dict[tuple[str, str, str], str] = {
         "a time at or before t[0] (searchsorted 0) then starts at i = 1, and the next line steps back: "
         "time − t0 ≤ 0 < t1 − time gives index 0 either way (one sample: the clip's upper end 0 wins)"
     ),
+    ("identify/rig_model.py", "m = 12 if want_jac else 2", "2 -> 3"): (
+        "without the Jacobian a third integrated state is ∂q/∂ω², which neither q nor v reads (their "
+        "derivatives use z[0] and z[1] only) and which is not copied out: q and v are bit for bit the same"
+    ),
+    (
+        "identify/preprocess.py",
+        "if den > 0:  # c_0 is the least of the three, so the vertex is within half a step: |d| ≤ ½",
+        "> -> >=",
+    ): (
+        "c_0 is the least of the three costs, so den = c_m − 2 c_0 + c_p ≥ 0; > and >= split only at "
+        "three equal costs to the last bit (a flat parabola, no vertex)"
+    ),
     ("identify/estimators.py", "fwd = tt >= 0", ">= -> >"): (
         "a sample at t0 exactly is then replayed by the backward pass instead of the forward one: a grid "
         "step of zero length, which returns the initial state (q0, v0) bit for bit either way"

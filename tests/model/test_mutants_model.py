@@ -1114,3 +1114,14 @@ def test_a_propeller_thruster_needs_a_positive_diameter(d):
 
     with pytest.raises(InputError, match=rf"thruster 'A' diameter = {d}: expected a positive number in m"):
         Thruster("A", (0.0, 0.0, 0.0), (1.0, 0.0, 0.0), 50.0, diameter=d, kt_forward=(0.1, 0.4), max_speed=30.0)
+
+
+def test_min_thrust_may_be_zero_but_not_positive():
+    # a one-way thruster (no reverse thrust) has min_thrust 0 N; a positive minimum is refused
+    from hydrokit.errors import InputError
+    from hydrokit.model.thrusters import Thruster
+
+    one_way = Thruster("A", (0.0, 0.0, 0.0), (1.0, 0.0, 0.0), 50.0, min_thrust=0.0)
+    assert one_way.min_thrust == 0.0 and one_way.max_thrust == 50.0
+    with pytest.raises(InputError, match=r"thruster 'A' min_thrust = 0.5: expected a reverse thrust ≤ 0 N"):
+        Thruster("A", (0.0, 0.0, 0.0), (1.0, 0.0, 0.0), 50.0, min_thrust=0.5)
