@@ -297,10 +297,7 @@ def allocate_constrained(
     tau = _check_tau(tau)
     m = T.shape[1]
     names = names or [f"T{i + 1}" for i in range(m)]
-    lo = np.asarray(f_min, dtype=float).reshape(-1)
-    hi = np.asarray(f_max, dtype=float).reshape(-1)
-    if lo.shape != (m,) or hi.shape != (m,) or np.any(lo > hi):
-        raise InputError(f"thrust limits: expected {m} pairs with min ≤ max, got {lo} and {hi}")
+    lo, hi = _thrust_limits(f_min, f_max, m)
     unc, warns = _uncontrollable_warning(T, tau)
     f, a, r = _ConstrainedSolver(T, lo, hi, dof_weights).solve(tau)
     return AllocationResult(
@@ -317,6 +314,15 @@ def allocate_constrained(
         f_min=lo,
         f_max=hi,
     )
+
+
+def _thrust_limits(f_min: ArrayLike, f_max: ArrayLike, m: int) -> tuple[Array, Array]:
+    """The limits (N) as two (m,) arrays, refused in one line unless m pairs with min ≤ max."""
+    lo = np.asarray(f_min, dtype=float).reshape(-1)
+    hi = np.asarray(f_max, dtype=float).reshape(-1)
+    if lo.shape != (m,) or hi.shape != (m,) or np.any(lo > hi):
+        raise InputError(f"thrust limits: expected {m} pairs with min ≤ max, got {lo} and {hi}")
+    return lo, hi
 
 
 class _ConstrainedSolver:
@@ -423,12 +429,7 @@ class Allocator:
         dof_weights: ArrayLike | str | None = "capability",
     ) -> None:
         self.T = np.asarray(T, dtype=float)
-        self.f_min = np.asarray(f_min, dtype=float).reshape(-1)
-        self.f_max = np.asarray(f_max, dtype=float).reshape(-1)
-        m = self.T.shape[1]
-        lo, hi = self.f_min, self.f_max
-        if lo.shape != (m,) or hi.shape != (m,) or np.any(lo > hi):
-            raise InputError(f"thrust limits: expected {m} pairs with min ≤ max, got {lo} and {hi}")
+        self.f_min, self.f_max = _thrust_limits(f_min, f_max, self.T.shape[1])
         self.P = weighted_pinv(self.T, weights)
         self.unactuated = np.array([d in uncontrollable_dofs(self.T) for d in DOF_NAMES])
         if isinstance(dof_weights, str):
