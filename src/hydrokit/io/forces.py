@@ -12,6 +12,7 @@ from pathlib import Path
 import numpy as np
 
 from hydrokit.errors import InputError
+from hydrokit.io.yamlfile import read_text
 
 
 def read_forces(path: str | os.PathLike[str]) -> tuple[np.ndarray, np.ndarray]:
@@ -20,9 +21,8 @@ def read_forces(path: str | os.PathLike[str]) -> tuple[np.ndarray, np.ndarray]:
     src = str(p)
     if not p.is_file():
         raise InputError("no such file", src)
-    lines = [
-        ln for ln in p.read_text(encoding="utf-8-sig").splitlines() if ln.strip() and not ln.lstrip().startswith("#")
-    ]
+    text = read_text(p, "a CSV")
+    lines = [ln for ln in text.splitlines() if ln.strip() and not ln.lstrip().startswith("#")]
     if not lines:
         raise InputError("empty file; expected a header speed,force and rows", src)
     rows = list(csv.reader(io.StringIO("\n".join(lines))))

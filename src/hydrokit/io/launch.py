@@ -36,7 +36,7 @@ def read_launch(path: str | os.PathLike[str], rig: Rig) -> Launch:
     """
     p = Path(path)
     src = str(p)
-    text = read_text(p, "a UTF-8 CSV")
+    text = read_text(p, "a CSV")
     lines = [ln for ln in text.splitlines() if ln.strip() and not ln.lstrip().startswith("#")]
     if not lines:
         raise InputError("no header row; expected a CSV with columns time and position/angle/angle_deg", src)

@@ -76,7 +76,7 @@ def read_table(
 
     p = Path(path)
     src = str(p)
-    text = read_text(p, "a UTF-8 text table")
+    text = read_text(p, "a text table")
     rows = _rows(text, src)
     has_header = not all(_is_number(c) for c in rows[0])
     header = [c.strip() for c in rows[0]] if has_header else [str(k + 1) for k in range(len(rows[0]))]

@@ -34,7 +34,7 @@ def read_force_table(path: str | os.PathLike[str]) -> np.ndarray:
     """Rows [t, X, Y, Z, K, M, N] from a force CSV (``#`` comments allowed)."""
     p = Path(path)
     src = str(p)
-    text = read_text(p, "a UTF-8 CSV")
+    text = read_text(p, "a CSV")
     lines = [ln for ln in text.splitlines() if ln.strip() and not ln.lstrip().startswith("#")]
     if len(lines) < 2:
         raise InputError("expected a header time,X,Y,Z,K,M,N and at least one row", src)

@@ -5,6 +5,7 @@ Only :func:`yaml.safe_load` is ever used: files are untrusted.
 
 from __future__ import annotations
 
+import codecs
 import math
 import os
 from pathlib import Path
@@ -60,15 +61,64 @@ def _load_bounded(text: str, source: str) -> Any:
         loader.dispose()
 
 
-def read_text(path: str | os.PathLike[str], expected: str = "a UTF-8 text file") -> str:
-    """A text file's content (UTF-8, BOM dropped), or one line naming the file and ``expected``."""
+#: the encodings a text file may come in (spreadsheets export UTF-16 with a mark)
+ACCEPTED_ENCODINGS = "UTF-8 (with or without a byte-order mark) or UTF-16 with a byte-order mark"
+_MARKS = (
+    (codecs.BOM_UTF8, "utf-8", "UTF-8"),
+    (codecs.BOM_UTF16_LE, "utf-16-le", "UTF-16"),
+    (codecs.BOM_UTF16_BE, "utf-16-be", "UTF-16"),
+)
+
+
+def decode_text(data: bytes, source: str, what: str = "a text file") -> str:
+    """The text of a file's bytes: UTF-8 with or without a byte-order mark, or UTF-16 (LE or
+    BE) with one; the mark is dropped.
+
+    Raises
+    ------
+    InputError
+        One line naming ``source``, the encoding found (UTF-32, UTF-16 without a mark, an 8-bit
+        code page such as Latin-1, binary data) and the encodings accepted.
+    """
+    if data.startswith((codecs.BOM_UTF32_LE, codecs.BOM_UTF32_BE)):  # before UTF-16: FF FE 00 00
+        found = "UTF-32 (its byte-order mark)"
+    else:
+        mark, codec, name = next((m for m in _MARKS if data.startswith(m[0])), (b"", "utf-8", ""))
+        try:
+            text = data[len(mark) :].decode(codec)
+        except UnicodeDecodeError as exc:
+            at = f"{exc.reason} at byte {exc.start + len(mark)}"
+            found = f"a {name} byte-order mark, then bytes that are not {name} ({at})" if mark else _guess(data, at)
+        else:
+            if "\x00" not in text:
+                return text
+            found = _guess(data, f"a NUL character at character {text.index(chr(0))}")
+    raise InputError(f"not readable text: found {found}; expected {what} in {ACCEPTED_ENCODINGS}", source)
+
+
+def _guess(data: bytes, where: str) -> str:
+    """What undecodable bytes without a byte-order mark most likely are (for the message)."""
+    head = data[:4096]
+    even, odd = head[0::2], head[1::2]
+    if len(head) >= 4 and (even.count(0) > 0.4 * len(even) or odd.count(0) > 0.4 * len(odd)):
+        return f"UTF-16 without a byte-order mark ({where})"
+    controls = sum(b < 9 or 13 < b < 32 for b in head)
+    if controls == 0:
+        return f"an 8-bit encoding such as Latin-1 or Windows-1252, not UTF-8 ({where})"
+    return f"binary data, not text ({where}; {controls} control byte(s) in the first {len(head)})"
+
+
+def read_text(path: str | os.PathLike[str], what: str = "a text file") -> str:
+    """A text file's content (see :func:`decode_text` for the encodings), or one line naming
+    the file and ``what`` it should be."""
     p = Path(path)
     try:
-        return p.read_text(encoding="utf-8-sig")
+        data = p.read_bytes()
     except FileNotFoundError:
         raise InputError("no such file", str(p)) from None
-    except (OSError, UnicodeDecodeError) as exc:
-        raise InputError(f"cannot read the file ({exc.__class__.__name__}); expected {expected}", str(p)) from None
+    except OSError as exc:
+        raise InputError(f"cannot read the file ({exc.strerror or exc}); expected {what}", str(p)) from None
+    return decode_text(data, str(p), what)
 
 
 def read_yaml(path: str | os.PathLike[str]) -> dict[str, Any]:
@@ -83,7 +133,7 @@ def read_yaml(path: str | os.PathLike[str]) -> dict[str, Any]:
     if not p.is_file():
         raise InputError("file not found", source=str(p))
     try:
-        text = p.read_text(encoding="utf-8")
+        text = read_text(p, "a YAML file")
         if len(text) > MAX_YAML_BYTES:
             raise InputError(f"file of {len(text)} characters; expected a YAML file under {MAX_YAML_BYTES}", str(p))
         data = _load_bounded(text, str(p))
@@ -92,8 +142,6 @@ def read_yaml(path: str | os.PathLike[str]) -> dict[str, Any]:
         where = f" (line {mark.line + 1}, column {mark.column + 1})" if mark else ""
         problem = getattr(exc, "problem", None) or "syntax error"
         raise InputError(f"not valid YAML{where}: {problem}", source=str(p)) from None
-    except UnicodeDecodeError:
-        raise InputError("not a UTF-8 text file", source=str(p)) from None
     except RecursionError:
         raise InputError("YAML nested too deeply; expected a document a few levels deep", source=str(p)) from None
     if not isinstance(data, dict):
