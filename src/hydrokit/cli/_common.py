@@ -2,29 +2,12 @@
 
 from __future__ import annotations
 
-import math
 import os
 from collections.abc import Mapping
 from pathlib import Path
 from typing import Any
 
 from hydrokit.errors import InputError
-
-
-def floats(text: str, option: str, n: int | None = None, unit: str = "", positive: bool = False) -> list[float]:
-    """Comma-separated finite numbers from an option value (exactly ``n`` when given)."""
-    try:
-        vals = [float(x) for x in text.replace(";", ",").split(",") if x.strip()]
-    except ValueError:
-        vals = []
-    ok = bool(vals) and all(math.isfinite(v) and (v > 0 or not positive) for v in vals)
-    if not ok or (n is not None and len(vals) != n):
-        count = f"{n} " if n is not None else ""
-        kind = "positive" if positive else "finite"
-        raise InputError(
-            f"{option} {text!r}: expected {count}comma-separated {kind} numbers" + (f" ({unit})" if unit else "")
-        )
-    return vals
 
 
 def progress_bar(*, time_based: bool = False) -> Any:

@@ -8,7 +8,7 @@ from typing import Any
 
 import click
 
-from hydrokit.cli._common import floats
+from hydrokit.cli._types import FINITE, NON_NEGATIVE, SECONDS, Number, Numbers
 from hydrokit.errors import InputError
 
 
@@ -30,33 +30,32 @@ def _sensor(rig_obj: Any, sample_rate: float | None, noise: float | None, resolu
 
 
 _COMMON = [
-    click.option(
-        "--added-mass", type=float, required=True, help="True added mass m_a, kg (kg·m² torsion, floating roll/pitch)."
-    ),
-    click.option(
-        "--linear-damping", type=float, required=True, help="True K_L, N·s/m (N·m·s/rad torsion, floating roll/pitch)."
-    ),
-    click.option(
-        "--quadratic-damping",
-        type=float,
-        required=True,
-        help="True K_Q, N·s²/m² (N·m·s²/rad² torsion, floating roll/pitch).",
+    *(
+        click.option(
+            f"--{name}",
+            type=NON_NEGATIVE,
+            required=True,
+            help=f"True {sym}, {unit} ({rot} torsion, floating roll/pitch).",
+        )
+        for name, sym, unit, rot in (
+            ("added-mass", "added mass m_a", "kg", "kg·m²"),
+            ("linear-damping", "K_L", "N·s/m", "N·m·s/rad"),
+            ("quadratic-damping", "K_Q", "N·s²/m²", "N·m·s²/rad²"),
+        )
     ),
     click.option(
         "--amplitudes",
+        type=Numbers(unit="mm or degrees", nonzero=True),
         required=True,
         help="Release displacements, comma-separated: mm (spring, floating heave) or degrees (otherwise).",
     ),
-    click.option("--duration", type=float, default=20.0, show_default=True, help="Recorded time after the release, s."),
-    click.option("--sample-rate", type=float, default=None, help="Sensor sample rate, Hz (default 100)."),
+    click.option("--duration", type=SECONDS, default=20.0, show_default=True, help="Recorded time after release, s."),
+    click.option("--sample-rate", type=Number("Hz", above=0), help="Sensor sample rate, Hz (default 100)."),
     click.option(
-        "--noise", type=float, default=None, help="Sensor noise std: mm (spring, default 0) or degrees (default 0.05)."
+        "--noise", type=NON_NEGATIVE, help="Sensor noise std: mm (spring, default 0) or degrees (default 0.05)."
     ),
     click.option(
-        "--resolution",
-        type=float,
-        default=None,
-        help="Sensor step: mm (spring, default 1/2.45 = 0.408) or degrees (default 0).",
+        "--resolution", type=NON_NEGATIVE, help="Sensor step: mm (spring, default 1/2.45 = 0.408) or degrees (0)."
     ),
 ]
 
@@ -67,10 +66,7 @@ def _common(f):  # noqa: ANN001, ANN202
     return f
 
 
-def _amplitudes(text: str, rig_obj: Any) -> list[float]:
-    vals = floats(text, "--amplitudes", unit="mm or degrees")
-    if any(v == 0 for v in vals):
-        raise InputError(f"--amplitudes {text!r}: expected non-zero displacements")
+def _amplitudes(vals: list[float], rig_obj: Any) -> list[float]:
     return [v * 1e-3 for v in vals] if rig_obj.translational_signal else [math.radians(v) for v in vals]
 
 
@@ -79,12 +75,12 @@ _TRIM = [
         "--start",
         "--release",
         "release",
-        type=float,
+        type=FINITE,
         default=None,
         help="Start of free motion (release) in every launch, s in the file's time base "
         "(default: detected after any forced motion, at the first extreme of the free decay).",
     ),
-    click.option("--end", type=float, default=None, help="Last useful time in every launch, s (default: detected)."),
+    click.option("--end", type=FINITE, default=None, help="Last useful time in every launch, s (default: detected)."),
     click.option(
         "--detrend",
         type=click.Choice(["none", "mean", "linear"]),

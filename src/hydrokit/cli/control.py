@@ -6,12 +6,18 @@ from typing import Any
 
 import click
 
-from hydrokit.cli._common import floats, json_text, write_all
+from hydrokit.cli._common import json_text, write_all
+from hydrokit.cli._types import Numbers
 
 
 @click.command()
 @click.argument("vehicle")
-@click.option("--tau", required=True, help="Demanded force/moment X,Y,Z,K,M,N in body axes (N, N·m), comma-separated.")
+@click.option(
+    "--tau",
+    type=Numbers(6, "N and N·m"),
+    required=True,
+    help="Demanded force/moment X,Y,Z,K,M,N in body axes (N, N·m), comma-separated.",
+)
 @click.option(
     "--method",
     type=click.Choice(["constrained", "pinv"]),
@@ -22,6 +28,7 @@ from hydrokit.cli._common import floats, json_text, write_all
 )
 @click.option(
     "--weights",
+    type=Numbers(unit="dimensionless", positive=True),
     default=None,
     help="pinv only: per-thruster weights (dimensionless, larger = used less), comma-separated in file order.",
 )
@@ -32,7 +39,7 @@ from hydrokit.cli._common import floats, json_text, write_all
     default=None,
     help="Write the result as JSON to this file (forces in N, moments in N·m, speeds in rpm).",
 )
-def allocate(vehicle: str, tau: str, method: str, weights: str | None, json_out: str | None) -> None:
+def allocate(vehicle: str, tau: list[float], method: str, weights: list[float] | None, json_out: str | None) -> None:
     """Allocate a demanded force/moment TAU to the thrusters of VEHICLE (file or bundled name).
 
     Prints the configuration matrix, thrust per thruster (N), the achieved τ and the DOF the
@@ -43,14 +50,14 @@ def allocate(vehicle: str, tau: str, method: str, weights: str | None, json_out:
     from hydrokit.errors import InputError
     from hydrokit.io.thrusters import load_thrusters
 
-    tau_v = floats(tau, "--tau", 6, "X,Y,Z,K,M,N in N and N·m")
     ts = load_thrusters(vehicle)
-    w = None
     if weights is not None:
-        w = floats(weights, "--weights", len(ts), positive=True)
+        if len(weights) != len(ts):
+            shown = ",".join(f"{x:g}" for x in weights)
+            raise InputError(f"--weights {shown}: {len(weights)} weights; expected {len(ts)}, one per thruster")
         if method != "pinv":
             raise InputError("--weights applies only to --method pinv")
-    res = run(ts, tau_v, method, w)
+    res = run(ts, tau, method, weights)
     doc = {**res.to_dict(), "vehicle": vehicle}
     for msg in doc["warnings"]:
         click.echo(f"warning: {msg}", err=True)

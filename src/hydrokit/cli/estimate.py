@@ -8,6 +8,7 @@ from typing import Any
 import click
 
 from hydrokit.cli._common import json_text, write_all
+from hydrokit.cli._types import Count, Number
 from hydrokit.core.names import DOF_NAMES as DOF
 
 
@@ -27,7 +28,7 @@ from hydrokit.core.names import DOF_NAMES as DOF
 )
 @click.option(
     "--resolution",
-    type=click.IntRange(6, 200),
+    type=Count(6, 200),
     default=None,
     help="BEM panels around the circumference (count, 6 to 200; default 48 or the part's own).",
 )
@@ -103,8 +104,8 @@ def estimate(geometry: str, out_file: str, bem: bool, resolution: int | None, da
 
 @click.command("fit-forces")
 @click.argument("forces", metavar="FORCES.csv", type=click.Path(dir_okay=False))
-@click.option("--area", type=float, required=True, help="Reference area A_ref for C_D, m².")
-@click.option("--density", type=float, required=True, help="Fluid density ρ, kg/m³.")
+@click.option("--area", type=Number("m²", above=0), required=True, help="Reference area A_ref for C_D, m².")
+@click.option("--density", type=Number("kg/m³", above=0), required=True, help="Fluid density ρ, kg/m³.")
 @click.option(
     "--json", "json_out", type=click.Path(dir_okay=False), default=None, help="Write the fits to this JSON file."
 )

@@ -6,6 +6,8 @@ from pathlib import Path
 
 import click
 
+from hydrokit.cli._types import Numbers
+
 FORMATS = ("gazebo", "uuv-simulator", "python-control")
 
 
@@ -22,21 +24,21 @@ FORMATS = ("gazebo", "uuv-simulator", "python-control")
 @click.option("--out", "out", required=True, type=click.Path(dir_okay=False), help="Output file (path).")
 @click.option(
     "--trim",
+    type=Numbers(6, "m/s and rad/s"),
     default="0,0,0,0,0,0",
     show_default=True,
     help="python-control: trim body velocity u,v,w (m/s), p,q,r (rad/s) to linearise about.",
 )
-def export(vehicle: str, fmt: str, out: str, trim: str) -> None:
+def export(vehicle: str, fmt: str, out: str, trim: list[float]) -> None:
     """Write VEHICLE (a vehicle file or bundled name) for another tool.
 
     Gazebo and uuv_simulator use body FLU / world ENU: hydrokit's FRD/NED values are converted
     (y and z negated, 6x6 matrices T M T) and the file says so in a comment.
     """
     from hydrokit.api import export_vehicle
-    from hydrokit.cli._common import floats, write_all
+    from hydrokit.cli._common import write_all
 
-    nu = floats(trim, "--trim", n=6, unit="m/s and rad/s")
-    data = export_vehicle(vehicle, fmt, trim=nu)
+    data = export_vehicle(vehicle, fmt, trim=trim)
     write_all({Path(out): data})
     if fmt == "python-control":
         import io

@@ -11,6 +11,7 @@ from typing import Any
 import click
 
 from hydrokit.cli._common import write_all
+from hydrokit.cli._types import Number
 
 
 @click.command()
@@ -34,7 +35,12 @@ from hydrokit.cli._common import write_all
 @click.option("--marker", type=click.Choice(["dark", "bright"]), default="dark", help="Video: the marker's shade.")
 @click.option("--roi", default=None, help="Video: search only in x,y,w,h (pixels).")
 @click.option("--pivot", default=None, help="Video: pivot x,y (pixels; default: circle fit of the arc).")
-@click.option("--fps", type=float, default=None, help="Video: frame rate (default: the container's frame times).")
+@click.option(
+    "--fps",
+    type=Number("frames/s", above=0),
+    default=None,
+    help="Video: frame rate (default: the container's frame times).",
+)
 @click.option("--split", is_flag=True, help="One launch per release (hold → free decay) in a long recording.")
 @click.option(
     "--plots", is_flag=True, help="Also write DIR/ingest.png (the launches cut) and, for a video, DIR/tracking.png."

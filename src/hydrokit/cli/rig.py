@@ -9,7 +9,7 @@ import click
 
 from hydrokit.cli._common import check_out_dir, write_all
 from hydrokit.cli._rig_options import _amplitudes, _common, _sensor
-from hydrokit.errors import InputError
+from hydrokit.cli._types import NON_NEGATIVE, SEED, Count
 
 
 @click.group()
@@ -20,9 +20,9 @@ def rig() -> None:
 @rig.command("simulate")
 @click.argument("rig_file", metavar="RIG.yaml", type=click.Path(dir_okay=False))
 @_common
-@click.option("--launches", type=int, default=6, show_default=True, help="Launches per amplitude (count).")
-@click.option("--hold", type=float, default=0.5, show_default=True, help="Still record before each release, s.")
-@click.option("--seed", type=int, default=0, show_default=True, help="Random seed for the sensor noise (integer).")
+@click.option("--launches", type=Count(1), default=6, show_default=True, help="Launches per amplitude (count).")
+@click.option("--hold", type=NON_NEGATIVE, default=0.5, show_default=True, help="Still record before each release, s.")
+@click.option("--seed", type=SEED, default=0, show_default=True, help="Random seed for the sensor noise (integer).")
 @click.option(
     "--out", "out_dir", required=True, type=click.Path(file_okay=False), help="Directory for the launch CSVs."
 )
@@ -31,7 +31,7 @@ def rig_simulate(
     added_mass: float,
     linear_damping: float,
     quadratic_damping: float,
-    amplitudes: str,
+    amplitudes: list[float],
     duration: float,
     sample_rate: float | None,
     noise: float | None,
@@ -51,8 +51,6 @@ def rig_simulate(
     out = check_out_dir(out_dir)  # before the launches are simulated
     r = load_rig(rig_file)
     amps = _amplitudes(amplitudes, r)
-    if launches < 1:
-        raise InputError(f"--launches {launches}: expected at least 1")
     sensor = _sensor(r, sample_rate, noise, resolution, hold)
     rng = np.random.default_rng(seed)
     texts = {}
@@ -74,13 +72,13 @@ def rig_simulate(
 @rig.command("plan")
 @click.argument("rig_file", metavar="RIG.yaml", type=click.Path(dir_okay=False))
 @_common
-@click.option("--launches", type=int, default=6, show_default=True, help="Launches per amplitude (count).")
+@click.option("--launches", type=Count(1), default=6, show_default=True, help="Launches per amplitude (count).")
 def rig_plan(
     rig_file: str,
     added_mass: float,
     linear_damping: float,
     quadratic_damping: float,
-    amplitudes: str,
+    amplitudes: list[float],
     duration: float,
     sample_rate: float | None,
     noise: float | None,
@@ -101,9 +99,9 @@ def rig_plan(
     tab = Table(title=f"predicted standard errors, {launches} launch(es) per amplitude, sensor {sensor.name}")
     for c in ("amplitude", "peak speed (m/s)", "σ(m_a)", "σ(K_L)", "σ(K_Q)", "σ(damping force) at peak"):
         tab.add_column(c, justify="right")
-    for row, a in zip(plan, amplitudes.split(",")):
+    for row, a in zip(plan, amplitudes):
         tab.add_row(
-            a.strip() + (" mm" if r.translational_signal else "°"),
+            f"{a:g}" + (" mm" if r.translational_signal else "°"),
             f"{row['speed_max']:.3g}",
             f"{row['added_mass']:.3g} ({100 * row['added_mass_rel']:.2g} %)",
             f"{row['linear_damping']:.3g} ({100 * row['linear_damping_rel']:.2g} %)",

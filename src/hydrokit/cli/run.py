@@ -7,6 +7,8 @@ from pathlib import Path
 
 import click
 
+from hydrokit.cli._types import Count
+
 
 @click.command()
 @click.argument("project")
@@ -22,7 +24,7 @@ import click
 @click.option("--bem", is_flag=True, help="Boundary-element added mass from the geometry (needs hydrokit[bem]).")
 @click.option(
     "--workers",
-    type=int,
+    type=Count(0),
     default=None,
     help="Dask local workers (count) for launch fits and the Monte Carlo; 1 = serial in this process; "
     "default: one per core when hydrokit[dask] is installed, else serial.",
@@ -30,7 +32,9 @@ import click
 @click.option(
     "--scheduler", default=None, help="Address of a running Dask scheduler, e.g. tcp://127.0.0.1:8786 (no unit)."
 )
-@click.option("--samples", type=int, default=None, help="Monte Carlo samples (count); default: the project's.")
+@click.option(
+    "--samples", type=Count(0, 100_000), default=None, help="Monte Carlo samples (count); default: the project's."
+)
 @click.option("--quiet", is_flag=True, help="No progress bars or summary table.")
 def run(
     project: str,

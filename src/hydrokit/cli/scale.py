@@ -4,28 +4,32 @@ from __future__ import annotations
 
 import click
 
+from hydrokit.cli._types import FINITE, Number
 from hydrokit.errors import InputError
+
+RATIO = Number("model/full-size length ratio", above=0)
+VOLUME = Number("m³", above=0)
 
 
 @click.command()
 @click.option(
-    "--ratio", type=float, required=True, help="Model/full-size length ratio, e.g. 0.3 for a 30 % model (no unit)."
+    "--ratio", type=RATIO, required=True, help="Model/full-size length ratio, e.g. 0.3 for a 30 % model (no unit)."
 )
-@click.option("--added-mass", type=float, default=None, help="Model added mass, kg (kg·m² with --rotational).")
-@click.option("--linear-damping", type=float, default=None, help="Model K_L, N·s/m (N·m·s/rad with --rotational).")
+@click.option("--added-mass", type=FINITE, default=None, help="Model added mass, kg (kg·m² with --rotational).")
+@click.option("--linear-damping", type=FINITE, default=None, help="Model K_L, N·s/m (N·m·s/rad with --rotational).")
 @click.option(
-    "--quadratic-damping", type=float, default=None, help="Model K_Q, N·s²/m² (N·m·s²/rad² with --rotational)."
+    "--quadratic-damping", type=FINITE, default=None, help="Model K_Q, N·s²/m² (N·m·s²/rad² with --rotational)."
 )
 @click.option("--rotational", is_flag=True, help="Coefficients of a rotational DOF (added inertia and damping ∝ λ⁵).")
 @click.option(
     "--model-volume",
-    type=float,
+    type=VOLUME,
     default=None,
     help="Model displaced volume, m³ (with --full-volume: CELY2019's C_m form).",
 )
 @click.option(
     "--full-volume",
-    type=float,
+    type=VOLUME,
     default=None,
     help="Full-scale displaced volume, m³: also print the added mass as C_m ρ V_full, CELY2019's convention.",
 )
@@ -53,17 +57,13 @@ def scale(
     }
     if not vals:
         raise InputError("give at least one of --added-mass, --linear-damping, --quadratic-damping")
+    if (model_volume is None) != (full_volume is None):
+        raise InputError("--model-volume and --full-volume go together (m³): give both or neither")
     full = scale_coefficients(vals, lam, rotational)
     click.echo(f"λ = L_full / L_model = {lam:.6g}")
     for k, v in vals.items():
         click.echo(f"{k}: model {v:.6g} → full scale {full[k]:.6g}")
-    if (model_volume is None) != (full_volume is None):
-        raise InputError("--model-volume and --full-volume go together (m³): give both or neither")
     if model_volume is not None and full_volume is not None and added_mass is not None and not rotational:
-        if not (model_volume > 0 and full_volume > 0):
-            raise InputError(
-                f"--model-volume {model_volume}, --full-volume {full_volume}: expected positive volumes (m³)"
-            )
         cm_form = added_mass * full_volume / model_volume  # C_m ρ V_full with C_m = m_a / (ρ V_model)
         click.echo(
             f"added_mass as C_m ρ V_full (CELY2019 Table 10 convention): {cm_form:.6g}; "

@@ -7,6 +7,8 @@ from pathlib import Path
 
 import click
 
+from hydrokit.cli._types import SECONDS, Count
+
 MODELS = ("rigid", "multibody", "independent")
 
 
@@ -24,8 +26,8 @@ def _pairs(values: tuple[str, ...], option: str, what: str) -> list[tuple[str, s
 
 @click.command()
 @click.argument("assembly")
-@click.option("--duration", type=float, required=True, help="Simulated time, s.")
-@click.option("--dt", type=float, required=True, help="Integration step, s (e.g. 0.01).")
+@click.option("--duration", type=SECONDS, required=True, help="Simulated time, s.")
+@click.option("--dt", type=SECONDS, required=True, help="Integration step, s (e.g. 0.01).")
 @click.option(
     "--model",
     type=click.Choice(MODELS),
@@ -55,7 +57,7 @@ def _pairs(values: tuple[str, ...], option: str, what: str) -> list[tuple[str, s
     help="Quadratic drag of the composite: elements (each part's drag at its own point), rehman "
     "(d·r³ diagonal), shifted (Hᵀ D H, dimensionally wrong; for comparison).",
 )
-@click.option("--every", type=int, default=1, show_default=True, help="Record every n-th step (count).")
+@click.option("--every", type=Count(1), default=1, show_default=True, help="Record every n-th step (count).")
 @click.option("--out", "out", required=True, type=click.Path(file_okay=False), help="Output folder (path).")
 @click.option("--plots", is_flag=True, help="Also write path.png, separation.png and loads.png.")
 def transport(
@@ -79,7 +81,8 @@ def transport(
     """
     from hydrokit.api import load_assembly
     from hydrokit.api import transport as fly
-    from hydrokit.cli._common import check_out_dir, floats, json_text, write_all
+    from hydrokit.cli._common import check_out_dir, json_text, write_all
+    from hydrokit.cli._types import floats
     from hydrokit.errors import InputError
     from hydrokit.io.trajectory import table_csv
     from hydrokit.simulate.transport import COLUMNS

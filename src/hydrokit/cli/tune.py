@@ -7,7 +7,8 @@ from typing import Any
 
 import click
 
-from hydrokit.cli._common import check_out_dir, floats, json_text, write_all
+from hydrokit.cli._common import check_out_dir, json_text, write_all
+from hydrokit.cli._types import SECONDS, SEED, Count, Numbers
 
 
 @click.command()
@@ -34,23 +35,24 @@ from hydrokit.cli._common import check_out_dir, floats, json_text, write_all
 )
 @click.option(
     "--bounds",
+    type=Numbers(2, "factor", positive=True),
     default="0.2,5",
     show_default=True,
     help="MIN,MAX factors (no unit) around the mission's gains that the search may use.",
 )
-@click.option("--maxiter", type=int, default=50, show_default=True, help="Generations of differential evolution.")
-@click.option("--popsize", type=int, default=6, show_default=True, help="Population per tuned gain (no unit).")
-@click.option("--seed", type=int, default=0, show_default=True, help="Seed of the search (no unit).")
+@click.option("--maxiter", type=Count(1), default=50, show_default=True, help="Generations of differential evolution.")
+@click.option("--popsize", type=Count(1), default=6, show_default=True, help="Population per tuned gain (no unit).")
+@click.option("--seed", type=SEED, default=0, show_default=True, help="Seed of the search (no unit).")
 @click.option(
-    "--workers", type=int, default=None, help="Threads flying each generation as one fleet (default: all cores)."
+    "--workers", type=Count(1), default=None, help="Threads flying each generation as one fleet (default: all cores)."
 )
-@click.option("--duration", type=float, default=None, help="Override the mission duration, s.")
+@click.option("--duration", type=SECONDS, default=None, help="Override the mission duration, s.")
 def tune(
     mission_file: str,
     out_dir: str,
     controller: str,
     weights: str,
-    bounds: str,
+    bounds: list[float],
     maxiter: int,
     popsize: int,
     seed: int,
@@ -72,9 +74,9 @@ def tune(
     from hydrokit.simulate.tune import parse_weights, tune_gains
 
     out = check_out_dir(out_dir)  # before the search: hours must not be lost to a bad folder
-    lo, hi = floats(bounds, "--bounds", n=2, unit="factor")
-    if not (0 < lo <= hi):
-        raise InputError(f"--bounds {bounds}: expected MIN,MAX factors with 0 < MIN ≤ MAX")
+    lo, hi = bounds
+    if not lo <= hi:
+        raise InputError(f"--bounds {lo:g},{hi:g}: expected MIN,MAX factors with 0 < MIN ≤ MAX")
     w = parse_weights(weights)
     mis = load_mission(mission_file)
     vehicle = load_vehicle(mis.vehicle)
