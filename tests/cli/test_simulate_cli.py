@@ -7,6 +7,7 @@ import pytest
 import yaml
 
 import hydrokit
+from hydrokit.io.vehicle import resolve_vehicle
 
 # the CSV holds 9 significant digits: the CLI's numbers equal the API's to half a unit in the 9th
 CSV_RTOL = 6e-9
@@ -104,6 +105,56 @@ def test_simulate_bad_options(run_cli, tmp_path, args, message):
     assert code == 2
     assert err.splitlines() == [message], err
     assert not out.exists()
+
+
+@pytest.mark.parametrize(
+    ("vehicle", "args", "message"),
+    [
+        ("bluerov2-heavy", ["--samples", "5"], "--samples 5: vehicle 'bluerov2-heavy' has no 'uncertainty:' block"),
+        ("sigma", ["--samples", "1"], "--samples 1: expected a whole number from 2 to 100000"),
+        ("sigma", ["--samples", "3", "--integrator", "dop853"], "--integrator 'dop853' with --samples: the samples"),
+        ("sigma", ["--samples", "3", "--attitude", "quaternion"], "expected --attitude euler"),
+    ],
+    ids=["no-uncertainty", "one-sample", "adaptive", "quaternion"],
+)
+def test_samples_the_run_cannot_honour_are_refused_before_the_run(run_cli, tmp_path, vehicle, args, message):
+    """``--samples`` (issue 32 class 8) needs the file's σ and the compiled Euler RK4 of the batch."""
+    if vehicle == "sigma":
+        doc = yaml.safe_load(resolve_vehicle("bluerov2-heavy").read_text())
+        doc["uncertainty"] = {"quadratic_damping": [10.0, 0, 0, 0, 0, 0]}
+        vehicle = tmp_path / "v.yaml"
+        vehicle.write_text(yaml.safe_dump(doc))
+    out = tmp_path / "t.csv"
+    code, _, err = run_cli("simulate", vehicle, "--duration", "1", *args, "--out", out)
+    assert code == 2
+    assert len(err.splitlines()) == 1 and message in err, err
+    assert not out.exists()
+
+
+def test_samples_of_a_hand_written_sigma_spread_the_steady_speed(run_cli, tmp_path):
+    """A vehicle file with only standard errors (no covariance): its σ is drawn independently, and
+    each sample's steady surge speed is the closed form of its own damping."""
+    doc = yaml.safe_load(resolve_vehicle("bluerov2-heavy").read_text())
+    doc["uncertainty"] = {"quadratic_damping": [20.0, 0, 0, 0, 0, 0]}
+    # neutrally buoyant with B at G: a pure surge run, no pitch or heave to couple into it
+    doc["volume"] = doc["mass"] / doc.get("fluid", {"density": 1025.0})["density"]
+    doc["center_of_buoyancy"] = doc["center_of_gravity"]
+    (tmp_path / "v.yaml").write_text(yaml.safe_dump(doc))
+    code, _, err = run_cli(
+        "simulate", tmp_path / "v.yaml", "--samples", "40", "--force", "40,0,0,0,0,0", "--duration", "30",
+        "--output-every", "100", "--out", tmp_path / "t.csv",
+    )  # fmt: skip
+    assert code == 0, err
+    rows = np.loadtxt(tmp_path / "t_samples.csv", delimiter=",", skiprows=1)
+    header = (tmp_path / "t_samples.csv").read_text().splitlines()[0].split(",")
+    assert header[1] == "quadratic_damping.surge"
+    d_q, u = rows[:, 1], rows[:, header.index("final_u")]
+    assert np.std(d_q, ddof=1) == pytest.approx(20.0, rel=0.35)  # 40 draws: 1 sd of the std is 11 %
+    v = hydrokit.load_vehicle(tmp_path / "v.yaml")
+    d_l = v.D_L[0, 0]
+    steady = (-d_l + np.sqrt(d_l**2 + 4 * d_q * 40.0)) / (2 * d_q)  # d_L u + d_Q u² = 40 N
+    assert u == pytest.approx(steady, rel=1e-6)  # 30 s is 100 time constants
+    assert np.ptp(u) > 0.01  # a real spread
 
 
 def test_simulate_bad_vehicle_file(run_cli, tmp_path):

@@ -366,3 +366,73 @@ def test_report_shows_the_all_launch_statistics_next_to_a_rejection(first_run):
     assert cells[4] == "1"
     assert cells[5] == f"{fmt(0.4321)} [{fmt(0.41)}, {fmt(0.45)}]"
     assert cells[1].startswith(fmt(e["mean"]))  # the kept-launch mean stays in its column
+
+
+def test_simulate_samples_draws_an_envelope_from_the_files_covariance(first_run, run_cli, tmp_path):
+    """Issue 32 class 8: ``hydrokit simulate VEHICLE --samples 50`` on a run's vehicle.yaml flies 50
+    vehicles drawn from its uncertainty block; their spread is the stated σ's."""
+    _, out, _ = first_run
+    args = ("--force", "50,0,0,0,0,0", "--duration", "40", "--output-every", "100", "--seed", "7")
+    code, stdout, err = run_cli("simulate", out / "vehicle.yaml", "--samples", "50", *args, "--out", tmp_path / "s.csv")
+    assert code == 0, err
+    assert "50 samples of 3 coefficient(s)" in stdout
+    doc = yaml.safe_load((out / "vehicle.yaml").read_text())
+    unc = doc["uncertainty"]
+    cov = np.asarray(unc["covariance"], float)
+    header = (tmp_path / "s_samples.csv").read_text().splitlines()[0].split(",")
+    rows = np.loadtxt(tmp_path / "s_samples.csv", delimiter=",", skiprows=1)
+    col = {name: rows[:, k] for k, name in enumerate(header)}
+    assert rows.shape[0] == 50
+    drawn = np.column_stack([col[p] for p in unc["parameters"]])
+    # the std of 50 normal draws is σ within ±10 % (1 sd: 1/√98); ±30 % is 3 sd for the seeded draw
+    assert np.std(drawn, axis=0, ddof=1) == pytest.approx(np.sqrt(np.diag(cov)), rel=0.3)
+    # each sample's steady surge speed is the closed form of its own damping under the same net surge
+    # force X (the nominal's d_L u₀ + d_Q u₀²: the pitch the CG offset gives is the same to 1e-5)
+    u0 = np.loadtxt(tmp_path / "s.csv", delimiter=",", skiprows=1)[-1, 7]
+    d_l, d_q = doc["linear_damping"][0], doc["quadratic_damping"][0]
+    force = d_l * u0 + d_q * u0**2
+    k_l, k_q = col["linear_damping.surge"], col["quadratic_damping.surge"]
+    steady = (-k_l + np.sqrt(k_l**2 + 4 * k_q * force)) / (2 * k_q)
+    assert col["final_u"] == pytest.approx(steady, rel=1e-4)
+    # and the speed's spread is the delta method's σ_u = √(gᵀ Σ g), g = ∂u/∂(m_a, d_L, d_Q), within 3 sd
+    g = np.array([0.0, -u0, -(u0**2)]) / (d_l + 2 * d_q * u0)
+    assert np.std(col["final_u"], ddof=1) == pytest.approx(math.sqrt(g @ cov @ g), rel=0.3)
+    assert np.std(col["final_u"], ddof=1) > 0.005  # a real spread (about 1 % of the speed), not round-off
+    env_header = (tmp_path / "s_envelope.csv").read_text().splitlines()[0].split(",")
+    env = np.loadtxt(tmp_path / "s_envelope.csv", delimiter=",", skiprows=1)[-1]
+    for band, q in (("p5", 5), ("p50", 50), ("p95", 95)):
+        assert env[env_header.index(f"u_{band}")] == pytest.approx(np.percentile(col["final_u"], q), rel=1e-8)
+    assert env[env_header.index("u_min")] == pytest.approx(col["final_u"].min(), rel=1e-8)
+
+
+def test_mission_samples_fly_the_vehicles_drawn_from_the_files_covariance(first_run, run_cli, tmp_path):
+    """``hydrokit mission --samples`` flies vehicles drawn from the mission vehicle's uncertainty
+    block; its metrics are those of flying the same draws one by one with ``hydrokit.fly``."""
+    project, out, _ = first_run
+    m = yaml.safe_load((project.parent / "mission.yaml").read_text())
+    m["vehicle"] = str(out / "vehicle.yaml")
+    (tmp_path / "m.yaml").write_text(yaml.safe_dump(m))
+    code, stdout, err = run_cli(
+        "mission", tmp_path / "m.yaml", "--samples", "8", "--seed", "5", "--controller", "pid", "--out", tmp_path / "o"
+    )
+    assert code == 0, err
+    assert "8 samples of 3 coefficient(s): cross-track RMS 5–95 %" in stdout
+    doc = json.loads((tmp_path / "o" / "monte_carlo.json").read_text())
+    vehicle = hydrokit.load_vehicle(out / "vehicle.yaml")
+    assert doc["parameters"] == list(vehicle.uncertainty.parameters)
+    # second method: the same seeded draw, each vehicle flown on its own
+    from hydrokit.model.uncertainty import with_coefficients
+
+    mean = [vehicle.M_A[0, 0], vehicle.D_L[0, 0], vehicle.D_Q[0]]
+    draws, _ = vehicle.uncertainty.draw(np.array(mean), 8, 5)
+    rms = [
+        hydrokit.fly(tmp_path / "m.yaml", "pid", vehicle=with_coefficients(vehicle, dict(zip(doc["parameters"], row))))
+        for row in draws
+    ]
+    x = doc["controllers"]["pid"]["metrics"]["cross_track_rms"]
+    values = [r.metrics["cross_track_rms"] for r in rms]
+    assert x["median"] == pytest.approx(np.median(values), rel=1e-9)
+    assert x["p95"] == pytest.approx(np.percentile(values, 95), rel=1e-9)
+    assert len(set(values)) == 8  # the draws differ, and so do their flights
+    header = (tmp_path / "o" / "envelope.csv").read_text().splitlines()[0].split(",")
+    assert header[:3] == ["time", "pid_x_p5", "pid_x_p50"]

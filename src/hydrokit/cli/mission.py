@@ -3,12 +3,13 @@
 from __future__ import annotations
 
 import math
-from collections.abc import Callable
 from typing import Any
 
 import click
 
 from hydrokit.cli._common import check_out_dir, json_text, progress_bar, write_all
+from hydrokit.cli._samples import check_samples, mission_samples, samples_options
+from hydrokit.cli._types import SECONDS
 
 
 @click.command()
@@ -28,7 +29,7 @@ from hydrokit.cli._common import check_out_dir, json_text, progress_bar, write_a
     help="Which gain set of the mission file to fly (dimensionless choice): the file's "
     "'controller', pid, s-plane, or both for a side-by-side comparison.",
 )
-@click.option("--duration", type=float, default=None, help="Override the mission duration, s.")
+@click.option("--duration", type=SECONDS, default=None, help="Override the mission duration, s.")
 @click.option("--no-plots", is_flag=True, help="Skip the PNG figures (no unit).")
 @click.option(
     "--loop",
@@ -37,8 +38,16 @@ from hydrokit.cli._common import check_out_dir, json_text, progress_bar, write_a
     show_default=True,
     help="Closed-loop implementation (no unit): compiled (numba) or python (the reference).",
 )
+@samples_options("monte_carlo.json, envelope.csv (x, y, z: 5/50/95 %, min, max per controller; m, s), envelope.png")
 def mission(
-    mission_file: str, out_dir: str, controller: str, duration: float | None, no_plots: bool, loop: str
+    mission_file: str,
+    out_dir: str,
+    controller: str,
+    duration: float | None,
+    no_plots: bool,
+    loop: str,
+    samples: int,
+    seed: int,
 ) -> None:
     """Fly MISSION (a mission YAML file or bundled name) in closed loop and write results.
 
@@ -62,13 +71,15 @@ def mission(
     vehicle = load_vehicle(mis.vehicle)  # all input validated before the run starts
     if vehicle.thrusters is None:
         raise InputError(f"vehicle '{mis.vehicle}' has no 'thrusters:' block; a mission needs thrusters", mis.source)
+    check_samples(vehicle, samples)
     for note in vehicle.thrusters.notes:
         click.echo(f"warning: {note}", err=True)
     results = {}
     with progress_bar(time_based=True) as bar:
         for kind in kinds:
             task = bar.add_task(f"{kind} mission", total=duration if duration is not None else mis.duration)
-            results[kind] = fly(mis, kind, vehicle=vehicle, duration=duration, progress=_advance(bar, task), loop=loop)
+            advance = lambda t, task=task: bar.update(task, completed=t)  # noqa: E731
+            results[kind] = fly(mis, kind, vehicle=vehicle, duration=duration, progress=advance, loop=loop)
     thrusters = vehicle.thrusters
     metrics = {r.label: r.metrics for r in results.values()}
     # everything computed: build the outputs in memory, then write them
@@ -98,18 +109,12 @@ def mission(
             files[name] = to_png(
                 thruster_figure(res.run, thrusters.f_min, thrusters.f_max, f"{mis.name} ({res.label}): thruster usage")
             )
+    extra, spread = mission_samples(mis, vehicle, results, samples, seed, duration, not no_plots)
+    files |= extra
     write_all({out / name: data for name, data in files.items()})
     _print_metrics(metrics)
+    click.echo(spread, nl=bool(spread))  # nothing without --samples
     click.echo(f"wrote {', '.join(sorted(files))} to {out}", err=True)
-
-
-def _advance(bar: Any, task: Any) -> Callable[[float], None]:
-    """A progress callback that moves ``task`` of ``bar`` to the simulated time t (s)."""
-
-    def update(t: float) -> None:
-        bar.update(task, completed=t)
-
-    return update
 
 
 def _print_metrics(metrics: dict[str, dict[str, Any]]) -> None:

@@ -8,6 +8,7 @@ from typing import Any
 
 import click
 
+from hydrokit.cli._samples import check_samples, sampled_files, samples_options
 from hydrokit.errors import InputError
 
 
@@ -27,12 +28,7 @@ def _vec(text: str | None, n: int, option: str, unit: str) -> list[float] | None
 @click.argument("vehicle", metavar="VEHICLE")
 @click.option("--duration", type=float, default=60.0, show_default=True, help="Simulated time, s.")
 @click.option("--dt", type=float, default=0.01, show_default=True, help="Integration step, s.")
-@click.option(
-    "--force",
-    default="0,0,0,0,0,0",
-    show_default=True,
-    help="Constant generalised force X,Y,Z,K,M,N in body axes: N and N·m.",
-)
+@click.option("--force", default="0,0,0,0,0,0", show_default=True, help="Constant force X,Y,Z,K,M,N (body): N, N·m.")
 @click.option(
     "--force-csv",
     type=click.Path(dir_okay=False),
@@ -65,12 +61,9 @@ def _vec(text: str | None, n: int, option: str, unit: str) -> list[float] | None
     help="Trajectory CSV: time,x,y,z,phi,theta,psi,u,v,w,p,q,r (s, m, rad, m/s, rad/s).",
 )
 @click.option(
-    "--plots",
-    "plots_dir",
-    type=click.Path(file_okay=False),
-    default=None,
-    help="Write states.png and path.png here (directory).",
+    "--plots", "plots_dir", type=click.Path(file_okay=False), help="Write states.png, path.png here (folder)."
 )
+@samples_options("OUT_envelope.csv (5/50/95 %, min, max per state and time; SI), OUT_samples.csv, envelope.png")
 def simulate(
     vehicle: str,
     duration: float,
@@ -85,6 +78,8 @@ def simulate(
     output_every: int,
     out_file: str,
     plots_dir: str | None,
+    samples: int,
+    seed: int,
 ) -> None:
     """Simulate VEHICLE (a vehicle YAML file or a bundled name: bluerov2-heavy, minerva,
     lingyun, udrobot) under a constant or tabulated force, from rest unless told otherwise."""
@@ -105,6 +100,7 @@ def simulate(
     cur = _vec(current_ned, 3, "--current-ned", "m/s")
     if output_every < 1:
         raise InputError(f"--output-every {output_every}: expected a whole number ≥ 1")
+    check_samples(v, samples, force_csv, integrator, attitude)  # before the run, like every input
     from hydrokit.io.trajectory import trajectory_csv
     from hydrokit.simulate.driver import simulate as run
 
@@ -132,16 +128,13 @@ def simulate(
 
         files[str(Path(plots_dir) / "states.png")] = to_png(states_figure(traj, f"{v.name}: states"))
         files[str(Path(plots_dir) / "path.png")] = to_png(path_figure(traj, f"{v.name}: path"))
-    write_all(files)
+    setup = (duration, dt, tau, eta0, nu0, cur, output_every)
+    extra, spread = sampled_files(v, traj, samples, seed, setup, out_file, plots_dir)
+    write_all(files | extra)
     for w in traj.warnings:
         click.echo(f"warning: {w}", err=True)
-    fin = traj.nu[-1]
-    click.echo(
-        "final velocity u,v,w (m/s) = "
-        + ", ".join(f"{x:.4g}" for x in fin[:3])
-        + "; p,q,r (rad/s) = "
-        + ", ".join(f"{x:.4g}" for x in fin[3:])
-    )
+    u, p = (", ".join(f"{x:.4g}" for x in part) for part in (traj.nu[-1][:3], traj.nu[-1][3:]))
+    click.echo(f"final velocity u,v,w (m/s) = {u}; p,q,r (rad/s) = {p}" + spread)
     click.echo(
         f"wrote {out_file} ({traj.time.size} rows)" + (f" and plots to {plots_dir}" if plots_dir else ""), err=True
     )

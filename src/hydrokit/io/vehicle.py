@@ -31,6 +31,11 @@ drag_elements:                # optional list; linear and quadratic each default
 
 Unknown keys in an element, a value that is not a list, or wrong lengths are one-line errors
 naming the field (``drag_elements[1].position``).
+
+``uncertainty:`` (written by ``hydrokit run``, docs/run.md) is read into
+``Vehicle.uncertainty`` (:mod:`hydrokit.model.uncertainty`): standard errors per coefficient
+(6 numbers ≥ 0 each, SI), ``parameters`` and their ``covariance``; ``--samples`` of
+``hydrokit simulate`` and ``hydrokit mission`` draws vehicles from it.
 """
 
 from __future__ import annotations
@@ -84,6 +89,8 @@ KNOWN = set(REQUIRED) | {
 }
 #: the keys of one ``drag_elements`` entry (frozen, issue #11)
 DRAG_ELEMENT_KEYS = ("name", "position", "linear", "quadratic")
+#: the keys of the ``uncertainty`` block
+UNCERTAINTY_KEYS = ("description", "added_mass", "linear_damping", "quadratic_damping", "parameters", "covariance")
 TERM_KEYS = {"value", "nondimensional", "printed", "note", "suspect", "factors", "source"}
 
 
@@ -149,6 +156,33 @@ def _drag_elements(value: Any, source: str) -> list[DragElement]:
         p, lin, quad = ((float(a[0]), float(a[1]), float(a[2])) for a in triples)
         out.append(DragElement(name, p, lin, quad))
     return out
+
+
+def _uncertainty(value: Any, source: str) -> Any:
+    """The ``uncertainty`` block as an :class:`~hydrokit.model.uncertainty.Uncertainty` (or None)."""
+    from hydrokit.model.uncertainty import make_uncertainty
+
+    if value is None:
+        return None
+    mapping(value, "uncertainty", source)
+    unknown = sorted(map(str, set(value) - set(UNCERTAINTY_KEYS)))
+    if unknown:
+        raise InputError(
+            f"field 'uncertainty': unknown key(s) {cut(str(unknown))}; expected {', '.join(UNCERTAINTY_KEYS)}", source
+        )
+    sigma = {}
+    for coef in UNCERTAINTY_KEYS[1:4]:
+        if coef in value:
+            s = _vector(value[coef], 6, f"uncertainty.{coef}", source)
+            if np.any(s < 0):
+                raise InputError(
+                    f"field 'uncertainty.{coef}' = {s.tolist()}: expected 6 standard errors ≥ 0 (SI)", source
+                )
+            sigma[coef] = s.tolist()
+    names = value.get("parameters") or []
+    if not isinstance(names, list):
+        raise InputError(f"field 'uncertainty.parameters' = {cut_repr(names)}: expected a list of names", source)
+    return make_uncertainty(names, value.get("covariance"), sigma, source)
 
 
 def _sign_warnings(M_A: np.ndarray, D_L: np.ndarray) -> list[str]:
@@ -240,6 +274,7 @@ def parse_vehicle(data: dict[str, Any], source: str) -> Vehicle:
         raise InputError(f"field 'added_mass_coriolis' = {cut_repr(cor)}: expected true or false", source)
     elements = _drag_elements(data["drag_elements"], source) if "drag_elements" in data else None
     warnings.extend(_sign_warnings(M_A, D_L))
+    uncertainty = _uncertainty(data.get("uncertainty"), source)
     return make_vehicle(
         name,
         mass,
@@ -258,4 +293,5 @@ def parse_vehicle(data: dict[str, Any], source: str) -> Vehicle:
         warnings,
         cor,
         elements,
+        uncertainty,
     )

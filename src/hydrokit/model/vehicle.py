@@ -52,6 +52,9 @@ class Vehicle:
         quadratic N·s²/m², body axes), evaluated at each point's own relative velocity
     thrusters : ThrusterSet or None — the vehicle file's ``thrusters:`` block, when loaded with
         it (:func:`hydrokit.load_vehicle` does); the open-loop model does not use it
+    uncertainty : Uncertainty or None — the file's ``uncertainty:`` block (covariance of the
+        diagonal coefficients, SI; :mod:`hydrokit.model.uncertainty`); the model does not use it,
+        ``--samples`` draws vehicles from it
 
     A vehicle is equal only to itself (``eq=False``): its fields are arrays, which have no
     single truth value; compare the fields of two vehicles with numpy.
@@ -74,6 +77,7 @@ class Vehicle:
     added_mass_coriolis: bool = True
     drag_elements: tuple[DragElement, ...] = ()
     thrusters: Any = field(default=None, repr=False)
+    uncertainty: Any = field(default=None, repr=False)
 
     @property
     def M_RB(self) -> np.ndarray:
@@ -171,6 +175,7 @@ def make_vehicle(
     warnings: list[str] | None = None,
     added_mass_coriolis: bool = True,
     drag_elements: tuple[DragElement, ...] | list[DragElement] | None = None,
+    uncertainty: Any = None,
 ) -> Vehicle:
     """Validate and build a :class:`Vehicle`.
 
@@ -267,4 +272,5 @@ def make_vehicle(
         tuple(warn),
         bool(added_mass_coriolis),
         drag_elements=elements,
+        uncertainty=uncertainty,
     )

@@ -167,8 +167,9 @@ def vehicle_document(
 
     ``uncertainty`` holds the standard errors (SI, full scale; 0 where the value carries no
     identified uncertainty) of the ``added_mass``, ``linear_damping`` and ``quadratic_damping``
-    diagonals, and the covariance over the listed ``parameters`` (block-diagonal: campaigns
-    are independent; within a campaign the means of one launch set co-vary).
+    diagonals, and the covariance over the listed ``parameters``: every chosen coefficient with
+    a σ > 0, whatever its source (block-diagonal: campaigns and sources are independent; within
+    a campaign the means of one launch set co-vary).
     """
     doc = {k: v for k, v in base_data.items()}
     doc["name"] = f"{project.name}-identified"
@@ -187,15 +188,21 @@ def vehicle_document(
     blocks: list[np.ndarray] = []
     se = {c: [0.0] * 6 for c in COEFFICIENTS}
     for i, dof in enumerate(DOF_NAMES):
-        picked = [c for c in COEFFICIENTS if chosen[dof][c]["source"] == "tank"]
         for c in COEFFICIENTS:
             s = chosen[dof][c]["se"]
             se[c][i] = float(s) if s is not None and math.isfinite(s) else 0.0
+        picked = [c for c in COEFFICIENTS if chosen[dof][c]["source"] == "tank"]
         if picked:
             cov = np.asarray(tank[dof]["covariance"], float)
             idx = [COEFFICIENTS.index(c) for c in picked]
             blocks.append(cov[np.ix_(idx, idx)])
             params += [f"{c}.{dof}" for c in picked]
+        # a σ from another source (a CFD fit's standard errors) is sampled too, independent of
+        # the tank's (another experiment); the fit's K_L–K_Q correlation is not kept
+        for c in COEFFICIENTS:
+            if chosen[dof][c]["source"] != "tank" and se[c][i] > 0:
+                blocks.append(np.array([[se[c][i] ** 2]]))
+                params.append(f"{c}.{dof}")
     n = len(params)
     cov_all = np.zeros((n, n))
     k = 0

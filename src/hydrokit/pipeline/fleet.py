@@ -42,10 +42,10 @@ def task_count(samples: int, controllers: Sequence[str]) -> int:
 
 def with_coefficients(vehicle: Any, values: dict[str, float]) -> Any:
     """``vehicle`` with diagonal entries replaced; keys ``"<coefficient>.<dof>"``, SI
-    (:func:`hydrokit.simulate.fleet.vary`)."""
-    from hydrokit.simulate.fleet import vary
+    (:func:`hydrokit.model.uncertainty.with_coefficients`)."""
+    from hydrokit.model.uncertainty import with_coefficients as _with
 
-    return vary(vehicle, values)
+    return _with(vehicle, values)
 
 
 def fly_one(mission: Any, vehicle: Any, controller: str, grid: np.ndarray) -> dict[str, Any]:
@@ -100,16 +100,14 @@ def fly_many(mission: Any, vehicles: Sequence[Any], controller: str, grid: np.nd
 
 
 def draw_samples(mean: np.ndarray, cov: np.ndarray, n: int, seed: int) -> tuple[np.ndarray, int]:
-    """``n`` coefficient vectors from N(mean, cov) (one seeded generator), negatives set to 0.
+    """``n`` coefficient vectors from N(mean, cov) (one seeded generator), negatives set to 0
+    (:meth:`hydrokit.model.uncertainty.Uncertainty.draw`).
 
     Returns the (n, p) samples and how many entries were clipped at zero.
     """
-    rng = np.random.default_rng(seed)
-    if mean.size == 0:
-        return np.zeros((n, 0)), 0
-    x = rng.multivariate_normal(mean, cov, size=n, method="eigh")
-    clipped = int(np.sum(x < 0))
-    return np.maximum(x, 0.0), clipped
+    from hydrokit.model.uncertainty import Uncertainty
+
+    return Uncertainty(tuple(f"p{k}" for k in range(mean.size)), np.asarray(cov, float)).draw(mean, n, seed)
 
 
 def grid_for(mission: Any) -> np.ndarray:
@@ -133,15 +131,9 @@ def summarize_runs(runs: Sequence[dict[str, Any]]) -> dict[str, Any]:
             else {"median": None, "p5": None, "p95": None}
         )
     out["metrics"] = stats
-    paths = np.stack([r["path"] for r in runs])  # (n, t, 3)
-    with np.errstate(all="ignore"):
-        out["envelope"] = {
-            "p5": np.nanpercentile(paths, 5, axis=0),
-            "p50": np.nanpercentile(paths, 50, axis=0),
-            "p95": np.nanpercentile(paths, 95, axis=0),
-            "min": np.nanmin(paths, axis=0),
-            "max": np.nanmax(paths, axis=0),
-        }
+    from hydrokit.simulate.samples import envelope
+
+    out["envelope"] = envelope(np.stack([r["path"] for r in runs]))  # (n, t, 3): band → (t, 3)
     return out
 
 
@@ -162,15 +154,15 @@ def monte_carlo(
     mapper: Callable[..., list[Any]],
     advance: Callable[[int], None] | None = None,
 ) -> dict[str, Any]:
-    """Sample the covariance of the vehicle document's ``uncertainty`` block and fly every sample
-    with every controller. Returns per controller the summary, plus the samples' parameter names."""
-    from hydrokit.api import load_mission
+    """Sample the covariance of the vehicle document's ``uncertainty`` block (as the vehicle file
+    reader parses it: every coefficient with a σ) and fly every sample with every controller.
+    Returns per controller the summary, plus the samples' parameter names."""
+    from hydrokit.api import load_mission, vehicle_from_dict
 
-    unc = vehicle_doc.get("uncertainty") or {}
-    names = list(unc.get("parameters") or [])
+    unc = vehicle_from_dict(vehicle_doc, "vehicle.yaml").uncertainty
+    names = list(unc.parameters) if unc is not None else []
     mean = np.array([_nominal(vehicle_doc, p) for p in names], float)
-    cov = np.asarray(unc.get("covariance") or np.zeros((0, 0)), float).reshape(len(names), len(names))
-    values, clipped = draw_samples(mean, cov, samples, seed)
+    values, clipped = unc.draw(mean, samples, seed) if unc is not None else (np.zeros((samples, 0)), 0)
     grid = grid_for(load_mission(mission_file))
     tasks = []
     for c in controllers:

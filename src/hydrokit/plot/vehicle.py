@@ -83,3 +83,28 @@ def batch_axes(time: np.ndarray, states: np.ndarray, ax: Any = None) -> Any:
     ax.set_title(f"{states.shape[0]} vehicles, {time[-1]:.4g} s", fontsize=9)
     ax.grid(alpha=0.3)
     return ax
+
+
+def envelope_figure(time: np.ndarray, env: dict[str, np.ndarray], nominal: Any = None, title: str = "") -> Any:
+    """Six panels, u v w (m/s) and p q r (°/s) against time (s): the 5–95 % band and min–max of
+    sampled runs (``env`` band → (t, 12) states, SI) and the nominal run's velocity when given."""
+    fig = new_figure((10, 5.5))
+    axes = fig.subplots(2, 3, sharex=True)
+    for k in range(6):
+        ax = axes.flat[k]
+        f = 180 / np.pi if k >= 3 else 1.0
+        j = 6 + k
+        ax.fill_between(time, env["min"][:, j] * f, env["max"][:, j] * f, color="C0", alpha=0.15, label="min–max")
+        ax.fill_between(time, env["p5"][:, j] * f, env["p95"][:, j] * f, color="C0", alpha=0.35, label="5–95 %")
+        ax.plot(time, env["p50"][:, j] * f, color="C0", lw=0.8, label="median")
+        if nominal is not None:
+            ax.plot(nominal.time, nominal.nu[:, k] * f, color="C3", lw=1.0, ls="--", label="nominal")
+        ax.set_ylabel(LABELS[1][k])
+        ax.grid(alpha=0.3)
+    for ax in axes[-1]:
+        ax.set_xlabel("time (s)")
+    axes.flat[0].legend(fontsize=7)
+    if title:
+        fig.suptitle(title, fontsize=10)
+    fig.tight_layout()
+    return fig

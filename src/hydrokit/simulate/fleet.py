@@ -20,7 +20,6 @@ from typing import Any
 import numpy as np
 
 from hydrokit._result import Result, html_table, jsonable
-from hydrokit.core.names import DOF_NAMES
 from hydrokit.errors import InputError
 from hydrokit.model.dynamics import stack_scal
 from hydrokit.model.mission import CONTROLLER_KINDS, Mission
@@ -147,23 +146,11 @@ class FleetResult(Result):
 
 def vary(vehicle: Vehicle, values: Mapping[str, float]) -> Vehicle:
     """``vehicle`` with diagonal coefficients replaced; keys ``"<coefficient>.<dof>"`` with
-    coefficient one of added_mass (kg, kg m²), linear_damping, quadratic_damping (SI)."""
-    M_A, D_L, D_Q = vehicle.M_A.copy(), vehicle.D_L.copy(), np.array(vehicle.D_Q, float)
-    for key, v in values.items():
-        coef, _, dof = key.partition(".")
-        if coef not in COEFFICIENTS or dof not in DOF_NAMES:
-            raise InputError(
-                f"variation {key!r}: expected '<coefficient>.<dof>' with coefficient one of "
-                f"{', '.join(COEFFICIENTS)} and dof one of {', '.join(DOF_NAMES)}"
-            )
-        i = DOF_NAMES.index(dof)
-        if coef == "added_mass":
-            M_A[i, i] = v
-        elif coef == "linear_damping":
-            D_L[i, i] = v
-        else:
-            D_Q[i] = v
-    return replace(vehicle, M_A=M_A, D_L=D_L, D_Q=D_Q)
+    coefficient one of added_mass (kg, kg m²), linear_damping, quadratic_damping (SI)
+    (:func:`hydrokit.model.uncertainty.with_coefficients`)."""
+    from hydrokit.model.uncertainty import with_coefficients
+
+    return with_coefficients(vehicle, values)  # type: ignore[no-any-return]
 
 
 def _count(name: str, value: Any, n: int | None, width: int | None = None) -> int | None:
