@@ -213,7 +213,7 @@ def test_every_number_option_refuses_nan_and_infinities(name):
     n = getattr(param.type, "n", None) or 1
     for bad in ("nan", "inf", "-inf", "1e999", "NaN", "abc", ""):
         text = ",".join([bad] * n)
-        with pytest.raises(click.BadParameter, match="expected"):
+        with pytest.raises(click.ClickException, match="expected"):
             param.type.convert(text, param, None)
 
 
@@ -233,11 +233,11 @@ def test_the_shared_types_take_their_range_and_refuse_the_rest(kind, good, bad):
     for g in good:
         kind.convert(g, None, None)
     for b in bad:
-        with pytest.raises(click.BadParameter, match="expected"):
+        with pytest.raises(click.ClickException, match="expected"):
             kind.convert(b, None, None)
 
 
 def test_a_long_bad_value_is_cut_in_the_message():
-    with pytest.raises(click.BadParameter) as info:
+    with pytest.raises(click.ClickException) as info:
         Number().convert("x" * 100_000, None, None)
-    assert len(str(info.value.message)) < 300
+    assert len(info.value.format_message()) < 300

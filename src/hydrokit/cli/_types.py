@@ -23,6 +23,18 @@ def _shown(value: Any, limit: int = 80) -> str:
     return r if len(r) <= limit else f"{r[: limit - 20]}…{r[-15:]} ({len(str(value))} characters)"
 
 
+class OptionValueError(click.ClickException):
+    """A bad option value: ``--dt 'nan': expected a finite number > 0 (s)`` — the house style of
+    one line naming the option, the value and what was expected (exit 2, no usage hint: the
+    line already says what to give)."""
+
+    exit_code = 2
+
+    def __init__(self, value: Any, expected: str, param: click.Parameter | None) -> None:
+        opts = getattr(param, "opts", None) or ["value"]
+        super().__init__(f"{'/'.join(opts)} {_shown(value)}: {expected}")
+
+
 def _range_words(above: float | None, at_least: float | None, at_most: float | None) -> str:
     low = f" > {above:g}" if above is not None else f" ≥ {at_least:g}" if at_least is not None else ""
     return low + (f"{' and' if low else ''} ≤ {at_most:g}" if at_most is not None else "")
@@ -63,7 +75,7 @@ class Number(click.ParamType):
         except (TypeError, ValueError):
             x = math.nan
         if not self.ok(x):
-            self.fail(f"{_shown(value)}: {self.expected}", param, ctx)
+            raise OptionValueError(value, self.expected, param)
         return x
 
 
@@ -96,7 +108,7 @@ class Numbers(click.ParamType):
             return value
         vals = self.parse(value)
         if vals is None:
-            self.fail(f"{_shown(value)}: {self.expected}", param, ctx)
+            raise OptionValueError(value, self.expected, param)
         return vals
 
 
@@ -122,7 +134,7 @@ class Count(click.IntRange):
             return super().convert(value, param, ctx)
         except click.BadParameter:
             top = f" to {self.max}" if self.max is not None else " or more"
-            self.fail(f"{_shown(value)}: expected a whole number from {self.min}{top}", param, ctx)
+            raise OptionValueError(value, f"expected a whole number from {self.min}{top}", param) from None
 
 
 #: the ranges most options need (a unit is added where the option has one)

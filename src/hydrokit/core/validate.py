@@ -65,6 +65,32 @@ def _checked(
     return v
 
 
+#: what a physical body can measure: (smallest, largest, unit, words). A part below a micrometre
+#: or above a kilometre is a typo or a unit slip (1e-200 m gave an all-zero vehicle fragment);
+#: masses from a micrometre cube of water (1e-15 kg) to a kilometre cube of steel (8e12 kg)
+BODY_RANGES = {
+    "size": (1e-6, 1e3, "m", "a size from a micrometre to a kilometre"),
+    "area": (1e-12, 1e6, "m²", "an area from a square micrometre to a square kilometre"),
+    "volume": (1e-18, 1e9, "m³", "a volume from a cubic micrometre to a cubic kilometre"),
+    "mass": (1e-15, 1e13, "kg", "a mass from a micrometre cube of water to a kilometre cube of steel"),
+}
+
+
+def body_quantity(value: float, kind: str, field: str, source: str = "", shown: float | None = None) -> float:
+    """``value`` (already a finite number) if a physical body can have it as its ``kind``
+    ("size", "area", "volume" or "mass"; see :data:`BODY_RANGES`), else one line naming
+    ``field`` and the number (``shown`` when the field held another quantity, e.g. a weight)."""
+    lo, hi, unit, words = BODY_RANGES[kind]
+    if not lo <= value <= hi:
+        given = value if shown is None else shown
+        raise InputError(
+            f"field '{cut(field)}' = {given:g}: expected {words} ({lo:g} to {hi:g} {unit}); no physical body has "
+            f"{value:g} {unit}",
+            source,
+        )
+    return value
+
+
 # ---------------------------------------------------------------------------- file fields
 def number(value: Any, field: str, source: str = "", *, positive: bool = False, nonneg: bool = False) -> float:
     """A finite number from a file field.

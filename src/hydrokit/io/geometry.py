@@ -37,13 +37,16 @@ from typing import Any
 import numpy as np
 
 from hydrokit.core.constants import GRAVITY, SEAWATER_DENSITY
-from hydrokit.core.validate import cut_repr, matrix, number, vector
+from hydrokit.core.validate import body_quantity, cut_repr, matrix, number, vector
 from hydrokit.errors import InputError
 from hydrokit.estimate.bem import MAX_RESOLUTION
 from hydrokit.estimate.geometry import DEFAULT_RESOLUTION, Geometry, GeometryPart, mesh_part, shape_part, vehicle_part
-from hydrokit.io.yamlfile import read_yaml
+from hydrokit.io.yamlfile import check_keys, read_yaml
 
 DIMENSIONS = ("diameter", "length", "width", "height", "thickness")
+#: the top-level keys of a geometry (and assembly) file and of its ``fluid`` block
+TOP_KEYS = frozenset({"name", "description", "gravity", "fluid", "speed", "parts"})
+FLUID_KEYS = frozenset({"density", "kinematic_viscosity"})
 PART_KEYS = {
     "name",
     "shape",
@@ -113,10 +116,12 @@ def parse_geometry(data: dict[str, Any], p: Path, extra_part_keys: frozenset[str
     from hydrokit.estimate.composite import rotation_from_degrees
 
     src = str(p)
+    check_keys(data, TOP_KEYS, "", src)
     g = _num(data.get("gravity", GRAVITY), "gravity", src)
     fluid = data.get("fluid", {"density": SEAWATER_DENSITY})
     if not isinstance(fluid, dict):
         raise InputError(f"field 'fluid' = {fluid!r}: expected a mapping with density", src)
+    check_keys(fluid, FLUID_KEYS, "fluid", src)
     rho = _num(fluid.get("density", SEAWATER_DENSITY), "fluid.density", src)
     nu = _num(fluid.get("kinematic_viscosity", 1.05e-6), "fluid.kinematic_viscosity", src)
     speed = _num(data.get("speed", 1.0), "speed", src)
@@ -128,9 +133,7 @@ def parse_geometry(data: dict[str, Any], p: Path, extra_part_keys: frozenset[str
         where = f"parts[{k}]"
         if not isinstance(raw, dict):
             raise InputError(f"field '{where}': expected a mapping", src)
-        unknown = set(raw) - PART_KEYS - extra_part_keys
-        if unknown:
-            raise InputError(f"field '{where}': unknown key(s) {sorted(unknown)}", src)
+        check_keys(raw, PART_KEYS | extra_part_keys, where, src)
         name = str(raw.get("name", f"part{k + 1}"))
         pos = _vec(raw.get("position", [0, 0, 0]), f"{where}.position", src)
         rot_deg = _vec(raw.get("rotation_deg", [0, 0, 0]), f"{where}.rotation_deg", src)
@@ -152,12 +155,17 @@ def parse_geometry(data: dict[str, Any], p: Path, extra_part_keys: frozenset[str
             parts.append(vehicle_part(name, load_vehicle(vehicle_ref(raw["vehicle"], p)), pos, R, str(raw["vehicle"])))
             continue
         if "mass" in raw:
-            mass = _num(raw["mass"], f"{where}.mass", src)
+            mass = body_quantity(_num(raw["mass"], f"{where}.mass", src), "mass", f"{where}.mass", src)
         elif "weight" in raw:
-            mass = _num(raw["weight"], f"{where}.weight", src) / g
+            weight = _num(raw["weight"], f"{where}.weight", src)
+            mass = body_quantity(weight / g, "mass", f"{where}.weight", src, shown=weight)
         else:
             raise InputError(f"field '{where}': missing 'mass' (kg) or 'weight' (N)", src)
-        dims = {d: _num(raw[d], f"{where}.{d}", src) for d in DIMENSIONS if d in raw}
+        dims = {
+            d: body_quantity(_num(raw[d], f"{where}.{d}", src), "size", f"{where}.{d}", src)
+            for d in DIMENSIONS
+            if d in raw
+        }
         buoyancy = _num(raw["buoyancy"], f"{where}.buoyancy", src) if "buoyancy" in raw else None
         resolution = raw.get("resolution", DEFAULT_RESOLUTION)
         if isinstance(resolution, bool) or not isinstance(resolution, int) or not 6 <= resolution <= MAX_RESOLUTION:

@@ -62,7 +62,7 @@ class _Tare(BaseModel):
 
 
 class _Campaign(BaseModel):
-    model_config = ConfigDict(extra="allow")
+    model_config = ConfigDict(extra="forbid")
     dof: str
     rig: str
     launches: str | list[str]
@@ -88,7 +88,7 @@ class _Uncertainty(BaseModel):
 class ProjectFile(BaseModel):
     """The project file schema (see module docstring)."""
 
-    model_config = ConfigDict(extra="allow")
+    model_config = ConfigDict(extra="forbid")
     name: str = Field(min_length=1)
     vehicle: str
     scale_ratio: float = Field(gt=0, le=1000)
@@ -231,7 +231,7 @@ def parse_project(data: dict[str, Any], path: Path) -> Project:
     try:
         f = ProjectFile.model_validate(data)
     except ValidationError as exc:
-        raise pydantic_error_line(exc, source) from None
+        raise pydantic_error_line(exc, source, ProjectFile) from None
     root = path.parent
     campaigns = []
     seen: dict[str, int] = {}

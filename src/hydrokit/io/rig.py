@@ -27,6 +27,7 @@ from typing import Any, Literal
 from pydantic import BaseModel, ConfigDict, Field, ValidationError, field_validator
 
 from hydrokit.core.constants import GRAVITY
+from hydrokit.core.validate import body_quantity
 from hydrokit.errors import InputError
 from hydrokit.identify.types import AXES, FLOATING_AXES, TESTS, Rig, rig_document
 from hydrokit.io.yamlfile import pydantic_error_line, read_yaml
@@ -224,7 +225,14 @@ def parse_rig(data: dict[str, Any], source: str) -> Rig:
     try:
         f = RigFile.model_validate(data)
     except ValidationError as exc:
-        raise pydantic_error_line(exc, source) from None
+        raise pydantic_error_line(exc, source, RigFile) from None
+    for name, kind in (
+        ("mass", "mass"),
+        ("volume", "volume"),
+        ("reference_area", "area"),
+        ("reference_length", "size"),
+    ):
+        body_quantity(getattr(f.body, name), kind, f"body.{name}", source)
     stiffness = None
     if f.test == "pendulum" and f.pendulum is None:
         raise InputError("field 'pendulum.length' is missing: a pendulum rig needs its length (m)", source)

@@ -6,13 +6,17 @@ Only :func:`yaml.safe_load` is ever used: files are untrusted.
 from __future__ import annotations
 
 import codecs
+import difflib
 import math
 import os
+import typing
+from collections.abc import Iterable, Mapping
 from pathlib import Path
 from typing import Any
 
 import yaml
 
+from hydrokit.core.validate import cut
 from hydrokit.errors import InputError
 
 #: largest YAML file read (characters) and most nodes once aliases are expanded: hydrokit's
@@ -152,14 +156,56 @@ def read_yaml(path: str | os.PathLike[str]) -> dict[str, Any]:
     return data
 
 
-def pydantic_error_line(exc: Any, source: str) -> InputError:
+def unknown_key_line(field: str, key: str, accepted: Iterable[str], source: str, more: int = 0) -> InputError:
+    """One line for an unknown key: the field (``parts[0].diamter``), the accepted keys and,
+    for a near miss, the key it probably meant."""
+    names = sorted(set(accepted))
+    near = difflib.get_close_matches(key, names, n=1)
+    hint = f" (did you mean '{near[0]}'?)" if near else ""
+    others = f" and {more} more unknown" if more else ""
+    return InputError(f"unknown field '{cut(field)}'{others}{hint}; expected one of {', '.join(names)}", source)
+
+
+def check_keys(data: Mapping[Any, Any], accepted: Iterable[str], where: str, source: str) -> None:
+    """Refuse a key of ``data`` (the mapping at field ``where``, "" for the top level) that is
+    not in ``accepted``: a misspelt key must not be read as "not given"."""
+    names = set(accepted)
+    unknown = [str(k) for k in data if str(k) not in names]
+    if unknown:
+        field = f"{where}.{unknown[0]}" if where else unknown[0]
+        raise unknown_key_line(field, unknown[0], names, source, len(unknown) - 1)
+
+
+def _fields_at(model: Any, loc: tuple[Any, ...]) -> list[str]:
+    """The field names of the pydantic model met at ``loc`` (list indices and union tags skipped)."""
+    from pydantic import BaseModel
+
+    def inner(tp: Any) -> Any:
+        if isinstance(tp, type) and issubclass(tp, BaseModel):
+            return tp
+        return next((m for m in map(inner, typing.get_args(tp)) if m is not None), None)
+
+    for part in loc:
+        field = model.model_fields.get(part) if isinstance(part, str) else None
+        sub = inner(field.annotation) if field is not None else None
+        model = sub or model
+    return list(model.model_fields)
+
+
+def pydantic_error_line(exc: Any, source: str, model: Any = None) -> InputError:
     """Turn a pydantic ``ValidationError`` into one :class:`InputError` line naming the field.
 
-    Only the first error is reported (the user fixes one thing at a time) plus a count.
+    Only the first error is reported (the user fixes one thing at a time) plus a count. With
+    ``model`` (the validated class), an unknown key is named with the keys accepted there.
     """
     errors = exc.errors()
     first = errors[0]
     loc = ".".join(str(x) for x in first.get("loc", ())) or "(top level)"
+    if first.get("type") == "extra_forbidden" and model is not None:
+        path = tuple(first["loc"])
+        field = "".join(f"[{x}]" if isinstance(x, int) else f".{x}" for x in path).lstrip(".")
+        more = sum(e.get("type") == "extra_forbidden" for e in errors) - 1
+        return unknown_key_line(field, str(path[-1]), _fields_at(model, path[:-1]), source, more)
     value = first.get("input")
     msg = first.get("msg", "invalid value")
     if isinstance(value, dict):
