@@ -169,20 +169,42 @@ def test_huge_integer_field_is_refused(run_cli, tmp_path):
     assert files_in(tmp_path / "o") == []
 
 
-# --- signs: a valid result, with the non-physical value said -----------------------------------
+# --- signs: negative damping refused unless the file allows it; other oddities said ---------------
+
+NEGATIVE_DAMPING = [
+    ("quadratic_damping", "quadratic_damping: [292,", "quadratic_damping: [-292,", "[-292.0,"),
+    ("linear_damping", "linear_damping: [29,", "linear_damping: [-29,", "[-29.0,"),
+]
+
+
+@pytest.mark.parametrize(("field", "old", "new", "says"), NEGATIVE_DAMPING)
+@pytest.mark.parametrize("command", ["simulate", "mission"])
+def test_negative_damping_is_refused_unless_the_file_allows_it(run_cli, tmp_path, field, old, new, says, command):
+    """Issue 32 class 6: it was warned and flown (exit 0); the warning's text is now the refusal."""
+    veh = vehicle_file(tmp_path / "v.yaml", old, new)
+    args = ["--out", tmp_path / "o.csv"] if command == "simulate" else ["--out", tmp_path / "o"]
+    target = veh if command == "simulate" else mission_file(tmp_path / "m.yaml", vehicle=str(veh))
+    code, _, err = run_cli(command, target, *args, "--duration", 1)
+    line = one_line(err)
+    assert code == 2, line
+    assert line.startswith(f"error: {veh}: field '{field}': {field} has negative"), line
+    assert says in line and "energy is fed in" in line and "allow_negative_damping: true" in line, line
+    assert not (tmp_path / "o.csv").exists() and not (tmp_path / "o").exists()
 
 
 @pytest.mark.parametrize(
     ("field", "old", "new", "says"),
     [
-        ("quadratic_damping", "quadratic_damping: [292,", "quadratic_damping: [-292,", "[-292.0,"),
-        ("linear_damping", "linear_damping: [29,", "linear_damping: [-29,", "[-29.0,"),
+        *NEGATIVE_DAMPING,
         # 460 kg - 293 kg leaves M_RB + M_A positive definite: flies, said
         ("added_mass", "added_mass: [293,", "added_mass: [-293,", "[-293.0,"),
     ],
 )
 def test_a_negative_entry_that_still_flies_is_warned_about(run_cli, tmp_path, field, old, new, says):
+    # negative damping flies only when the file says it is intended
     veh = vehicle_file(tmp_path / "v.yaml", old, new)
+    if "damping" in field:
+        veh.write_text(veh.read_text() + "\nallow_negative_damping: true\n")
     code, _, err = run_cli("simulate", veh, "--out", tmp_path / "o.csv", "--duration", 1)
     assert code == 0, err
     assert (tmp_path / "o.csv").read_text().startswith("time,")

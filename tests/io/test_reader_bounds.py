@@ -96,10 +96,28 @@ def _with_diagonal(field: str, first: float) -> dict:
     ],
 )
 def test_negative_diagonal_entries_that_still_fly_are_warned_about(field, first, says):
-    veh = parse_vehicle(_with_diagonal(field, first), "v.yaml")
+    # negative damping flies only when the file says it is intended (issue 32 class 6)
+    doc = _with_diagonal(field, first) | ({"allow_negative_damping": True} if "damping" in field else {})
+    veh = parse_vehicle(doc, "v.yaml")
     warned = [w for w in veh.warnings if w.startswith(says)]
     assert len(warned) == 1, veh.warnings
     assert ("energy is fed in at low speed" if field == "linear_damping" else "easier to accelerate") in warned[0]
+
+
+@pytest.mark.parametrize(
+    ("field", "says"),
+    [
+        ("linear_damping", r"field 'linear_damping': linear_damping has negative diagonal entries \[-29\.0, 41\.0,"),
+        ("quadratic_damping", r"field 'quadratic_damping': quadratic_damping has negative entries \[-29\.0,"),
+    ],
+)
+def test_negative_damping_is_refused_unless_allowed(field, says):
+    with pytest.raises(InputError, match=says + r".*; expected entries ≥ 0, or 'allow_negative_damping: true'"):
+        parse_vehicle(_with_diagonal(field, -29), "v.yaml")
+    with pytest.raises(InputError, match=r"'allow_negative_damping' = 'yes': expected true or false"):
+        parse_vehicle(_with_diagonal(field, -29) | {"allow_negative_damping": "yes"}, "v.yaml")
+    allowed = parse_vehicle(_with_diagonal(field, -29) | {"allow_negative_damping": True}, "v.yaml")
+    assert sum(w.startswith(f"{field} has negative") for w in allowed.warnings) == 1, allowed.warnings
 
 
 def test_a_negative_added_mass_from_a_term_is_warned_about():

@@ -135,7 +135,7 @@ def test_li2021_open_loop_settles():
 
 def test_blow_up_stops_with_time():
     doc = base(quadratic_damping=[-50, 0, 0, 0, 0, 0])  # energy fed in: u runs away
-    v = parse_vehicle(doc, "t")
+    v = parse_vehicle(doc | {"allow_negative_damping": True}, "t")  # refused unless intended
     with pytest.raises(SimulationError, match=r"non-finite at t = "):
         simulate(v, 100.0, 0.01, nu0=[1, 0, 0, 0, 0, 0])
 

@@ -9,6 +9,9 @@ import math
 import numpy as np
 import pytest
 
+import hydrokit
+from hydrokit.core.names import DOF_NAMES
+from hydrokit.data import DATA_DIR
 from hydrokit.pipeline.cache import StepCache, digest
 from hydrokit.pipeline.fleet import MC_METRICS, containment, draw_samples, summarize_runs
 
@@ -113,3 +116,39 @@ def test_with_coefficients_changes_only_the_named_diagonal_entries():
     changed = np.argwhere(w.M_A != v.M_A).tolist()
     assert changed == [[1, 1]] and np.count_nonzero(w.D_Q != v.D_Q) == 1
     assert w.thrusters is v.thrusters and not math.isclose(w.M[1, 1], v.M[1, 1])
+
+
+def test_a_negative_identified_damping_is_said_and_not_written_into_the_vehicle():
+    """Issue 32 class 6: a tank K_L of −0.4 N·s/m was chosen and written into vehicle.yaml (which the
+    reader now refuses); it falls back along the chain and the report says why."""
+    from types import SimpleNamespace
+
+    from hydrokit.pipeline.compare import comparison
+    from hydrokit.pipeline.steps import negative_damping_warnings
+
+    base = hydrokit.load_vehicle(DATA_DIR / "projects" / "udrobot" / "base.yaml")
+    full = {
+        "added_mass": {"mean": 10.0, "se": 0.1, "ci": [9.8, 10.2]},
+        "linear_damping": {"mean": -0.4, "se": 0.3, "ci": [-1.0, 0.2]},
+        "quadratic_damping": {"mean": 60.0, "se": 2.0, "ci": [56.0, 64.0]},
+    }
+    tank = {"surge": {"full_scale": full, "truth": None}}
+    cfd = {"surge": {"linear_damping": 1.05, "quadratic_damping": -3.0, "se": {"linear_damping": 0.01}}}
+    project = SimpleNamespace(choose=dict.fromkeys(DOF_NAMES, "tank"), published={})
+    _, chosen = comparison(project, tank, {"cfd": cfd}, base)  # type: ignore[arg-type]
+    # K_L: the tank's negative value is skipped for the CFD fit's; K_Q: the tank's (positive) stays
+    assert chosen["surge"]["linear_damping"] == {
+        "value": 1.05,
+        "source": "cfd",
+        "se": 0.01,
+        "negative": {"tank": -0.4},
+    }
+    assert chosen["surge"]["quadratic_damping"]["value"] == 60.0
+    assert chosen["surge"]["quadratic_damping"]["negative"] == {"cfd": -3.0}
+    assert chosen["surge"]["added_mass"] == {"value": 10.0, "source": "tank", "se": 0.1}
+    said = negative_damping_warnings(chosen)
+    assert said[0] == (
+        "surge linear_damping: the tank value -0.4 (SI, full scale) is negative — energy would be fed in; "
+        "not written into the vehicle, which takes the cfd value 1.05"
+    )
+    assert len(said) == 2 and said[1].startswith("surge quadratic_damping: the cfd value -3 ")

@@ -32,6 +32,9 @@ drag_elements:                # optional list; linear and quadratic each default
 Unknown keys in an element, a value that is not a list, or wrong lengths are one-line errors
 naming the field (``drag_elements[1].position``).
 
+A negative damping entry (``linear_damping`` diagonal, ``quadratic_damping``) feeds energy in:
+refused unless the file sets ``allow_negative_damping: true`` (then warned).
+
 ``uncertainty:`` (written by ``hydrokit run``, docs/run.md) is read into
 ``Vehicle.uncertainty`` (:mod:`hydrokit.model.uncertainty`): standard errors per coefficient
 (6 numbers ≥ 0 each, SI), ``parameters`` and their ``covariance``; ``--samples`` of
@@ -86,6 +89,7 @@ KNOWN = set(REQUIRED) | {
     "uncertainty",
     "project",
     "drag_elements",
+    "allow_negative_damping",
 }
 #: the keys of one ``drag_elements`` entry (frozen, issue #11)
 DRAG_ELEMENT_KEYS = ("name", "position", "linear", "quadratic")
@@ -185,13 +189,16 @@ def _uncertainty(value: Any, source: str) -> Any:
     return make_uncertainty(names, value.get("covariance"), sigma, source)
 
 
-def _sign_warnings(M_A: np.ndarray, D_L: np.ndarray) -> list[str]:
-    """Non-physical signs that still leave a model that flies (said, not refused).
+def _sign_warnings(M_A: np.ndarray, D_L: np.ndarray, D_Q: np.ndarray, allow: bool, source: str) -> list[str]:
+    """Non-physical signs: negative damping is refused unless the file allows it; a negative
+    added mass that still flies is said.
 
-    A negative linear damping feeds energy in where it dominates, at low speed; a negative
-    added mass (M_A after the ``terms:``) makes the body easier to accelerate than in vacuum.
-    An added mass so negative that M_RB + M_A is not positive definite is refused by
-    :func:`hydrokit.model.vehicle.make_vehicle`.
+    A negative linear damping feeds energy in where it dominates, at low speed, a negative
+    quadratic one at speed: refused (one line naming the field and the values) unless the file
+    sets ``allow_negative_damping: true``, then said (the quadratic warning comes from
+    :func:`hydrokit.model.vehicle.make_vehicle`). A negative added mass (M_A after the ``terms:``)
+    makes the body easier to accelerate than in vacuum; one so negative that M_RB + M_A is not
+    positive definite is refused by :func:`hydrokit.model.vehicle.make_vehicle`.
     """
     out = []
     for field, diag, effect in (
@@ -200,6 +207,14 @@ def _sign_warnings(M_A: np.ndarray, D_L: np.ndarray) -> list[str]:
     ):
         if np.any(diag < 0):
             out.append(f"{field} has negative diagonal entries {diag.tolist()}: {effect}")
+    said = [w for w in out if w.startswith("linear_damping")]
+    if np.any(D_Q < 0):
+        said.append(f"quadratic_damping has negative entries {D_Q.tolist()}: energy is fed in at speed")
+    if said and not allow:
+        field = said[0].split(" ", 1)[0]
+        raise InputError(
+            f"field '{field}': {said[0]}; expected entries ≥ 0, or 'allow_negative_damping: true' if intended", source
+        )
     return out
 
 
@@ -273,7 +288,10 @@ def parse_vehicle(data: dict[str, Any], source: str) -> Vehicle:
     if not isinstance(cor, bool):
         raise InputError(f"field 'added_mass_coriolis' = {cut_repr(cor)}: expected true or false", source)
     elements = _drag_elements(data["drag_elements"], source) if "drag_elements" in data else None
-    warnings.extend(_sign_warnings(M_A, D_L))
+    allow = data.get("allow_negative_damping", False)
+    if not isinstance(allow, bool):
+        raise InputError(f"field 'allow_negative_damping' = {cut_repr(allow)}: expected true or false", source)
+    warnings.extend(_sign_warnings(M_A, D_L, D_Q, allow, source))
     uncertainty = _uncertainty(data.get("uncertainty"), source)
     return make_vehicle(
         name,

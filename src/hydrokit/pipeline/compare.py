@@ -25,6 +25,8 @@ from hydrokit.core.names import DOF_NAMES
 from hydrokit.io.project import COEFFICIENTS, Project
 
 FALLBACK = ("tank", "cfd", "bem", "geometry")
+#: coefficients whose negative values are not chosen (energy would be fed in)
+DAMPING = ("linear_damping", "quadratic_damping")
 #: the coefficient keys of a published entry
 PUBLISHED_KEYS = COEFFICIENTS
 
@@ -125,7 +127,9 @@ def comparison(
             }
             rule = project.choose[dof]
             order = [rule] + [s for s in FALLBACK if s != rule]
-            source = next((s for s in order if _given(s, vals[s])), "base")
+            # a negative damping feeds energy in: said in the report, never written into the vehicle
+            negative = {s: v for s, v in vals.items() if coef in DAMPING and _given(s, v) and v is not None and v < 0}
+            source = next((s for s in order if _given(s, vals[s]) and s not in negative), "base")
             value = float(base_diag[coef][i]) if source == "base" else float(vals[source])  # type: ignore[arg-type]
             se = None
             if source == "tank":
@@ -133,6 +137,8 @@ def comparison(
             elif source == "cfd":
                 se = others["cfd"][dof]["se"].get(coef)
             chosen.setdefault(dof, {})[coef] = {"value": value, "source": source, "se": se}
+            if negative:
+                chosen[dof][coef]["negative"] = negative
             if dof not in dofs:
                 continue
             pub = project.published.get(dof, {})

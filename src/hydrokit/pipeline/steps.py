@@ -183,6 +183,7 @@ class Runner:
         for t in tank.values():
             warnings += t["warnings"]
         warnings += [f"{self.rel(self.p.vehicle)}: {w}" for w in self.base.warnings]
+        warnings += negative_damping_warnings(chosen)
         if mc is not None and mc.get("clipped_at_zero"):
             warnings.append(f"Monte Carlo: {mc['clipped_at_zero']} sampled coefficient(s) below zero were set to 0")
         seen: dict[str, None] = {}
@@ -242,6 +243,20 @@ class Runner:
             metrics = {"missions": doc["missions"], "monte_carlo": _without_paths(doc["monte_carlo"])}
             files["mission/metrics.json"] = json.dumps(jsonable(metrics), indent=2, allow_nan=False) + "\n"
         return RunResult(jsonable(doc), figures, files, self.timings)
+
+
+def negative_damping_warnings(chosen: dict[str, Any]) -> list[str]:
+    """One report warning per chosen coefficient whose value from some source came out negative
+    (:func:`hydrokit.pipeline.compare.comparison` skips it)."""
+    out = []
+    for dof, coefs in chosen.items():
+        for coef, c in coefs.items():
+            for source, v in (c.get("negative") or {}).items():
+                out.append(
+                    f"{dof} {coef}: the {source} value {v:.4g} (SI, full scale) is negative — energy would be fed "
+                    f"in; not written into the vehicle, which takes the {c['source']} value {c['value']:.4g}"
+                )
+    return out
 
 
 def _without_paths(mc: dict[str, Any] | None) -> dict[str, Any] | None:
