@@ -133,8 +133,8 @@ class Count(click.IntRange):
         try:
             return super().convert(value, param, ctx)
         except click.BadParameter:
-            top = f" to {self.max}" if self.max is not None else " or more"
-            raise OptionValueError(value, f"expected a whole number from {self.min}{top}", param) from None
+            span = f"from {self.min} to {self.max}" if self.max is not None else f"≥ {self.min}"
+            raise OptionValueError(value, f"expected a whole number {span}", param) from None
 
 
 #: the ranges most options need (a unit is added where the option has one)

@@ -2,42 +2,39 @@
 
 from __future__ import annotations
 
-import math
 from pathlib import Path
 from typing import Any
 
 import click
 
 from hydrokit.cli._samples import check_samples, sampled_files, samples_options
-from hydrokit.errors import InputError
-
-
-def _vec(text: str | None, n: int, option: str, unit: str) -> list[float] | None:
-    if text is None:
-        return None
-    try:
-        vals = [float(x) for x in text.split(",")]
-    except ValueError:
-        raise InputError(f"{option} {text!r}: expected {n} comma-separated numbers ({unit})") from None
-    if len(vals) != n or not all(math.isfinite(v) for v in vals):
-        raise InputError(f"{option} {text!r}: expected {n} finite comma-separated numbers ({unit})")
-    return vals
+from hydrokit.cli._types import SECONDS, Count, Numbers
 
 
 @click.command()
 @click.argument("vehicle", metavar="VEHICLE")
-@click.option("--duration", type=float, default=60.0, show_default=True, help="Simulated time, s.")
-@click.option("--dt", type=float, default=0.01, show_default=True, help="Integration step, s.")
-@click.option("--force", default="0,0,0,0,0,0", show_default=True, help="Constant force X,Y,Z,K,M,N (body): N, N·m.")
+@click.option("--duration", type=SECONDS, default=60.0, show_default=True, help="Simulated time, s.")
+@click.option("--dt", type=SECONDS, default=0.01, show_default=True, help="Integration step, s.")
+@click.option(
+    "--force",
+    type=Numbers(6, "N, N·m"),
+    default="0,0,0,0,0,0",
+    show_default=True,
+    help="Constant force X,Y,Z,K,M,N (body): N, N·m.",
+)
 @click.option(
     "--force-csv",
     type=click.Path(dir_okay=False),
     default=None,
     help="Force over time instead: CSV with time,X,Y,Z,K,M,N (s, N, N·m), interpolated linearly.",
 )
-@click.option("--initial-velocity", default=None, help="Initial u,v,w,p,q,r: m/s and rad/s (default 0).")
-@click.option("--initial-pose", default=None, help="Initial x,y,z,phi,theta,psi: m (NED) and rad (default 0).")
-@click.option("--current-ned", default=None, help="Constant ocean current vx,vy,vz in north-east-down: m/s.")
+@click.option(
+    "--initial-velocity", type=Numbers(6, "m/s, rad/s"), help="Initial u,v,w,p,q,r: m/s and rad/s (default 0)."
+)
+@click.option(
+    "--initial-pose", type=Numbers(6, "m, rad"), help="Initial x,y,z,phi,theta,psi: m (NED) and rad (default 0)."
+)
+@click.option("--current-ned", type=Numbers(3, "m/s"), help="Constant ocean current vx,vy,vz in north-east-down: m/s.")
 @click.option(
     "--integrator",
     type=click.Choice(["rk4", "dop853", "rk45", "rk4-numpy"]),
@@ -52,7 +49,7 @@ def _vec(text: str | None, n: int, option: str, unit: str) -> list[float] | None
     show_default=True,
     help="Attitude representation (quaternions have no singularity at pitch ±90°).",
 )
-@click.option("--output-every", type=int, default=1, show_default=True, help="Write every N-th step (count).")
+@click.option("--output-every", type=Count(1), default=1, show_default=True, help="Write every N-th step (count).")
 @click.option(
     "--out",
     "out_file",
@@ -68,11 +65,11 @@ def simulate(
     vehicle: str,
     duration: float,
     dt: float,
-    force: str,
+    force: list[float],
     force_csv: str | None,
-    initial_velocity: str | None,
-    initial_pose: str | None,
-    current_ned: str | None,
+    initial_velocity: list[float] | None,
+    initial_pose: list[float] | None,
+    current_ned: list[float] | None,
     integrator: str,
     attitude: str,
     output_every: int,
@@ -90,16 +87,12 @@ def simulate(
     if plots_dir:
         check_out_dir(plots_dir, "--plots")
     v = load_vehicle(vehicle)
-    tau: Any = _vec(force, 6, "--force", "N, N·m")
+    tau: Any = force
     if force_csv is not None:
         from hydrokit.io.trajectory import read_force_table
 
         tau = read_force_table(force_csv)
-    nu0 = _vec(initial_velocity, 6, "--initial-velocity", "m/s, rad/s") or [0.0] * 6
-    eta0 = _vec(initial_pose, 6, "--initial-pose", "m, rad") or [0.0] * 6
-    cur = _vec(current_ned, 3, "--current-ned", "m/s")
-    if output_every < 1:
-        raise InputError(f"--output-every {output_every}: expected a whole number ≥ 1")
+    nu0, eta0, cur = initial_velocity or [0.0] * 6, initial_pose or [0.0] * 6, current_ned
     check_samples(v, samples, force_csv, integrator, attitude)  # before the run, like every input
     from hydrokit.io.trajectory import trajectory_csv
     from hydrokit.simulate.driver import simulate as run
