@@ -25,6 +25,7 @@ RANK = {
     "estimate": 1,
     "model": 1,
     "simulate": 2,
+    "cfd": 2,
     "io": 3,
     "plot": 4,
     "api": 5,

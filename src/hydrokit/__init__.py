@@ -35,6 +35,8 @@ _LAZY = {
     "identify_campaign": "hydrokit.api",
     "estimate_geometry": "hydrokit.api",
     "fit_forces": "hydrokit.api",
+    "cfd": "hydrokit.api",
+    "load_cfd_body": "hydrokit.api",
     "allocate": "hydrokit.api",
     "vehicle_from_dict": "hydrokit.api",
     "linearize": "hydrokit.api",
@@ -55,6 +57,7 @@ _LAZY = {
     "CampaignResult": "hydrokit.identify.result",
     "Estimate": "hydrokit.estimate.geometry",
     "ForceFit": "hydrokit.estimate.forces",
+    "CFDResult": "hydrokit.cfd.sweep",
     "Allocation": "hydrokit.model.allocation",
     "Assembly": "hydrokit.model.assembly",
     "TransportResult": "hydrokit.simulate.transport",
@@ -65,6 +68,7 @@ __all__ = ["HydrokitError", "InputError", "__version__", *_LAZY]
 if TYPE_CHECKING:  # pragma: no cover - for type checkers and IDEs only
     from hydrokit.api import (
         allocate,
+        cfd,
         estimate_geometry,
         export_vehicle,
         fit_forces,
@@ -72,6 +76,7 @@ if TYPE_CHECKING:  # pragma: no cover - for type checkers and IDEs only
         fly_batch,
         identify_campaign,
         linearize,
+        load_cfd_body,
         load_geometry,
         load_mission,
         load_rig,
@@ -81,6 +86,7 @@ if TYPE_CHECKING:  # pragma: no cover - for type checkers and IDEs only
         simulate_batch,
         vehicle_from_dict,
     )
+    from hydrokit.cfd.sweep import CFDResult
     from hydrokit.io.project import load_project
     from hydrokit.pipeline import run_project
     from hydrokit.pipeline.result import RunResult

@@ -682,3 +682,138 @@ def transport(
             raise InputError(f"rpm of thruster '{name}': it is a {th.model} thruster; rpm needs a propeller model")
         commands[name] = float(value) / 60.0
     return fly_transport(asm, duration, dt, model, commands, force, output_every)
+
+
+# --- CFD: the virtual tow tank and rotating arm on OpenFOAM ----------------------------------
+
+
+def load_cfd_body(name_or_path: Any, area: float | None = None) -> Any:
+    """A body for :func:`cfd` from a file or a bundled name.
+
+    Parameters
+    ----------
+    name_or_path : a bundled body name (``myring``), a surface mesh (``.stl`` binary or ASCII,
+        ``.obj``; m, body axes, origin = moment reference point), a profile of a body of revolution
+        (``.csv`` with columns x, r in m) or a geometry file (``.yaml``: its sphere, spheroid,
+        cylinder and mesh parts, placed as the file says)
+    area : float, optional — reference area for C_D, m² (default: the frontal area)
+
+    Returns
+    -------
+    hydrokit.cfd.case.Body
+    """
+    from pathlib import Path
+
+    from hydrokit.cfd import body as cfd_body
+    from hydrokit.cfd.case import Body
+    from hydrokit.data import body_file
+
+    if isinstance(name_or_path, Body):
+        return name_or_path
+    text = os.fspath(name_or_path)
+    p = Path(text)
+    if not p.exists() and p.suffix == "" and os.sep not in text:
+        p = body_file(text)
+    suffix = p.suffix.lower()
+    if suffix == ".csv":
+        from hydrokit.io.profile import read_profile
+
+        x, r = read_profile(p)
+        return cfd_body.profile_body(x, r, str(p), area)
+    if suffix in (".stl", ".obj"):
+        from hydrokit.estimate.mesh import check_mesh, read_mesh
+
+        mesh = read_mesh(p)
+        check_mesh(mesh)
+        return cfd_body.mesh_body(mesh.vertices[mesh.triangles()], str(p), area)
+    if suffix in (".yaml", ".yml"):
+        return cfd_body.geometry_body(load_geometry(p), area)
+    if not p.exists():
+        raise InputError("no such file", str(p))
+    raise InputError(
+        f"file type {suffix or '(none)'!r}: expected a surface mesh (.stl, .obj), a profile (.csv with x, r) "
+        "or a geometry file (.yaml)",
+        str(p),
+    )
+
+
+def cfd(
+    body: Any,
+    speeds: Sequence[float] = (0.5, 1.0, 1.5, 2.0),
+    drift: Sequence[float] = (),
+    attack: Sequence[float] = (),
+    yaw_rates: Sequence[float] = (),
+    pitch_rates: Sequence[float] = (),
+    *,
+    axes: Sequence[str] = ("x",),
+    density: float = 1025.0,
+    viscosity: float = 1.19e-6,
+    turbulence: str = "auto",
+    grids: int = 1,
+    reference_speed: float | None = None,
+    area: float | None = None,
+    workers: int | None = None,
+    scheduler: str | None = None,
+    cache_dir: PathLike | None = None,
+    keep_cases: PathLike | None = None,
+    settings: dict[str, Any] | None = None,
+    progress: Callable[[int], object] | None = None,
+) -> Any:
+    """Forces, force–speed fits and derivatives of a body from OpenFOAM (a virtual tow tank and
+    rotating arm, LI2021 §2.2 and CELY2019 §3.4). Needs OpenFOAM (``apt-get install openfoam``).
+
+    Parameters
+    ----------
+    body : Body, bundled name or file — see :func:`load_cfd_body`
+    speeds : m/s — straight-ahead speeds (and the per-axis sweeps of ``axes``)
+    drift, attack : rad — drift angles β = atan2(v, u) and angles of attack α = atan2(w, u) at
+        the reference speed (|angle| < π/2)
+    yaw_rates, pitch_rates : rad/s — rotating-arm rates at the reference speed
+    axes : body axes with a speed sweep ("x"; "y", "z" add pure sway and heave)
+    density : kg/m³; viscosity : kinematic, m²/s (sea water at 15 °C: 1.19e-6)
+    turbulence : auto (laminar below Re_L = 2000, else k-ω SST), laminar, kOmegaSST, kEpsilon
+    grids : 1, or 3 for a refinement triplet with Richardson extrapolation and GCI
+    reference_speed : m/s — speed of the angle and rate cases (default: the largest speed)
+    area : m² — reference area of C_D (default: frontal area)
+    workers, scheduler : local Dask workers or a scheduler address (default: serial)
+    cache_dir : folder of cached case outcomes (default: $HYDROKIT_CACHE/cfd or ~/.cache/hydrokit/cfd)
+    keep_cases : folder to keep each finished OpenFOAM case in (for ParaView)
+    settings : further :class:`hydrokit.cfd.case.Settings` fields (mesh, iterations, domain)
+    progress : called with 1 as each case finishes
+
+    Returns
+    -------
+    hydrokit.cfd.sweep.CFDResult
+    """
+    from pathlib import Path
+
+    from hydrokit.cfd.case import Settings
+    from hydrokit.cfd.foam import find_openfoam
+    from hydrokit.cfd.sweep import SweepSpec, make_cases, run_sweep
+
+    b = load_cfd_body(body, area)
+    try:
+        s = Settings(density=density, viscosity=viscosity, turbulence=turbulence, **(settings or {}))
+    except TypeError as exc:
+        raise InputError(f"settings: {exc}; expected fields of hydrokit.cfd.case.Settings") from None
+    spec = SweepSpec(
+        tuple(float(u) for u in speeds),
+        tuple(float(a) for a in drift),
+        tuple(float(a) for a in attack),
+        tuple(float(r) for r in yaw_rates),
+        tuple(float(q) for q in pitch_rates),
+        tuple(axes),
+        grids,
+        reference_speed,
+    )
+    if cache_dir is None:
+        base = os.environ.get("HYDROKIT_CACHE")
+        cache = Path(base) / "cfd" if base else Path.home() / ".cache" / "hydrokit" / "cfd"
+    else:
+        cache = Path(cache_dir)
+    keep = Path(keep_cases) if keep_cases is not None else None
+    cases = make_cases(b, spec, s)
+    find_openfoam()  # after the inputs are checked: one line naming the install command
+    return run_sweep(
+        b, spec, s, cache, keep_dir=keep, workers=workers, scheduler=scheduler, progress=progress, cases=cases
+    )

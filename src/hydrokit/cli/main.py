@@ -35,6 +35,7 @@ COMMANDS: dict[str, tuple[str, str]] = {
     "tune": ("hydrokit.cli.tune:tune", "Tune a mission's controller gains (differential evolution over fleets)."),
     "estimate": ("hydrokit.cli.estimate:estimate", "Estimate coefficients from geometry."),
     "fit-forces": ("hydrokit.cli.estimate:fit_forces", "Fit damping models to a force-speed curve."),
+    "cfd": ("hydrokit.cli.cfd:cfd", "Virtual tow tank and rotating arm on OpenFOAM: forces to coefficients."),
     "export": ("hydrokit.cli.export:export", "Export a vehicle to Gazebo, uuv_simulator or python-control."),
     "transport": ("hydrokit.cli.transport:transport", "Fly joined vehicles carrying a payload; joint loads."),
 }

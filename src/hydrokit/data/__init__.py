@@ -41,6 +41,17 @@ def campaign_rigs(campaign: str) -> list[str]:
     return _names(DATA_DIR / "campaigns" / campaign, "*.yaml")
 
 
+def body_file(name: str) -> Path:
+    """Path of a bundled CFD body (e.g. "myring": a profile CSV of a body of revolution)."""
+    for suffix in (".csv", ".stl", ".obj", ".yaml"):
+        p = DATA_DIR / "bodies" / f"{name}{suffix}"
+        if p.is_file():
+            return p
+    raise InputError(
+        f"no such file or bundled body '{name}' (bundled: {', '.join(_names(DATA_DIR / 'bodies', '*.*'))})"
+    )
+
+
 def geometry_file(name: str) -> Path:
     """Path of a bundled geometry file (e.g. "sphere", "rehman_assembly")."""
     p = DATA_DIR / "geometry" / f"{name}.yaml"

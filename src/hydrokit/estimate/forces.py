@@ -87,7 +87,23 @@ def _r2(y: np.ndarray, fit: np.ndarray) -> float:
     return 1.0 - float(np.sum((y - fit) ** 2)) / ss_tot if ss_tot > 0 else float("nan")
 
 
-def fit_forces(speed: np.ndarray, force: np.ndarray, area: float, density: float) -> ForceFit:
+def _weights(sigma: np.ndarray | None, n: int) -> np.ndarray:
+    """1/σ per point (ones without σ); σ must be finite and ≥ 0."""
+    if sigma is None:
+        return np.ones(n)
+    sd = np.asarray(sigma, float)
+    if sd.shape != (n,):
+        raise InputError(f"sigma has shape {sd.shape}: expected one standard deviation per force ({n})")
+    finite_samples(sd, "sigma", "N")
+    if np.any(sd < 0):
+        raise InputError(f"sigma holds {float(sd.min()):g} N: expected standard deviations >= 0")
+    floor = float(sd[sd > 0].min()) if np.any(sd > 0) else 1.0
+    return 1.0 / np.maximum(sd, floor)
+
+
+def fit_forces(
+    speed: np.ndarray, force: np.ndarray, area: float, density: float, sigma: np.ndarray | None = None
+) -> ForceFit:
     """Fit the Chin and Morison models to speed (m/s) / force (N) pairs.
 
     Parameters
@@ -95,6 +111,11 @@ def fit_forces(speed: np.ndarray, force: np.ndarray, area: float, density: float
     speed, force : arrays — U (m/s) and the resisting force F (N), same sign convention
     area : float — A_ref, m²
     density : float — ρ, kg/m³
+    sigma : array, optional — standard deviation of each force, N (CFD iterative or unsteadiness
+        σ). Given, both fits are weighted least squares (weights 1/σ²) and the standard errors
+        are the larger of the formal ones (σ taken as absolute) and the scatter-scaled ones, so
+        neither a poor model nor an overconfident σ is hidden. Zero σ counts as the smallest
+        positive σ given (or 1 N when all are zero).
     """
     U = np.asarray(speed, float)
     F = np.asarray(force, float)
@@ -109,15 +130,19 @@ def fit_forces(speed: np.ndarray, force: np.ndarray, area: float, density: float
     for k, v in (("area", area), ("density", density)):
         if not (math.isfinite(v) and v > 0):
             raise InputError(f"{k} = {v}: expected a positive number")
+    w = _weights(sigma, U.size)
     X = np.column_stack([U, np.abs(U) * U])
-    coef, *_ = np.linalg.lstsq(X, F, rcond=None)
-    res = F - X @ coef
+    Xw, Fw = X * w[:, None], F * w
+    coef, *_ = np.linalg.lstsq(Xw, Fw, rcond=None)
+    res = Fw - Xw @ coef
     s2 = float(res @ res) / max(1, U.size - 2)
-    cov = s2 * np.linalg.inv(X.T @ X)
+    cov = (s2 if sigma is None else max(s2, 1.0)) * np.linalg.inv(Xw.T @ Xw)
     x1 = np.abs(U) * U
-    kd = float(x1 @ F / (x1 @ x1))
-    r1 = F - kd * x1
-    kd_se = math.sqrt(float(r1 @ r1) / max(1, U.size - 1) / float(x1 @ x1))
+    xw = x1 * w
+    kd = float(xw @ Fw / (xw @ xw))
+    r1 = Fw - kd * xw
+    s1 = float(r1 @ r1) / max(1, U.size - 1)
+    kd_se = math.sqrt((s1 if sigma is None else max(s1, 1.0)) / float(xw @ xw))
     return ForceFit(
         float(coef[0]),
         float(coef[1]),

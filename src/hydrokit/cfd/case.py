@@ -1,0 +1,442 @@
+"""One CFD case: the body, the flow it meets and the settings, and the OpenFOAM files they make.
+
+A case is the body held still in body axes (x forward, y starboard, z down; origin = moment
+reference point) with the fluid coming at it with the body's velocity reversed: a body moving at
+(u, v, w) sees a far field of −(u, v, w). The drift angle is β = atan2(v, u) and the angle of
+attack α = atan2(w, u) (the issue's definitions), so at speed U
+
+    u = U / √(1 + tan²β + tan²α),   v = u tan β,   w = u tan α.
+
+All far-field faces form one patch, ``farfield``, with OpenFOAM's freestream conditions (inflow
+where the flow enters, zero gradient where it leaves), so any flow direction uses the same mesh.
+Forces and moments on the patch ``body`` come from the ``forces`` function object about the
+origin, in body axes: the SNAME force on the body (resistance is negative X).
+
+Case files are written with foamlib (dictionaries as Python data, no string templates).
+"""
+
+from __future__ import annotations
+
+import hashlib
+import json
+import math
+from collections.abc import Mapping
+from dataclasses import asdict, dataclass, field
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from hydrokit.errors import InputError, MissingExtraError
+
+#: bump when the case files change in a way that changes results: cached cases are redone
+CASE_FORMAT = 1
+#: Re_L below which ``turbulence="auto"`` runs laminar (the issue's threshold)
+LAMINAR_BELOW = 2000.0
+TURBULENCE_MODELS = ("laminar", "kOmegaSST", "kEpsilon")
+#: free-stream turbulence: intensity and eddy-to-molecular viscosity ratio (a quiet tank or sea)
+INTENSITY = 0.005
+VISCOSITY_RATIO = 1.0
+
+
+@dataclass(frozen=True)
+class Flow:
+    """The motion of the body in one case (SI).
+
+    speed : float — U, m/s (> 0)
+    drift : float — β = atan2(v, u), rad (|β| < π/2)
+    attack : float — α = atan2(w, u), rad (|α| < π/2)
+    yaw_rate, pitch_rate : float — r and q, rad/s (rotating-arm cases)
+    axis : str — ``x`` (the default: forward motion at β, α), or ``y`` / ``z`` for pure sway or
+        heave at ``speed`` (CELY2019's per-axis speed sweeps; angles and rates must then be 0)
+    """
+
+    speed: float
+    drift: float = 0.0
+    attack: float = 0.0
+    yaw_rate: float = 0.0
+    pitch_rate: float = 0.0
+    axis: str = "x"
+
+    def __post_init__(self) -> None:
+        if not (math.isfinite(self.speed) and self.speed > 0):
+            raise InputError(f"speed = {self.speed!r} m/s: expected a positive finite speed")
+        for name, limit in (("drift", math.pi / 2), ("attack", math.pi / 2)):
+            v = getattr(self, name)
+            if not (math.isfinite(v) and abs(v) < limit):
+                raise InputError(
+                    f"{name} angle = {math.degrees(v):g}°: expected |angle| < 90° (the body must move forward)"
+                )
+        for name in ("yaw_rate", "pitch_rate"):
+            if not math.isfinite(getattr(self, name)):
+                raise InputError(f"{name} = {getattr(self, name)!r} rad/s: expected a finite rate")
+        if self.axis not in ("x", "y", "z"):
+            raise InputError(f"axis = {self.axis!r}: expected x, y or z")
+        if self.axis != "x" and any((self.drift, self.attack, self.yaw_rate, self.pitch_rate)):
+            raise InputError(f"a motion along {self.axis} takes no drift, attack or rates; expected them 0")
+
+    def velocity(self) -> np.ndarray:
+        """Body velocity (u, v, w), m/s."""
+        if self.axis != "x":
+            return self.speed * np.eye(3)["xyz".index(self.axis)]
+        tb, ta = math.tan(self.drift), math.tan(self.attack)
+        u = self.speed / math.sqrt(1.0 + tb * tb + ta * ta)
+        return np.array([u, u * tb, u * ta])
+
+
+@dataclass(frozen=True)
+class Settings:
+    """Fluid, model and numerics of a case (SI).
+
+    density : float — ρ, kg/m³ (forces scale with it; the flow itself is incompressible)
+    viscosity : float — kinematic ν, m²/s (sea water at 15 °C: 1.19e-6)
+    turbulence : str — auto, laminar, kOmegaSST or kEpsilon (auto: laminar below Re_L = 2000)
+    grid : int — grid level 1, 2 or 3 (each refines the base cell size by √2)
+    base_cells : int — background cells per body length at grid level 1
+    surface_level : int — snappyHexMesh refinement level at the body (cell size / 2^level)
+    layers : int — prism layers on the body
+    upstream, downstream, lateral : float — domain extents in body lengths
+    max_iterations, min_iterations, window : int — solver iterations: at most, at least, and
+        the window over which the force history is judged
+    tolerance : float — relative change of the force over the window that counts as converged
+    timeout : float — wall-clock limit of one solver run, s
+    """
+
+    density: float = 1025.0
+    viscosity: float = 1.19e-6
+    turbulence: str = "auto"
+    grid: int = 1
+    base_cells: int = 2
+    surface_level: int = 4
+    layers: int = 3
+    upstream: float = 3.0
+    downstream: float = 6.0
+    lateral: float = 3.0
+    max_iterations: int = 1500
+    min_iterations: int = 150
+    window: int = 100
+    tolerance: float = 2e-3
+    timeout: float = 3600.0
+
+    def __post_init__(self) -> None:
+        for name in ("density", "viscosity", "upstream", "downstream", "lateral", "tolerance", "timeout"):
+            v = getattr(self, name)
+            if isinstance(v, bool) or not (isinstance(v, int | float) and math.isfinite(v) and v > 0):
+                raise InputError(f"{name} = {v!r}: expected a positive finite number")
+        if self.turbulence not in ("auto", *TURBULENCE_MODELS):
+            raise InputError(f"turbulence = {self.turbulence!r}: expected auto, laminar, kOmegaSST or kEpsilon")
+        if self.grid not in (1, 2, 3):
+            raise InputError(f"grid level = {self.grid!r}: expected 1, 2 or 3")
+        for name, lo, hi in (
+            ("base_cells", 2, 200),
+            ("surface_level", 0, 8),
+            ("layers", 0, 20),
+            ("max_iterations", 10, 1_000_000),
+            ("min_iterations", 1, 1_000_000),
+            ("window", 5, 1_000_000),
+        ):
+            v = getattr(self, name)
+            if isinstance(v, bool) or not isinstance(v, int) or not lo <= v <= hi:
+                raise InputError(f"{name} = {v!r}: expected a whole number from {lo} to {hi}")
+
+    def model(self, reynolds: float) -> str:
+        """The turbulence model used at a body-length Reynolds number."""
+        if self.turbulence != "auto":
+            return self.turbulence
+        return "laminar" if reynolds < LAMINAR_BELOW else "kOmegaSST"
+
+
+@dataclass(frozen=True)
+class Body:
+    """The body as OpenFOAM meets it.
+
+    kind : str — ``mesh`` (a closed triangle surface, ``triangles`` (k, 3, 3) m) or ``profile``
+        (a body of revolution about the x axis, ``profile`` (n, 2) of x, r in m)
+    name : str — for messages and reports
+    length : float — reference length L, m (the body's extent along x)
+    area : float — reference area for C_D, m² (frontal area unless given)
+    """
+
+    kind: str
+    name: str
+    length: float
+    area: float
+    triangles: np.ndarray = field(default_factory=lambda: np.zeros((0, 3, 3)), repr=False)
+    profile: np.ndarray = field(default_factory=lambda: np.zeros((0, 2)), repr=False)
+    part_sizes: tuple[int, ...] = ()
+
+    def surfaces(self) -> list[np.ndarray]:
+        """The closed surfaces of the body, one per part (triangles (k, 3, 3) each); a profile
+        is revolved into one (the 3-D path of a body of revolution at incidence)."""
+        if self.kind == "profile":
+            from hydrokit.cfd.body import revolve
+
+            return [revolve(self.profile)]
+        if not self.part_sizes:
+            return [self.triangles]
+        ends = np.cumsum(self.part_sizes)[:-1]
+        return list(np.split(self.triangles, ends))
+
+    def bounds(self) -> tuple[np.ndarray, np.ndarray]:
+        """(min, max) corners of the body's bounding box, m."""
+        if self.kind == "mesh":
+            pts = self.triangles.reshape(-1, 3)
+            return pts.min(axis=0), pts.max(axis=0)
+        x, r = self.profile[:, 0], self.profile[:, 1]
+        R = float(r.max())
+        return np.array([x.min(), -R, -R]), np.array([x.max(), R, R])
+
+    def digest(self) -> str:
+        """SHA-256 of the geometry rounded to 1 nm (a re-export's round-off keeps the cache)."""
+        h = hashlib.sha256(self.kind.encode())
+        data = self.triangles if self.kind == "mesh" else self.profile
+        h.update(np.ascontiguousarray(np.round(np.asarray(data, float), 9)).tobytes())
+        h.update(repr(self.part_sizes).encode())
+        return h.hexdigest()
+
+
+@dataclass(frozen=True)
+class Case:
+    """A body, a flow and settings: one OpenFOAM run."""
+
+    body: Body
+    flow: Flow
+    settings: Settings
+    label: str = ""
+
+    @property
+    def reynolds(self) -> float:
+        """Re_L = U L / ν."""
+        return self.flow.speed * self.body.length / self.settings.viscosity
+
+    @property
+    def model(self) -> str:
+        return self.settings.model(self.reynolds)
+
+    @property
+    def path(self) -> str:
+        """``wedge`` for a body of revolution at zero incidence without rotation, else ``3d``."""
+        f = self.flow
+        straight = f.axis == "x" and f.drift == 0 and f.attack == 0 and f.yaw_rate == 0 and f.pitch_rate == 0
+        return "wedge" if self.body.kind == "profile" and straight else "3d"
+
+    def key(self) -> str:
+        """Hash of every input that changes the result (the cache key), 16 hex digits."""
+        data = {
+            "format": CASE_FORMAT,
+            "body": self.body.digest(),
+            "flow": asdict(self.flow),
+            "settings": {k: v for k, v in asdict(self.settings).items() if k != "timeout"},
+        }
+        return hashlib.sha256(json.dumps(data, sort_keys=True).encode()).hexdigest()[:16]
+
+
+# --- writing ---------------------------------------------------------------------------------
+
+
+def foamlib() -> Any:
+    """The foamlib module, or MissingExtraError naming the extra (pip install 'hydrokit[cfd]')."""
+    try:
+        import foamlib
+    except ImportError as exc:
+        raise MissingExtraError("foamlib", "cfd") from exc
+    return foamlib
+
+
+def _foam_file(path: Path, entries: Mapping[str, Any]) -> None:
+    FoamFile = foamlib().FoamFile  # noqa: N806 -- foamlib's class
+
+    path.parent.mkdir(parents=True, exist_ok=True)
+    f = FoamFile(path)
+    for k, v in entries.items():
+        f[k] = v
+
+
+def _vec(v: np.ndarray | tuple[float, ...]) -> list[float]:
+    return [float(x) for x in v]
+
+
+def write_stl(path: Path, triangles: np.ndarray, solid: str = "body") -> None:
+    """An ASCII STL of triangles (k, 3, 3), m, with outward normals from the vertex order."""
+    a, b, c = triangles[:, 0], triangles[:, 1], triangles[:, 2]
+    n = np.cross(b - a, c - a)
+    norm = np.linalg.norm(n, axis=1)
+    n = n / np.where(norm > 0, norm, 1.0)[:, None]
+    lines = [f"solid {solid}"]
+    for k in range(len(triangles)):
+        lines.append(f"facet normal {n[k, 0]:.9g} {n[k, 1]:.9g} {n[k, 2]:.9g}")
+        lines.append("outer loop")
+        for v in triangles[k]:
+            lines.append(f"vertex {v[0]:.12g} {v[1]:.12g} {v[2]:.12g}")
+        lines.append("endloop")
+        lines.append("endfacet")
+    lines.append(f"endsolid {solid}")
+    path.parent.mkdir(parents=True, exist_ok=True)
+    path.write_text("\n".join(lines) + "\n")
+
+
+def inflow(case: Case) -> dict[str, float]:
+    """Free-stream turbulence for the case's model: k (m²/s²), ω (1/s), ε (m²/s³)."""
+    U, nu = case.flow.speed, case.settings.viscosity
+    k = 1.5 * (INTENSITY * U) ** 2
+    nut = VISCOSITY_RATIO * nu
+    return {"k": k, "omega": k / nut, "epsilon": 0.09 * k * k / nut}
+
+
+def write_case(case: Case, folder: Path, mesh_dicts: Mapping[str, Mapping[str, Any]]) -> None:
+    """Write every file of the case except the mesh itself.
+
+    ``mesh_dicts`` maps file names under ``system/`` (``blockMeshDict``, ``snappyHexMeshDict`` …)
+    to their contents, made by the mesh path (:mod:`hydrokit.cfd.mesh3d` or :mod:`hydrokit.cfd.wedge`).
+    """
+    s, model = case.settings, case.model
+    wedge = case.path == "wedge"
+    for name, entries in mesh_dicts.items():
+        _foam_file(folder / "system" / name, entries)
+    _foam_file(folder / "system" / "controlDict", _control(case))
+    _foam_file(folder / "system" / "fvSchemes", _schemes(model))
+    _foam_file(folder / "system" / "fvSolution", _solution(model))
+    _foam_file(folder / "constant" / "transportProperties", {"transportModel": "Newtonian", "nu": s.viscosity})
+    if model == "laminar":
+        turb: dict[str, Any] = {"simulationType": "laminar"}
+    else:
+        turb = {"simulationType": "RAS", "RAS": {"RASModel": model, "turbulence": True, "printCoeffs": False}}
+    _foam_file(folder / "constant" / "turbulenceProperties", turb)
+    far = -case.flow.velocity()
+    side = {"front": {"type": "wedge"}, "back": {"type": "wedge"}} if wedge else {}
+    fields: dict[str, tuple[str, Any, dict[str, Any], dict[str, Any]]] = {
+        "U": (
+            "volVectorField",
+            [0, 1, -1, 0, 0, 0, 0],
+            {"type": "freestreamVelocity", "freestreamValue": _vec(far)},
+            {"type": "noSlip"},
+        ),
+        "p": (
+            "volScalarField",
+            [0, 2, -2, 0, 0, 0, 0],
+            {"type": "freestreamPressure", "freestreamValue": 0.0},
+            {"type": "zeroGradient"},
+        ),
+    }
+    if model != "laminar":
+        t = inflow(case)
+        io = lambda v: {"type": "inletOutlet", "inletValue": v, "value": v}  # noqa: E731
+        fields["k"] = (
+            "volScalarField",
+            [0, 2, -2, 0, 0, 0, 0],
+            io(t["k"]),
+            {"type": "kqRWallFunction", "value": t["k"]},
+        )
+        fields["nut"] = (
+            "volScalarField",
+            [0, 2, -1, 0, 0, 0, 0],
+            {"type": "calculated", "value": 0.0},
+            {"type": "nutUSpaldingWallFunction", "value": 0.0},
+        )
+        if model == "kOmegaSST":
+            fields["omega"] = (
+                "volScalarField",
+                [0, 0, -1, 0, 0, 0, 0],
+                io(t["omega"]),
+                {"type": "omegaWallFunction", "value": t["omega"]},
+            )
+        else:
+            fields["epsilon"] = (
+                "volScalarField",
+                [0, 2, -3, 0, 0, 0, 0],
+                io(t["epsilon"]),
+                {"type": "epsilonWallFunction", "value": t["epsilon"]},
+            )
+    for name, (cls, dims, farfield, body) in fields.items():
+        if name == "U":
+            internal: Any = _vec(far)
+        elif name in ("k", "omega", "epsilon"):
+            internal = farfield["inletValue"]
+        else:
+            internal = 0.0
+        _field_file(folder / "0" / name, cls, dims, internal, {"farfield": farfield, '"body.*"': body, **side})
+
+
+def _field_file(path: Path, cls: str, dims: list[int], internal: Any, boundary: dict[str, Any]) -> None:
+    fl = foamlib()
+    DimensionSet, FoamFile = fl.DimensionSet, fl.FoamFile  # noqa: N806 -- foamlib's classes
+    path.parent.mkdir(parents=True, exist_ok=True)
+    f = FoamFile(path)
+    f["FoamFile"] = {"version": 2.0, "format": "ascii", "class": cls, "object": path.name}
+    f["dimensions"] = DimensionSet(*dims)
+    f["internalField"] = internal
+    f["boundaryField"] = boundary
+
+
+def _control(case: Case) -> dict[str, Any]:
+    s = case.settings
+    rho = case.settings.density
+    functions: dict[str, Any] = {
+        "forces": {
+            "type": "forces",
+            "libs": ['"libforces.so"'],
+            "writeControl": "timeStep",
+            "writeInterval": 1,
+            "patches": ['"body.*"'],
+            "rho": "rhoInf",
+            "rhoInf": rho,
+            "CofR": [0.0, 0.0, 0.0],
+            "log": False,
+        },
+    }
+    if case.model != "laminar":
+        functions["yPlus"] = {
+            "type": "yPlus",
+            "libs": ['"libfieldFunctionObjects.so"'],
+            "writeControl": "writeTime",
+            "log": False,
+        }
+    return {
+        "application": "simpleFoam",
+        "startFrom": "startTime",
+        "startTime": 0,
+        "stopAt": "endTime",
+        "endTime": s.max_iterations,
+        "deltaT": 1,
+        "writeControl": "timeStep",
+        "writeInterval": s.max_iterations,
+        "purgeWrite": 1,
+        "writeFormat": "binary",
+        "writePrecision": 8,
+        "writeCompression": False,
+        "timeFormat": "general",
+        "timePrecision": 8,
+        "runTimeModifiable": True,
+        "functions": functions,
+    }
+
+
+def _schemes(model: str) -> dict[str, Any]:
+    div: dict[str, Any] = {
+        "default": "none",
+        "div(phi,U)": ("bounded", "Gauss", "linearUpwindV", "grad(U)"),
+        "div((nuEff*dev2(T(grad(U)))))": ("Gauss", "linear"),
+    }
+    for q in ("k", "omega", "epsilon"):
+        div[f"div(phi,{q})"] = ("bounded", "Gauss", "upwind")
+    return {
+        "ddtSchemes": {"default": "steadyState"},
+        "gradSchemes": {"default": ("Gauss", "linear"), "grad(U)": ("cellLimited", "Gauss", "linear", 1)},
+        "divSchemes": div,
+        "laplacianSchemes": {"default": ("Gauss", "linear", "limited", "corrected", 0.5)},
+        "interpolationSchemes": {"default": "linear"},
+        "snGradSchemes": {"default": ("limited", "corrected", 0.5)},
+        "wallDist": {"method": "meshWave"},
+    }
+
+
+def _solution(model: str) -> dict[str, Any]:
+    smooth = {"solver": "smoothSolver", "smoother": "GaussSeidel", "tolerance": 1e-8, "relTol": 0.1, "nSweeps": 1}
+    return {
+        "solvers": {
+            "p": {"solver": "GAMG", "smoother": "GaussSeidel", "tolerance": 1e-7, "relTol": 0.01},
+            '"(U|k|omega|epsilon)"': smooth,
+        },
+        "SIMPLE": {"nNonOrthogonalCorrectors": 1, "consistent": True},
+        "relaxationFactors": {"equations": {"U": 0.7, '".*"': 0.5}, "fields": {"p": 0.7}},
+    }

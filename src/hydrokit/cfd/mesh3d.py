@@ -1,0 +1,201 @@
+"""The 3-D mesh: a background box (blockMesh) cut and refined around the body (snappyHexMesh).
+
+The box spans ``upstream`` body lengths ahead of the body's bounding box, ``downstream``
+behind it and ``lateral`` to each side, above and below; its six faces form the patch
+``farfield``. The background cell is L / (base_cells · √2^(grid−1)) — grid levels 1, 2, 3 are
+a refinement triplet with a constant ratio √2 — and snappyHexMesh refines to
+``surface_level`` more halvings at the body, ``surface_level − 1`` in a box around the body
+and ``surface_level − 2`` in the near wake, with ``layers`` prism layers on the body.
+"""
+
+from __future__ import annotations
+
+import math
+from typing import Any
+
+import numpy as np
+
+from hydrokit.cfd.case import Case
+
+#: point of the far field kept by snappyHexMesh, nudged off cell faces (fractions of the box)
+_INSIDE = np.array([0.137, 0.5213, 0.5371])
+
+
+def surface_names(case: Case) -> list[str]:
+    """STL and patch names of the body's surfaces: ``body``, or ``body_0`` … for several parts."""
+    n = len(case.body.surfaces())
+    return ["body"] if n == 1 else [f"body_{i}" for i in range(n)]
+
+
+def cell_size(case: Case) -> float:
+    """Background cell size, m."""
+    s = case.settings
+    return case.body.length / (s.base_cells * math.sqrt(2.0) ** (s.grid - 1))
+
+
+def domain(case: Case) -> tuple[np.ndarray, np.ndarray]:
+    """(min, max) corners of the computational box, m, rounded out to whole background cells."""
+    s, L = case.settings, case.body.length
+    lo, hi = case.body.bounds()
+    lo = lo - L * np.array([s.upstream, s.lateral, s.lateral])
+    hi = hi + L * np.array([s.downstream, s.lateral, s.lateral])
+    # wake direction: a drifting body leaves its wake to the side, so the far side is widened
+    h = cell_size(case)
+    n = np.ceil((hi - lo) / h)
+    centre = (hi + lo) / 2
+    return centre - n * h / 2, centre + n * h / 2
+
+
+def mesh_dicts(case: Case) -> dict[str, dict[str, Any]]:
+    """``system/`` dictionaries of the 3-D mesh: blockMeshDict, surfaceFeatureExtractDict, snappyHexMeshDict."""
+    s, L = case.settings, case.body.length
+    lo, hi = domain(case)
+    h = cell_size(case)
+    n = [int(round(x)) for x in (hi - lo) / h]
+    corners = [
+        [lo[0], lo[1], lo[2]],
+        [hi[0], lo[1], lo[2]],
+        [hi[0], hi[1], lo[2]],
+        [lo[0], hi[1], lo[2]],
+        [lo[0], lo[1], hi[2]],
+        [hi[0], lo[1], hi[2]],
+        [hi[0], hi[1], hi[2]],
+        [lo[0], hi[1], hi[2]],
+    ]
+    block = {
+        "convertToMeters": 1,
+        "vertices": [[float(c) for c in v] for v in corners],
+        "blocks": ["hex", list(range(8)), n, "simpleGrading", [1, 1, 1]],
+        "edges": [],
+        "boundary": [
+            (
+                "farfield",
+                {
+                    "type": "patch",
+                    "faces": [[0, 4, 7, 3], [1, 2, 6, 5], [0, 1, 5, 4], [3, 7, 6, 2], [0, 3, 2, 1], [4, 5, 6, 7]],
+                },
+            )
+        ],
+        "mergePatchPairs": [],
+    }
+    names = surface_names(case)
+    features = {
+        f"{n}.stl": {
+            "extractionMethod": "extractFromSurface",
+            "extractFromSurfaceCoeffs": {"includedAngle": 150},
+            "subsetFeatures": {"nonManifoldEdges": False, "openEdges": True},
+            "writeObj": False,
+        }
+        for n in names
+    }
+    blo, bhi = case.body.bounds()
+    near_lo, near_hi = blo - 0.25 * L, bhi + 0.25 * L
+    # the near wake follows the flow: extend the box along the far-field velocity
+    direction = -case.flow.velocity() / case.flow.speed
+    wake_end = (blo + bhi) / 2 + direction * 1.5 * L
+    wake_lo = np.minimum(near_lo, wake_end - 0.4 * L)
+    wake_hi = np.maximum(near_hi, wake_end + 0.4 * L)
+    lvl = s.surface_level
+    inside = lo + _INSIDE * (hi - lo)
+    inside[0] = lo[0] + 0.37 * (blo[0] - lo[0]) + 0.0137 * h
+    snappy = {
+        "castellatedMesh": True,
+        "snap": True,
+        "addLayers": s.layers > 0,
+        "geometry": {
+            **{f"{n}.stl": {"type": "triSurfaceMesh", "name": n} for n in names},
+            "near": {"type": "searchableBox", "min": _f(near_lo), "max": _f(near_hi)},
+            "wake": {"type": "searchableBox", "min": _f(wake_lo), "max": _f(wake_hi)},
+        },
+        "castellatedMeshControls": {
+            "maxLocalCells": 5_000_000,
+            "maxGlobalCells": 20_000_000,
+            "minRefinementCells": 0,
+            "maxLoadUnbalance": 0.1,
+            "nCellsBetweenLevels": 3,
+            "features": [{"file": f'"{n}.eMesh"', "level": lvl} for n in names],
+            "refinementSurfaces": {n: {"level": [lvl, lvl], "patchInfo": {"type": "wall"}} for n in names},
+            "resolveFeatureAngle": 30,
+            "refinementRegions": {
+                "near": {"mode": "inside", "levels": [[1e15, max(0, lvl - 1)]]},
+                "wake": {"mode": "inside", "levels": [[1e15, max(0, lvl - 2)]]},
+            },
+            "locationInMesh": _f(inside),
+            "allowFreeStandingZoneFaces": True,
+        },
+        "snapControls": {
+            "nSmoothPatch": 3,
+            "tolerance": 2.0,
+            "nSolveIter": 50,
+            "nRelaxIter": 5,
+            "nFeatureSnapIter": 10,
+            "implicitFeatureSnap": False,
+            "explicitFeatureSnap": True,
+            "multiRegionFeatureSnap": False,
+        },
+        "addLayersControls": {
+            "relativeSizes": True,
+            "layers": {'"body.*"': {"nSurfaceLayers": s.layers}},
+            "expansionRatio": 1.2,
+            "finalLayerThickness": 0.5,
+            "minThickness": 0.1,
+            "nGrow": 0,
+            "featureAngle": 130,
+            "slipFeatureAngle": 30,
+            "nRelaxIter": 3,
+            "nSmoothSurfaceNormals": 1,
+            "nSmoothNormals": 3,
+            "nSmoothThickness": 10,
+            "maxFaceThicknessRatio": 0.5,
+            "maxThicknessToMedialRatio": 0.3,
+            "minMedialAxisAngle": 90,
+            "nBufferCellsNoExtrude": 0,
+            "nLayerIter": 50,
+        },
+        "meshQualityControls": {
+            "maxNonOrtho": 65,
+            "maxBoundarySkewness": 20,
+            "maxInternalSkewness": 4,
+            "maxConcave": 80,
+            "minVol": 1e-13,
+            "minTetQuality": 1e-15,
+            "minArea": -1,
+            "minTwist": 0.02,
+            "minDeterminant": 0.001,
+            "minFaceWeight": 0.05,
+            "minVolRatio": 0.01,
+            "minTriangleTwist": -1,
+            "nSmoothScale": 4,
+            "errorReduction": 0.75,
+        },
+        "mergeTolerance": 1e-6,
+    }
+    return {"blockMeshDict": block, "surfaceFeatureExtractDict": features, "snappyHexMeshDict": snappy}
+
+
+def _f(v: np.ndarray) -> list[float]:
+    return [float(x) for x in v]
+
+
+def estimate_cells(case: Case) -> int:
+    """A rough cell count of the case's mesh, for the cost printed before a sweep: background
+    cells, plus the refined boxes (each level × 8) and the body's surface layers."""
+    if case.path == "wedge":
+        return int(15_000 * 2 ** (case.settings.grid - 1))
+    s = case.settings
+    lo, hi = domain(case)
+    h = cell_size(case)
+    total = float(np.prod((hi - lo) / h))
+    blo, bhi = case.body.bounds()
+    L = case.body.length
+    near = float(np.prod(bhi - blo + 0.5 * L))
+    lvl = s.surface_level
+    if lvl >= 1:
+        total += near / h**3 * (8 ** max(0, lvl - 1) - 1)
+    area = sum(
+        float(np.linalg.norm(np.cross(t[:, 1] - t[:, 0], t[:, 2] - t[:, 0]), axis=1).sum()) / 2
+        for t in case.body.surfaces()
+    )
+    hs = h / 2**lvl
+    total += area / hs**2 * (s.layers + 3)
+    return int(total)

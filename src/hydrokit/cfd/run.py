@@ -1,0 +1,249 @@
+"""Running one case: mesh, check, solve until the force history settles, read the results.
+
+:func:`run_case` works in a private folder and returns a JSON-ready outcome; :func:`cached_case`
+wraps it with the cache (one ``<key>.json`` per case, written whole after the run) so a rerun
+or an interrupted sweep recomputes only the missing cases. A case that fails (mesh, divergence,
+timeout) becomes an outcome with ``status: failed`` and OpenFOAM's one-line reason; it is not
+cached, and the other cases of a sweep go on.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import json
+import math
+import os
+import re
+import shutil
+import time
+from dataclasses import asdict
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from hydrokit.cfd import history
+from hydrokit.cfd.case import Case, write_case, write_stl
+from hydrokit.cfd.foam import OpenFOAM, SolverError, find_openfoam
+
+#: force-history points kept in an outcome (for convergence plots)
+HISTORY_POINTS = 200
+#: sectors of the full body represented by a wedge of this angle: forces × 360/angle
+WEDGE_DEG = 5.0
+
+
+def _mesh_dicts(case: Case) -> dict[str, Any]:
+    if case.path == "wedge":
+        from hydrokit.cfd import wedge
+
+        x, r = case.body.profile[:, 0], case.body.profile[:, 1]
+        first = wedge.first_cell_height(case.body.length, case.reynolds, 1.0)
+        return {
+            "blockMeshDict": wedge.blockmesh_dict(
+                x,
+                r,
+                first_cell=first,
+                level=case.settings.grid,
+                upstream=case.settings.upstream,
+                downstream=case.settings.downstream,
+                radial=case.settings.lateral,
+                wedge_deg=WEDGE_DEG,
+            )
+        }
+    from hydrokit.cfd import mesh3d
+
+    return mesh3d.mesh_dicts(case)
+
+
+def _check_mesh(log: Path) -> dict[str, Any]:
+    text = log.read_text(errors="replace")
+    cells = re.search(r"^\s*cells:\s+(\d+)", text, re.MULTILINE)
+    failed = re.search(r"Failed (\d+) mesh checks", text)
+    ortho = re.search(r"Mesh non-orthogonality Max:\s*([\d.eE+-]+)", text)
+    skew = re.search(r"Max skewness = ([\d.eE+-]+)", text)
+    return {
+        "cells": int(cells.group(1)) if cells else 0,
+        "failed_checks": int(failed.group(1)) if failed else 0,
+        "max_non_orthogonality": float(ortho.group(1)) if ortho else None,
+        "max_skewness": float(skew.group(1)) if skew else None,
+    }
+
+
+def _y_plus(case_dir: Path) -> list[float] | None:
+    files = sorted(case_dir.glob("postProcessing/yPlus/*/yPlus.dat"))
+    if not files:
+        return None
+    rows = history.read_dat(files[-1])
+    if rows.size == 0 or rows.shape[1] < 4:
+        return None
+    return [float(rows[-1, 1]), float(rows[-1, 2]), float(rows[-1, 3])]  # min, max, average
+
+
+def _thin(it: np.ndarray, values: np.ndarray) -> dict[str, list[float]]:
+    step = max(1, int(math.ceil(len(it) / HISTORY_POINTS)))
+    keep = np.r_[np.arange(0, len(it), step), len(it) - 1] if len(it) else np.zeros(0, int)
+    keep = np.unique(keep)
+    out = {"iteration": [float(i) for i in it[keep]]}
+    for j, name in enumerate(("X", "Y", "Z", "K", "M", "N")):
+        out[name] = [float(v) for v in values[keep, j]]
+    return out
+
+
+def run_case(case: Case, folder: Path, foam: OpenFOAM | None = None) -> dict[str, Any]:
+    """Build and run ``case`` in ``folder`` (created; must not exist); return its outcome.
+
+    Returns
+    -------
+    dict — ``status`` (converged, averaged, not converged or failed), ``forces`` and ``std``
+    (X Y Z in N, K M N in N·m, body axes, SNAME signs), ``mesh`` (cells, checks), ``iterations``,
+    ``y_plus`` [min, max, mean] (turbulent cases), ``history`` (thinned force history),
+    ``wall_time`` and ``foam_time`` (s: all, and inside OpenFOAM's programs), ``reason`` when failed.
+    """
+    started = time.perf_counter()
+    foam = foam or find_openfoam()
+    folder.mkdir(parents=True)
+    times: dict[str, float] = {}
+    outcome: dict[str, Any] = {
+        "key": case.key(),
+        "label": case.label,
+        "path": case.path,
+        "model": case.model,
+        "reynolds": case.reynolds,
+        "flow": asdict(case.flow),
+        "settings": asdict(case.settings),
+    }
+
+    def run(program: str, args: tuple[str, ...] = (), **kw: Any) -> None:
+        t0 = time.perf_counter()
+        try:
+            foam.run(program, folder, args, timeout=case.settings.timeout, **kw)
+        finally:
+            times[program] = times.get(program, 0.0) + time.perf_counter() - t0
+
+    try:
+        write_case(case, folder, _mesh_dicts(case))
+        if case.path == "3d":
+            from hydrokit.cfd.mesh3d import surface_names
+
+            for name, tri in zip(surface_names(case), case.body.surfaces(), strict=True):
+                write_stl(folder / "constant" / "triSurface" / f"{name}.stl", tri, name)
+            run("blockMesh")
+            run("surfaceFeatureExtract")
+            run("snappyHexMesh", ("-overwrite",))
+        else:
+            run("blockMesh")
+        run("checkMesh", check=False)
+        outcome["mesh"] = _check_mesh(folder / "log.checkMesh")
+        if outcome["mesh"]["cells"] == 0:
+            raise SolverError(f"the mesh has no cells (log: {folder / 'log.checkMesh'})")
+        s = case.settings
+        post = folder / "postProcessing" / "forces"
+
+        def settled() -> bool:
+            _, values = history.read_forces(post)
+            return history.converged(
+                values, window=s.window, min_iterations=s.min_iterations, tolerance=s.tolerance, length=case.body.length
+            )
+
+        run("simpleFoam", monitor=settled)
+        it, values = history.read_forces(post)
+        if case.path == "wedge":
+            values = values * np.array([360.0 / WEDGE_DEG, 0, 0, 0, 0, 0])
+        if len(values) == 0 or not np.all(np.isfinite(values)):
+            raise SolverError(f"the solver wrote no finite forces (diverged?) (log: {folder / 'log.simpleFoam'})")
+        j = history.judge(
+            values, window=s.window, min_iterations=s.min_iterations, tolerance=s.tolerance, length=case.body.length
+        )
+        outcome.update(
+            status=j.status,
+            forces=[float(v) for v in j.mean],
+            std=[float(v) for v in j.std],
+            iterations=j.iterations,
+            samples=j.samples,
+            autocorrelation_time=j.tau,
+            y_plus=_y_plus(folder),
+            history=_thin(it, values),
+        )
+    except SolverError as exc:
+        outcome.update(status="failed", reason=str(exc))
+    outcome["foam_time"] = sum(times.values())
+    outcome["foam_times"] = times
+    outcome["wall_time"] = time.perf_counter() - started
+    return outcome
+
+
+def cached_case(item: tuple[Case, str, str | None]) -> dict[str, Any]:
+    """Run one case through the cache: ``(case, cache_dir, keep_dir)`` → outcome.
+
+    A cached outcome (``cache_dir/<key>.json``) is returned as it is, with ``cached: true``.
+    Otherwise the case runs in ``cache_dir/run-<key>`` and its outcome is written whole to
+    ``<key>.json`` when it did not fail; the case folder is moved to ``keep_dir/<label>-<key>``
+    when ``keep_dir`` is given and removed otherwise. Module-level so Dask workers can run it.
+    """
+    case, cache_dir, keep_dir = item
+    cache = Path(cache_dir)
+    key = case.key()
+    done = cache / f"{key}.json"
+    if done.exists():
+        with contextlib.suppress(ValueError, OSError):
+            outcome = json.loads(done.read_text())
+            if keep_dir is None or (Path(keep_dir) / _case_name(case)).exists():
+                outcome["cached"] = True
+                outcome["label"] = case.label
+                return outcome
+    work = cache / f"run-{key}"
+    shutil.rmtree(work, ignore_errors=True)  # a run interrupted before: start again
+    try:
+        outcome = run_case(case, work)
+        outcome["cached"] = False
+        if outcome["status"] != "failed":
+            tmp = cache / f".{key}.json.part"
+            tmp.write_text(json.dumps(outcome, allow_nan=False if _finite(outcome) else True))
+            os.replace(tmp, done)
+        if keep_dir is not None and outcome["status"] != "failed":
+            dest = Path(keep_dir) / _case_name(case)
+            dest.parent.mkdir(parents=True, exist_ok=True)
+            shutil.rmtree(dest, ignore_errors=True)
+            shutil.move(str(work), dest)
+            outcome["case_dir"] = str(dest)
+    finally:
+        shutil.rmtree(work, ignore_errors=True)
+    return outcome
+
+
+def _case_name(case: Case) -> str:
+    label = re.sub(r"[^A-Za-z0-9_.+-]+", "_", case.label)[:60] or "case"
+    return f"{label}-{case.key()}"
+
+
+def _finite(outcome: dict[str, Any]) -> bool:
+    try:
+        json.dumps(outcome, allow_nan=False)
+    except ValueError:
+        return False
+    return True
+
+
+def running_iterations(cache_dir: Path) -> dict[str, tuple[int, int]]:
+    """Cases running under ``cache_dir``: key → (iterations done, most iterations), from the
+    force history and controlDict on disk (read by the progress display, in any process)."""
+    out: dict[str, tuple[int, int]] = {}
+    for run in Path(cache_dir).glob("run-*"):
+        key = run.name[4:]
+        top = 0
+        with contextlib.suppress(OSError, ValueError):
+            m = re.search(r"^\s*endTime\s+(\d+)", (run / "system" / "controlDict").read_text(), re.MULTILINE)
+            top = int(m.group(1)) if m else 0
+        done = 0
+        for dat in run.glob("postProcessing/forces/*/force.dat"):
+            with contextlib.suppress(OSError, ValueError), open(dat, "rb") as fh:
+                fh.seek(0, os.SEEK_END)
+                fh.seek(max(0, fh.tell() - 400))
+                lines = fh.read().decode(errors="replace").splitlines()
+                for ln in reversed(lines[1:] if len(lines) > 1 else lines):
+                    word = ln.split()[0] if ln.split() else ""
+                    if word and not word.startswith("#"):
+                        done = int(float(word))
+                        break
+        out[key] = (done, top)
+    return out

@@ -1,0 +1,137 @@
+"""Grid convergence (Richardson/GCI) and force-history judgement, against closed forms and a printed example."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+from hydrokit.cfd.gci import grid_study
+from hydrokit.cfd.history import autocorrelation_time, converged, judge, read_dat, read_forces
+
+
+def test_richardson_recovers_an_exact_second_order_series():
+    # S(h) = S0 + C h², h = 1, √2, 2: p = 2, S_ext = S0 exactly; asymptotic, so F_s = 1.25
+    r = math.sqrt(2.0)
+    s = [3.0 + 0.4 * h**2 for h in (1.0, r, r * r)]
+    g = grid_study(*s, r21=r)
+    assert g.kind == "monotonic"
+    assert g.order == pytest.approx(2.0, abs=1e-12)
+    assert g.extrapolated == pytest.approx(3.0, abs=1e-12)
+    assert g.safety == 1.25
+    assert g.gci == pytest.approx(1.25 * abs(s[1] - s[0]) / (r**2 - 1), rel=1e-12)
+
+
+def test_first_order_convergence_is_outside_the_asymptotic_range():
+    r = math.sqrt(2.0)
+    g = grid_study(*[1.0 - 0.2 * h for h in (1.0, r, 2.0)], r21=r)
+    assert g.order == pytest.approx(1.0, abs=1e-12)
+    assert g.safety == 3.0
+    assert g.extrapolated == pytest.approx(1.0, abs=1e-12)
+
+
+def test_celik_2008_worked_example_with_unequal_ratios():
+    # Celik et al. (2008) J. Fluids Eng. 130:078001, Table 1, φ = dimensionless reattachment length:
+    # r21 = 1.5, r32 = 1.333, φ1..3 = 6.063, 5.972, 5.863 → p = 1.53, φ_ext = 6.1685, GCI_fine 2.17 % (F_s 1.25)
+    g = grid_study(6.063, 5.972, 5.863, r21=1.5, r32=1.333)
+    assert g.order == pytest.approx(1.53, abs=0.01)
+    assert g.extrapolated == pytest.approx(6.1685, abs=0.002)
+    # hydrokit takes F_s = 3 outside |p/2 − 1| ≤ 0.1; the paper always 1.25
+    assert g.gci / 6.063 * 1.25 / g.safety == pytest.approx(0.0217, abs=0.0003)
+
+
+def test_oscillatory_and_diverging_triplets_are_named_not_extrapolated():
+    osc = grid_study(1.0, 1.1, 0.95, r21=1.4)
+    assert osc.kind == "oscillatory" and math.isnan(osc.extrapolated)
+    assert osc.gci == pytest.approx(0.5 * (1.1 - 0.95))
+    div = grid_study(1.0, 1.2, 1.3, r21=1.4)  # the change grows as the grid is refined
+    assert div.kind == "diverging" and div.gci == pytest.approx(3 * 0.2)
+    same = grid_study(2.0, 2.0, 2.0, r21=1.4)
+    assert same.kind == "converged" and same.gci == 0
+    with pytest.raises(ValueError, match="expected both > 1"):
+        grid_study(1, 2, 3, r21=0.7)
+
+
+def _loads(x: np.ndarray) -> np.ndarray:
+    out = np.zeros((len(x), 6))
+    out[:, 0] = x
+    out[:, 1] = 0.01 * x
+    return out
+
+
+def test_converged_needs_the_window_and_the_minimum_and_is_relative():
+    n = np.arange(400)
+    x = -10.0 * (1 + np.exp(-n / 20))  # settles to −10 N
+    vals = _loads(x)
+    assert converged(vals, window=100, min_iterations=150, tolerance=1e-3, length=1.0)
+    assert not converged(vals[:140], window=100, min_iterations=150, tolerance=1e-3, length=1.0)
+    # the same history scaled by 1e-6 (a tiny model) is judged the same: relative, not absolute
+    assert converged(vals * 1e-6, window=100, min_iterations=150, tolerance=1e-3, length=1.0)
+    # still moving by 2 % over the window: not converged
+    assert not converged(vals[:120], window=60, min_iterations=50, tolerance=1e-3, length=1.0)
+
+
+def test_autocorrelation_time_of_ar1_is_its_closed_form():
+    rng = np.random.default_rng(1)
+    phi = 0.8
+    e = rng.standard_normal(200_000)
+    x = np.empty_like(e)
+    x[0] = 0
+    for i in range(1, len(e)):
+        x[i] = phi * x[i - 1] + e[i]
+    # τ = (1 + φ)/(1 − φ) = 9 for AR(1); white noise gives 1
+    assert autocorrelation_time(x) == pytest.approx(9.0, rel=0.08)
+    assert autocorrelation_time(e) == pytest.approx(1.0, abs=0.1)
+    assert autocorrelation_time(np.ones(100)) == 1.0
+
+
+def test_an_oscillating_history_is_averaged_with_a_correlated_sigma():
+    it = np.arange(2000)
+    x = -5.0 + 0.3 * np.sin(2 * np.pi * it / 37.0)
+    j = judge(_loads(x), window=100, min_iterations=100, tolerance=1e-3, length=1.0)
+    assert j.status == "averaged"
+    assert j.mean[0] == pytest.approx(-5.0, abs=0.01)
+    # σ of a mean over a correlated series: larger than s/√n of independent samples
+    naive = x[1000:].std(ddof=1) / math.sqrt(1000)
+    assert j.std[0] > naive
+    assert j.tau > 1
+
+
+def test_a_drifting_history_is_not_converged_and_its_sigma_covers_the_drift():
+    x = np.linspace(-5.0, -6.0, 1000)
+    j = judge(_loads(x), window=100, min_iterations=100, tolerance=1e-3, length=1.0)
+    assert j.status == "not converged"
+    # quarters of the last half differ by 0.25 N: σ ≥ half of it
+    assert j.std[0] >= 0.12
+
+
+def test_a_settled_history_is_converged_with_the_window_half_range():
+    x = -2.0 + 1e-4 * np.cos(np.arange(500))
+    j = judge(_loads(x), window=100, min_iterations=100, tolerance=1e-3, length=1.0)
+    assert j.status == "converged" and j.samples == 100
+    last = x[-100:]
+    assert j.std[0] == pytest.approx(0.5 * (last.max() - last.min()))
+
+
+FORCE_DAT = """# Force
+# CofR          : (0.00000000e+00 0.00000000e+00 0.00000000e+00)
+#
+# Time          \t(total_x total_y total_z)\t(pressure_x pressure_y pressure_z)\t(viscous_x viscous_y viscous_z)
+1\t(-8.4e+00 3.5e-03 3.7e-03)\t(-5.4e+00 3.4e-03 3.6e-03)\t(-3.0e+00 1.0e-04 1.0e-04)
+2\t(-4.3e-01 -5.5e-05 -6.1e-05)\t(-2.0e-01 -3.6e-05 -4.1e-05)\t(-2.3e-01 -1.9e-05 -2.0e-05)
+3\t(-4.3e-01 -5.5e-05"""
+
+
+def test_force_files_of_openfoam_v1912_are_read_without_their_unfinished_last_line(tmp_path):
+    d = tmp_path / "forces" / "0"
+    d.mkdir(parents=True)
+    (d / "force.dat").write_text(FORCE_DAT)
+    (d / "moment.dat").write_text(FORCE_DAT.replace("Force", "Moment"))
+    rows = read_dat(d / "force.dat")
+    assert rows.shape == (2, 10)
+    it, loads = read_forces(tmp_path / "forces")
+    assert list(it) == [1.0, 2.0]
+    assert loads[1, 0] == pytest.approx(-0.43) and loads[0, 1] == pytest.approx(3.5e-3)
+    assert loads[1, 3] == pytest.approx(-0.43)  # the moment file's total_x
+    assert read_forces(tmp_path / "missing")[1].shape == (0, 6)

@@ -1,0 +1,227 @@
+"""CFD pieces that need no OpenFOAM: flows, bodies, profiles, derivatives, sweeps assembled from outcomes."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+from scipy.optimize import curve_fit
+
+from hydrokit.cfd.body import box, check_profile, geometry_body, profile_body, projected_area, revolve
+from hydrokit.cfd.case import Case, Flow, Settings
+from hydrokit.cfd.sweep import SweepSpec, assemble, make_cases
+from hydrokit.errors import InputError
+from hydrokit.estimate.derivatives import fit_derivatives, linear_at
+from hydrokit.estimate.forces import fit_forces
+from hydrokit.estimate.mesh import SurfaceMesh, check_mesh
+
+
+def _spheroid(a: float = 0.5, b: float = 0.1, n: int = 81) -> tuple[np.ndarray, np.ndarray]:
+    t = np.linspace(0.0, np.pi, n)
+    x, r = a * (1 - np.cos(t)), b * np.sin(t)
+    r[0] = r[-1] = 0.0
+    return x, r
+
+
+def test_flow_velocity_follows_the_drift_and_attack_definitions():
+    f = Flow(2.0, drift=math.radians(10), attack=math.radians(-5))
+    u, v, w = f.velocity()
+    assert math.hypot(u, v, w) == pytest.approx(2.0, rel=1e-14)
+    assert math.atan2(v, u) == pytest.approx(math.radians(10), rel=1e-14)  # β = atan2(v, u)
+    assert math.atan2(w, u) == pytest.approx(math.radians(-5), rel=1e-14)  # α = atan2(w, u)
+    assert list(Flow(1.5, axis="z").velocity()) == [0.0, 0.0, 1.5]
+
+
+@pytest.mark.parametrize(
+    ("kw", "match"),
+    [
+        ({"speed": 0.0}, "expected a positive finite speed"),
+        ({"speed": math.nan}, "expected a positive finite speed"),
+        ({"speed": 1.0, "drift": math.radians(90)}, r"drift angle = 90°: expected \|angle\| < 90°"),
+        ({"speed": 1.0, "attack": math.radians(-95)}, r"attack angle = -95°"),
+        ({"speed": 1.0, "axis": "w"}, "expected x, y or z"),
+        ({"speed": 1.0, "axis": "y", "drift": 0.1}, "takes no drift"),
+    ],
+)
+def test_a_flow_no_tow_tank_can_run_is_refused(kw, match):
+    with pytest.raises(InputError, match=match):
+        Flow(**kw)
+
+
+def test_settings_refuse_unknown_models_and_grids_and_choose_laminar_below_2000():
+    s = Settings()
+    assert s.model(1999.0) == "laminar" and s.model(2000.0) == "kOmegaSST"
+    assert Settings(turbulence="kEpsilon").model(10.0) == "kEpsilon"
+    with pytest.raises(InputError, match="expected auto, laminar, kOmegaSST or kEpsilon"):
+        Settings(turbulence="LES")
+    with pytest.raises(InputError, match="expected 1, 2 or 3"):
+        Settings(grid=4)
+    with pytest.raises(InputError, match="viscosity = -1"):
+        Settings(viscosity=-1.0)
+
+
+def test_the_cache_key_changes_with_every_input_that_changes_the_result():
+    body = profile_body(*_spheroid())
+    base = Case(body, Flow(1.0), Settings())
+    assert base.key() == Case(body, Flow(1.0), Settings(timeout=5.0)).key()  # the timeout changes nothing
+    others = [
+        Case(body, Flow(1.1), Settings()),
+        Case(body, Flow(1.0, drift=0.1), Settings()),
+        Case(body, Flow(1.0), Settings(grid=2)),
+        Case(body, Flow(1.0), Settings(density=1000.0)),
+        Case(profile_body(*_spheroid(b=0.11)), Flow(1.0), Settings()),
+    ]
+    assert len({c.key() for c in others} | {base.key()}) == 6
+    assert base.path == "wedge" and others[1].path == "3d"
+
+
+def test_profile_refusals_name_the_row_and_value():
+    x, r = _spheroid()
+    check_profile(x, r)
+    bad = r.copy()
+    bad[7] = -0.01
+    with pytest.raises(InputError, match=r"column 'r' = -0.01 m at row 8: expected a radius r >= 0"):
+        check_profile(x, bad)
+    open_tail = r.copy()
+    open_tail[-1] = 0.05
+    with pytest.raises(InputError, match="expected a closed body"):
+        check_profile(x, open_tail)
+    back = x.copy()
+    back[5] = back[4]
+    with pytest.raises(InputError, match="at row 6: expected x increasing"):
+        check_profile(back, r)
+    with pytest.raises(InputError, match="expected at least 5 points"):
+        check_profile(x[:3], r[:3])
+
+
+def test_a_revolved_profile_is_a_closed_outward_surface_of_the_right_volume_and_shadow():
+    x, r = _spheroid(0.5, 0.1, 121)
+    tri = revolve(np.column_stack([x, r]), segments=96)
+    mesh = SurfaceMesh(tri.reshape(-1, 3), np.arange(tri.shape[0] * 3).reshape(-1, 3))
+    check_mesh(mesh)  # closed (after merging coincident vertices) and outward
+    # prolate spheroid: V = 4/3 π a b²; frontal shadow π b², side shadow π a b
+    assert mesh.volume() == pytest.approx(4 / 3 * math.pi * 0.5 * 0.01, rel=2e-3)
+    assert projected_area(tri, 0) == pytest.approx(math.pi * 0.01, rel=0.01)
+    assert projected_area(tri, 2) == pytest.approx(math.pi * 0.5 * 0.1, rel=0.01)
+    body = profile_body(x, r)
+    assert body.length == pytest.approx(1.0) and body.area == pytest.approx(math.pi * 0.01)
+
+
+def test_a_geometry_file_becomes_one_surface_per_part_in_the_common_frame():
+    from hydrokit.api import load_geometry
+    from hydrokit.data import geometry_file
+
+    geo = load_geometry(geometry_file("sphere"))
+    body = geometry_body(geo)
+    assert len(body.surfaces()) == len(geo.parts) == 1
+    d = 0.5  # the bundled sphere: 0.5 m diameter
+    assert body.length == pytest.approx(d, rel=1e-3)
+    assert body.area == pytest.approx(math.pi * d * d / 4, rel=0.015)
+    t = box(2.0, 1.0, 0.5)
+    m = SurfaceMesh(t.reshape(-1, 3), np.arange(36).reshape(-1, 3))
+    check_mesh(m)
+    assert m.volume() == pytest.approx(1.0)
+
+
+def test_derivatives_recover_known_coefficients_and_their_weighted_standard_errors():
+    rng = np.random.default_rng(3)
+    U, rho, L = 1.5, 1025.0, 1.2
+    beta = np.radians([-12, -8, -4, 0, 4, 8, 12])
+    u, v = U * np.cos(beta), U * np.sin(beta)
+    nu = np.zeros((len(beta), 6))
+    nu[:, 0], nu[:, 1] = u, v
+    Y_uv, Y_vv = -40.0, -150.0
+    sd = np.full(len(beta), 0.2)
+    Y = Y_uv * u * v + Y_vv * v * np.abs(v) + rng.normal(0, 0.2, len(beta))
+    loads = np.zeros_like(nu)
+    loads[:, 1] = Y
+    sigma = np.zeros_like(nu)
+    sigma[:, 1] = sd
+    d = {x.name: x for x in fit_derivatives(nu, loads, sigma, {"Y": ["uv", "v|v|"]}, density=rho, length=L)}
+    # second method: scipy's curve_fit with the same σ
+    popt, pcov = curve_fit(lambda X, a, b: a * X[0] * X[1] + b * X[1] * np.abs(X[1]), (u, v), Y, sigma=sd)
+    # curve_fit iterates to its own tolerance (~1e-8): 1e-6 is tight against a wrong weighting
+    assert d["Y_uv"].value == pytest.approx(popt[0], rel=1e-6)
+    assert d["Y_v|v|"].value == pytest.approx(popt[1], rel=1e-6)
+    # curve_fit scales by the residual variance; hydrokit takes the larger of that and σ as given
+    s2 = max(1.0, float(np.sum(((Y - (popt[0] * u * v + popt[1] * v * np.abs(v))) / sd) ** 2)) / 5)
+    ref = np.sqrt(np.diag(pcov) / (np.sum(((Y - (popt[0] * u * v + popt[1] * v * np.abs(v))) / sd) ** 2) / 5) * s2)
+    assert d["Y_uv"].se == pytest.approx(ref[0], rel=1e-5)
+    assert d["Y_uv"].k == 2 and d["Y_uv"].nondimensional == pytest.approx(d["Y_uv"].value / (0.5 * rho * L**2))
+    name, Yv, *_ = linear_at(d["Y_uv"], U, rho, L)
+    assert name == "Y_v" and Yv == pytest.approx(d["Y_uv"].value * U)
+
+
+def test_a_moment_of_a_rate_scales_with_a_higher_power_of_length():
+    nu = np.zeros((4, 6))
+    nu[:, 0] = 1.0
+    nu[:, 5] = [-0.2, -0.1, 0.1, 0.2]
+    loads = np.zeros_like(nu)
+    loads[:, 5] = -7.0 * nu[:, 0] * nu[:, 5]
+    d = fit_derivatives(nu, loads, np.zeros_like(nu), {"N": ["ur"]}, density=1000.0, length=2.0)
+    assert d[0].name == "N_ur" and d[0].value == pytest.approx(-7.0)
+    assert d[0].k == 4 and d[0].nondimensional == pytest.approx(-7.0 / (0.5 * 1000 * 2.0**4))
+
+
+def test_weighted_force_fit_matches_curve_fit_with_sigma():
+    U = np.array([0.5, 1.0, 1.5, 2.0, 2.5])
+    F = 2.0 * U + 30.0 * U * U + np.array([0.05, -0.2, 0.3, -0.6, 1.0])
+    sd = np.array([0.05, 0.1, 0.2, 0.4, 0.8])
+    fit = fit_forces(U, F, area=0.1, density=1000.0, sigma=sd)
+    popt, _ = curve_fit(lambda u, a, b: a * u + b * u * np.abs(u), U, F, sigma=sd)
+    assert [fit.K_L, fit.K_Q] == pytest.approx(list(popt), rel=1e-9)
+    plain = fit_forces(U, F, area=0.1, density=1000.0)
+    assert plain.K_L != pytest.approx(fit.K_L, rel=1e-3)  # the weights matter
+    with pytest.raises(InputError, match="expected standard deviations >= 0"):
+        fit_forces(U, F, 0.1, 1000.0, sigma=-sd)
+
+
+def _outcome(case: Case, X: float, Y: float = 0.0, N: float = 0.0, status: str = "converged") -> dict:
+    from dataclasses import asdict
+
+    return {
+        "label": case.label,
+        "status": status,
+        "flow": asdict(case.flow),
+        "settings": asdict(case.settings),
+        "forces": [X, Y, 0.0, 0.0, 0.0, N],
+        "std": [0.01] * 6,
+    }
+
+
+def test_a_sweep_is_assembled_into_rows_fits_and_derivatives():
+    body = profile_body(*_spheroid())
+    spec = SweepSpec((0.5, 1.0, 1.5, 2.0), drifts=tuple(np.radians([-6, 6])))
+    cases = make_cases(body, spec, Settings())
+    # 4 speeds + 2 drift angles at the reference speed 2.0 (the straight 2.0 case is shared)
+    assert len(cases) == 6
+    K_Q, Y_uv, N_uv = 20.0, -30.0, -12.0
+    outs = []
+    for c in cases:
+        u, v, _ = c.flow.velocity()
+        outs.append(_outcome(c, -K_Q * u * u, Y_uv * u * v, N_uv * u * v))
+    res = assemble(body, spec, Settings(), outs)
+    assert res.fits["x"].K_Q == pytest.approx(K_Q, rel=1e-6) and abs(res.fits["x"].K_L) < 1e-6
+    names = {d.name: d.value for d in res.derivatives}
+    assert names["Y_uv"] == pytest.approx(Y_uv, rel=1e-6) and names["N_uv"] == pytest.approx(N_uv, rel=1e-6)
+    coef = res.coefficients()
+    assert coef["terms"]["X_u|u|"] == pytest.approx(-K_Q, rel=1e-6)  # resistance opposes u
+    assert coef["linear_derivatives"]["Y_v"]["value"] == pytest.approx(Y_uv * 2.0, rel=1e-6)
+    head = res.forces_csv().splitlines()[0]
+    assert head.startswith("case,speed,drift_deg,attack_deg,yaw_rate,pitch_rate,X,Y,Z,K,M,N,X_std")
+    assert res.resistance_csv().splitlines()[0] == "speed,force,force_std"
+
+
+def test_a_failed_case_leaves_its_row_empty_and_the_others_are_fitted():
+    body = profile_body(*_spheroid())
+    spec = SweepSpec((0.5, 1.0, 1.5, 2.0))
+    cases = make_cases(body, spec, Settings())
+    outs = [_outcome(c, -10 * c.flow.speed**2) for c in cases]
+    outs[1] = {**outs[1], "status": "failed", "reason": "simpleFoam failed (exit 1): diverged"}
+    res = assemble(body, spec, Settings(), outs)
+    assert len(res.failed) == 1 and any("diverged" in w for w in res.warnings)
+    row = [r for r in res.rows if r["status"] == "failed"][0]
+    assert math.isnan(row["X"])
+    assert res.fits["x"].n == 3 and res.fits["x"].K_Q == pytest.approx(10.0, rel=1e-6)
+    assert ",failed" in res.forces_csv()
