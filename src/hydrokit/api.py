@@ -599,32 +599,44 @@ def linearize(vehicle: Vehicle | PathLike, trim: Any = (0, 0, 0, 0, 0, 0)) -> An
     return _linearize(_as_vehicle(vehicle), trim)
 
 
-def export_vehicle(vehicle: Vehicle | PathLike, format: str, trim: Any = (0, 0, 0, 0, 0, 0)) -> bytes:
+def export_vehicle(
+    vehicle: Vehicle | PathLike, format: str, trim: Any = (0, 0, 0, 0, 0, 0), added_mass: str = "plugin"
+) -> bytes:
     """The vehicle as another tool reads it (the bytes ``hydrokit export`` writes).
 
     Parameters
     ----------
     vehicle : Vehicle or name/path
     format : str — "gazebo" (gz-sim SDF), "uuv-simulator" (fossen plugin block) or
-        "python-control" (``.npz`` of A, B, C, D at ``trim``)
+        "python-control" (``.npz`` of A, B, C, D at ``trim``, and the vehicle's ``provenance``)
     trim : 6 floats — u, v, w (m/s), p, q, r (rad/s), for python-control
+    added_mass : str — gazebo: "plugin" (Hydrodynamics ``*Dot*`` parameters) or "inertial"
+        (``<fluid_added_mass>``, gz-sim Garden or later with DART)
+
+    Raises
+    ------
+    InputError
+        What the target cannot take (:func:`hydrokit.io.export.export_checks`): M_RB + M_A not
+        positive definite, M_A not positive semi-definite, or an added mass too large against
+        the rigid-body mass for an engine that applies it explicitly (ρ(M_RB⁻¹ M_A) ≥ 1).
     """
     import io
 
     import numpy as np
 
-    from hydrokit.io.export import gazebo_sdf, uuv_parameters
+    from hydrokit.io.export import export_checks, gazebo_sdf, uuv_parameters
 
+    if format not in ("gazebo", "uuv-simulator", "python-control"):
+        raise InputError(f"format = {format!r}: expected gazebo, uuv-simulator or python-control")
     veh = _as_vehicle(vehicle)
+    notes = export_checks(veh, format, added_mass)
     if format == "gazebo":
-        return gazebo_sdf(veh).encode("utf-8")
+        return gazebo_sdf(veh, added_mass=added_mass, notes=notes).encode("utf-8")
     if format == "uuv-simulator":
-        return uuv_parameters(veh).encode("utf-8")
-    if format == "python-control":
-        buf = io.BytesIO()
-        np.savez(buf, **linearize(veh, trim).npz_arrays())
-        return buf.getvalue()
-    raise InputError(f"format = {format!r}: expected gazebo, uuv-simulator or python-control")
+        return uuv_parameters(veh, notes=notes).encode("utf-8")
+    buf = io.BytesIO()
+    np.savez(buf, **linearize(veh, trim).npz_arrays(), provenance=np.array(veh.provenance, dtype=str))
+    return buf.getvalue()
 
 
 def load_assembly(name_or_path: PathLike, damping_model: str = "elements") -> Assembly:

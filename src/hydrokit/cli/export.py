@@ -29,17 +29,33 @@ FORMATS = ("gazebo", "uuv-simulator", "python-control")
     show_default=True,
     help="python-control: trim body velocity u,v,w (m/s), p,q,r (rad/s) to linearise about.",
 )
-def export(vehicle: str, fmt: str, out: str, trim: list[float]) -> None:
+@click.option(
+    "--added-mass",
+    type=click.Choice(["plugin", "inertial"]),
+    default="plugin",
+    show_default=True,
+    help="gazebo (no unit): plugin = the Hydrodynamics xDotU … parameters (an explicit force, unstable when "
+    "M_A is not small against M_RB); inertial = the link's <fluid_added_mass> (gz-sim Garden or later, DART).",
+)
+def export(vehicle: str, fmt: str, out: str, trim: list[float], added_mass: str) -> None:
     """Write VEHICLE (a vehicle file or bundled name) for another tool.
 
     Gazebo and uuv_simulator use body FLU / world ENU: hydrokit's FRD/NED values are converted
-    (y and z negated, 6x6 matrices T M T) and the file says so in a comment.
+    (y and z negated, 6x6 matrices T M T) and the file says so in a comment, with where the
+    coefficients came from (when the vehicle file says). What the target cannot take is refused
+    (M_RB + M_A not positive definite, M_A not positive semi-definite, an added mass too large
+    for an explicit added-mass force: ρ(M_RB⁻¹ M_A) ≥ 1) and what it takes badly is warned.
     """
-    from hydrokit.api import export_vehicle
+    from hydrokit.api import export_vehicle, load_vehicle
     from hydrokit.cli._common import write_all
+    from hydrokit.io.export import export_checks
 
-    data = export_vehicle(vehicle, fmt, trim=trim)
+    v = load_vehicle(vehicle)
+    notes = export_checks(v, fmt, added_mass)  # refuses what would crash the target, before writing
+    data = export_vehicle(v, fmt, trim=trim, added_mass=added_mass)
     write_all({Path(out): data})
+    for note in notes:
+        click.echo(f"warning: {note}", err=True)
     if fmt == "python-control":
         import io
 

@@ -53,7 +53,7 @@ from hydrokit.core.constants import GRAVITY, SEAWATER_DENSITY
 from hydrokit.core.drag import DragElement
 from hydrokit.core.validate import cut, cut_repr, mapping, matrix, number, vector
 from hydrokit.errors import InputError
-from hydrokit.io.yamlfile import read_yaml
+from hydrokit.io.yamlfile import check_keys, read_yaml
 from hydrokit.model.terms import TermSet, parse_term
 from hydrokit.model.vehicle import Vehicle, make_vehicle
 
@@ -91,6 +91,8 @@ KNOWN = set(REQUIRED) | {
     "drag_elements",
     "allow_negative_damping",
 }
+#: the keys of the ``fluid`` block (the viscosity is read by other tools: Reynolds numbers)
+FLUID_KEYS = ("density", "kinematic_viscosity")
 #: the keys of one ``drag_elements`` entry (frozen, issue #11)
 DRAG_ELEMENT_KEYS = ("name", "position", "linear", "quadratic")
 #: the keys of the ``uncertainty`` block
@@ -189,6 +191,29 @@ def _uncertainty(value: Any, source: str) -> Any:
     return make_uncertainty(names, value.get("covariance"), sigma, source)
 
 
+def _provenance(data: dict[str, Any]) -> tuple[str, ...]:
+    """Lines saying where the coefficients came from, as far as the file says (never an error:
+    these fields are free text)."""
+    out = []
+    for key in ("source", "sources"):
+        value = data.get(key)
+        if isinstance(value, dict):
+            out += [f"{key}.{k}: {cut(str(v))}" for k, v in value.items()]
+        elif isinstance(value, list):
+            out += [f"{key}: {cut(str(v))}" for v in value]
+        elif value is not None:
+            out.append(f"{key}: {cut(str(value))}")
+    project = data.get("project")
+    if isinstance(project, dict) and isinstance(project.get("sources"), dict):
+        name = project.get("name")
+        virtual = " (virtual data)" if project.get("virtual_data") else ""
+        out.append(f"identified by hydrokit run of project {cut(str(name))}{virtual}; source per coefficient:")
+        for dof, coefs in project["sources"].items():
+            if isinstance(coefs, dict):
+                out.append(f"{cut(str(dof))}: " + ", ".join(f"{c} {cut(str(s))}" for c, s in coefs.items()))
+    return tuple(out)
+
+
 def _sign_warnings(M_A: np.ndarray, D_L: np.ndarray, D_Q: np.ndarray, allow: bool, source: str) -> list[str]:
     """Non-physical signs: negative damping is refused unless the file allows it; a negative
     added mass that still flies is said.
@@ -223,7 +248,8 @@ def parse_vehicle(data: dict[str, Any], source: str) -> Vehicle:
     for key in REQUIRED:
         if key not in data:
             raise InputError(f"missing field '{key}' (see docs/model.md for the vehicle file)", source)
-    warnings = [f"unknown field '{k}' ignored" for k in data if k not in KNOWN]
+    check_keys(data, KNOWN, "", source)
+    warnings: list[str] = []
     flagged = data.get("warnings") or []
     if isinstance(flagged, list):
         warnings.extend(str(w) for w in flagged)
@@ -231,6 +257,7 @@ def parse_vehicle(data: dict[str, Any], source: str) -> Vehicle:
     fluid = data.get("fluid", {"density": SEAWATER_DENSITY})
     if not isinstance(fluid, dict) or "density" not in fluid:
         raise InputError(f"field 'fluid' = {cut_repr(fluid)}: expected a mapping with density (kg/m^3)", source)
+    check_keys(fluid, FLUID_KEYS, "fluid", source)
     rho = _number(fluid["density"], "fluid.density", source, positive=True)
     mass = _number(data["mass"], "mass", source, positive=True)
     volume = _number(data["volume"], "volume", source, positive=True)
@@ -312,4 +339,5 @@ def parse_vehicle(data: dict[str, Any], source: str) -> Vehicle:
         cor,
         elements,
         uncertainty,
+        _provenance(data),
     )

@@ -55,6 +55,9 @@ class Vehicle:
     uncertainty : Uncertainty or None — the file's ``uncertainty:`` block (covariance of the
         diagonal coefficients, SI; :mod:`hydrokit.model.uncertainty`); the model does not use it,
         ``--samples`` draws vehicles from it
+    provenance : tuple of str — where the coefficients came from, as the vehicle file says
+        (``hydrokit run``'s ``project.sources``, a ``source`` or ``sources`` field); exports
+        write it into their comments
 
     A vehicle is equal only to itself (``eq=False``): its fields are arrays, which have no
     single truth value; compare the fields of two vehicles with numpy.
@@ -78,6 +81,7 @@ class Vehicle:
     drag_elements: tuple[DragElement, ...] = ()
     thrusters: Any = field(default=None, repr=False)
     uncertainty: Any = field(default=None, repr=False)
+    provenance: tuple[str, ...] = field(default=(), repr=False)
 
     @property
     def M_RB(self) -> np.ndarray:
@@ -176,6 +180,7 @@ def make_vehicle(
     added_mass_coriolis: bool = True,
     drag_elements: tuple[DragElement, ...] | list[DragElement] | None = None,
     uncertainty: Any = None,
+    provenance: tuple[str, ...] = (),
 ) -> Vehicle:
     """Validate and build a :class:`Vehicle`.
 
@@ -273,4 +278,5 @@ def make_vehicle(
         bool(added_mass_coriolis),
         drag_elements=elements,
         uncertainty=uncertainty,
+        provenance=tuple(provenance),
     )
