@@ -220,6 +220,36 @@ def test_level_two_mesh_builds_with_twice_the_cells(tmp_path: Path):
     assert int(checkmesh_value(level2.check, "cells:")) == level2.asked
 
 
+def capsule() -> tuple[np.ndarray, np.ndarray]:
+    """A hemisphere-capped cylinder, L = 1 m, D = 0.2 m: blunt at both ends (C wrap at both)."""
+    t = np.linspace(0.0, 0.5 * math.pi, 40)
+    x_mid = np.linspace(0.1, 0.9, 30)[1:-1]
+    x = np.concatenate([0.1 * (1.0 - np.cos(t)), x_mid, 0.9 + 0.1 * np.sin(t)])
+    r = np.concatenate([0.1 * np.sin(t), np.full_like(x_mid, 0.1), 0.1 * np.cos(t)])
+    r[-1] = 0.0
+    return x, r
+
+
+def cone_nosed() -> tuple[np.ndarray, np.ndarray]:
+    """A 20° cone nose, a cylinder and a 30° cone tail: pointed at both ends (a block on the axis at each)."""
+    x = np.array([0.0, 0.05, 0.1, 0.2, 0.25, 0.5, 0.75, 0.8, 0.9, 1.0])
+    r = np.minimum.reduce(
+        [x * math.tan(math.radians(20.0)), np.full_like(x, 0.08), (1.0 - x) * math.tan(math.radians(30.0))]
+    )
+    return x, r
+
+
+@pytest.mark.cfd
+@needs_openfoam
+@pytest.mark.parametrize("body", [capsule, cone_nosed])
+def test_blunt_and_pointed_ends_mesh_cleanly(body, tmp_path: Path):
+    built = build(tmp_path / body.__name__, *body())
+    assert "Mesh OK." in built.check
+    assert int(checkmesh_value(built.check, "cells:")) == built.asked
+    # without the end blocks a 20° cone nose left a 160° corner and 67° non-orthogonality
+    assert checkmesh_value(built.check, "non-orthogonality Max:") < 45.0
+
+
 # --- pure Python --------------------------------------------------------------------------------
 
 

@@ -7,15 +7,15 @@ shared by the two sides, so the cells next to the axis are collapsed hexahedra w
 axis faces blockMesh removes (as in the ``movingCone`` tutorial). No snappyHexMesh is involved.
 
 Topology, in the meridian half-plane (x, r): a C-type (half O-type) grid wraps the body. Its
-first index runs along the body from the nose to the tail, its second runs outward. At the nose
-the outward grid line is the upstream axis, so a blunt nose (Myring, hemisphere) gets cells
-orthogonal to the wall. At a blunt tail (half-angle ≥ 45°) the grid wraps the tail the same way,
-its outward line being the downstream axis, and the outer boundary is a "stadium": a quarter
-ellipse ahead of the nose (reaching ``upstream·L`` upstream), a straight line at
-``r = radial·L`` along the body and a quarter ellipse behind the tail (reaching
-``downstream·L`` behind it). A pointed tail (half-angle < 45°) would leave an obtuse block corner
-at the tip; there the C grid ends on the wall normal at the tip and a wake block runs along the
-axis to a flat outlet plane (the outer line then goes straight on to the outlet).
+first index runs along the body from the nose to the tail, its second runs outward. At a blunt
+end (half-angle ≥ 45°: Myring or hemispherical noses, a spheroid's tail) the grid wraps the
+end: the outward grid line there is the axis itself (upstream of the nose, downstream of the
+tail), so the cells at the stagnation point are orthogonal to the wall, and the outer boundary
+is a quarter ellipse reaching ``upstream·L`` ahead of the nose or ``downstream·L`` behind the
+tail. Between the two the outer boundary is a straight line at ``r = radial·L``. A pointed end
+(half-angle < 45°) would leave an obtuse block corner at its tip; there the C grid ends on the
+wall normal at the tip and a block of its own runs along the axis to a flat inlet or outlet
+plane (the outer line then goes straight on to meet it).
 
 The grid is cut into blocks along the body wherever the wall normal has turned by more than
 ``_MAX_TURN`` or a block has ``_MAX_BLOCK_CELLS`` cells; at every cut the block edge leaves the
@@ -55,9 +55,11 @@ _EDGE_POINTS = 24
 #: share of the outer-boundary spacing that follows the cell count (the rest follows the
 #: body zones: nose → upstream quarter ellipse, mid-body → top line, tail → downstream ellipse)
 _OUTER_UNIFORM = 0.25
-#: behind a pointed tail the C grid ends on the top line this far (× outer radius) behind the tail
+#: an end whose half-angle is below this is pointed (gets its own block on the axis), rad
+_POINTED = math.radians(45.0)
+#: at a pointed end the C grid ends on the top line this far (× outer radius) beyond the tip
 _WAKE_START = 0.2
-#: expansion of the wake block's outlet side, axis → outer boundary (last / first cell)
+#: expansion of the flat inlet and outlet sides, axis → outer boundary (last / first cell)
 _WAKE_OUTLET_GRADING = 8.0
 
 
@@ -211,19 +213,24 @@ def blockmesh_dict(
         )
 
     body = _Polyline(np.column_stack([x, r]))
-    # a pointed tail (half-angle below 45°) gets a wake block behind it instead of the C wrap,
-    # whose corner at the tail would otherwise be 180° minus the half-angle; the domain then ends
-    # in a flat outlet instead of a quarter ellipse, so the wake block has four real corners
-    tail = body.p[-2] - body.p[-1]
-    pointed = math.atan2(tail[1], -tail[0]) < math.radians(45.0)
-    outer = _Stadium(x0, length, upstream * length, downstream * length, r_out, flat_outlet=pointed)
+    # a pointed end (half-angle below 45°) gets a block of its own on the axis instead of the C
+    # wrap, whose corner at the tip would otherwise be 180° minus the half-angle; the domain then
+    # ends in a flat inlet or outlet plane instead of a quarter ellipse, so that block has four
+    # real corners
+    nose, tail = body.p[1] - body.p[0], body.p[-2] - body.p[-1]
+    pointed_nose = math.atan2(nose[1], nose[0]) < _POINTED
+    pointed = math.atan2(tail[1], -tail[0]) < _POINTED
+    outer = _Stadium(
+        x0, length, upstream * length, downstream * length, r_out, flat_inlet=pointed_nose, flat_outlet=pointed
+    )
+    f_start = outer.fraction_on_top(x0 - _WAKE_START * r_out) if pointed_nose else 0.0
     f_end = outer.fraction_on_top(x0 + length + _WAKE_START * r_out) if pointed else 1.0
 
     # --- level-1 layout: body stations (arc length), the zones and the block cuts -------------
     s_nodes, zone_end = _along_body(body.length, length / cells_along)
     cuts = _block_cuts(body, s_nodes, zone_end)
     n_along1 = [int(n) for n in np.diff(cuts)]
-    f_outer = _outer_fractions(s_nodes, zone_end, outer, f_end)
+    f_outer = _outer_fractions(s_nodes, zone_end, outer, f_start, f_end)
 
     # outward edges of the cuts, in the meridian plane: the axis at a C-wrapped end, Béziers
     # leaving the wall along its normal everywhere else
@@ -231,14 +238,14 @@ def blockmesh_dict(
     p_outer = [outer.point(f_outer[i] * outer.length) for i in cuts]
     j_edges: list[np.ndarray] = []
     for k, (pb, po) in enumerate(zip(p_body, p_outer)):
-        if k == 0 or (k == len(cuts) - 1 and not pointed):
+        if (k == 0 and not pointed_nose) or (k == len(cuts) - 1 and not pointed):
             j_edges.append(np.array([pb, po]))
         else:
             j_edges.append(_bezier(pb, body.normal(s_nodes[cuts[k]]), po))
     j_lengths = [_Polyline(e).length for e in j_edges]
 
     # --- cells across: from the longest outward edge at level 1, then refined ---------------
-    longest = max(j_lengths + ([downstream * length] if pointed else []))
+    longest = max(j_lengths + [r_out])  # r_out: the flat inlet or outlet side
     n_across = max(2, round(_cells_for_growth(longest, first_cell, growth) * ratio))
     h1 = first_cell / ratio
 
@@ -262,9 +269,27 @@ def blockmesh_dict(
             patches={
                 "bottom": "body",
                 "top": "farfield",
-                "left": "farfield" if k == 0 else None,
+                "left": "farfield" if k == 0 and not pointed_nose else None,
                 "right": "farfield" if k == len(cuts) - 2 and not pointed else None,
             },
+        )
+    if pointed_nose:
+        # entrance block: inlet → nose along the axis, its inlet side and top on the outer boundary
+        n_end, i_end = p_body[0], outer.point(0.0)
+        f_c = outer.fraction_on_top(x0 - upstream * length)
+        v_c, v_i = mesh.vertex(outer.point(f_c * outer.length)), mesh.vertex(i_end)
+        axis_len = float(n_end[0] - i_end[0])
+        last_axial = float(s_nodes[1] - s_nodes[0])  # lead into the nose's streamwise spacing
+        n_in = max(2, round(_cells_for_growth(axis_len, last_axial, _END_GROWTH) * ratio))
+        g_axis = 1.0 / _expansion_for_first_cell(axis_len, last_axial / ratio, n_in)
+        mesh.block(
+            (v_i, v_body[0], v_outer[0], v_c),
+            (n_in, n_across),
+            bottom=(np.array([i_end, n_end]), g_axis),
+            top=(outer.between(f_c * outer.length, f_start * outer.length), g_axis),
+            left=(outer.between(0.0, f_c * outer.length), _WAKE_OUTLET_GRADING),
+            right=(j_edges[0], across(j_lengths[0])),
+            patches={"bottom": "farfield", "top": "farfield", "left": "farfield", "right": None},
         )
     if pointed:
         # wake block: tail → outlet along the axis, its top and outlet side on the outer boundary
@@ -274,8 +299,7 @@ def blockmesh_dict(
         v_x, v_e = mesh.vertex(x_pt), mesh.vertex(e_end)
         axis_len = float(e_end[0] - t_end[0])
         first_axial = float(s_nodes[-1] - s_nodes[-2])  # continue the tail's streamwise spacing
-        n_wake1 = _cells_for_growth(axis_len, first_axial, _END_GROWTH)
-        n_wake = max(2, round(n_wake1 * ratio))
+        n_wake = max(2, round(_cells_for_growth(axis_len, first_axial, _END_GROWTH) * ratio))
         outlet = outer.between(f_x * outer.length, outer.length)[::-1]
         g_axis = _expansion_for_first_cell(axis_len, first_axial / ratio, n_wake)
         mesh.block(
@@ -496,24 +520,31 @@ class _Polyline:
 
 class _Stadium(_Polyline):
     """Outer boundary: a quarter ellipse ahead of the nose, a line at r_out along the body and a
-    quarter ellipse behind the tail, or with ``flat_outlet`` the line carried on to the outlet
-    plane and down it to the axis."""
+    quarter ellipse behind the tail; with ``flat_inlet`` / ``flat_outlet`` a plane up from the
+    axis at the inlet / down to it at the outlet instead, the line carried on to meet it."""
 
     N = 400  # segments per quarter ellipse
 
-    def __init__(self, x0: float, length: float, up: float, down: float, r_out: float, *, flat_outlet: bool):
-        self.x0, self.body_length = x0, length
+    def __init__(
+        self, x0: float, length: float, up: float, down: float, r_out: float, *, flat_inlet: bool, flat_outlet: bool
+    ):
+        self.x0 = x0
         t = np.linspace(0.0, 0.5 * np.pi, self.N + 1)
-        front = np.column_stack([x0 - up * np.cos(t), r_out * np.sin(t)])
+        if flat_inlet:
+            front = np.array([[x0 - up, 0.0], [x0 - up, r_out], [x0, r_out]])
+        else:
+            front = np.column_stack([x0 - up * np.cos(t), r_out * np.sin(t)])
         if flat_outlet:
-            back = np.array([[x0 + length, r_out], [x0 + length + down, r_out], [x0 + length + down, 0.0]])
+            back = np.array([[x0 + length + down, r_out], [x0 + length + down, 0.0]])
         else:
             back = np.column_stack([x0 + length + down * np.sin(t), r_out * np.cos(t)])
         super().__init__(np.vstack([front, back]))
+        self.s_top = float(self.s[len(front) - 1])  # arc length at (x0, r_out)
+        self.top_length = length
 
     def fraction_on_top(self, x: float) -> float:
         """Arc-length fraction of the point (x, r_out) on the top line."""
-        return float((self.s[self.N] + (x - self.x0)) / self.length)
+        return (self.s_top + (x - self.x0)) / self.length
 
 
 def _bezier(p0: np.ndarray, n0: np.ndarray, p2: np.ndarray) -> np.ndarray:
@@ -568,18 +599,20 @@ def _block_cuts(body: _Polyline, s: np.ndarray, zone_end: tuple[int, int]) -> li
     return merged
 
 
-def _outer_fractions(s: np.ndarray, zone_end: tuple[int, int], outer: _Stadium, f_end: float) -> np.ndarray:
+def _outer_fractions(
+    s: np.ndarray, zone_end: tuple[int, int], outer: _Stadium, f_start: float, f_end: float
+) -> np.ndarray:
     """Arc-length fraction on the outer boundary of each body station's outward grid line.
 
     A blend of uniform spacing by cell count (even cells on the far field) and a zone map (nose
     → upstream quarter ellipse, mid-body → the straight top, tail → the downstream ellipse up to
-    ``f_end``, so grid lines go out roughly normal to the body), smoothed so the spacing has no
+    ``f_end``; from ``f_start`` at the nose), so grid lines go out roughly normal to the body), smoothed so the spacing has no
     jumps.
     """
     n = len(s) - 1
-    uniform = np.arange(n + 1) / n * f_end
-    f_top0, f_top1 = outer.fraction_on_top(outer.x0), outer.fraction_on_top(outer.x0 + outer.body_length)
-    zoned = np.interp(np.arange(n + 1), [0, zone_end[0], zone_end[1], n], [0.0, f_top0, f_top1, f_end])
+    uniform = f_start + np.arange(n + 1) / n * (f_end - f_start)
+    f_top0, f_top1 = outer.fraction_on_top(outer.x0), outer.fraction_on_top(outer.x0 + outer.top_length)
+    zoned = np.interp(np.arange(n + 1), [0, zone_end[0], zone_end[1], n], [f_start, f_top0, f_top1, f_end])
     f = _OUTER_UNIFORM * uniform + (1.0 - _OUTER_UNIFORM) * zoned
     # smooth the spacing with a moving average over ~n/12 cells, keeping the ends fixed
     width = max(3, n // 12) | 1
@@ -587,4 +620,4 @@ def _outer_fractions(s: np.ndarray, zone_end: tuple[int, int], outer: _Stadium, 
     pad = np.concatenate([np.full(width // 2, d[0]), d, np.full(width // 2, d[-1])])
     d = np.convolve(pad, np.ones(width) / width, mode="valid")
     f = np.concatenate([[0.0], np.cumsum(d)])
-    return f / f[-1] * f_end
+    return f_start + f / f[-1] * (f_end - f_start)
