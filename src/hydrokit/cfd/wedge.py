@@ -160,8 +160,9 @@ def blockmesh_dict(
         Streamwise resolution on level 1: a mid-body cell is ``L / cells_along`` long, cells at the
         nose and tail are five times shorter, dimensionless.
     growth : float, optional
-        Largest wall-normal growth ratio of consecutive cells on level 1 (on the longest outward
-        edge, the downstream axis); it sets the number of cells across, dimensionless.
+        Largest wall-normal growth ratio of consecutive cells on level 1, reached on the longest
+        outward edge (the downstream axis behind a blunt tail); it sets the number of cells across,
+        dimensionless.
 
     Returns
     -------
@@ -183,8 +184,7 @@ def blockmesh_dict(
     -----
     The number of cells is ``sum(cells along each block) × cells across`` (one cell thick); the
     cells along the body at level 1 follow from ``cells_along`` and the geometric growth from the
-    ends, the cells across from ``first_cell``, ``growth`` and the longest outward edge
-    (``downstream·L``). A finer level multiplies both by √2 (rounded), so its cell count is about
+    ends, the cells across from ``first_cell``, ``growth`` and the longest outward edge. A finer level multiplies both by √2 (rounded), so its cell count is about
     2× (level 2) and 4× (level 3) that of level 1.
     """
     x, r = _validate_profile(x, r)
