@@ -19,6 +19,7 @@ from hydrokit.errors import InputError
 SPHERE = DATA_DIR / "geometry" / "sphere.yaml"
 RIG = DATA_DIR / "campaigns" / "udrobot" / "spring_x.yaml"
 ASSEMBLY = DATA_DIR / "assemblies" / "rehman_transport.yaml"
+VEHICLE = DATA_DIR / "vehicles" / "minerva.yaml"
 
 
 def _doc(path: Path) -> dict[str, Any]:
@@ -41,8 +42,10 @@ def _load(kind: str, path: Path) -> Any:
     from hydrokit.io.geometry import load_geometry
     from hydrokit.io.project import load_project
     from hydrokit.io.rig import load_rig
+    from hydrokit.io.vehicle import load_vehicle
 
-    return {"geometry": load_geometry, "rig": load_rig, "project": load_project, "assembly": load_assembly}[kind](path)
+    loaders = {"geometry": load_geometry, "rig": load_rig, "project": load_project, "assembly": load_assembly}
+    return (loaders | {"vehicle": load_vehicle})[kind](path)
 
 
 def _project(tmp: Path, change: Any) -> Path:
@@ -64,6 +67,13 @@ UNKNOWN_KEYS = {
         "density",
     ),
     "geometry-part": ("geometry", lambda t: _geometry(t, diamter=0.5), "parts[0].diamter", "diameter"),
+    "vehicle-top": ("vehicle", lambda t: _write(t / "v.yaml", _doc(VEHICLE) | {"masss": 460}), "masss", "mass"),
+    "vehicle-fluid": (
+        "vehicle",
+        lambda t: _write(t / "v.yaml", _doc(VEHICLE) | {"fluid": {"density": 1025, "temprature": 15}}),
+        "fluid.temprature",
+        "kinematic_viscosity",
+    ),
     "rig-body": (
         "rig",
         lambda t: _write(t / "r.yaml", _doc(RIG) | {"body": _doc(RIG)["body"] | {"masss": 1}}),
