@@ -87,10 +87,10 @@ def _print_allocation(doc: dict[str, Any]) -> None:
         lo, hi = doc["thrust_limits"][i]
         tt.add_row(
             str(name),
-            f"{doc['thrust'][i]:.4g}",
+            _g(doc["thrust"][i]),
             "none" if lo is None else f"{lo:.4g}",
             "none" if hi is None else f"{hi:.4g}",
-            f"{doc['command'][i]:.4g}",
+            _g(doc["command"][i]),
             doc["command_unit"][i],
             "yes" if name in doc["saturated"] else "",
         )
@@ -98,10 +98,15 @@ def _print_allocation(doc: dict[str, Any]) -> None:
     at = Table(title="Demanded and achieved τ (N, N·m)")
     for col in ("DOF", "demanded", "achieved"):
         at.add_column(col, justify="right")
-    scale = max([abs(x) for x in doc["tau"] + doc["achieved_tau"]] + [1.0])
+    scale = max([abs(x) for x in doc["tau"] + doc["achieved_tau"] if x is not None] + [1.0])
     for dof, a, b in zip(DOF_NAMES, doc["tau"], doc["achieved_tau"]):
-        b = 0.0 if abs(b) < 1e-12 * scale else b  # show round-off as 0
-        at.add_row(dof, f"{a:.4g}", f"{b:.4g}")
+        b = 0.0 if b is not None and abs(b) < 1e-12 * scale else b  # show round-off as 0
+        at.add_row(dof, _g(a), _g(b))
     console.print(at)
     unc = ", ".join(doc["uncontrollable"]) or "none"
-    console.print(f"residual |Tf − τ| = {doc['residual']:.4g}; not actuated: {unc}")
+    console.print(f"residual |Tf − τ| = {_g(doc['residual'])}; not actuated: {unc}")
+
+
+def _g(x: float | None) -> str:
+    """A number of the JSON document (None where it was not finite) for the table."""
+    return "not finite" if x is None else f"{x:.4g}"

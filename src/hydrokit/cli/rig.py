@@ -103,10 +103,19 @@ def rig_plan(
         tab.add_row(
             f"{a:g}" + (" mm" if r.translational_signal else "°"),
             f"{row['speed_max']:.3g}",
-            f"{row['added_mass']:.3g} ({100 * row['added_mass_rel']:.2g} %)",
-            f"{row['linear_damping']:.3g} ({100 * row['linear_damping_rel']:.2g} %)",
-            f"{row['quadratic_damping']:.3g} ({100 * row['quadratic_damping_rel']:.2g} %)",
+            *(
+                f"{row[k]:.3g} ({_percent(row[k + '_rel'])})"
+                for k in ("added_mass", "linear_damping", "quadratic_damping")
+            ),
             f"{100 * row['damping_force_rel']:.2g} %",
         )
     Console().print(tab)
     click.echo(recommend(plan))
+
+
+def _percent(rel: float) -> str:
+    """A relative error as a percentage; "–" where it has no finite value (a true value of 0 or
+    one so small that σ / |value| overflows)."""
+    import math
+
+    return f"{100 * rel:.2g} %" if math.isfinite(100 * rel) else "– %"

@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import math
+
 import click
 
 from hydrokit.cli._types import FINITE, Number
@@ -65,6 +67,11 @@ def scale(
         click.echo(f"{k}: model {v:.6g} → full scale {full[k]:.6g}")
     if model_volume is not None and full_volume is not None and added_mass is not None and not rotational:
         cm_form = added_mass * full_volume / model_volume  # C_m ρ V_full with C_m = m_a / (ρ V_model)
+        if not (math.isfinite(100 * (cm_form / full["added_mass"] - 1)) and math.isfinite(model_volume * lam**3)):
+            raise InputError(
+                f"--model-volume {model_volume:.4g} m³ against --full-volume {full_volume:.4g} m³: the C_m form "
+                f"({cm_form:.4g}) is beyond the float range of a comparison; expected volumes of a realistic size"
+            )
         click.echo(
             f"added_mass as C_m ρ V_full (CELY2019 Table 10 convention): {cm_form:.6g}; "
             f"λ³ similitude gives {full['added_mass']:.6g} ({100 * (cm_form / full['added_mass'] - 1):+.1f} %): "

@@ -130,6 +130,11 @@ def fit_forces(
     for k, v in (("area", area), ("density", density)):
         if not (math.isfinite(v) and v > 0):
             raise InputError(f"{k} = {v}: expected a positive number")
+    if not (area * density > 0 and math.isfinite(2.0 / (area * density))):  # C_D = 2 K_D / (ρ A)
+        raise InputError(
+            f"area = {area:.4g} m², density = {density:.4g} kg/m³: ρ A = {area * density:.4g} kg/m leaves C_D beyond "
+            "the float range; expected a realistic reference area and density"
+        )
     w = _weights(sigma, U.size)
     X = np.column_stack([U, np.abs(U) * U])
     Xw, Fw = X * w[:, None], F * w

@@ -94,7 +94,19 @@ def plan_experiment(
     for a in amplitudes:
         if not (a != 0 and math.isfinite(a)):
             raise InputError(f"amplitude = {a}: expected a non-zero displacement")
-        crb = cramer_rao(rig, added_mass, linear_damping, quadratic_damping, a, duration, sensor)
+        try:
+            with np.errstate(all="ignore"):
+                crb = cramer_rao(rig, added_mass, linear_damping, quadratic_damping, a, duration, sensor)
+        except np.linalg.LinAlgError:
+            crb = {k: math.nan for k in COEFFS}
+        if not all(math.isfinite(crb[k]) for k in COEFFS):
+            # the model's response leaves the float range, or one coefficient no longer moves it
+            raise InputError(
+                f"added_mass = {added_mass:.4g}, linear_damping = {linear_damping:.4g}, quadratic_damping = "
+                f"{quadratic_damping:.4g} at amplitude {a:.4g}: the launch carries no finite information on "
+                "every coefficient (a singular or non-finite Fisher matrix); expected coefficients of a realistic "
+                "size for this rig (SI)"
+            )
         row: dict[str, Any] = {"amplitude": float(a), "speed_max": crb["speed_max"], "launches": launches}
         for k in COEFFS:
             se = crb[k] / math.sqrt(launches)

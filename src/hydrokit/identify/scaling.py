@@ -52,5 +52,13 @@ def scale_coefficients(values: dict[str, float], lam: float, rotational: bool = 
     for key, v in values.items():
         if key not in table:
             raise InputError(f"cannot scale {key!r}: expected one of {', '.join(table)}")
-        out[key] = float(v) * lam ** table[key]
+        try:
+            out[key] = float(v) * lam ** table[key]
+        except OverflowError:
+            out[key] = math.inf
+        if not math.isfinite(out[key]):
+            raise InputError(
+                f"{key} = {float(v):.4g} × λ^{table[key]} (λ = {lam:.4g}) is beyond the float range at full scale; "
+                "expected a model value and scale ratio of a realistic size"
+            )
     return out

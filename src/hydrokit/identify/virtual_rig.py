@@ -98,6 +98,10 @@ class SensorModel:
         return out
 
 
+#: most samples one virtual launch records (hold and run)
+MAX_LAUNCH_SAMPLES = 10_000_000
+
+
 def simulate_launch(
     rig: Rig,
     added_mass: float,
@@ -142,6 +146,11 @@ def simulate_launch(
     dt = 1.0 / sensor.sample_rate
     n_hold = int(round(sensor.hold_time * sensor.sample_rate))
     n_run = int(round(duration * sensor.sample_rate)) + 1
+    if not 2 <= n_hold + n_run <= MAX_LAUNCH_SAMPLES:
+        raise InputError(
+            f"sample_rate = {sensor.sample_rate:.4g} Hz over {sensor.hold_time + duration:.4g} s gives "
+            f"{n_hold + n_run:.4g} samples; expected 2 to {MAX_LAUNCH_SAMPLES:g} per launch"
+        )
     t_run = np.arange(n_run) * dt
     # 8 RK4 steps per sample: truth far more accurate than any sensor
     if not (amplitude_jitter >= 0 and release_rate_std >= 0):
@@ -153,4 +162,12 @@ def simulate_launch(
     q, _, _ = simulate_normalised(t_run, w2, b, g, a0, v0, c.sine, 8, restoring=c.restoring)
     y = np.concatenate([np.full(n_hold, a0), q])
     t = np.arange(n_hold + n_run) * dt
-    return Launch(t=t, y=sensor.measure(y, rng), file=file, notes=(f"virtual rig, {sensor.name}",))
+    with np.errstate(all="ignore"):  # a non-finite record is refused next, in words
+        measured = sensor.measure(y, rng)
+    if not (np.all(np.isfinite(measured)) and np.all(np.isfinite(t))):
+        raise InputError(
+            f"amplitude = {amplitude:.4g}, added_mass = {added_mass:.4g}, linear_damping = {linear_damping:.4g}, "
+            f"quadratic_damping = {quadratic_damping:.4g}, sensor noise {sensor.noise_std:.4g}, step "
+            f"{sensor.resolution:.4g}: the launch leaves the float range; expected values of a realistic size (SI)"
+        )
+    return Launch(t=t, y=measured, file=file, notes=(f"virtual rig, {sensor.name}",))

@@ -70,6 +70,11 @@ def weighted_pinv(T: ArrayLike, weights: ArrayLike | None = None) -> Array:
     w = np.asarray(weights, dtype=float).reshape(-1)
     if w.shape != (m,) or not np.all(np.isfinite(w)) or np.any(w <= 0):
         raise InputError(f"allocation weights {w.tolist()}: expected {m} positive numbers")
+    if w.min() < MIN_WEIGHT_RATIO * w.max():
+        raise InputError(
+            f"allocation weights: the smallest, {w.min():.4g}, is below {MIN_WEIGHT_RATIO:g} of the largest "
+            f"({w.max():.4g}); expected weights within a factor {1 / MIN_WEIGHT_RATIO:g} of each other (–)"
+        )
     Winv = np.diag(1.0 / w)
     return Winv @ T.T @ np.linalg.pinv(T @ Winv @ T.T)
 
@@ -182,10 +187,25 @@ class Allocation(Result):
 AllocationResult = Allocation
 
 
+#: largest demand allocated, N and N·m: a million tonnes-force is beyond any thruster set, and
+#: far below where |τ|² (the residual's norm) overflows a float (1e154)
+MAX_DEMAND = 1e12
+#: smallest pinv weight relative to the largest (W⁻¹ of a smaller one is out of float range)
+MIN_WEIGHT_RATIO = 1e-12
+
+
 def _check_tau(tau: ArrayLike) -> Array:
     t = np.asarray(tau, dtype=float).reshape(-1)
     if t.shape != (6,) or not np.all(np.isfinite(t)):
         raise InputError(f"tau = {np.asarray(tau).tolist()}: expected 6 finite numbers X,Y,Z,K,M,N")
+    big = np.flatnonzero(np.abs(t) > MAX_DEMAND)
+    if big.size:
+        k = int(big[0])
+        unit = "N" if k < 3 else "N·m"
+        raise InputError(
+            f"tau {'XYZKMN'[k]} = {t[k]:.4g} {unit}: expected |{'XYZKMN'[k]}| ≤ {MAX_DEMAND:g} {unit} "
+            "(a demand no thruster set gives)"
+        )
     return t
 
 

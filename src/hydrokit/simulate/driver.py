@@ -19,6 +19,7 @@ from hydrokit.core.names import STATE_COLUMNS
 from hydrokit.errors import InputError, SimulationError
 from hydrokit.model.dynamics import current_table, pack, vehicle_dynamics
 from hydrokit.model.vehicle import Vehicle
+from hydrokit.simulate.budget import check_memory
 
 COLUMNS = STATE_COLUMNS
 INTEGRATORS = ("rk4", "rk4-numpy", "dop853", "rk45")
@@ -132,7 +133,12 @@ def simulate(
     for name, a in (("initial pose", eta0), ("initial velocity", nu0)):
         if a.shape != (6,) or not np.all(np.isfinite(a)):
             raise InputError(f"{name} = {a.tolist()}: expected 6 finite numbers")
-    n_steps = int(math.floor(duration / dt + 1e-9))
+    if not math.isfinite(duration / dt):
+        raise InputError(f"dt = {dt:.4g} s: duration / dt = {duration / dt} steps; expected a step of a realistic size")
+    n_steps = math.floor(duration / dt + 1e-9)
+    n_out = n_steps // output_every + 1
+    # the recorded rows (time and 13 states, and the adaptive solvers' copy) are sized before any is made
+    check_memory(2.0 * n_out * 14 * 8, f"the recorded trajectory ({n_out:.4g} rows)")
     quat = attitude == "quaternion"
     x0 = np.concatenate([eta0[:3], euler_to_quaternion(*eta0[3:]), nu0]) if quat else np.concatenate([eta0, nu0])
     warnings = list(vehicle.warnings)

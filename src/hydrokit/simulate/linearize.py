@@ -133,6 +133,10 @@ class Linearization(Result):
         }
 
 
+#: largest trim velocity linearised about, m/s and rad/s
+MAX_TRIM = 1e3
+
+
 def linearize(vehicle: Any, trim: Any = (0, 0, 0, 0, 0, 0), step: float = 1e-6) -> Linearization:
     """Linearise ``vehicle`` about the body velocity ``trim`` at zero attitude and position.
 
@@ -151,24 +155,40 @@ def linearize(vehicle: Any, trim: Any = (0, 0, 0, 0, 0, 0), step: float = 1e-6) 
     nu0 = np.asarray(trim, float)
     if nu0.shape != (6,) or not np.all(np.isfinite(nu0)):
         raise InputError(f"--trim = {trim!r}: expected 6 finite numbers u,v,w (m/s), p,q,r (rad/s)")
+    if np.abs(nu0).max() > MAX_TRIM:
+        k = int(np.argmax(np.abs(nu0)))
+        unit = "m/s" if k < 3 else "rad/s"
+        raise InputError(
+            f"--trim {'uvwpqr'[k]} = {nu0[k]:.4g} {unit}: expected |{'uvwpqr'[k]}| ≤ {MAX_TRIM:g} {unit} (faster than anything moves in water; the unit force of B would vanish in round-off)"
+        )
     if not (np.isfinite(step) and 0 < step < 1e-2):
         raise InputError(f"step = {step}: expected a small positive relative step (e.g. 1e-6)")
     f = make_dynamics(vehicle)
     x0 = np.concatenate([np.zeros(6), nu0])
     zero = np.zeros(6)
     # f is affine in τ: ν̇ = M⁻¹ (τ − n(x)); the trim force zeroes ν̇
-    B_nu = np.column_stack([f(0.0, x0, np.eye(6)[j])[6:] - f(0.0, x0, zero)[6:] for j in range(6)])
-    tau0 = -np.linalg.solve(B_nu, f(0.0, x0, zero)[6:])
-    A = np.zeros((12, 12))
-    for j in range(12):
-        h = step * max(1.0, abs(x0[j]))
-        dx = np.zeros(12)
-        dx[j] = h
-        A[:, j] = (f(0.0, x0 + dx, tau0) - f(0.0, x0 - dx, tau0)) / (2 * h)
-    B = np.zeros((12, 6))
-    for j in range(6):
-        h = step * max(1.0, abs(tau0[j]))
-        dt = np.zeros(6)
-        dt[j] = h
-        B[:, j] = (f(0.0, x0, tau0 + dt) - f(0.0, x0, tau0 - dt)) / (2 * h)
+    with np.errstate(all="ignore"):  # non-finite forces (a huge trim) are refused below, in words
+        B_nu = np.column_stack([f(0.0, x0, np.eye(6)[j])[6:] - f(0.0, x0, zero)[6:] for j in range(6)])
+        try:
+            tau0 = -np.linalg.solve(B_nu, f(0.0, x0, zero)[6:])
+        except np.linalg.LinAlgError:  # non-finite or singular: refused below
+            tau0 = np.full(6, np.nan)
+        A = np.zeros((12, 12))
+        for j in range(12):
+            h = step * max(1.0, abs(x0[j]))
+            dx = np.zeros(12)
+            dx[j] = h
+            A[:, j] = (f(0.0, x0 + dx, tau0) - f(0.0, x0 - dx, tau0)) / (2 * h)
+        B = np.zeros((12, 6))
+        for j in range(6):
+            h = step * max(1.0, abs(tau0[j]))
+            dt = np.zeros(6)
+            dt[j] = h
+            B[:, j] = (f(0.0, x0, tau0 + dt) - f(0.0, x0, tau0 - dt)) / (2 * h)
+    if not (np.all(np.isfinite(A)) and np.all(np.isfinite(B)) and np.all(np.isfinite(tau0))):
+        # a trim so fast that the damping forces (∝ ν²) leave the float range
+        raise InputError(
+            f"--trim {', '.join(f'{x:.4g}' for x in nu0)}: the model's forces at this velocity are not finite "
+            "numbers; expected a trim velocity of a realistic size (m/s, rad/s)"
+        )
     return Linearization(A, B, np.eye(12), np.zeros((12, 6)), x0, tau0, getattr(vehicle, "name", ""), step)
