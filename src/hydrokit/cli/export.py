@@ -67,7 +67,6 @@ def export(vehicle: str, fmt: str, out: str, trim: list[float], added_mass: str)
         click.echo(
             f"A: 12 states (eta, nu), B: 6 inputs (tau); slowest stable eigenvalue {slow.max():.4g} 1/s"
             if slow.size
-            else "A: 12 states, B: 6 inputs; no stable eigenvalue",
-            err=True,
-        )
+            else "A: 12 states, B: 6 inputs; no stable eigenvalue"
+        )  # a result: stdout (stderr holds warnings and the one 'wrote' line)
     click.echo(f"wrote {out}", err=True)

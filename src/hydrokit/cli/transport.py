@@ -117,12 +117,11 @@ def transport(
         files.update({d / k: v for k, v in figure_bytes(res).items()})
     write_all(files)  # creates the folder with the files: nothing is left when a write fails
     s = res.summary()
-    click.echo(f"{model}: moved {np.round(s['displacement_m'], 3).tolist()} m in {s['duration_s']:g} s", err=True)
-    for name, j in s["joints"].items():
+    click.echo(f"{model}: moved {np.round(s['displacement_m'], 3).tolist()} m in {s['duration_s']:g} s")
+    for name, j in s["joints"].items():  # results on stdout; stderr keeps warnings and the one 'wrote' line
         click.echo(
             f"  joint {name}: max force {j['max_force_N']:.1f} N, max moment {j['max_moment_Nm']:.1f} N·m, "
-            f"max separation {j['max_separation_m']:.4g} m",
-            err=True,
+            f"max separation {j['max_separation_m']:.4g} m"
         )
     for w in s["warnings"]:
         click.echo(f"warning: {w}", err=True)

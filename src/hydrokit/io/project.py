@@ -293,7 +293,29 @@ def parse_project(data: dict[str, Any], path: Path) -> Project:
     )
 
 
+def check_inputs(project: Project) -> None:
+    """Read every rig and launch, the geometry, each force curve and the mission once, so a bad
+    one is refused (one line naming it) before the run identifies anything, not minutes into it."""
+    from hydrokit.io.forces import read_forces
+    from hydrokit.io.geometry import load_geometry
+    from hydrokit.io.launch import read_launch
+    from hydrokit.io.mission import load_mission
+    from hydrokit.io.rig import load_rig
+
+    for c in project.campaigns:
+        rig = load_rig(c.rig)
+        for launch in (*c.launches, *c.tare):
+            read_launch(launch, rig)
+    _ = load_geometry(project.geometry) if project.geometry else None
+    for spec in project.forces.values():
+        read_forces(spec.file)
+    _ = load_mission(project.mission) if project.mission else None
+
+
 def load_project(name_or_path: str | os.PathLike[str]) -> Project:
-    """Read and validate a project file (a path, a folder with ``project.yaml`` or a bundled name)."""
+    """Read and validate a project file (a path, a folder with ``project.yaml`` or a bundled
+    name) and the rig, geometry, force and mission files it names (:func:`check_inputs`)."""
     path = resolve_project(name_or_path)
-    return parse_project(read_yaml(path), path)
+    project = parse_project(read_yaml(path), path)
+    check_inputs(project)
+    return project
