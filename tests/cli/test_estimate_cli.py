@@ -142,3 +142,14 @@ def test_mesh_errors_are_one_line(run_cli, tmp_path):
     if expected == "not closed":
         assert "open.stl" in err  # the message names the mesh
     assert len(err.strip().splitlines()) == 1
+
+
+def test_fit_forces_with_nothing_to_fit_names_the_file(run_cli, tmp_path):
+    # issue 32 class 5: all-zero forces printed R² = nan and exited 0
+    f = tmp_path / "zero.csv"
+    f.write_text("speed,force\n" + "".join(f"{u},0\n" for u in (0.5, 1.0, 1.5, 2.0)))
+    code, out, err = run_cli("fit-forces", f, "--area", "0.1", "--density", "1000")
+    assert code == 2 and out == ""
+    assert err.splitlines() == [
+        f"error: {f}: force: all 4 forces are 0 N: nothing to fit; expected resisting forces that change with speed (N)"
+    ], err

@@ -10,6 +10,7 @@ import click
 from hydrokit.cli._common import json_text, write_all
 from hydrokit.cli._types import Count, Number
 from hydrokit.core.names import DOF_NAMES as DOF
+from hydrokit.errors import InputError
 
 
 @click.command()
@@ -118,7 +119,10 @@ def fit_forces(forces: str, area: float, density: float, json_out: str | None, p
     from hydrokit.io.forces import read_forces
 
     U, F = read_forces(forces)
-    res = fit(U, F, area, density)
+    try:
+        res = fit(U, F, area, density)
+    except InputError as exc:  # the fit's words, with the file they are about
+        raise InputError(exc.detail, exc.source or forces) from None
     click.echo(
         f"Chin:    K_L = {res.K_L:.6g} ± {res.K_L_se:.3g} N·s/m, K_Q = {res.K_Q:.6g} ± {res.K_Q_se:.3g} N·s²/m², "
         f"R² = {res.r2_chin:.4f}"

@@ -125,6 +125,11 @@ def fit_forces(
         raise InputError(f"only {U.size} point(s); expected at least 3 speed–force pairs to fit two coefficients")
     finite_samples(U, "speed", "m/s")
     finite_samples(F, "force", "N")
+    if np.ptp(F) == 0:  # R² would be 0/0: nothing the models could explain
+        raise InputError(
+            f"force: all {F.size} forces are {F[0]:g} N: nothing to fit; expected resisting forces that change "
+            "with speed (N)"
+        )
     if np.unique(np.abs(U)).size < 2:
         raise InputError("all speeds are equal in magnitude; expected at least two different speeds")
     for k, v in (("area", area), ("density", density)):
