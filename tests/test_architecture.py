@@ -33,7 +33,7 @@ RANK = {
     "report": 7,
     "cli": 8,
 }
-BASE = {"errors", "_atomic", "_result", "_parallel", "data", "__init__", "__main__"}
+BASE = {"errors", "_atomic", "_result", "_parallel", "_quiet", "data", "__init__", "__main__"}
 #: imports a rank would allow but the layer's job forbids: (importer, imported)
 FORBIDDEN = {("io", "simulate"), ("plot", "io"), ("plot", "api")}
 #: the one upward edge by design: the simulate package object is callable as hydrokit.api.simulate

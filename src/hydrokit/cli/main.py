@@ -69,11 +69,17 @@ class LazyGroup(click.Group):
 
 @click.group(cls=LazyGroup, context_settings={"help_option_names": ["-h", "--help"]})
 @click.version_option(package_name="hydrokit")
-def cli() -> None:
+@click.option("--verbose", is_flag=True, help="Also show what libraries (pymavlink, scipy …) printed, as [name] lines.")
+def cli(verbose: bool) -> None:
     """hydrokit: from a tank test to a 6-DOF underwater-vehicle model and controller.
 
-    All quantities are SI (m, kg, s, N, rad) unless an option says otherwise.
+    All quantities are SI (m, kg, s, N, rad) unless an option says otherwise. What third-party
+    libraries print is kept off the terminal (--verbose shows it; HYDROKIT_LOG=FILE appends it).
     """
+    from hydrokit import _quiet
+
+    _quiet.clear()  # one command's captures
+    _quiet.show(verbose)
 
 
 def main(argv: list[str] | None = None) -> int:

@@ -12,9 +12,11 @@ import json
 import math
 import os
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 
+from hydrokit._quiet import quiet
 from hydrokit.core.constants import SEAWATER_DENSITY
 from hydrokit.errors import InputError, MissingExtraError
 from hydrokit.estimate.mesh import SurfaceMesh, check_mesh
@@ -136,6 +138,12 @@ def added_mass_bem(
                 return np.array(doc["added_mass"])
         except (ValueError, KeyError):
             pass
+    with quiet("capytaine"):
+        return _solve(mesh, density, ref, cfile if use_cache else None, key)
+
+
+def _solve(mesh: Any, density: float, ref: Any, cfile: Any, key: str) -> np.ndarray:
+    """Capytaine's six radiation problems at infinite frequency (see :func:`added_mass_bem`)."""
     cpt = _capytaine()
     faces = mesh.faces if mesh.faces.shape[1] == 4 else np.column_stack([mesh.faces, mesh.faces[:, 2]])
     cmesh = cpt.Mesh(vertices=mesh.vertices, faces=faces)
@@ -149,7 +157,7 @@ def added_mass_bem(
         for i, d in enumerate(DOFS):
             MA[i, j] = res.added_mass[d]
     MA = 0.5 * (MA + MA.T)
-    if use_cache:
+    if cfile is not None:
         from hydrokit._atomic import write_text
 
         write_text(cfile, json.dumps({"key": key, "added_mass": MA.tolist()}))

@@ -29,13 +29,13 @@ import io
 import os
 import re
 import tempfile
-import warnings
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
 import numpy as np
 
+from hydrokit._quiet import quiet
 from hydrokit.core.validate import cut, cut_repr
 from hydrokit.errors import InputError
 
@@ -185,8 +185,7 @@ def read_mesh(path: str | os.PathLike[str]) -> SurfaceMesh:
                 src,
             )
         # nothing of meshio's or numpy's on stderr (e.g. an overflow warning): errors are one line
-        with warnings.catch_warnings(), np.errstate(all="ignore"):
-            warnings.simplefilter("ignore")
+        with quiet("meshio"), np.errstate(all="ignore"):
             mesh = _read_stl(p) if kind == "STL" else _read_obj(p)
             return _surface(mesh, src, kind)
     except InputError:

@@ -31,6 +31,7 @@ from typing import Any
 
 import numpy as np
 
+from hydrokit._quiet import quiet
 from hydrokit.core.validate import record
 from hydrokit.errors import InputError
 from hydrokit.identify.preprocess import check_record
@@ -635,7 +636,10 @@ class OutputErrorEstimator(_DecayEstimator):
         best = None
         starts = self._starts(t, y, facts)
         for x0 in starts[: 1 + self.restarts]:
-            sol = least_squares(resid, x0, jac=jac, method="lm", x_scale="jac", xtol=1e-12, ftol=1e-12, max_nfev=400)
+            with quiet("scipy least_squares", fds=False):
+                sol = least_squares(
+                    resid, x0, jac=jac, method="lm", x_scale="jac", xtol=1e-12, ftol=1e-12, max_nfev=400
+                )
             if best is None or sol.cost < best.cost:
                 best = sol
             if math.sqrt(2 * best.cost / t.size) <= 2.0 * noise:  # noise ≥ 1e-12 (set above)
@@ -708,7 +712,10 @@ class OutputErrorEstimator(_DecayEstimator):
             p0 = np.zeros(6)
             p0[:3] = x0[:3]
             start = np.concatenate([p0[free], x0[3:]])
-            sol = least_squares(resid, start, jac=jac, method="lm", x_scale="jac", xtol=1e-12, ftol=1e-12, max_nfev=600)
+            with quiet("scipy least_squares", fds=False):
+                sol = least_squares(
+                    resid, start, jac=jac, method="lm", x_scale="jac", xtol=1e-12, ftol=1e-12, max_nfev=600
+                )
             if best is None or sol.cost < best.cost:
                 best = sol
             if math.sqrt(2 * best.cost / t.size) <= 2.0 * noise:  # noise ≥ 1e-12 (set above)

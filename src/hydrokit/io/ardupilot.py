@@ -11,6 +11,7 @@ telemetry link), ``--time FIELD`` any other field (in ``--time-unit``). The atti
 
 from __future__ import annotations
 
+import contextlib
 import math
 import os
 from pathlib import Path
@@ -18,6 +19,7 @@ from typing import Any
 
 import numpy as np
 
+from hydrokit._quiet import quiet
 from hydrokit.errors import InputError, MissingExtraError
 from hydrokit.io.recording import TIME_UNITS, Recording
 
@@ -62,20 +64,23 @@ def read_log(
     try:
         # the reader classes directly: mavlink_connection() would treat some paths as a
         # network address or an executable to run (a path with ':' or '/bin/')
-        if tlog:
-            mavutil.set_dialect("ardupilotmega")
-            log = mavutil.mavmmaplog(src)
-        else:
-            from pymavlink.DFReader import DFReader_binary
+        with quiet("pymavlink"):  # it prints a line per bad header: into the log, not on stderr
+            if tlog:
+                mavutil.set_dialect("ardupilotmega")
+                log = mavutil.mavmmaplog(src)
+            else:
+                from pymavlink.DFReader import DFReader_binary
 
-            log = DFReader_binary(src, zero_time_base=False)
+                log = DFReader_binary(src, zero_time_base=False)
     except Exception as exc:  # pymavlink raises bare exceptions on unreadable files
         raise InputError(f"cannot read the log: {' '.join(str(exc).split())}", src) from None
     ts: list[float] = []
     vals: list[float] = []
     first: Any = None
     system = None
-    try:
+    with contextlib.ExitStack() as stack:
+        stack.callback(log.close)
+        stack.enter_context(quiet("pymavlink"))  # the whole read: one capture, not one per message
         while True:
             msg = log.recv_match(type=mtype)
             if msg is None:
@@ -105,8 +110,6 @@ def read_log(
                 scale = TIME_UNITS[time_unit] if time_unit else TIME_FIELDS.get(time, 1.0)
                 ts.append(float(getattr(msg, time)) * scale)
         kinds = ", ".join(sorted(log.messages)) if hasattr(log, "messages") else "?"
-    finally:
-        log.close()
     if first is None:
         raise InputError(f"--signal {signal!r}: no {mtype} messages in the log (types: {kinds})", src)
     notes = []

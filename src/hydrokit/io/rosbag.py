@@ -18,6 +18,7 @@ from typing import Any
 
 import numpy as np
 
+from hydrokit._quiet import quiet
 from hydrokit.errors import InputError, MissingExtraError
 from hydrokit.io.recording import TIME_UNITS, Recording
 
@@ -83,8 +84,9 @@ def read_bag(
     p = Path(path)
     src = str(p)
     try:
-        reader = AnyReader([p], default_typestore=get_typestore(Stores.LATEST))
-        reader.open()
+        with quiet("rosbags"):
+            reader = AnyReader([p], default_typestore=get_typestore(Stores.LATEST))
+            reader.open()
     except Exception as exc:  # rosbags raises its own error types for unreadable bags
         raise InputError(f"cannot read the bag: {' '.join(str(exc).split())}", src) from None
     try:

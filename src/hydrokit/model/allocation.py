@@ -13,6 +13,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from hydrokit._quiet import quiet
 from hydrokit._result import Result, jsonable
 from hydrokit.core.names import DOF_NAMES
 from hydrokit.errors import InputError
@@ -374,13 +375,15 @@ class _ConstrainedSolver:
         from scipy.optimize import lsq_linear
 
         T, lo, hi, Q = self.T, self.lo, self.hi, self.Q
-        f1 = lsq_linear(self.QT, Q * tau, bounds=self.bounds, method="bvls", tol=1e-12).x
+        with quiet("scipy lsq_linear", fds=False):
+            f1 = lsq_linear(self.QT, Q * tau, bounds=self.bounds, method="bvls", tol=1e-12).x
         f1 = np.clip(f1, lo, hi)
         a1 = T @ f1
         r1 = float(np.linalg.norm(a1 - tau))
 
         b = np.concatenate([_STAGE2_WEIGHT * a1 / self.scale, self.zeros])
-        f2 = np.clip(lsq_linear(self.A, b, bounds=self.bounds, method="bvls", tol=1e-12).x, lo, hi)
+        with quiet("scipy lsq_linear", fds=False):
+            f2 = np.clip(lsq_linear(self.A, b, bounds=self.bounds, method="bvls", tol=1e-12).x, lo, hi)
         f2 = _polish(T, a1, f2, lo, hi, self.polish_tol, self.pinvs)
         a2 = T @ f2
         r2 = float(np.linalg.norm(a2 - tau))

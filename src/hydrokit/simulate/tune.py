@@ -26,6 +26,7 @@ from typing import Any
 
 import numpy as np
 
+from hydrokit._quiet import quiet
 from hydrokit._result import Result, jsonable
 from hydrokit.errors import InputError
 from hydrokit.model.mission import CONTROLLER_KINDS, Mission
@@ -285,18 +286,19 @@ def _search(
         x_best = np.full(len(space), math.log(lo))
         gens = 0
     else:
-        res = differential_evolution(
-            objective,
-            b,
-            maxiter=maxiter,
-            popsize=popsize,
-            seed=seed,
-            polish=False,
-            vectorized=True,
-            updating="deferred",
-            x0=np.clip(x0, math.log(lo), math.log(hi)),
-            tol=1e-6,
-        )
+        with quiet("scipy differential_evolution", streams=False):  # our progress bar draws meanwhile
+            res = differential_evolution(
+                objective,
+                b,
+                maxiter=maxiter,
+                popsize=popsize,
+                seed=seed,
+                polish=False,
+                vectorized=True,
+                updating="deferred",
+                x0=np.clip(x0, math.log(lo), math.log(hi)),
+                tol=1e-6,
+            )
         x_best, gens = res.x, int(res.nit)
     j1, t_after = costs(fly(x_best[:, None]), w)
     elapsed = time.perf_counter() - t0
