@@ -40,12 +40,19 @@ def _geometry(tmp: Path, **part: Any) -> Path:
 def _load(kind: str, path: Path) -> Any:
     from hydrokit.io.assembly import load_assembly
     from hydrokit.io.geometry import load_geometry
+    from hydrokit.io.mission import load_mission
     from hydrokit.io.project import load_project
     from hydrokit.io.rig import load_rig
     from hydrokit.io.vehicle import load_vehicle
 
     loaders = {"geometry": load_geometry, "rig": load_rig, "project": load_project, "assembly": load_assembly}
-    return (loaders | {"vehicle": load_vehicle})[kind](path)
+    return (loaders | {"vehicle": load_vehicle, "mission": load_mission})[kind](path)
+
+
+def _mission(guidance: dict[str, Any]) -> dict[str, Any]:
+    doc = _doc(DATA_DIR / "missions" / "minerva_square.yaml")
+    doc["guidance"].update(guidance)
+    return doc
 
 
 def _project(tmp: Path, change: Any) -> Path:
@@ -73,6 +80,12 @@ UNKNOWN_KEYS = {
         lambda t: _write(t / "v.yaml", _doc(VEHICLE) | {"fluid": {"density": 1025, "temprature": 15}}),
         "fluid.temprature",
         "kinematic_viscosity",
+    ),
+    "mission-guidance": (
+        "mission",
+        lambda t: _write(t / "m.yaml", _mission({"lookahaed": 2.0})),
+        "guidance.lookahaed",
+        "lookahead",
     ),
     "rig-body": (
         "rig",

@@ -51,7 +51,7 @@ from hydrokit.core.validate import mapping as _mapping
 from hydrokit.core.validate import number as _num
 from hydrokit.core.validate import vector as _vector
 from hydrokit.errors import InputError
-from hydrokit.io.yamlfile import read_yaml
+from hydrokit.io.yamlfile import check_keys, read_yaml
 from hydrokit.model.guidance import Path as WaypointPath
 from hydrokit.model.mission import CONTROLLER_KINDS, LOOPS, Mission
 
@@ -95,9 +95,7 @@ def load_mission(name_or_path: str | os.PathLike[str]) -> Mission:
 
 def parse_mission(data: dict[str, Any], source: str, base_dir: Path | None = None) -> Mission:
     """Validate a mission document; see the module docstring for the format."""
-    unknown = sorted(set(map(str, data)) - TOP_KEYS)
-    if unknown:
-        raise InputError(f"unknown field '{cut(unknown[0])}' (allowed: {', '.join(sorted(TOP_KEYS))})", source)
+    check_keys(data, TOP_KEYS, "", source)
     for key in ("vehicle", "duration", "guidance", "controllers"):
         if key not in data:
             raise InputError(f"missing field '{key}'", source)
@@ -132,11 +130,7 @@ def parse_mission(data: dict[str, Any], source: str, base_dir: Path | None = Non
     path = _parse_guidance(data["guidance"], source)
 
     init = _mapping(data.get("initial", {}) or {}, "initial", source)
-    extra = sorted(set(init) - {"position", "attitude_deg", "velocity"})
-    if extra:
-        raise InputError(
-            f"field 'initial.{cut(str(extra[0]))}': unknown (allowed: position, attitude_deg, velocity)", source
-        )
+    check_keys(init, ("position", "attitude_deg", "velocity"), "initial", source)
     pos = _vector(init["position"], 3, "initial.position", source) if "position" in init else path.points[0].copy()
     if "attitude_deg" in init:
         att = np.radians(_vector(init["attitude_deg"], 3, "initial.attitude_deg", source))
@@ -147,11 +141,7 @@ def parse_mission(data: dict[str, Any], source: str, base_dir: Path | None = Non
     weights = None
     if data.get("allocation") is not None:
         alloc = _mapping(data["allocation"], "allocation", source)
-        if set(alloc) - {"weights"}:
-            raise InputError(
-                f"field 'allocation.{cut(str(sorted(set(alloc) - {'weights'})[0]))}': unknown (allowed: weights)",
-                source,
-            )
+        check_keys(alloc, ("weights",), "allocation", source)
         w = alloc.get("weights")
         if w is not None:
             if not isinstance(w, list) or not w:
@@ -221,12 +211,7 @@ def _parse_gains(value: Any, source: str) -> dict[str, dict[str, dict[str, float
 
 def _parse_guidance(value: Any, source: str) -> WaypointPath:
     g = _mapping(value, "guidance", source)
-    bad = sorted(set(g) - {"acceptance_radius", "lookahead", "speed", "waypoints"})
-    if bad:
-        raise InputError(
-            f"field 'guidance.{cut(str(bad[0]))}': unknown (allowed: acceptance_radius, lookahead, speed, waypoints)",
-            source,
-        )
+    check_keys(g, ("acceptance_radius", "lookahead", "speed", "waypoints"), "guidance", source)
     radius = _num(
         g.get("acceptance_radius", WaypointPath.acceptance_radius), "guidance.acceptance_radius", source, positive=True
     )
@@ -249,9 +234,7 @@ def _parse_guidance(value: Any, source: str) -> WaypointPath:
             times.append(None)
             continue
         wp = _mapping(wp, where, source)
-        bad = sorted(set(wp) - {"x", "y", "z", "speed", "time"})
-        if bad:
-            raise InputError(f"field '{where}.{cut(str(bad[0]))}': unknown (allowed: x, y, z, speed, time)", source)
+        check_keys(wp, ("x", "y", "z", "speed", "time"), where, source)
         for k in ("x", "y", "z"):
             if k not in wp:
                 raise InputError(f"field '{where}': missing '{k}' (m)", source)
