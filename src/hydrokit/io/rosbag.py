@@ -106,18 +106,19 @@ def read_bag(
         ts: list[float | None] = []
         rec_t: list[float] = []
         vals: list[Any] = []
-        for conn, stamp_ns, raw in reader.messages(connections=conns):
-            msg: Any = reader.deserialize(raw, conn.msgtype)
-            rec_t.append(stamp_ns * 1e-9)
-            if time not in (None, "record", "header"):
-                ts.append(_number(field_value(msg, time, src), time, src) * TIME_UNITS[time_unit or "s"])
-            elif time != "record":
-                ts.append(_stamp(msg))
-            if euler:
-                q = msg.orientation
-                vals.append((q.w, q.x, q.y, q.z))
-            else:
-                vals.append(_number(field_value(msg, signal, src), signal, src))
+        with quiet("rosbags"):  # its deserialisers may warn: into the log
+            for conn, stamp_ns, raw in reader.messages(connections=conns):
+                msg: Any = reader.deserialize(raw, conn.msgtype)
+                rec_t.append(stamp_ns * 1e-9)
+                if time not in (None, "record", "header"):
+                    ts.append(_number(field_value(msg, time, src), time, src) * TIME_UNITS[time_unit or "s"])
+                elif time != "record":
+                    ts.append(_stamp(msg))
+                if euler:
+                    q = msg.orientation
+                    vals.append((q.w, q.x, q.y, q.z))
+                else:
+                    vals.append(_number(field_value(msg, signal, src), signal, src))
     finally:
         reader.close()
     if not vals:

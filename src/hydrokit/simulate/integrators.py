@@ -8,6 +8,7 @@ from collections.abc import Callable
 
 import numpy as np
 
+from hydrokit._quiet import quiet
 from hydrokit.errors import SimulationError
 
 Rhs = Callable[[float, np.ndarray], np.ndarray]
@@ -99,9 +100,10 @@ def adaptive(
         return 1.0 if np.all(np.isfinite(x)) and np.max(np.abs(x)) < 1e12 else -1.0
 
     event.terminal = True  # type: ignore[attr-defined]
-    sol = solve_ivp(
-        f, (0.0, duration), np.asarray(x0, float), method=method, t_eval=t_eval, rtol=rtol, atol=atol, events=event
-    )
+    with quiet("scipy solve_ivp", streams=False):  # overflow warnings: into the log; the error below says it
+        sol = solve_ivp(
+            f, (0.0, duration), np.asarray(x0, float), method=method, t_eval=t_eval, rtol=rtol, atol=atol, events=event
+        )
     if sol.status == 1 or not sol.success or not np.all(np.isfinite(sol.y)):
         t_bad = float(sol.t[-1]) if sol.t.size else math.nan
         raise SimulationError(f"the state became non-finite near t = {t_bad:.6g} s ({sol.message})")
