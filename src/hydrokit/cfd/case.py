@@ -70,6 +70,10 @@ class Flow:
         for name in ("yaw_rate", "pitch_rate"):
             if not math.isfinite(getattr(self, name)):
                 raise InputError(f"{name} = {getattr(self, name)!r} rad/s: expected a finite rate")
+        if self.yaw_rate and self.pitch_rate:
+            raise InputError("a yaw rate and a pitch rate at once: expected one rotating-arm rate per case")
+        if (self.yaw_rate or self.pitch_rate) and (self.drift or self.attack):
+            raise InputError("a rotating-arm rate with a drift or attack angle: expected one of them per case")
         if self.axis not in ("x", "y", "z"):
             raise InputError(f"axis = {self.axis!r}: expected x, y or z")
         if self.axis != "x" and any((self.drift, self.attack, self.yaw_rate, self.pitch_rate)):
@@ -171,7 +175,9 @@ class Body:
         if self.kind == "profile":
             from hydrokit.cfd.body import revolve
 
-            return [revolve(self.profile)]
+            tri = revolve(self.profile)
+            tri[..., 0] = self.centre_of_buoyancy - tri[..., 0]
+            return [tri[:, ::-1].copy()]  # the mirror in x turns the faces inside out: reverse them
         if not self.part_sizes:
             return [self.triangles]
         ends = np.cumsum(self.part_sizes)[:-1]
@@ -183,8 +189,19 @@ class Body:
             pts = self.triangles.reshape(-1, 3)
             return pts.min(axis=0), pts.max(axis=0)
         x, r = self.profile[:, 0], self.profile[:, 1]
-        R = float(r.max())
-        return np.array([x.min(), -R, -R]), np.array([x.max(), R, R])
+        R, c = float(r.max()), self.centre_of_buoyancy
+        return np.array([c - x.max(), -R, -R]), np.array([c - x.min(), R, R])
+
+    @property
+    def centre_of_buoyancy(self) -> float:
+        """A profile's volume centroid, m along its x (from the nose): x_B = ∫x r² dx / ∫r² dx
+        (trapezoids). A profile body's origin — its moment reference point — is there, on the
+        axis, and body x points to the nose: x_body = x_B − x_profile."""
+        x, r2 = self.profile[:, 0], self.profile[:, 1] ** 2
+        dx = np.diff(x)
+        vol = float(np.sum(dx * (r2[1:] + r2[:-1]) / 2))
+        first = float(np.sum(dx * (x[1:] * r2[1:] + x[:-1] * r2[:-1]) / 2))
+        return first / vol if vol > 0 else float(x.mean())
 
     def digest(self) -> str:
         """SHA-256 of the geometry rounded to 1 nm (a re-export's round-off keeps the cache)."""
@@ -219,6 +236,22 @@ class Case:
         f = self.flow
         straight = f.axis == "x" and f.drift == 0 and f.attack == 0 and f.yaw_rate == 0 and f.pitch_rate == 0
         return "wedge" if self.body.kind == "profile" and straight else "3d"
+
+    @property
+    def rotation(self) -> np.ndarray:
+        """Angular velocity (p, q, r) of the body, rad/s (zero but for rotating-arm cases)."""
+        return np.array([0.0, self.flow.pitch_rate, self.flow.yaw_rate])
+
+    @property
+    def arm_centre(self) -> np.ndarray | None:
+        """Centre of the rotating arm's circle in body axes, m: c = Ω × V / |Ω|² (the point of
+        the body frame at rest), or None for straight motion. A yaw rate r at speed U puts it at
+        (0, U/r, 0): to starboard for r > 0."""
+        omega = self.rotation
+        w2 = float(omega @ omega)
+        if w2 == 0:
+            return None
+        return np.cross(omega, self.flow.velocity()) / w2
 
     def key(self) -> str:
         """Hash of every input that changes the result (the cache key), 16 hex digits."""
@@ -291,32 +324,46 @@ def write_case(case: Case, folder: Path, mesh_dicts: Mapping[str, Mapping[str, A
     """
     s, model = case.settings, case.model
     wedge = case.path == "wedge"
+    centre = case.arm_centre
+    U = "U" if centre is None else "Urel"
     for name, entries in mesh_dicts.items():
         _foam_file(folder / "system" / name, entries)
     _foam_file(folder / "system" / "controlDict", _control(case))
-    _foam_file(folder / "system" / "fvSchemes", _schemes(model))
-    _foam_file(folder / "system" / "fvSolution", _solution(model))
+    _foam_file(folder / "system" / "fvSchemes", _schemes(model, U))
+    _foam_file(folder / "system" / "fvSolution", _solution(model, U))
+    if centre is not None:
+        # the rotating arm: the frame turns with the body about the arm's centre (SRFSimpleFoam);
+        # the far field is fluid at rest in the absolute frame
+        omega = case.rotation
+        rate = float(np.linalg.norm(omega))
+        _foam_file(
+            folder / "constant" / "SRFProperties",
+            {
+                "SRFModel": "rpm",
+                "origin": _vec(centre),
+                "axis": _vec(omega / rate),
+                "rpmCoeffs": {"rpm": rate * 60.0 / (2.0 * math.pi)},
+            },
+        )
     _foam_file(folder / "constant" / "transportProperties", {"transportModel": "Newtonian", "nu": s.viscosity})
     if model == "laminar":
         turb: dict[str, Any] = {"simulationType": "laminar"}
     else:
         turb = {"simulationType": "RAS", "RAS": {"RASModel": model, "turbulence": True, "printCoeffs": False}}
     _foam_file(folder / "constant" / "turbulenceProperties", turb)
-    far = -case.flow.velocity()
+    # a wedge is built in the profile's own coordinates (nose at the smallest x), where the body
+    # moves towards −x: the fluid comes along +x there
+    far = np.array([case.flow.speed, 0.0, 0.0]) if wedge else -case.flow.velocity()
     side = {"front": {"type": "wedge"}, "back": {"type": "wedge"}} if wedge else {}
+    if centre is None:
+        u_far: dict[str, Any] = {"type": "freestreamVelocity", "freestreamValue": _vec(far)}
+        p_far: dict[str, Any] = {"type": "freestreamPressure", "freestreamValue": 0.0}
+    else:
+        u_far = {"type": "SRFFreestreamVelocity", "UInf": [0.0, 0.0, 0.0], "relative": False, "value": _vec(far)}
+        p_far = {"type": "outletInlet", "outletValue": 0.0, "value": 0.0}
     fields: dict[str, tuple[str, Any, dict[str, Any], dict[str, Any]]] = {
-        "U": (
-            "volVectorField",
-            [0, 1, -1, 0, 0, 0, 0],
-            {"type": "freestreamVelocity", "freestreamValue": _vec(far)},
-            {"type": "noSlip"},
-        ),
-        "p": (
-            "volScalarField",
-            [0, 2, -2, 0, 0, 0, 0],
-            {"type": "freestreamPressure", "freestreamValue": 0.0},
-            {"type": "zeroGradient"},
-        ),
+        U: ("volVectorField", [0, 1, -1, 0, 0, 0, 0], u_far, {"type": "noSlip"}),
+        "p": ("volScalarField", [0, 2, -2, 0, 0, 0, 0], p_far, {"type": "zeroGradient"}),
     }
     if model != "laminar":
         t = inflow(case)
@@ -348,7 +395,7 @@ def write_case(case: Case, folder: Path, mesh_dicts: Mapping[str, Mapping[str, A
                 {"type": "epsilonWallFunction", "value": t["epsilon"]},
             )
     for name, (cls, dims, farfield, body) in fields.items():
-        if name == "U":
+        if name in ("U", "Urel"):
             internal: Any = _vec(far)
         elif name in ("k", "omega", "epsilon"):
             internal = farfield["inletValue"]
@@ -368,6 +415,11 @@ def _field_file(path: Path, cls: str, dims: list[int], internal: Any, boundary: 
     f["boundaryField"] = boundary
 
 
+def solver(case: Case) -> str:
+    """simpleFoam, or SRFSimpleFoam for a rotating-arm case."""
+    return "simpleFoam" if case.arm_centre is None else "SRFSimpleFoam"
+
+
 def _control(case: Case) -> dict[str, Any]:
     s = case.settings
     rho = case.settings.density
@@ -380,6 +432,7 @@ def _control(case: Case) -> dict[str, Any]:
             "patches": ['"body.*"'],
             "rho": "rhoInf",
             "rhoInf": rho,
+            "U": "U" if case.arm_centre is None else "Urel",
             "CofR": [0.0, 0.0, 0.0],
             "log": False,
         },
@@ -392,7 +445,7 @@ def _control(case: Case) -> dict[str, Any]:
             "log": False,
         }
     return {
-        "application": "simpleFoam",
+        "application": solver(case),
         "startFrom": "startTime",
         "startTime": 0,
         "stopAt": "endTime",
@@ -411,17 +464,17 @@ def _control(case: Case) -> dict[str, Any]:
     }
 
 
-def _schemes(model: str) -> dict[str, Any]:
+def _schemes(model: str, U: str = "U") -> dict[str, Any]:
     div: dict[str, Any] = {
         "default": "none",
-        "div(phi,U)": ("bounded", "Gauss", "linearUpwindV", "grad(U)"),
-        "div((nuEff*dev2(T(grad(U)))))": ("Gauss", "linear"),
+        f"div(phi,{U})": ("bounded", "Gauss", "linearUpwindV", f"grad({U})"),
+        f"div((nuEff*dev2(T(grad({U})))))": ("Gauss", "linear"),
     }
     for q in ("k", "omega", "epsilon"):
         div[f"div(phi,{q})"] = ("bounded", "Gauss", "upwind")
     return {
         "ddtSchemes": {"default": "steadyState"},
-        "gradSchemes": {"default": ("Gauss", "linear"), "grad(U)": ("cellLimited", "Gauss", "linear", 1)},
+        "gradSchemes": {"default": ("Gauss", "linear"), f"grad({U})": ("cellLimited", "Gauss", "linear", 1)},
         "divSchemes": div,
         "laplacianSchemes": {"default": ("Gauss", "linear", "limited", "corrected", 0.5)},
         "interpolationSchemes": {"default": "linear"},
@@ -430,13 +483,13 @@ def _schemes(model: str) -> dict[str, Any]:
     }
 
 
-def _solution(model: str) -> dict[str, Any]:
+def _solution(model: str, U: str = "U") -> dict[str, Any]:
     smooth = {"solver": "smoothSolver", "smoother": "GaussSeidel", "tolerance": 1e-8, "relTol": 0.1, "nSweeps": 1}
     return {
         "solvers": {
             "p": {"solver": "GAMG", "smoother": "GaussSeidel", "tolerance": 1e-7, "relTol": 0.01},
-            '"(U|k|omega|epsilon)"': smooth,
+            f'"({U}|k|omega|epsilon)"': smooth,
         },
         "SIMPLE": {"nNonOrthogonalCorrectors": 1, "consistent": True},
-        "relaxationFactors": {"equations": {"U": 0.7, '".*"': 0.5}, "fields": {"p": 0.7}},
+        "relaxationFactors": {"equations": {U: 0.9, '".*"': 0.7}, "fields": {"p": 0.9}},
     }

@@ -23,11 +23,13 @@ from typing import Any
 import numpy as np
 
 from hydrokit.cfd import history
-from hydrokit.cfd.case import Case, write_case, write_stl
+from hydrokit.cfd.case import Case, solver, write_case, write_stl
 from hydrokit.cfd.foam import OpenFOAM, SolverError, find_openfoam
 
 #: force-history points kept in an outcome (for convergence plots)
 HISTORY_POINTS = 200
+#: checkMesh findings that make a mesh unusable (others are kept as notes in the outcome)
+_FATAL_MESH = ("negative volume", "incorrectly oriented", "not planar")
 #: sectors of the full body represented by a wedge of this angle: forces × 360/angle
 WEDGE_DEG = 5.0
 
@@ -37,7 +39,10 @@ def _mesh_dicts(case: Case) -> dict[str, Any]:
         from hydrokit.cfd import wedge
 
         x, r = case.body.profile[:, 0], case.body.profile[:, 1]
-        first = wedge.first_cell_height(case.body.length, case.reynolds, 1.0)
+        # y⁺ = 1 for turbulent flow; at low Re that height exceeds a laminar boundary layer
+        # (δ ≈ 5 L / √Re): then a twentieth of δ, and never more than 2 % of the body's radius
+        L, re = case.body.length, case.reynolds
+        first = min(wedge.first_cell_height(L, re, 1.0), 0.25 * L / math.sqrt(re), 0.02 * float(r.max()))
         return {
             "blockMeshDict": wedge.blockmesh_dict(
                 x,
@@ -61,9 +66,11 @@ def _check_mesh(log: Path) -> dict[str, Any]:
     failed = re.search(r"Failed (\d+) mesh checks", text)
     ortho = re.search(r"Mesh non-orthogonality Max:\s*([\d.eE+-]+)", text)
     skew = re.search(r"Max skewness = ([\d.eE+-]+)", text)
+    problems = [" ".join(m.split()) for m in re.findall(r"\*\*\*([^\n]*)", text)]
     return {
         "cells": int(cells.group(1)) if cells else 0,
         "failed_checks": int(failed.group(1)) if failed else 0,
+        "problems": problems,
         "max_non_orthogonality": float(ortho.group(1)) if ortho else None,
         "max_skewness": float(skew.group(1)) if skew else None,
     }
@@ -87,6 +94,15 @@ def _thin(it: np.ndarray, values: np.ndarray) -> dict[str, list[float]]:
     for j, name in enumerate(("X", "Y", "Z", "K", "M", "N")):
         out[name] = [float(v) for v in values[keep, j]]
     return out
+
+
+def body_loads(case: Case, raw: np.ndarray) -> np.ndarray:
+    """Loads on the whole body from OpenFOAM's (n, 6) history: a wedge holds 5° of the body, so
+    its axial force × 360/5 is the body's and the other five vanish by symmetry (the wedge's own
+    radial force is not a load on the body)."""
+    if case.path == "wedge":  # built in profile coordinates, whose x points aft: X = −F_x
+        return raw * np.array([-360.0 / WEDGE_DEG, 0, 0, 0, 0, 0])
+    return raw
 
 
 def run_case(case: Case, folder: Path, foam: OpenFOAM | None = None) -> dict[str, Any]:
@@ -136,21 +152,23 @@ def run_case(case: Case, folder: Path, foam: OpenFOAM | None = None) -> dict[str
         outcome["mesh"] = _check_mesh(folder / "log.checkMesh")
         if outcome["mesh"]["cells"] == 0:
             raise SolverError(f"the mesh has no cells (log: {folder / 'log.checkMesh'})")
+        fatal = [p for p in outcome["mesh"]["problems"] if any(w in p for w in _FATAL_MESH)]
+        if fatal:  # a solver would run on it and return numbers; they would mean nothing
+            raise SolverError(f"checkMesh: {fatal[0]} (log: {folder / 'log.checkMesh'})")
         s = case.settings
         post = folder / "postProcessing" / "forces"
 
         def settled() -> bool:
-            _, values = history.read_forces(post)
+            values = body_loads(case, history.read_forces(post)[1])
             return history.converged(
                 values, window=s.window, min_iterations=s.min_iterations, tolerance=s.tolerance, length=case.body.length
             )
 
-        run("simpleFoam", monitor=settled)
-        it, values = history.read_forces(post)
-        if case.path == "wedge":
-            values = values * np.array([360.0 / WEDGE_DEG, 0, 0, 0, 0, 0])
+        run(solver(case), monitor=settled)
+        it, raw = history.read_forces(post)
+        values = body_loads(case, raw)
         if len(values) == 0 or not np.all(np.isfinite(values)):
-            raise SolverError(f"the solver wrote no finite forces (diverged?) (log: {folder / 'log.simpleFoam'})")
+            raise SolverError(f"the solver wrote no finite forces (diverged?) (log: {folder / f'log.{solver(case)}'})")
         j = history.judge(
             values, window=s.window, min_iterations=s.min_iterations, tolerance=s.tolerance, length=case.body.length
         )
