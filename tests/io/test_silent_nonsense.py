@@ -176,3 +176,10 @@ def test_a_rig_body_no_physical_body_has_is_refused(tmp_path, field, value):
     path = _write(tmp_path / "r.yaml", doc)
     with pytest.raises(InputError, match=re.escape(f"r.yaml: field 'body.{field}' = {value:g}: expected")):
         _load("rig", path)
+
+
+@pytest.mark.parametrize(("field", "value"), [("mass", 1e-30), ("mass", 1e20), ("volume", 1e-25), ("volume", 1e12)])
+def test_a_vehicle_no_physical_body_has_is_refused(tmp_path, field, value):
+    path = _write(tmp_path / "v.yaml", _doc(VEHICLE) | {field: value})
+    with pytest.raises(InputError, match=re.escape(f"v.yaml: field '{field}' = {value:g}: expected")):
+        _load("vehicle", path)

@@ -51,7 +51,7 @@ import numpy as np
 
 from hydrokit.core.constants import GRAVITY, SEAWATER_DENSITY
 from hydrokit.core.drag import DragElement
-from hydrokit.core.validate import cut, cut_repr, mapping, matrix, number, vector
+from hydrokit.core.validate import body_quantity, cut, cut_repr, mapping, matrix, number, vector
 from hydrokit.errors import InputError
 from hydrokit.io.yamlfile import check_keys, read_yaml
 from hydrokit.model.terms import TermSet, parse_term
@@ -214,12 +214,33 @@ def _provenance(data: dict[str, Any]) -> tuple[str, ...]:
     return tuple(out)
 
 
-def _sign_warnings(M_A: np.ndarray, D_L: np.ndarray, D_Q: np.ndarray, allow: bool, source: str) -> list[str]:
+def _feeding_terms(velocity_terms: list[Any]) -> list[str]:
+    """Derivative terms that are damping of their own DOF (X_u, X_u|u|, N_rrr: odd in that one
+    velocity) with a positive SNAME coefficient, i.e. pushing along the motion."""
+    from hydrokit.model.terms import ABS, VEL
+
+    out = []
+    for term, coef in velocity_terms:
+        own = bool(term.factors) and all(f.indices == (term.dof,) and f.kind in (VEL, ABS) for f in term.factors)
+        if own and sum(f.kind == VEL for f in term.factors) % 2 == 1 and coef > 0:
+            out.append(f"terms.{term.name} = {coef:.4g} is positive (a damping derivative is negative in SNAME)")
+    return out
+
+
+def _sign_warnings(
+    M_A: np.ndarray,
+    D_L: np.ndarray,
+    D_Q: np.ndarray,
+    allow: bool,
+    source: str,
+    feeding: list[str],
+) -> list[str]:
     """Non-physical signs: negative damping is refused unless the file allows it; a negative
     added mass that still flies is said.
 
     A negative linear damping feeds energy in where it dominates, at low speed, a negative
-    quadratic one at speed: refused (one line naming the field and the values) unless the file
+    quadratic one at speed, and so does a positive own-DOF damping derivative of ``terms:``
+    (X_u, X_u|u| …, ``feeding``): refused (one line naming the field and the values) unless the file
     sets ``allow_negative_damping: true``, then said (the quadratic warning comes from
     :func:`hydrokit.model.vehicle.make_vehicle`). A negative added mass (M_A after the ``terms:``)
     makes the body easier to accelerate than in vacuum; one so negative that M_RB + M_A is not
@@ -235,10 +256,15 @@ def _sign_warnings(M_A: np.ndarray, D_L: np.ndarray, D_Q: np.ndarray, allow: boo
     said = [w for w in out if w.startswith("linear_damping")]
     if np.any(D_Q < 0):
         said.append(f"quadratic_damping has negative entries {D_Q.tolist()}: energy is fed in at speed")
+    for text in feeding:
+        said.append(f"{text}: energy is fed in")
+        out.append(said[-1])
     if said and not allow:
         field = said[0].split(" ", 1)[0]
         raise InputError(
-            f"field '{field}': {said[0]}; expected entries ≥ 0, or 'allow_negative_damping: true' if intended", source
+            f"field '{field}': {said[0]}; expected {'a coefficient ≤ 0' if field.startswith('terms.') else 'entries ≥ 0'}"
+            ", or 'allow_negative_damping: true' if intended",
+            source,
         )
     return out
 
@@ -259,8 +285,8 @@ def parse_vehicle(data: dict[str, Any], source: str) -> Vehicle:
         raise InputError(f"field 'fluid' = {cut_repr(fluid)}: expected a mapping with density (kg/m^3)", source)
     check_keys(fluid, FLUID_KEYS, "fluid", source)
     rho = _number(fluid["density"], "fluid.density", source, positive=True)
-    mass = _number(data["mass"], "mass", source, positive=True)
-    volume = _number(data["volume"], "volume", source, positive=True)
+    mass = body_quantity(_number(data["mass"], "mass", source, positive=True), "mass", "mass", source)
+    volume = body_quantity(_number(data["volume"], "volume", source, positive=True), "volume", "volume", source)
     inertia = matrix(data["inertia"], 3, "inertia", source)
     r_g = _vector(data["center_of_gravity"], 3, "center_of_gravity", source)
     r_b = _vector(data["center_of_buoyancy"], 3, "center_of_buoyancy", source)
@@ -318,7 +344,7 @@ def parse_vehicle(data: dict[str, Any], source: str) -> Vehicle:
     allow = data.get("allow_negative_damping", False)
     if not isinstance(allow, bool):
         raise InputError(f"field 'allow_negative_damping' = {cut_repr(allow)}: expected true or false", source)
-    warnings.extend(_sign_warnings(M_A, D_L, D_Q, allow, source))
+    warnings.extend(_sign_warnings(M_A, D_L, D_Q, allow, source, _feeding_terms(velocity_terms)))
     uncertainty = _uncertainty(data.get("uncertainty"), source)
     return make_vehicle(
         name,
