@@ -104,6 +104,8 @@ class Settings:
         the window over which the force history is judged
     tolerance : float — relative change of the force over the window that counts as converged
     timeout : float — wall-clock limit of one solver run, s
+    path : str — ``auto`` (a profile at zero incidence takes the axisymmetric wedge) or ``3d``
+        (always snappyHexMesh: to compare the two paths on one body)
     """
 
     density: float = 1025.0
@@ -121,6 +123,7 @@ class Settings:
     window: int = 100
     tolerance: float = 2e-3
     timeout: float = 3600.0
+    path: str = "auto"
 
     def __post_init__(self) -> None:
         for name in ("density", "viscosity", "upstream", "downstream", "lateral", "tolerance", "timeout"):
@@ -129,6 +132,8 @@ class Settings:
                 raise InputError(f"{name} = {v!r}: expected a positive finite number")
         if self.turbulence not in ("auto", *TURBULENCE_MODELS):
             raise InputError(f"turbulence = {self.turbulence!r}: expected auto, laminar, kOmegaSST or kEpsilon")
+        if self.path not in ("auto", "3d"):
+            raise InputError(f"path = {self.path!r}: expected auto or 3d")
         if self.grid not in (1, 2, 3):
             raise InputError(f"grid level = {self.grid!r}: expected 1, 2 or 3")
         for name, lo, hi in (
@@ -235,7 +240,7 @@ class Case:
         """``wedge`` for a body of revolution at zero incidence without rotation, else ``3d``."""
         f = self.flow
         straight = f.axis == "x" and f.drift == 0 and f.attack == 0 and f.yaw_rate == 0 and f.pitch_rate == 0
-        return "wedge" if self.body.kind == "profile" and straight else "3d"
+        return "wedge" if self.body.kind == "profile" and straight and self.settings.path == "auto" else "3d"
 
     @property
     def rotation(self) -> np.ndarray:

@@ -1,0 +1,288 @@
+"""CFD validation and speed (issue #31). Needs OpenFOAM (apt-get install -y openfoam). Prints:
+
+- sphere: C_D at Re 20–200 from an STL (3-D path) against Clift, Grace & Weber
+  (C_D = 24/Re (1 + 0.1935 Re^0.6305), 20 < Re ≤ 260) — target within 2 % — and, with
+  ``--sphere-data spheres.csv`` (Roos & Willmarth 1971, two columns Re, C_D), against a local
+  log–log fit of the measurements and their scatter;
+- body: the bundled Myring hull on the axisymmetric path at Re_L 1e6–1e7 against the ITTC-1957
+  line with Hoerner's form factor (R = ½ρU²S C_F (1 + k), C_F = 0.075/(log10 Re − 2)²,
+  1 + k = 1 + 1.5 (d/L)^1.5 + 7 (d/L)³), each with its GCI over a grid triplet, and the 3-D path
+  on the same body at one Reynolds number against the axisymmetric value (target within 3 %);
+- drift: a drift sweep of the 3-D Myring: Y and N antisymmetric in β, Y opposing v, the Munk
+  moment's sign (N < 0 for v > 0 about the centre of buoyancy);
+- arm: the rotating arm at a 100-length radius against straight flow (target within 1 %) and a
+  yaw-rate sweep giving Y_ur, N_ur with σ;
+- speed: hydrokit's own share of a sweep's wall time (target ≤ 5 %), a sweep of 8 cases on 2
+  workers against 1 (target ≥ 1.6×) and a cached rerun (target < 2 s).
+
+    python bench/cfd.py [sphere body drift arm speed] [--sphere-data PATH] [--quick] [--work DIR]
+
+Each section prints its figures and PASS/FAIL against its target; ``--quick`` runs coarse meshes
+(minutes, not the targets' meshes).
+"""
+
+from __future__ import annotations
+
+import argparse
+import math
+import shutil
+import tempfile
+import time
+from pathlib import Path
+
+import numpy as np
+
+from hydrokit.api import load_cfd_body
+from hydrokit.cfd.body import mesh_body
+from hydrokit.cfd.case import Case, Flow, Settings
+from hydrokit.cfd.sweep import SweepSpec, make_cases, run_sweep
+from hydrokit.estimate.bem import shape_mesh
+
+RESULTS: list[tuple[str, bool]] = []
+
+
+def verdict(name: str, ok: bool, text: str) -> None:
+    RESULTS.append((name, ok))
+    print(f"  {'PASS' if ok else 'FAIL'}  {name}: {text}", flush=True)
+
+
+def cgw(re: float) -> float:
+    """Clift, Grace & Weber (1978) standard drag curve, 20 < Re ≤ 260."""
+    return 24.0 / re * (1.0 + 0.1935 * re**0.6305)
+
+
+def sphere(work: Path, quick: bool, data: Path | None, workers: int) -> None:
+    print("sphere (3-D path from an STL, laminar)", flush=True)
+    m = shape_mesh("sphere", 96, diameter=1.0)
+    body = mesh_body(m.vertices[m.triangles()], "sphere", area=math.pi / 4)
+    if quick:
+        mesh = {"base_cells": 2, "surface_level": 3, "layers": 2, "upstream": 3.0, "downstream": 6.0, "lateral": 3.0}
+    else:
+        mesh = {"base_cells": 2, "surface_level": 5, "layers": 4, "upstream": 8.0, "downstream": 15.0, "lateral": 8.0}
+    settings = Settings(density=1.0, viscosity=1.0, turbulence="laminar", tolerance=5e-4, max_iterations=3000, **mesh)
+    res_list = [20.0, 50.0, 100.0, 200.0]
+    spec = SweepSpec(tuple(res_list))  # U = Re with D = 1 m, ν = 1 m²/s
+    t0 = time.perf_counter()
+    result = run_sweep(body, spec, settings, work / "sphere", workers=workers)
+    print(f"  {len(result.rows)} cases in {time.perf_counter() - t0:.0f} s", flush=True)
+    measured = _local_fit(data) if data else None
+    for r, o in zip(result.rows, sorted(result.outcomes, key=lambda o: o["flow"]["speed"]), strict=True):
+        re = r["speed"]
+        cd = -r["X"] / (0.5 * re * re * body.area)
+        err = cd / cgw(re) - 1
+        cells = o.get("mesh", {}).get("cells")
+        verdict(
+            f"sphere Re {re:g}",
+            abs(err) <= 0.02,
+            f"C_D {cd:.4f} vs CGW {cgw(re):.4f} ({err:+.2%}), {cells} cells, {r['status']}",
+        )
+        if measured is not None:
+            fit, scatter = measured(re)
+            dev = cd / fit - 1
+            verdict(
+                f"sphere Re {re:g} vs Roos & Willmarth",
+                abs(dev) <= 2 * scatter,
+                f"local fit {fit:.4f} (scatter ±{scatter:.1%}), CFD {dev:+.2%}",
+            )
+
+
+def _local_fit(path: Path):  # noqa: ANN202
+    data = np.loadtxt(path, delimiter=",", skiprows=1, usecols=(0, 1))
+    lr, lc = np.log10(data[:, 0]), np.log10(data[:, 1])
+
+    def at(re: float) -> tuple[float, float]:
+        near = np.abs(lr - math.log10(re)) <= 0.3
+        a, b = np.polyfit(lr[near], lc[near], 1)
+        resid = lc[near] - (a * lr[near] + b)
+        scatter = float(np.std(resid, ddof=2)) * math.log(10)
+        return 10 ** (a * math.log10(re) + b), scatter
+
+    return at
+
+
+def ittc(re: float) -> float:
+    return 0.075 / (math.log10(re) - 2.0) ** 2
+
+
+def wetted_area(profile: np.ndarray) -> float:
+    x, r = profile[:, 0], profile[:, 1]
+    return float(np.sum(math.pi * (r[1:] + r[:-1]) * np.hypot(np.diff(x), np.diff(r))))
+
+
+def body_of_revolution(work: Path, quick: bool, workers: int) -> None:
+    print("body of revolution (Myring hull, axisymmetric wedge, k-ω SST)", flush=True)
+    b = load_cfd_body("myring")
+    L, d = b.length, 2 * float(b.profile[:, 1].max())
+    S = wetted_area(b.profile)
+    form = 1 + 1.5 * (d / L) ** 1.5 + 7 * (d / L) ** 3
+    nu, rho = 1.0e-6, 1000.0
+    res = [1e6, 3e6] if quick else [1e6, 3e6, 1e7]
+    speeds = tuple(re * nu / L for re in res)
+    settings = Settings(density=rho, viscosity=nu, turbulence="kOmegaSST", tolerance=5e-4, max_iterations=3000)
+    t0 = time.perf_counter()
+    result = run_sweep(b, SweepSpec(speeds, grids=1 if quick else 3), settings, work / "body", workers=workers)
+    print(f"  {len(result.outcomes)} cases in {time.perf_counter() - t0:.0f} s; S = {S:.4f} m², 1 + k = {form:.4f}")
+    axi = {}
+    for r in sorted(result.rows, key=lambda r: r["speed"]):
+        re = r["speed"] * L / nu
+        R = -r["X"]
+        ref = 0.5 * rho * r["speed"] ** 2 * S * ittc(re) * form
+        gci = r.get("X_gci")
+        gtxt = f", GCI ±{gci / R:.1%} ({r.get('X_convergence')})" if gci is not None and math.isfinite(gci) else ""
+        axi[r["speed"]] = R
+        verdict(
+            f"Myring Re_L {re:.0e}",
+            abs(R / ref - 1) <= 0.10,
+            f"R {R:.4g} N vs ITTC-1957·(1+k) {ref:.4g} N ({R / ref - 1:+.1%}){gtxt}, {r['status']}",
+        )
+    U = speeds[0]
+    s3 = Settings(
+        density=rho,
+        viscosity=nu,
+        turbulence="kOmegaSST",
+        tolerance=5e-4,
+        max_iterations=3000,
+        base_cells=3,
+        surface_level=4 if quick else 5,
+        layers=5,
+        path="3d",
+    )
+    case = Case(b, Flow(U), s3, "myring-3d")
+    from hydrokit.cfd.run import cached_case
+
+    out = cached_case((case, str(work / "body3d"), None))
+    if out["status"] == "failed":
+        verdict("Myring 3-D vs axisymmetric", False, out.get("reason", ""))
+        return
+    R3 = -out["forces"][0]
+    R2 = axi[U]
+    verdict(
+        "Myring 3-D vs axisymmetric",
+        abs(R3 / R2 - 1) <= 0.03,
+        f"3-D {R3:.4g} N ({out['mesh']['cells']} cells, y⁺ {out.get('y_plus')}) vs wedge {R2:.4g} N ({R3 / R2 - 1:+.1%})",
+    )
+
+
+def drift(work: Path, quick: bool, workers: int) -> None:
+    print("drift sweep (3-D Myring, centre of buoyancy as moment reference)", flush=True)
+    b = load_cfd_body("myring")
+    settings = Settings(
+        density=1000.0, viscosity=1e-6, base_cells=2, surface_level=3 if quick else 4, layers=3, max_iterations=2000
+    )
+    betas = (-10.0, -5.0, 5.0, 10.0)
+    spec = SweepSpec((1.0,), drifts=tuple(math.radians(x) for x in betas))
+    result = run_sweep(b, spec, settings, work / "drift", workers=workers)
+    rows = {round(r["drift_deg"]): r for r in result.rows}
+    for beta in (5, 10):
+        p, m = rows.get(beta), rows.get(-beta)
+        if p is None or m is None or "failed" in (p["status"], m["status"]):
+            verdict(f"drift ±{beta}°", False, "a case failed")
+            continue
+        anti_y = abs(p["Y"] + m["Y"]) / max(abs(p["Y"]), 1e-12)
+        anti_n = abs(p["N"] + m["N"]) / max(abs(p["N"]), 1e-12)
+        verdict(
+            f"drift ±{beta}° antisymmetry",
+            anti_y < 0.05 and anti_n < 0.05,
+            f"Y {p['Y']:.4g}/{m['Y']:.4g} N, N {p['N']:.4g}/{m['N']:.4g} N·m (asymmetry {anti_y:.1%}, {anti_n:.1%})",
+        )
+        verdict(
+            f"drift +{beta}° signs", p["Y"] < 0 and p["N"] < 0, "Y opposes v, Munk moment turns the bow away (N < 0)"
+        )
+    for d in result.derivatives:
+        print(f"  {d.name} = {d.value:.4g} ± {d.se:.2g} (SI), {d.nondimensional:.4g} ÷ ½ρL^{d.k}")
+
+
+def arm(work: Path, quick: bool, workers: int) -> None:
+    print("rotating arm (SRFSimpleFoam; Myring, 3-D)", flush=True)
+    b = load_cfd_body("myring")
+    settings = Settings(
+        density=1000.0, viscosity=1e-6, base_cells=2, surface_level=3 if quick else 4, layers=3, max_iterations=2000
+    )
+    U = 1.0
+    big = U / (100 * b.length)
+    rates = (-0.2, -0.1, 0.1, 0.2)
+    spec = SweepSpec((U,), yaw_rates=(big, *rates))
+    result = run_sweep(b, spec, settings, work / "arm", workers=workers)
+    rows = {r["yaw_rate"]: r for r in result.rows}
+    straight, far = rows.get(0.0), rows.get(big)
+    if straight and far and "failed" not in (straight["status"], far["status"]):
+        verdict(
+            "arm at 100 L vs straight",
+            abs(far["X"] / straight["X"] - 1) <= 0.01,
+            f"X {far['X']:.5g} vs {straight['X']:.5g} N ({far['X'] / straight['X'] - 1:+.2%})",
+        )
+    for d in result.derivatives:
+        print(f"  {d.name} = {d.value:.4g} ± {d.se:.2g} (SI), {d.nondimensional:.4g} ÷ ½ρL^{d.k}")
+
+
+def speed(work: Path, quick: bool) -> None:
+    print("speed (8 tiny sphere cases)", flush=True)
+    m = shape_mesh("sphere", 24, diameter=1.0)
+    body = mesh_body(m.vertices[m.triangles()], "sphere")
+    settings = Settings(
+        density=1.0,
+        viscosity=1.0,
+        base_cells=2,
+        surface_level=3,
+        layers=0,
+        upstream=2.0,
+        downstream=4.0,
+        lateral=2.0,
+        min_iterations=100,
+        window=50,
+        tolerance=1e-3,
+        max_iterations=400,
+    )
+    spec = SweepSpec(tuple(float(x) for x in range(20, 100, 10)))  # 8 speeds, Re 20–90
+    times = {}
+    for workers in (1, 2):
+        shutil.rmtree(work / f"speed{workers}", ignore_errors=True)
+        t0 = time.perf_counter()
+        result = run_sweep(body, spec, settings, work / f"speed{workers}", workers=workers)
+        times[workers] = time.perf_counter() - t0
+        own = sum(o["wall_time"] - o["foam_time"] for o in result.outcomes)
+        wall = sum(o["wall_time"] for o in result.outcomes)
+        if workers == 1:
+            verdict(
+                "hydrokit's own share", own / wall <= 0.05, f"{own:.2f} s of {wall:.1f} s in cases ({own / wall:.1%})"
+            )
+    verdict(
+        "2 workers vs 1",
+        times[1] / times[2] >= 1.6,
+        f"{times[1]:.1f} s vs {times[2]:.1f} s ({times[1] / times[2]:.2f}×)",
+    )
+    t0 = time.perf_counter()
+    run_sweep(body, spec, settings, work / "speed1", workers=1)
+    again = time.perf_counter() - t0
+    verdict("cached rerun", again < 2.0, f"{again:.2f} s for {len(make_cases(body, spec, settings))} cases")
+
+
+def main() -> None:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("sections", nargs="*", default=["sphere", "body", "drift", "arm", "speed"])
+    ap.add_argument("--sphere-data", type=Path, help="Roos & Willmarth CSV (Re, C_D)")
+    ap.add_argument("--quick", action="store_true", help="coarse meshes (minutes)")
+    ap.add_argument("--work", type=Path, help="cache folder (kept; a rerun takes finished cases from it)")
+    ap.add_argument("--workers", type=int, default=2)
+    args = ap.parse_args()
+    work = args.work or Path(tempfile.mkdtemp(prefix="hydrokit-bench-cfd-"))
+    print(f"work folder: {work}", flush=True)
+    for s in args.sections:
+        if s == "sphere":
+            sphere(work, args.quick, args.sphere_data, args.workers)
+        elif s == "body":
+            body_of_revolution(work, args.quick, args.workers)
+        elif s == "drift":
+            drift(work, args.quick, args.workers)
+        elif s == "arm":
+            arm(work, args.quick, args.workers)
+        elif s == "speed":
+            speed(work, args.quick)
+        else:
+            raise SystemExit(f"unknown section {s!r}: expected sphere, body, drift, arm or speed")
+    failed = [n for n, ok in RESULTS if not ok]
+    print(f"{len(RESULTS) - len(failed)} passed, {len(failed)} failed")
+
+
+if __name__ == "__main__":
+    main()
