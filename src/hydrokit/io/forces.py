@@ -19,9 +19,7 @@ from hydrokit.io.yamlfile import read_text
 MAX_ROWS = 1_000_000
 
 
-def read_columns(
-    path: str | os.PathLike[str], names: tuple[str, str], expected: str
-) -> tuple[np.ndarray, np.ndarray]:
+def read_columns(path: str | os.PathLike[str], names: tuple[str, str], expected: str) -> tuple[np.ndarray, np.ndarray]:
     """The two named columns of a CSV with a header, as float arrays.
 
     ``expected`` says what the file should hold (with units), for the messages.
