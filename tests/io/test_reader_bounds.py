@@ -120,6 +120,20 @@ def test_negative_damping_is_refused_unless_allowed(field, says):
     assert sum(w.startswith(f"{field} has negative") for w in allowed.warnings) == 1, allowed.warnings
 
 
+def test_a_damping_derivative_with_the_wrong_sign_is_refused_unless_allowed():
+    # SNAME: X_u|u| < 0 is drag; +50 pushes along the motion (a cross term such as X_vr is no damping)
+    doc = dict(VEHICLE) | {"terms": {"X_u|u|": 50.0, "X_vr": 3.0, "X_uu": 2.0}}
+    with pytest.raises(InputError, match=r"field 'terms\.X_u\|u\|': terms\.X_u\|u\| = 50 is positive .* ≤ 0, or"):
+        parse_vehicle(doc, "v.yaml")
+    allowed = parse_vehicle(doc | {"allow_negative_damping": True}, "v.yaml")
+    assert [w for w in allowed.warnings if w.startswith("terms.")] == [
+        "terms.X_u|u| = 50 is positive (a damping derivative is negative in SNAME): energy is fed in"
+    ]
+    assert not [
+        w for w in parse_vehicle(dict(VEHICLE) | {"terms": {"X_u|u|": -50.0}}, "v.yaml").warnings if "terms" in w
+    ]
+
+
 def test_a_negative_added_mass_from_a_term_is_warned_about():
     # X_udot = +293 (the wrong SNAME sign) puts -293 on the diagonal of M_A
     doc = {**_with_diagonal("added_mass", 0.0), "terms": {"X_udot": 293.0}}
