@@ -303,6 +303,7 @@ def run_sweep(
     scheduler: str | None = None,
     progress: Callable[[int], object] | None = None,
     cases: list[Case] | None = None,
+    mapper: Callable[..., list[Any]] | None = None,
 ) -> CFDResult:
     """Run (or take from the cache) every case of the sweep and fit the results.
 
@@ -314,6 +315,8 @@ def run_sweep(
     workers, scheduler : as :class:`hydrokit._parallel.Executor`
     progress : callable, optional — called with 1 as each case finishes
     cases : list of Case, optional — the cases of ``make_cases`` when already made
+    mapper : callable, optional — ``mapper(fn, items, progress)`` of a caller's running executor
+        (the main job's); ``workers`` and ``scheduler`` are then not used
     """
     from hydrokit._parallel import Executor
     from hydrokit.cfd.run import cached_case
@@ -322,9 +325,13 @@ def run_sweep(
     cases = cases if cases is not None else make_cases(body, spec, settings)
     cache_dir.mkdir(parents=True, exist_ok=True)
     items = [(c, str(cache_dir), None if keep_dir is None else str(keep_dir)) for c in cases]
-    with Executor(workers, scheduler) as ex:
-        outcomes = ex.map(cached_case, items, progress=progress)
-        where = ex.description
+    if mapper is not None:
+        outcomes = mapper(cached_case, items, progress)
+        where = str(getattr(mapper, "description", "the caller's executor"))
+    else:
+        with Executor(workers, scheduler) as ex:
+            outcomes = ex.map(cached_case, items, progress=progress)
+            where = ex.description
     return assemble(body, spec, settings, outcomes, executor=where, wall_time=time.perf_counter() - started)
 
 

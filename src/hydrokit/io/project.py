@@ -9,6 +9,7 @@ campaigns:                    # one entry per identified DOF
   - {dof: heave, rig: rigs/pendulum_z.yaml, launches: launches/pendulum_z/*.csv}
 geometry: geometry.yaml       # optional: estimate (and --bem) for comparison and for DOFs not tested
 forces: {surge: cfd_x.csv}    # optional CFD/tow force curves per DOF (speed m/s, force N), full scale
+cfd: {speeds: [0.5, 1, 1.5], dofs: [heave]}   # optional: compute the CFD column with OpenFOAM (docs/cfd.md)
 choose: tank                  # rule when sources disagree: tank | geometry | bem | cfd (or per DOF)
 mission: mission.yaml         # optional: flown with PID and S-plane on the identified vehicle
 uncertainty: {samples: 200, seed: 1}   # Monte Carlo over the coefficient covariance
@@ -79,6 +80,19 @@ class _Force(BaseModel):
     density: float | None = Field(None, gt=0, description="kg/m³")
 
 
+class _Cfd(BaseModel):
+    model_config = ConfigDict(extra="forbid")
+    body: str | None = Field(None, description="surface mesh, x,r profile or geometry file; default: geometry")
+    speeds: list[float] = Field(min_length=3, description="m/s, full scale")
+    dofs: list[str] = Field(default_factory=lambda: ["surge"], min_length=1)
+    density: float | None = Field(None, gt=0, description="kg/m³; default the vehicle's")
+    viscosity: float = Field(1.19e-6, gt=0, description="kinematic, m²/s")
+    turbulence: str = "auto"
+    grids: int = 1
+    area: dict[str, float] = Field(default_factory=dict, description="m² per DOF")
+    settings: dict[str, Any] = Field(default_factory=dict)
+
+
 class _Uncertainty(BaseModel):
     model_config = ConfigDict(extra="forbid")
     samples: int = Field(200, ge=0, le=100_000)
@@ -95,6 +109,7 @@ class ProjectFile(BaseModel):
     campaigns: list[_Campaign] = Field(min_length=1)
     geometry: str | None = None
     forces: dict[str, str | _Force] = Field(default_factory=dict)
+    cfd: _Cfd | None = None
     choose: str | dict[str, str] = "tank"
     mission: str | None = None
     uncertainty: _Uncertainty = Field(default_factory=lambda: _Uncertainty(samples=200, seed=1))
@@ -131,6 +146,28 @@ class ForceSpec:
     density: float | None
 
 
+#: DOFs a CFD speed sweep can give (a pure motion along a body axis) and their axes
+CFD_AXES = {"surge": "x", "sway": "y", "heave": "z"}
+
+
+@dataclass(frozen=True)
+class CfdSpec:
+    """The ``cfd:`` section: compute the CFD column with OpenFOAM (``hydrokit cfd``) instead of
+    reading force curves. body (a file), speeds (m/s, full scale), dofs (surge, sway, heave),
+    density (kg/m³ or None: the vehicle's), viscosity (m²/s), turbulence, grids, area (m² per DOF,
+    default the projected area), settings (further ``hydrokit.cfd.case.Settings`` fields)."""
+
+    body: Path
+    speeds: tuple[float, ...]
+    dofs: tuple[str, ...]
+    density: float | None
+    viscosity: float
+    turbulence: str
+    grids: int
+    area: dict[str, float]
+    settings: dict[str, Any]
+
+
 @dataclass(frozen=True)
 class Project:
     """A validated project: every path resolved and existing, every glob expanded."""
@@ -149,6 +186,7 @@ class Project:
     published: dict[str, dict[str, Any]] = field(default_factory=dict)
     virtual: bool = False
     description: str = ""
+    cfd: CfdSpec | None = None
 
     @property
     def root(self) -> Path:
@@ -162,6 +200,8 @@ class Project:
             files += [c.rig, *c.launches, *c.tare]
         files += [f.file for f in self.forces.values()]
         files += [p for p in (self.geometry, self.mission) if p is not None]
+        if self.cfd is not None and self.cfd.body not in files:
+            files.append(self.cfd.body)
         return files
 
 
@@ -272,6 +312,7 @@ def parse_project(data: dict[str, Any], path: Path) -> Project:
             raise InputError(f"field 'forces.{dof}': unknown DOF; expected one of {', '.join(DOF_NAMES)}", source)
         spec = spec if isinstance(spec, _Force) else _Force(file=spec, area=None, density=None)
         forces[dof] = ForceSpec(dof, _file(root, spec.file, f"forces.{dof}", source), spec.area, spec.density)
+    cfd = _cfd(f, root, forces, source)
     for dof in f.published:
         if dof not in DOF_NAMES:
             raise InputError(f"field 'published.{dof}': unknown DOF; expected one of {', '.join(DOF_NAMES)}", source)
@@ -290,6 +331,43 @@ def parse_project(data: dict[str, Any], path: Path) -> Project:
         published=f.published,
         virtual=f.virtual,
         description=f.description,
+        cfd=cfd,
+    )
+
+
+def _cfd(f: ProjectFile, root: Path, forces: dict[str, ForceSpec], source: str) -> CfdSpec | None:
+    c = f.cfd
+    if c is None:
+        return None
+    for i, dof in enumerate(c.dofs):
+        if dof not in CFD_AXES:
+            raise InputError(f"field 'cfd.dofs[{i}]' = {dof!r}: expected surge, sway or heave", source)
+        if dof in forces:
+            raise InputError(
+                f"field 'cfd.dofs[{i}]' = {dof!r}: also given a force curve in 'forces'; expected one CFD source per DOF",
+                source,
+            )
+    for dof in c.area:
+        if dof not in c.dofs:
+            raise InputError(
+                f"field 'cfd.area.{dof}': not among cfd.dofs {c.dofs}; expected an area per computed DOF", source
+            )
+    for i, u in enumerate(c.speeds):
+        if not (u > 0 and u < 1e3):
+            raise InputError(f"field 'cfd.speeds[{i}]' = {u!r}: expected a speed in m/s, > 0", source)
+    if c.body is None and f.geometry is None:
+        raise InputError("field 'cfd.body' is missing and there is no 'geometry'; expected the body to compute", source)
+    body = _file(root, c.body if c.body is not None else str(f.geometry), "cfd.body", source)
+    return CfdSpec(
+        body,
+        tuple(c.speeds),
+        tuple(c.dofs),
+        c.density,
+        c.viscosity,
+        c.turbulence,
+        c.grids,
+        dict(c.area),
+        dict(c.settings),
     )
 
 

@@ -79,6 +79,65 @@ def cfd_sources(project: Project, tank: dict[str, Any], density: float) -> dict[
     return out
 
 
+def cfd_sweep_inputs(project: Project, density: float) -> tuple[Any, Any, Any, list[Any]]:
+    """(body, settings, sweep, cases) of the project's ``cfd:`` section, checked: a bad body or
+    setting is refused here, before the run identifies anything."""
+    from hydrokit.api import load_cfd_body
+    from hydrokit.cfd.case import Settings
+    from hydrokit.cfd.sweep import SweepSpec, make_cases
+    from hydrokit.errors import InputError
+    from hydrokit.io.project import CFD_AXES
+
+    spec = project.cfd
+    assert spec is not None
+    src = str(project.source)
+    body = load_cfd_body(spec.body)
+    try:
+        settings = Settings(
+            density=spec.density or density, viscosity=spec.viscosity, turbulence=spec.turbulence, **spec.settings
+        )
+        sweep = SweepSpec(spec.speeds, axes=tuple(CFD_AXES[d] for d in spec.dofs), grids=spec.grids)
+    except TypeError as exc:
+        raise InputError(f"field 'cfd.settings': {exc}; expected fields of hydrokit.cfd.case.Settings", src) from None
+    except InputError as exc:
+        raise InputError(f"field 'cfd': {exc}", src) from None
+    return body, settings, sweep, make_cases(body, sweep, settings)
+
+
+def computed_cfd_sources(project: Project, density: float, cache_dir: Any, mapper: Any = None) -> dict[str, Any]:
+    """The CFD column computed with OpenFOAM (``hydrokit cfd``) for the DOFs of ``cfd:``: per DOF
+    the Chin fit of its speed sweep (weighted by each case's σ), as :func:`cfd_sources` gives."""
+    from dataclasses import replace
+
+    from hydrokit.cfd.foam import find_openfoam
+    from hydrokit.cfd.sweep import assemble, run_sweep
+    from hydrokit.io.project import CFD_AXES
+
+    body, settings, sweep, cases = cfd_sweep_inputs(project, density)
+    find_openfoam()
+    result = run_sweep(body, sweep, settings, cache_dir, cases=cases, mapper=mapper)
+    spec = project.cfd
+    assert spec is not None
+    out: dict[str, Any] = {}
+    for dof in spec.dofs:
+        fit = result.fits.get(CFD_AXES[dof])
+        if fit is None:
+            continue
+        if dof in spec.area:  # the project's reference area: C_D over it, the K's unchanged
+            result = assemble(replace(body, area=spec.area[dof]), sweep, settings, result.outcomes)
+            fit = result.fits.get(CFD_AXES[dof], fit)
+        out[dof] = {
+            "linear_damping": fit.K_L,
+            "quadratic_damping": fit.K_Q,
+            "se": {"linear_damping": fit.K_L_se, "quadratic_damping": fit.K_Q_se},
+            "drag_coefficient": fit.C_D,
+            "area": fit.area,
+            "points": fit.n,
+            "computed": f"OpenFOAM ({len(result.outcomes)} cases, {len(result.failed)} failed)",
+        }
+    return out
+
+
 def _given(source: str, value: float | None) -> bool:
     """A usable value: finite, and for the estimates also non-zero (a shape table that has no
     entry, e.g. a block's rotational added mass or any linear damping, gives 0)."""

@@ -51,6 +51,13 @@ class Runner:
                 str(project.source),
             )
         self.rigs = {c.dof: load_rig(c.rig) for c in project.campaigns}
+        self.cfd_cases: list[Any] = []
+        if project.cfd is not None:  # the body and OpenFOAM are checked before any step runs
+            from hydrokit.cfd.foam import find_openfoam
+            from hydrokit.pipeline.compare import cfd_sweep_inputs
+
+            self.cfd_cases = cfd_sweep_inputs(project, self.base.density)[3]
+            find_openfoam()
         self.digests = {str(p): file_digest(p) for p in project.input_files()}
 
     def rel(self, path: Any) -> str:
@@ -115,6 +122,20 @@ class Runner:
             out.update(self._timed("geometry", self._cached, "geometry", key, compute))
         if self.p.forces:
             out["cfd"] = self._timed("cfd fit", cfd_sources, self.p, tank, self.base.density)
+        if self.p.cfd is not None:
+            from hydrokit.pipeline.compare import computed_cfd_sources
+
+            n = len(self.cfd_cases)
+            self.progress(f"CFD with OpenFOAM ({n} cases; cached cases are free)", 1)
+            computed = self._timed(
+                "cfd (OpenFOAM)",
+                computed_cfd_sources,
+                self.p,
+                self.base.density,
+                self.cache.directory / "cfd",
+                self.mapper,
+            )
+            out["cfd"] = {**(out["cfd"] or {}), **computed}
         return out
 
     def fly(self, vehicle_doc: dict[str, Any], truth_doc: dict[str, Any] | None) -> dict[str, Any] | None:
