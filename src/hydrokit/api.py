@@ -731,13 +731,13 @@ def load_cfd_body(name_or_path: Any, area: float | None = None) -> Any:
         from hydrokit.io.profile import read_profile
 
         x, r = read_profile(p)
-        return cfd_body.profile_body(x, r, str(p), area)
+        return cfd_body.profile_body(x, r, p.name, area)
     if suffix in (".stl", ".obj"):
         from hydrokit.estimate.mesh import check_mesh, read_mesh
 
         mesh = read_mesh(p)
         check_mesh(mesh)
-        return cfd_body.mesh_body(mesh.vertices[mesh.triangles()], str(p), area)
+        return cfd_body.mesh_body(mesh.vertices[mesh.triangles()], p.name, area)
     if suffix in (".yaml", ".yml"):
         return cfd_body.geometry_body(load_geometry(p), area)
     if not p.exists():

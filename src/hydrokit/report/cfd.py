@@ -8,7 +8,6 @@ histories; warnings. User text (body name, labels, reasons) is escaped.
 
 from __future__ import annotations
 
-import math
 from typing import Any
 
 from hydrokit.report.html import esc, figure, fmt, page, table, warnings_block
@@ -78,7 +77,7 @@ def render(result: Any) -> str:
     )
     header, rows = result.table()
     parts.append("<h2>Loads</h2>")
-    parts.append(table(header, rows, left_cols=1))
+    parts.append('<div style="overflow-x:auto">' + table(header, rows, left_cols=1) + "</div>")
     if result.fits:
         parts.append("<h2>Force against speed (CELY2019 §4.1, Chin fit)</h2>")
         parts.append(
@@ -126,10 +125,3 @@ def render(result: Any) -> str:
         )
     title = f"hydrokit cfd — {result.body}"
     return page(title, parts)
-
-
-def _finite(x: Any) -> bool:
-    try:
-        return math.isfinite(float(x))
-    except (TypeError, ValueError):
-        return False
