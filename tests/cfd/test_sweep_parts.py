@@ -225,3 +225,23 @@ def test_a_failed_case_leaves_its_row_empty_and_the_others_are_fitted():
     assert math.isnan(row["X"])
     assert res.fits["x"].n == 3 and res.fits["x"].K_Q == pytest.approx(10.0, rel=1e-6)
     assert ",failed" in res.forces_csv()
+
+
+def test_the_bundled_bodies_are_the_shapes_their_files_describe():
+    from hydrokit.api import load_cfd_body
+
+    myring = load_cfd_body("myring")
+    x, r = myring.profile[:, 0], myring.profile[:, 1]
+    a, b, c, d, theta = 0.191, 0.654, 0.541, 0.191, math.radians(25)
+    assert myring.length == pytest.approx(a + b + c, abs=1e-6)
+    # Myring (1976), n = 2: nose ellipse, parallel middle, cubic tail closing with slope tan θ
+    s = x[x > a + b] - a - b
+    tail = d / 2 - (3 * d / (2 * c * c) - math.tan(theta) / c) * s**2 + (d / c**3 - math.tan(theta) / c**2) * s**3
+    assert r[x > a + b] == pytest.approx(np.maximum(tail, 0.0), abs=2e-6)
+    nose = x <= a
+    assert r[nose] == pytest.approx(d / 2 * np.sqrt(np.clip(1 - ((x[nose] - a) / a) ** 2, 0, None)), abs=2e-6)
+    assert myring.area == pytest.approx(math.pi * (d / 2) ** 2, rel=1e-6)
+    lingyun = load_cfd_body("lingyun")  # LI2021's L × B × H block
+    assert lingyun.length == pytest.approx(1.25) and lingyun.area == pytest.approx(0.47 * 0.93, rel=0.01)
+    with pytest.raises(InputError, match="bundled: lingyun, myring"):
+        load_cfd_body("remus")
