@@ -69,6 +69,12 @@ def test_a_tiny_sphere_gives_a_drag_near_the_correlation_and_a_cached_rerun(tmp_
     assert out["mesh"]["cells"] > 500 and out["mesh"]["failed_checks"] == 0
     assert 0 < out["foam_time"] <= out["wall_time"]
     assert len(out["history"]["X"]) >= 10
+    # the report's slice: the wake trails behind the body (−x for a body moving forward)
+    sl = {k: np.asarray(v) for k, v in out["slice"].items()}
+    axis = np.abs(sl["y"]) < 0.3
+    wake = sl["speed"][axis & (sl["x"] < -0.6) & (sl["x"] > -1.5)].mean()
+    ahead = sl["speed"][axis & (sl["x"] > 0.6) & (sl["x"] < 1.5)].mean()
+    assert wake < ahead
     assert not any(p.name.startswith("run-") for p in (tmp_path / "cache").iterdir())  # no case left half-done
     t0 = time.perf_counter()
     again = cached_case((case, str(tmp_path / "cache"), None))

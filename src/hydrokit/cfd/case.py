@@ -442,6 +442,23 @@ def _control(case: Case) -> dict[str, Any]:
             "log": False,
         },
     }
+    # the velocity on the body's x–y plane (z = 0; a wedge's mid-plane) at the last write, for the report
+    functions["slice"] = {
+        "type": "surfaces",
+        "libs": ['"libsampling.so"'],
+        "writeControl": "writeTime",
+        "surfaceFormat": "raw",
+        "fields": ["U" if case.arm_centre is None else "Urel"],
+        "interpolationScheme": "cellPoint",
+        "surfaces": {
+            "zNormal": {
+                "type": "cuttingPlane",
+                "planeType": "pointAndNormal",
+                "pointAndNormalDict": {"point": [0.0, 0.0, 0.0], "normal": [0.0, 0.0, 1.0]},
+                "interpolate": False,
+            }
+        },
+    }
     if case.model != "laminar":
         functions["yPlus"] = {
             "type": "yPlus",

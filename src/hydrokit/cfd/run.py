@@ -86,6 +86,35 @@ def _y_plus(case_dir: Path) -> list[float] | None:
     return [float(rows[-1, 1]), float(rows[-1, 2]), float(rows[-1, 3])]  # min, max, average
 
 
+#: velocity-slice points kept in an outcome (for the report's figure)
+SLICE_POINTS = 4000
+
+
+def _slice(case: Case, folder: Path) -> dict[str, list[float]] | None:
+    """|U| on the z = 0 plane near the body from the last write: x, y (m, body axes) and |U|/U∞,
+    at most :data:`SLICE_POINTS` points within one body length of the body."""
+    files = sorted(folder.glob("postProcessing/slice/*/*_zNormal.raw"), key=lambda p: float(p.parent.name))
+    if not files:
+        return None
+    try:
+        data = np.loadtxt(files[-1], comments="#", ndmin=2)
+    except ValueError:
+        return None
+    if data.shape[1] < 6 or not len(data):
+        return None
+    x, y = data[:, 0], data[:, 1]
+    if case.path == "wedge":  # profile coordinates: x from the nose, y the radius
+        x = case.body.centre_of_buoyancy - x
+    speed = np.linalg.norm(data[:, 3:6], axis=1) / case.flow.speed
+    lo, hi = case.body.bounds()
+    L = case.body.length
+    near = (x > lo[0] - L) & (x < hi[0] + 1.5 * L) & (np.abs(y) < max(hi[1], -lo[1]) + 0.75 * L)
+    idx = np.flatnonzero(near)
+    if idx.size > SLICE_POINTS:
+        idx = idx[np.linspace(0, idx.size - 1, SLICE_POINTS).astype(int)]
+    return {k: [float(f"{v:.5g}") for v in arr[idx]] for k, arr in (("x", x), ("y", y), ("speed", speed))}
+
+
 def _thin(it: np.ndarray, values: np.ndarray) -> dict[str, list[float]]:
     step = max(1, int(math.ceil(len(it) / HISTORY_POINTS)))
     keep = np.r_[np.arange(0, len(it), step), len(it) - 1] if len(it) else np.zeros(0, int)
@@ -180,6 +209,7 @@ def run_case(case: Case, folder: Path, foam: OpenFOAM | None = None) -> dict[str
             samples=j.samples,
             autocorrelation_time=j.tau,
             y_plus=_y_plus(folder),
+            slice=_slice(case, folder),
             history=_thin(it, values),
         )
     except SolverError as exc:

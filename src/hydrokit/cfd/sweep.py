@@ -146,7 +146,8 @@ class CFDResult(Result):
 
     def to_dict(self) -> dict[str, Any]:
         """What ``cfd.json`` holds: the body, every case (settings, cells, iterations, status,
-        y⁺, force history, wall time), the rows, fits and derivatives."""
+        y⁺, force history, wall time; the velocity slice is left to the report), the rows, fits
+        and derivatives."""
         return jsonable(
             {
                 "body": {"name": self.body, "length": self.length, "area": self.area},
@@ -158,7 +159,7 @@ class CFDResult(Result):
                 "rows": list(self.rows),
                 "fits": {axis: fit.to_dict() for axis, fit in self.fits.items()},
                 "derivatives": [d.__dict__ for d in self.derivatives],
-                "cases": list(self.outcomes),
+                "cases": [{k: v for k, v in o.items() if k != "slice"} for o in self.outcomes],
             }
         )
 

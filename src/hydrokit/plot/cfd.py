@@ -127,3 +127,22 @@ def convergence_figure(result: Any, limit: int = 12) -> Any:
         ax.legend(fontsize=7, ncol=2)
     fig.tight_layout()
     return fig
+
+
+def slice_figure(outcome: dict[str, Any]) -> Any | None:
+    """|U|/U∞ on the body's x–y plane (z = 0) around the body, from a case's outcome; None
+    without a slice. Points are the cut faces' centres (no interpolation across the body)."""
+    sl = outcome.get("slice")
+    if not sl or not sl.get("x"):
+        return None
+    fig = new_figure((8.0, 3.6))
+    ax = fig.add_subplot(1, 1, 1)
+    x, y, c = (np.asarray(sl[k]) for k in ("x", "y", "speed"))
+    pts = ax.scatter(x, y, c=c, s=3, cmap="viridis", vmin=0.0, vmax=max(1.3, float(np.nanmax(c))), linewidths=0)
+    fig.colorbar(pts, ax=ax, label="|U| / U∞")
+    ax.set_aspect("equal")
+    ax.set_xlabel("x (m, body axes)")
+    ax.set_ylabel("y (m)" if outcome.get("path") != "wedge" else "r (m)")
+    ax.set_title(f"{outcome.get('label', '')}: velocity magnitude on z = 0", fontsize=9)
+    fig.tight_layout()
+    return fig

@@ -112,6 +112,13 @@ def render(result: Any) -> str:
                 ],
             )
         )
+    shown = [o for o in result.outcomes if o.get("slice")][:2]
+    if shown:
+        parts.append("<h2>Flow</h2>")
+        for o in shown:
+            fig = plots.slice_figure(o)
+            if fig is not None:
+                parts.append(figure(to_png(fig), f"{o['label']}: |U|/U∞ on the body's x–y plane"))
     parts.append("<h2>Convergence</h2>")
     parts.append(
         figure(
