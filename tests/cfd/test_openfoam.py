@@ -238,3 +238,18 @@ def test_the_axisymmetric_wedge_of_a_sphere_profile_gives_the_whole_body_drag(tm
     # 6 k cells: 12 % (1.71 against 1.57 here); a wrong sector factor or sign is off by far more
     assert cd == pytest.approx(_cgw(50.0), rel=0.12)
     assert out["forces"][1:] == [0.0] * 5  # side forces and moments vanish by symmetry
+
+
+@needs_openfoam
+@pytest.mark.skipif(shutil.which("mpirun") is None, reason="no MPI")
+def test_one_case_on_two_mpi_processes_gives_the_serial_answer(tmp_path):
+    from hydrokit.cfd.run import run_case
+
+    settings = Settings(density=1.0, viscosity=0.02, **TINY, processes=2)
+    case = Case(_sphere(), Flow(1.0), settings, "mpi")
+    assert case.key() == Case(_sphere(), Flow(1.0), Settings(density=1.0, viscosity=0.02, **TINY)).key()
+    out = run_case(case, tmp_path / "mpi")
+    assert out["status"] == "converged", out.get("reason")
+    assert (tmp_path / "mpi" / "processor1").is_dir() and "decomposePar" in out["foam_times"]
+    cd = -out["forces"][0] / (0.5 * _sphere().area)
+    assert cd == pytest.approx(_cgw(50.0), rel=0.10)  # the serial test's bound: same mesh, same answer

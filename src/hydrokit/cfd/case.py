@@ -104,6 +104,7 @@ class Settings:
         the window over which the force history is judged
     tolerance : float — relative change of the force over the window that counts as converged
     timeout : float — wall-clock limit of one solver run, s
+    processes : int — MPI processes of one case's solver (decomposePar + mpirun; 1: serial)
     path : str — ``auto`` (a profile at zero incidence takes the axisymmetric wedge) or ``3d``
         (always snappyHexMesh: to compare the two paths on one body)
     """
@@ -124,6 +125,7 @@ class Settings:
     tolerance: float = 2e-3
     timeout: float = 3600.0
     path: str = "auto"
+    processes: int = 1
 
     def __post_init__(self) -> None:
         for name in ("density", "viscosity", "upstream", "downstream", "lateral", "tolerance", "timeout"):
@@ -143,6 +145,7 @@ class Settings:
             ("max_iterations", 10, 1_000_000),
             ("min_iterations", 1, 1_000_000),
             ("window", 5, 1_000_000),
+            ("processes", 1, 1024),
         ):
             v = getattr(self, name)
             if isinstance(v, bool) or not isinstance(v, int) or not lo <= v <= hi:
@@ -264,7 +267,8 @@ class Case:
             "format": CASE_FORMAT,
             "body": self.body.digest(),
             "flow": asdict(self.flow),
-            "settings": {k: v for k, v in asdict(self.settings).items() if k != "timeout"},
+            # the timeout and the number of processes change when a result comes, not what it is
+            "settings": {k: v for k, v in asdict(self.settings).items() if k not in ("timeout", "processes")},
         }
         return hashlib.sha256(json.dumps(data, sort_keys=True).encode()).hexdigest()[:16]
 
@@ -281,7 +285,8 @@ def foamlib() -> Any:
     return foamlib
 
 
-def _foam_file(path: Path, entries: Mapping[str, Any]) -> None:
+def foam_file(path: Path, entries: Mapping[str, Any]) -> None:
+    """Write an OpenFOAM dictionary file with foamlib (folders created)."""
     FoamFile = foamlib().FoamFile  # noqa: N806 -- foamlib's class
 
     path.parent.mkdir(parents=True, exist_ok=True)
@@ -332,16 +337,16 @@ def write_case(case: Case, folder: Path, mesh_dicts: Mapping[str, Mapping[str, A
     centre = case.arm_centre
     U = "U" if centre is None else "Urel"
     for name, entries in mesh_dicts.items():
-        _foam_file(folder / "system" / name, entries)
-    _foam_file(folder / "system" / "controlDict", _control(case))
-    _foam_file(folder / "system" / "fvSchemes", _schemes(model, U))
-    _foam_file(folder / "system" / "fvSolution", _solution(model, U))
+        foam_file(folder / "system" / name, entries)
+    foam_file(folder / "system" / "controlDict", _control(case))
+    foam_file(folder / "system" / "fvSchemes", _schemes(model, U))
+    foam_file(folder / "system" / "fvSolution", _solution(model, U))
     if centre is not None:
         # the rotating arm: the frame turns with the body about the arm's centre (SRFSimpleFoam);
         # the far field is fluid at rest in the absolute frame
         omega = case.rotation
         rate = float(np.linalg.norm(omega))
-        _foam_file(
+        foam_file(
             folder / "constant" / "SRFProperties",
             {
                 "SRFModel": "rpm",
@@ -350,12 +355,12 @@ def write_case(case: Case, folder: Path, mesh_dicts: Mapping[str, Mapping[str, A
                 "rpmCoeffs": {"rpm": rate * 60.0 / (2.0 * math.pi)},
             },
         )
-    _foam_file(folder / "constant" / "transportProperties", {"transportModel": "Newtonian", "nu": s.viscosity})
+    foam_file(folder / "constant" / "transportProperties", {"transportModel": "Newtonian", "nu": s.viscosity})
     if model == "laminar":
         turb: dict[str, Any] = {"simulationType": "laminar"}
     else:
         turb = {"simulationType": "RAS", "RAS": {"RASModel": model, "turbulence": True, "printCoeffs": False}}
-    _foam_file(folder / "constant" / "turbulenceProperties", turb)
+    foam_file(folder / "constant" / "turbulenceProperties", turb)
     # a wedge is built in the profile's own coordinates (nose at the smallest x), where the body
     # moves towards −x: the fluid comes along +x there
     far = np.array([case.flow.speed, 0.0, 0.0]) if wedge else -case.flow.velocity()
@@ -482,6 +487,9 @@ def _control(case: Case) -> dict[str, Any]:
         "timeFormat": "general",
         "timePrecision": 8,
         "runTimeModifiable": True,
+        # hydrokit stops a settled run by editing this file: see the change at once (OpenFOAM's
+        # default ignores changes within 10 s of the last read, which a quick case never outlives)
+        "OptimisationSwitches": {"fileModificationSkew": 0, "fileModificationChecking": "timeStamp"},
         "functions": functions,
     }
 

@@ -72,6 +72,7 @@ class OpenFOAM:
         check: bool = True,
         monitor: Callable[[], bool] | None = None,
         poll: float = 1.0,
+        processes: int = 1,
     ) -> int:
         """Run ``program -case CASE ARGS`` to completion; output goes to ``CASE/log.<program>``.
 
@@ -87,6 +88,8 @@ class OpenFOAM:
             returns True the run is asked to write its state and stop (``stopAt writeNow`` in
             ``system/controlDict``, which a solver re-reads every iteration)
         poll : float — seconds between calls of ``monitor``
+        processes : int — more than 1 runs ``mpirun -np N program -parallel`` on a case that
+            decomposePar has split (OpenFOAM's own MPI, for one big case)
 
         Returns
         -------
@@ -106,13 +109,26 @@ class OpenFOAM:
             )
         logfile = case / (log or f"log.{program}")
         cmd = [str(exe), "-case", str(case), *args]
+        env = self.env()
+        if processes > 1:
+            mpirun = shutil.which("mpirun")
+            if mpirun is None:
+                raise MissingSolverError(
+                    f"{processes} processes need MPI's mpirun, which is not on PATH; expected OpenFOAM's MPI "
+                    f"(it comes with {INSTALL_COMMAND}) or one process"
+                )
+            # as root (containers, CI) Open MPI refuses to start unless told that is intended
+            env.update(
+                OMPI_ALLOW_RUN_AS_ROOT="1", OMPI_ALLOW_RUN_AS_ROOT_CONFIRM="1", OMPI_MCA_rmaps_base_oversubscribe="1"
+            )
+            cmd = [mpirun, "-np", str(processes), *cmd, "-parallel"]
         with open(logfile, "wb") as out:
             proc = subprocess.Popen(
                 cmd,
                 stdout=out,
                 stderr=subprocess.STDOUT,
                 stdin=subprocess.DEVNULL,
-                env=self.env(),
+                env=env,
                 cwd=case,
                 start_new_session=True,  # its own process group: ended as a whole
                 preexec_fn=_die_with_parent,

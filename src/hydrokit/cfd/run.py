@@ -23,7 +23,7 @@ from typing import Any
 import numpy as np
 
 from hydrokit.cfd import history
-from hydrokit.cfd.case import Case, solver, write_case, write_stl
+from hydrokit.cfd.case import Case, foam_file, solver, write_case, write_stl
 from hydrokit.cfd.foam import OpenFOAM, SolverError, find_openfoam
 
 #: force-history points kept in an outcome (for convergence plots)
@@ -193,7 +193,15 @@ def run_case(case: Case, folder: Path, foam: OpenFOAM | None = None) -> dict[str
                 values, window=s.window, min_iterations=s.min_iterations, tolerance=s.tolerance, length=case.body.length
             )
 
-        run(solver(case), monitor=settled)
+        n = case.settings.processes
+        if n > 1:
+            # Debian's OpenFOAM ships scotch as a stub: slabs along the flow instead
+            foam_file(
+                folder / "system" / "decomposeParDict",
+                {"numberOfSubdomains": n, "method": "simple", "simpleCoeffs": {"n": [n, 1, 1], "delta": 0.001}},
+            )
+            run("decomposePar", ("-force",))
+        run(solver(case), monitor=settled, processes=n)
         it, raw = history.read_forces(post)
         values = body_loads(case, raw)
         if len(values) == 0 or not np.all(np.isfinite(values)):

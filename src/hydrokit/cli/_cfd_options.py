@@ -75,6 +75,14 @@ _OPTIONS: list[tuple[tuple[str, ...], dict[str, Any]]] = [
         },
     ),
     (("--timeout",), {"type": Number("s", above=0), "default": 3600.0, "help": "Wall-clock limit per program, s."}),
+    (
+        ("--processes",),
+        {
+            "type": Count(1, 1024),
+            "default": 1,
+            "help": "MPI processes for each case's solver (count; decomposePar + mpirun, for a big case).",
+        },
+    ),
     (("--workers",), {"type": Count(0, 256), "help": "Local Dask worker processes (count; 0 or 1: serial)."}),
     (("--scheduler",), {"help": "Address of a running Dask scheduler, e.g. tcp://127.0.0.1:8786."}),
     (("--keep-cases",), {"is_flag": True, "help": "Keep each OpenFOAM case in OUT/cases/ (to open in ParaView)."}),
@@ -109,6 +117,7 @@ def sweep_inputs(opts: dict[str, Any]) -> tuple[Any, Any]:
         surface_level=opts["surface_level"],
         max_iterations=opts["iterations"],
         timeout=opts["timeout"],
+        processes=opts["processes"],
     )
     rad = lambda v: tuple(math.radians(x) for x in v or ())  # noqa: E731
     spec = SweepSpec(
