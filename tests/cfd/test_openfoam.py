@@ -253,3 +253,14 @@ def test_one_case_on_two_mpi_processes_gives_the_serial_answer(tmp_path):
     assert (tmp_path / "mpi" / "processor1").is_dir() and "decomposePar" in out["foam_times"]
     cd = -out["forces"][0] / (0.5 * _sphere().area)
     assert cd == pytest.approx(_cgw(50.0), rel=0.10)  # the serial test's bound: same mesh, same answer
+
+
+@needs_openfoam
+def test_kept_cases_are_whole_openfoam_cases_and_count_as_cached(tmp_path):
+    case = Case(_sphere(), Flow(1.0), Settings(density=1.0, viscosity=0.02, **TINY), "kept/../x")
+    out = cached_case((case, str(tmp_path / "cache"), str(tmp_path / "cases")))
+    kept = Path(out["case_dir"])
+    assert kept.parent == tmp_path / "cases" and ".." not in kept.name  # a label cannot leave the folder
+    assert (kept / "system" / "controlDict").is_file() and (kept / "log.simpleFoam").is_file()
+    assert (kept / "constant" / "polyMesh" / "owner").exists() or (kept / "constant" / "polyMesh" / "owner.gz").exists()
+    assert cached_case((case, str(tmp_path / "cache"), str(tmp_path / "cases")))["cached"] is True

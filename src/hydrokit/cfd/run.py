@@ -268,7 +268,7 @@ def cached_case(item: tuple[Case, str, str | None]) -> dict[str, Any]:
 
 
 def _case_name(case: Case) -> str:
-    label = re.sub(r"[^A-Za-z0-9_.+-]+", "_", case.label)[:60] or "case"
+    label = re.sub(r"[^A-Za-z0-9_.+-]+|\.{2,}", "_", case.label)[:60].lstrip(".") or "case"
     return f"{label}-{case.key()}"
 
 

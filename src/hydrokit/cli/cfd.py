@@ -19,7 +19,7 @@ def cfd(body: str, **opts: Any) -> None:
 
     BODY: a surface mesh (.stl, .obj; m, body axes x forward, y starboard, z down, origin = moment
     reference point), a body-of-revolution profile (.csv with columns x, r in m; zero incidence runs
-    as an axisymmetric wedge), a geometry file (.yaml) or a bundled body (myring). Writes forces.csv,
+    as an axisymmetric wedge), a geometry file (.yaml) or a bundled body (myring, lingyun). Writes forces.csv,
     resistance.csv, coefficients.yaml, cfd.json and report.html to OUT, all or nothing.
     """
     from hydrokit.api import load_cfd_body
