@@ -164,7 +164,10 @@ def test_bad_input_is_one_line_and_exit_2_before_any_solver_runs(run_cli, tmp_pa
 
 
 @needs_openfoam
-def test_sigterm_ends_the_solver_and_writes_nothing(tmp_path):
+@pytest.mark.parametrize("workers", ["0", "2"])
+def test_sigterm_ends_the_solver_and_writes_nothing(tmp_path, workers):
+    if workers != "0":
+        pytest.importorskip("dask.distributed", reason="Dask is not installed (pip install 'hydrokit[dask]')")
     stl = _stl(
         tmp_path / "s.stl",
         shape_mesh("sphere", 24, diameter=1.0).vertices[shape_mesh("sphere", 24, diameter=1.0).triangles()],
@@ -190,6 +193,8 @@ def test_sigterm_ends_the_solver_and_writes_nothing(tmp_path):
             "100000",
             "--surface-level",
             "2",
+            "--workers",
+            workers,
         ],
         stdout=subprocess.PIPE,
         stderr=subprocess.PIPE,

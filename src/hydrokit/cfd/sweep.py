@@ -17,6 +17,7 @@ scheduler) and is cached by the hash of its inputs (:func:`hydrokit.cfd.run.cach
 from __future__ import annotations
 
 import math
+import shutil
 import time
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field, replace
@@ -326,13 +327,20 @@ def run_sweep(
     cases = cases if cases is not None else make_cases(body, spec, settings)
     cache_dir.mkdir(parents=True, exist_ok=True)
     items = [(c, str(cache_dir), None if keep_dir is None else str(keep_dir)) for c in cases]
-    if mapper is not None:
-        outcomes = mapper(cached_case, items, progress)
-        where = str(getattr(mapper, "description", "the caller's executor"))
-    else:
-        with Executor(workers, scheduler) as ex:
-            outcomes = ex.map(cached_case, items, progress=progress)
-            where = ex.description
+    try:
+        if mapper is not None:
+            outcomes = mapper(cached_case, items, progress)
+            where = str(getattr(mapper, "description", "the caller's executor"))
+        else:
+            with Executor(workers, scheduler) as ex:
+                outcomes = ex.map(cached_case, items, progress=progress)
+                where = ex.description
+    except BaseException:
+        # a signal or an error tore the workers down mid-case: their case folders are half-made
+        # (a serial run removes its own); the cache keeps only whole outcomes
+        for c in cases:
+            shutil.rmtree(cache_dir / f"run-{c.key()}", ignore_errors=True)
+        raise
     return assemble(body, spec, settings, outcomes, executor=where, wall_time=time.perf_counter() - started)
 
 
