@@ -122,6 +122,12 @@ class OpenFOAM:
                 OMPI_ALLOW_RUN_AS_ROOT="1", OMPI_ALLOW_RUN_AS_ROOT_CONFIRM="1", OMPI_MCA_rmaps_base_oversubscribe="1"
             )
             cmd = [mpirun, "-np", str(processes), *cmd, "-parallel"]
+        # SIGTERM the program when the thread that started it dies (a Dask worker torn down
+        # mid-task), so no solver outlives hydrokit: util-linux's setpriv sets PR_SET_PDEATHSIG
+        # and execs it (a preexec_fn would do the same but may deadlock when threads run)
+        setpriv = shutil.which("setpriv")
+        if setpriv is not None:
+            cmd = [setpriv, "--pdeathsig", "TERM", *cmd]
         with open(logfile, "wb") as out:
             proc = subprocess.Popen(
                 cmd,
@@ -131,7 +137,6 @@ class OpenFOAM:
                 env=env,
                 cwd=case,
                 start_new_session=True,  # its own process group: ended as a whole
-                preexec_fn=_die_with_parent,
             )
             start = time.monotonic()
             stopping = False
@@ -159,15 +164,6 @@ class OpenFOAM:
         if status != 0 and check:
             raise SolverError(f"{program} failed (exit {status}): {fatal_reason(logfile)} (log: {logfile})")
         return status
-
-
-def _die_with_parent() -> None:
-    """In the child before exec (Linux): SIGTERM it when the process that started it dies, so a
-    solver never outlives a Dask worker that is torn down mid-task."""
-    with contextlib.suppress(Exception):
-        import ctypes
-
-        ctypes.CDLL("libc.so.6", use_errno=True).prctl(1, signal.SIGTERM)  # PR_SET_PDEATHSIG
 
 
 def stop_now(case: Path) -> None:
