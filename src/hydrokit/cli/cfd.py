@@ -83,9 +83,9 @@ def _run(
             while not stop.wait(1.0):
                 for key, (it, top) in running_iterations(cache).items():
                     if key not in per_case and key in labels:
-                        per_case[key] = bar.add_task(f"  {labels[key]}", total=top)
-                    if key in per_case:
-                        bar.update(per_case[key], completed=it)
+                        per_case[key] = bar.add_task(f"  {labels[key]}", total=None)
+                    if key in per_case:  # the most iterations are known once controlDict is written
+                        bar.update(per_case[key], completed=it, total=top or None)
 
         watcher = threading.Thread(target=poll, daemon=True)
         watcher.start()
