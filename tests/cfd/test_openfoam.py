@@ -88,7 +88,7 @@ def test_a_drifting_spheroid_feels_a_side_force_against_v_and_a_munk_moment(tmp_
     x, r = 0.5 * (1 - np.cos(t)) - 0.5, 0.125 * np.sin(t)  # 4:1 spheroid centred at the origin
     r[0] = r[-1] = 0.0
     body = profile_body(x, r, "spheroid")
-    settings = Settings(density=1.0, viscosity=0.01, **{**TINY, "surface_level": 3})
+    settings = Settings(density=1.0, viscosity=0.01, **{**TINY, "surface_level": 1})  # 1 + 2 for L/d = 4
     out = cached_case((Case(body, Flow(1.0, drift=math.radians(10)), settings, "b10"), str(tmp_path), None))
     assert out["path"] == "3d" and out["status"] != "failed"
     X, Y, _, _, _, N = out["forces"]

@@ -245,3 +245,31 @@ def test_the_bundled_bodies_are_the_shapes_their_files_describe():
     assert lingyun.length == pytest.approx(1.25) and lingyun.area == pytest.approx(0.47 * 0.93, rel=0.01)
     with pytest.raises(InputError, match="bundled: lingyun, myring"):
         load_cfd_body("remus")
+
+
+def test_a_slender_body_is_refined_until_its_diameter_is_resolved_like_a_spheres():
+    from hydrokit.api import load_cfd_body
+    from hydrokit.cfd.mesh3d import surface_level
+    from hydrokit.estimate.bem import shape_mesh
+
+    m = shape_mesh("sphere", 24, diameter=1.0)
+    from hydrokit.cfd.body import mesh_body
+
+    sphere = Case(mesh_body(m.vertices[m.triangles()], "s"), Flow(1.0), Settings(surface_level=4))
+    myring = Case(load_cfd_body("myring"), Flow(1.0, drift=0.1), Settings(surface_level=4))
+    assert surface_level(sphere) == 4
+    # L/d = 1.386/0.191 = 7.26: round(log2) = 3 more halvings, so the surface cell is a 32nd of d
+    assert surface_level(myring) == 7
+
+
+def test_the_progress_reader_finds_running_cases_and_their_iteration(tmp_path):
+    from hydrokit.cfd.case import foam_file
+    from hydrokit.cfd.run import running_iterations
+
+    run = tmp_path / "run-abc123"
+    foam_file(run / "system" / "controlDict", {"application": "simpleFoam", "endTime": 1500})
+    dat = run / "postProcessing" / "forces" / "0" / "force.dat"
+    dat.parent.mkdir(parents=True)
+    dat.write_text("# Force\n# Time (total)\n1\t(-1 0 0)\n2\t(-1 0 0)\n37\t(-1 0 0)\n38\t(-1 0")
+    (tmp_path / "run-def456").mkdir()  # just made: nothing written yet
+    assert running_iterations(tmp_path) == {"abc123": (38, 1500), "def456": (0, 0)}

@@ -286,13 +286,16 @@ def foamlib() -> Any:
 
 
 def foam_file(path: Path, entries: Mapping[str, Any]) -> None:
-    """Write an OpenFOAM dictionary file with foamlib (folders created)."""
+    """Write an OpenFOAM dictionary file with foamlib, serialised in one go (folders created).
+
+    Entry by entry, foamlib re-parses the file for every key, and in a Dask worker that once
+    failed inside foamlib (``BufferError: Existing exports of data``) on a large snappyHexMeshDict.
+    """
     FoamFile = foamlib().FoamFile  # noqa: N806 -- foamlib's class
 
     path.parent.mkdir(parents=True, exist_ok=True)
-    f = FoamFile(path)
-    for k, v in entries.items():
-        f[k] = v
+    header = {"version": 2.0, "format": "ascii", "class": "dictionary", "object": path.name}
+    path.write_bytes(FoamFile.dumps({"FoamFile": header, **entries}, ensure_header=False))
 
 
 def _vec(v: np.ndarray | tuple[float, ...]) -> list[float]:

@@ -5,7 +5,8 @@ behind it and ``lateral`` to each side, above and below; its six faces form the 
 ``farfield``. The background cell is L / (base_cells · √2^(grid−1)) — grid levels 1, 2, 3 are
 a refinement triplet with a constant ratio √2 — and snappyHexMesh refines to
 ``surface_level`` more halvings at the body, ``surface_level − 1`` in a box around the body
-and ``surface_level − 2`` in the near wake, with ``layers`` prism layers on the body.
+and ``surface_level − 2`` in the near wake, with ``layers`` prism layers on the body; a slender
+body gets more levels, so its diameter is resolved like a sphere's (:func:`surface_level`).
 """
 
 from __future__ import annotations
@@ -25,6 +26,22 @@ def surface_names(case: Case) -> list[str]:
     """STL and patch names of the body's surfaces: ``body``, or ``body_0`` … for several parts."""
     n = len(case.body.surfaces())
     return ["body"] if n == 1 else [f"body_{i}" for i in range(n)]
+
+
+def smallest_extent(case: Case) -> float:
+    """The body's smallest bounding-box extent, m (a slender hull's diameter)."""
+    lo, hi = case.body.bounds()
+    return float(min(hi - lo))
+
+
+def surface_level(case: Case) -> int:
+    """snappyHexMesh's level at the body: ``surface_level`` halvings of the background cell, plus
+    one per halving of the body length needed to reach its smallest extent (round(log2(L/d))),
+    so a slender hull gets as many cells across its diameter as a sphere across its own (a 7:1
+    Myring hull: 3 more levels). The near box (¼ d around the body) is one level coarser, the
+    wake box (1.5 L along the flow, ±0.4 d) two."""
+    extra = max(0, round(math.log2(case.body.length / max(smallest_extent(case), 1e-300))))
+    return case.settings.surface_level + extra
 
 
 def cell_size(case: Case) -> float:
@@ -89,13 +106,14 @@ def mesh_dicts(case: Case) -> dict[str, dict[str, Any]]:
         for n in names
     }
     blo, bhi = case.body.bounds()
-    near_lo, near_hi = blo - 0.25 * L, bhi + 0.25 * L
+    d = smallest_extent(case)
+    near_lo, near_hi = blo - 0.25 * d, bhi + 0.25 * d
     # the near wake follows the flow: extend the box along the far-field velocity
     direction = -case.flow.velocity() / case.flow.speed
     wake_end = (blo + bhi) / 2 + direction * 1.5 * L
-    wake_lo = np.minimum(near_lo, wake_end - 0.4 * L)
-    wake_hi = np.maximum(near_hi, wake_end + 0.4 * L)
-    lvl = s.surface_level
+    wake_lo = np.minimum(near_lo, wake_end - 0.4 * d)
+    wake_hi = np.maximum(near_hi, wake_end + 0.4 * d)
+    lvl = surface_level(case)
     inside = lo + _INSIDE * (hi - lo)
     inside[0] = lo[0] + 0.37 * (blo[0] - lo[0]) + 0.0137 * h
     snappy = {
@@ -187,9 +205,8 @@ def estimate_cells(case: Case) -> int:
     h = cell_size(case)
     total = float(np.prod((hi - lo) / h))
     blo, bhi = case.body.bounds()
-    L = case.body.length
-    near = float(np.prod(bhi - blo + 0.5 * L))
-    lvl = s.surface_level
+    near = float(np.prod(bhi - blo + 0.5 * smallest_extent(case)))
+    lvl = surface_level(case)
     if lvl >= 1:
         total += near / h**3 * (8 ** max(0, lvl - 1) - 1)
     area = sum(

@@ -288,7 +288,7 @@ def running_iterations(cache_dir: Path) -> dict[str, tuple[int, int]]:
         key = run.name[4:]
         top = 0
         with contextlib.suppress(OSError, ValueError):
-            m = re.search(r"^\s*endTime\s+(\d+)", (run / "system" / "controlDict").read_text(), re.MULTILINE)
+            m = re.search(r"\bendTime\s+(\d+)", (run / "system" / "controlDict").read_text())
             top = int(m.group(1)) if m else 0
         done = 0
         for dat in run.glob("postProcessing/forces/*/force.dat"):
