@@ -60,6 +60,14 @@ def myring(
     return x, r
 
 
+def sphere(diameter: float = 1.0, n: int = 61) -> tuple[np.ndarray, np.ndarray]:
+    """A sphere, sampled evenly in the polar angle: both ends blunt (the C grid wraps both)."""
+    t = np.linspace(0.0, math.pi, n)
+    r = 0.5 * diameter * np.sin(t)
+    r[[0, -1]] = 0.0
+    return 0.5 * diameter * (1.0 - np.cos(t)), r
+
+
 def spheroid_area(a: float, b: float) -> float:
     """Surface of a prolate spheroid, semi-axes a > b: 2πb² (1 + a/(b e) arcsin e), e² = 1 − b²/a²."""
     e = math.sqrt(1.0 - (b / a) ** 2)
@@ -85,7 +93,7 @@ def _write(path: Path, entries: dict) -> None:
         f[key] = value
 
 
-def build(case: Path, x: np.ndarray, r: np.ndarray, level: int = 1) -> Built:
+def build(case: Path, x: np.ndarray, r: np.ndarray, level: int = 1, **domain: float) -> Built:
     (case / "system").mkdir(parents=True)
     # writePrecision 15: at the default 6 digits the wedge sides stop being planar (checkMesh warns)
     _write(
@@ -97,7 +105,7 @@ def build(case: Path, x: np.ndarray, r: np.ndarray, level: int = 1) -> Built:
     _write(case / "system" / "fvSchemes", dict.fromkeys(schemes, {}))
     _write(case / "system" / "fvSolution", {"solvers": {}})
     h = first_cell_height(float(x[-1] - x[0]), RE_L, 1.0)
-    mesh = blockmesh_dict(x, r, first_cell=h, level=level, wedge_deg=WEDGE_DEG)
+    mesh = blockmesh_dict(x, r, first_cell=h, level=level, wedge_deg=WEDGE_DEG, **domain)
     _write(case / "system" / "blockMeshDict", mesh)
     env = dict(os.environ, WM_PROJECT_DIR="/usr/share/openfoam")
     outputs = []
@@ -250,6 +258,22 @@ def test_blunt_and_pointed_ends_mesh_cleanly(body, tmp_path: Path):
     assert checkmesh_value(built.check, "non-orthogonality Max:") < 45.0
 
 
+@pytest.mark.cfd
+@needs_openfoam
+@pytest.mark.parametrize("body", [sphere, myring])
+@pytest.mark.parametrize(("upstream", "downstream", "radial"), [(10.0, 20.0, 15.0), (2.0, 4.0, 4.0)])
+def test_large_domains_mesh_cleanly(body, upstream: float, downstream: float, radial: float, tmp_path: Path):
+    # the outward Bézier edges once reached 0.3 × their chord along the wall normal, so on a
+    # domain large against the body they fanned out and crossed (a sphere at 10, 20, 15 body
+    # lengths had inverted cells, non-orthogonality 144° and skewness 82)
+    domain = {"upstream": upstream, "downstream": downstream, "radial": radial}
+    built = build(tmp_path / body.__name__, *body(), **domain)
+    assert "Mesh OK." in built.check
+    assert int(checkmesh_value(built.check, "cells:")) == built.asked
+    assert checkmesh_value(built.check, "non-orthogonality Max:") < 70.0
+    assert checkmesh_value(built.check, "Max skewness =") < 4.0
+
+
 # --- pure Python --------------------------------------------------------------------------------
 
 
@@ -304,11 +328,25 @@ def test_refused_profiles(change, match):
         ({"first_cell": 1e-4, "wedge_deg": 90.0}, "wedge_deg = 90.0"),
         ({"first_cell": 1e-4, "radial": 0.1}, "radial = 0.1"),
         ({"first_cell": 1e-4, "upstream": -1.0}, "upstream = -1.0"),
+        # domains too flat or too tall at an end for the C wrap (checkMesh: skewness > 4)
+        ({"first_cell": 1e-4, "upstream": 1.5, "radial": 6.0}, r"radial = 6.0 with upstream = 1.5.*2.5 × upstream"),
+        (
+            {"first_cell": 1e-4, "upstream": 10.0, "downstream": 3.0, "radial": 15.0},
+            r"radial = 15.0 with downstream = 3.0",
+        ),
+        ({"first_cell": 1e-4, "downstream": 12.0, "radial": 1.5}, r"downstream = 12.0 with radial = 1.5.*4 × radial"),
+        ({"first_cell": 1e-4, "upstream": 10.0, "radial": 1.5}, r"upstream = 10.0 with radial = 1.5.*blunt nose"),
     ],
 )
 def test_refused_options(options, match):
     with pytest.raises(InputError, match=match):
         blockmesh_dict(*spheroid(), **options)
+
+
+def test_a_pointed_tail_takes_a_long_wake_on_a_narrow_domain():
+    # the 4 × radial limit is the quarter ellipse's: a Myring's pointed tail ends in a flat outlet
+    mesh = blockmesh_dict(*myring(), first_cell=1e-4, upstream=1.5, downstream=20.0, radial=1.5)
+    assert cell_count(mesh) > 0
 
 
 @pytest.mark.parametrize("body", [spheroid, myring])

@@ -19,10 +19,16 @@ plane (the outer line then goes straight on to meet it).
 
 The grid is cut into blocks along the body wherever the wall normal has turned by more than
 ``_MAX_TURN`` or a block has ``_MAX_BLOCK_CELLS`` cells; at every cut the block edge leaves the
-wall along the wall normal (a quadratic Bézier curve written as a ``polyLine``), so interior grid
-lines, which blockMesh interpolates between block edges, stay close to wall-normal near the
+wall along the wall normal (a quadratic Bézier curve written as a ``polyLine``, bending towards
+its outer end within about a body length of the wall, so the edges fan out without crossing
+however large the domain), so interior grid lines, which blockMesh interpolates between block edges, stay close to wall-normal near the
 body. Each outward edge is graded on its own so its first cell is ``first_cell`` high; the body
 edges are ``polyLine`` s through the profile points, so the wall is the profile itself.
+
+Domains with very flat or very tall ends are refused rather than meshed badly: ``radial`` at most
+2.5 × ``upstream`` and 2.5 × ``downstream``, and at a blunt end ``upstream`` or ``downstream`` at
+most 4 × ``radial`` (checked with checkMesh for a sphere, 2:1 and 6:1 spheroids and a Myring hull
+from 1.5 to 20 body lengths).
 
 Patches: ``body`` (wall), ``farfield`` (patch: inlet, outlet and outer boundary together),
 ``front`` and ``back`` (wedge).
@@ -55,6 +61,15 @@ _EDGE_POINTS = 24
 #: share of the outer-boundary spacing that follows the cell count (the rest follows the
 #: body zones: nose → upstream quarter ellipse, mid-body → top line, tail → downstream ellipse)
 _OUTER_UNIFORM = 0.25
+#: control-point distance of an outward Bézier edge, as a share of its chord and at most of L
+_BEZIER_REACH = 0.3
+#: most radial / upstream and radial / downstream: beyond it the outward grid lines meet the outer
+#: boundary ahead of the nose or behind the tail at grazing angles (skewness > 4, non-orthogonality
+#: > 70°)
+_MAX_RADIAL_PER_END = 2.5
+#: most upstream / radial (downstream / radial) at a blunt nose (tail): beyond it the quarter
+#: ellipse there is too flat for the C wrap's end block
+_MAX_END_PER_RADIAL = 4.0
 #: an end whose half-angle is below this is pointed (gets its own block on the axis), rad
 _POINTED = math.radians(45.0)
 #: at a pointed end the C grid ends on the top line this far (× outer radius) beyond the tip
@@ -178,7 +193,10 @@ def blockmesh_dict(
         (a ValueError) naming the bad value: a profile with fewer than 5 points, non-finite
         values, x not strictly increasing, r < 0, not closed at both ends or touching the axis
         between them; a non-positive or non-finite size; a level that is not an integer ≥ 1; a
-        wedge angle outside (0°, 45°]; an outer radius that does not clear the body.
+        wedge angle outside (0°, 45°]; an outer radius that does not clear the body; a domain whose
+        proportions the C wrap cannot mesh cleanly: ``radial`` more than 2.5 × ``upstream`` or
+        2.5 × ``downstream``, or ``upstream`` (``downstream``) more than 4 × ``radial`` at a blunt
+        nose (tail).
 
     Notes
     -----
@@ -220,6 +238,7 @@ def blockmesh_dict(
     nose, tail = body.p[1] - body.p[0], body.p[-2] - body.p[-1]
     pointed_nose = math.atan2(nose[1], nose[0]) < _POINTED
     pointed = math.atan2(tail[1], -tail[0]) < _POINTED
+    _check_domain(upstream, downstream, radial, blunt_nose=not pointed_nose, blunt_tail=not pointed)
     outer = _Stadium(
         x0, length, upstream * length, downstream * length, r_out, flat_inlet=pointed_nose, flat_outlet=pointed
     )
@@ -241,7 +260,7 @@ def blockmesh_dict(
         if (k == 0 and not pointed_nose) or (k == len(cuts) - 1 and not pointed):
             j_edges.append(np.array([pb, po]))
         else:
-            j_edges.append(_bezier(pb, body.normal(s_nodes[cuts[k]]), po))
+            j_edges.append(_bezier(pb, body.normal(s_nodes[cuts[k]]), po, length))
     j_lengths = [_Polyline(e).length for e in j_edges]
 
     # --- cells across: from the longest outward edge at level 1, then refined ---------------
@@ -422,6 +441,23 @@ def _positive(name: str, value: object) -> None:
         raise InputError(f"{name} = {value!r}: expected a finite number > 0")
 
 
+def _check_domain(upstream: float, downstream: float, radial: float, *, blunt_nose: bool, blunt_tail: bool) -> None:
+    """Refuse the domain proportions the C wrap cannot mesh cleanly (checkMesh fails or warns)."""
+    for name, value in (("upstream", upstream), ("downstream", downstream)):
+        if radial > _MAX_RADIAL_PER_END * value:
+            raise InputError(
+                f"radial = {radial!r} with {name} = {value!r}: the outer radius may be at most "
+                f"{_MAX_RADIAL_PER_END:g} × {name} (body lengths), or the cells near the outer boundary are too skewed"
+            )
+    for name, value, blunt in (("upstream", upstream, blunt_nose), ("downstream", downstream, blunt_tail)):
+        if blunt and value > _MAX_END_PER_RADIAL * radial:
+            end = "nose" if name == "upstream" else "tail"
+            raise InputError(
+                f"{name} = {value!r} with radial = {radial!r}: at a blunt {end} {name} may be at most "
+                f"{_MAX_END_PER_RADIAL:g} × radial (body lengths), or the cells at the {end} are too skewed"
+            )
+
+
 def _validate_profile(x: np.ndarray, r: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     try:
         x = np.asarray(x, dtype=float)
@@ -547,9 +583,16 @@ class _Stadium(_Polyline):
         return (self.s_top + (x - self.x0)) / self.length
 
 
-def _bezier(p0: np.ndarray, n0: np.ndarray, p2: np.ndarray) -> np.ndarray:
-    """Quadratic Bézier from p0, leaving along n0, to p2 (a block edge normal to the wall)."""
-    p1 = p0 + 0.3 * float(np.hypot(*(p2 - p0))) * n0
+def _bezier(p0: np.ndarray, n0: np.ndarray, p2: np.ndarray, length: float) -> np.ndarray:
+    """Quadratic Bézier from p0, leaving along n0, to p2 (a block edge normal to the wall).
+
+    Its control point lies ``_BEZIER_REACH`` of the edge's chord along n0, but no further than
+    ``_BEZIER_REACH × length`` (the body length): on a domain large against the body, the
+    neighbouring edges' normals fan out far faster than their outer ends are spread, and
+    control points that far out made the edges cross each other (inverted cells).
+    """
+    reach = _BEZIER_REACH * min(float(np.hypot(*(p2 - p0))), length)
+    p1 = p0 + reach * n0
     t = np.linspace(0.0, 1.0, _EDGE_POINTS)[:, None]
     return (1 - t) ** 2 * p0 + 2 * t * (1 - t) * p1 + t**2 * p2
 
