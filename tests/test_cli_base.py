@@ -9,6 +9,7 @@ import sys
 # sorted order click lists them
 COMMANDS = [
     "allocate",
+    "cfd",
     "demo",
     "estimate",
     "export",

@@ -204,6 +204,12 @@ def run_case(case: Case, folder: Path, foam: OpenFOAM | None = None) -> dict[str
         run(solver(case), monitor=settled, processes=n)
         it, raw = history.read_forces(post)
         values = body_loads(case, raw)
+        if len(values) and not np.any(values):
+            # every load exactly zero: the mesher kept no face of the body (a surface it could not
+            # refine into, or a region choice that dropped it); a converged zero is no answer
+            raise SolverError(
+                f"the body has no faces in the mesh (all loads are 0); see {folder / 'log.snappyHexMesh'}"
+            )
         if len(values) == 0 or not np.all(np.isfinite(values)):
             raise SolverError(f"the solver wrote no finite forces (diverged?) (log: {folder / f'log.{solver(case)}'})")
         j = history.judge(
