@@ -203,10 +203,12 @@ def test_sigterm_ends_the_solver_and_writes_nothing(tmp_path, workers):
     )
     deadline = time.monotonic() + 60
     running = False
-    while time.monotonic() < deadline and not running:
+    while time.monotonic() < deadline and not running and proc.poll() is None:
         running = subprocess.run(["pgrep", "-f", f"simpleFoam -case {out}"], capture_output=True).returncode == 0
         time.sleep(0.2)
-    assert running, "simpleFoam never started"
+    if not running:  # ended early (an internal error) or still meshing: show what it printed
+        proc.kill()
+        assert running, f"simpleFoam never started; hydrokit printed: {proc.communicate()[1][-2000:]}"
     proc.send_signal(signal.SIGTERM)
     _, err = proc.communicate(timeout=30)
     assert proc.returncode == 143

@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 from scipy.optimize import curve_fit
 
-from hydrokit.cfd.body import box, check_profile, geometry_body, profile_body, projected_area, revolve
+from hydrokit.cfd.body import box, check_profile, geometry_body, mesh_body, profile_body, projected_area, revolve
 from hydrokit.cfd.case import Case, Flow, Settings
 from hydrokit.cfd.sweep import SweepSpec, assemble, make_cases
 from hydrokit.errors import InputError
@@ -273,3 +273,26 @@ def test_the_progress_reader_finds_running_cases_and_their_iteration(tmp_path):
     dat.write_text("# Force\n# Time (total)\n1\t(-1 0 0)\n2\t(-1 0 0)\n37\t(-1 0 0)\n38\t(-1 0")
     (tmp_path / "run-def456").mkdir()  # just made: nothing written yet
     assert running_iterations(tmp_path) == {"abc123": (38, 1500), "def456": (0, 0)}
+
+
+def test_stop_now_rewrites_only_stop_at_and_the_field_files_parse_back(tmp_path):
+    import foamlib
+
+    from hydrokit.cfd.case import write_case
+    from hydrokit.cfd.foam import stop_now
+
+    case = Case(mesh_body(box(1.0, 0.5, 0.4), "b"), Flow(1.0), Settings())
+    write_case(case, tmp_path, {})
+    before = foamlib.FoamFile.loads((tmp_path / "system" / "controlDict").read_bytes())
+    stop_now(tmp_path)
+    after = foamlib.FoamFile.loads((tmp_path / "system" / "controlDict").read_bytes(), include_header=True)
+    assert after["stopAt"] == "writeNow" and before["stopAt"] != "writeNow"
+    assert {k: v for k, v in after.items() if k not in ("stopAt", "FoamFile")} == {
+        k: v for k, v in before.items() if k != "stopAt"
+    }
+    assert after["FoamFile"]["object"] == "controlDict"
+    assert not list((tmp_path / "system").glob(".*tmp"))
+    u = foamlib.FoamFile.loads((tmp_path / "0" / "U").read_bytes(), include_header=True)
+    assert u["FoamFile"]["class"] == "volVectorField"
+    assert list(u["internalField"]) == pytest.approx([-1.0, 0.0, 0.0])  # the body moves +x: water comes at it
+    assert "farfield" in u["boundaryField"]

@@ -285,16 +285,17 @@ def foamlib() -> Any:
     return foamlib
 
 
-def foam_file(path: Path, entries: Mapping[str, Any]) -> None:
-    """Write an OpenFOAM dictionary file with foamlib, serialised in one go (folders created).
+def foam_file(path: Path, entries: Mapping[str, Any], cls: str = "dictionary") -> None:
+    """Write an OpenFOAM file of class ``cls`` with foamlib, serialised in one go (folders created).
 
-    Entry by entry, foamlib re-parses the file for every key, and in a Dask worker that once
-    failed inside foamlib (``BufferError: Existing exports of data``) on a large snappyHexMeshDict.
+    Never entry by entry: foamlib then re-parses the file for every key, and with Dask workers
+    that fails now and then inside foamlib (``BufferError: Existing exports of data``; seen on a
+    snappyHexMeshDict and on the 0/ field files).
     """
     FoamFile = foamlib().FoamFile  # noqa: N806 -- foamlib's class
 
     path.parent.mkdir(parents=True, exist_ok=True)
-    header = {"version": 2.0, "format": "ascii", "class": "dictionary", "object": path.name}
+    header = {"version": 2.0, "format": "ascii", "class": cls, "object": path.name}
     path.write_bytes(FoamFile.dumps({"FoamFile": header, **entries}, ensure_header=False))
 
 
@@ -418,14 +419,8 @@ def write_case(case: Case, folder: Path, mesh_dicts: Mapping[str, Mapping[str, A
 
 
 def _field_file(path: Path, cls: str, dims: list[int], internal: Any, boundary: dict[str, Any]) -> None:
-    fl = foamlib()
-    DimensionSet, FoamFile = fl.DimensionSet, fl.FoamFile  # noqa: N806 -- foamlib's classes
-    path.parent.mkdir(parents=True, exist_ok=True)
-    f = FoamFile(path)
-    f["FoamFile"] = {"version": 2.0, "format": "ascii", "class": cls, "object": path.name}
-    f["dimensions"] = DimensionSet(*dims)
-    f["internalField"] = internal
-    f["boundaryField"] = boundary
+    DimensionSet = foamlib().DimensionSet  # noqa: N806 -- foamlib's class
+    foam_file(path, {"dimensions": DimensionSet(*dims), "internalField": internal, "boundaryField": boundary}, cls)
 
 
 def solver(case: Case) -> str:

@@ -167,10 +167,20 @@ class OpenFOAM:
 
 
 def stop_now(case: Path) -> None:
-    """Ask a running solver to write its current state and stop after this iteration."""
+    """Ask a running solver to write its current state and stop after this iteration.
+
+    The controlDict is parsed and written whole (foamlib's in-place edit fails now and then with
+    a ``BufferError`` under Dask) and replaced by a rename, so the solver never reads half a file.
+    """
     from hydrokit.cfd.case import foamlib
 
-    foamlib().FoamFile(case / "system" / "controlDict")["stopAt"] = "writeNow"
+    FoamFile = foamlib().FoamFile  # noqa: N806 -- foamlib's class
+    path = case / "system" / "controlDict"
+    entries = dict(FoamFile.loads(path.read_bytes(), include_header=True))
+    entries["stopAt"] = "writeNow"
+    tmp = path.with_name(".controlDict.tmp")
+    tmp.write_bytes(FoamFile.dumps(entries, ensure_header=False))
+    os.replace(tmp, path)
 
 
 def end_process_group(proc: subprocess.Popen[bytes]) -> None:
