@@ -105,6 +105,21 @@ def test_a_drifting_spheroid_feels_a_side_force_against_v_and_a_munk_moment(tmp_
 
 
 @needs_openfoam
+def test_a_hull_thinner_than_the_background_cell_is_kept_by_the_mesher(tmp_path):
+    # the bundled Myring: d = 0.19 m in 0.69 m background cells. Without the distance bands
+    # around the body snappyHexMesh lost it between cell-centre lines and every load was 0
+    from hydrokit.api import load_cfd_body
+
+    body = load_cfd_body("myring")
+    settings = Settings(density=1.0, viscosity=0.01, **TINY)
+    out = cached_case((Case(body, Flow(1.0, drift=math.radians(5)), settings, "m5"), str(tmp_path), None))
+    assert out["status"] != "failed", out.get("reason")
+    X, Y = out["forces"][:2]
+    assert X < 0 and Y < 0  # drag against u, side force against v > 0
+    assert out["mesh"]["cells"] > 2 * 3380  # the background box alone had 3380 cells
+
+
+@needs_openfoam
 def test_a_failed_case_is_marked_and_the_others_finish(tmp_path):
     body = _sphere()
     good = Case(body, Flow(1.0), Settings(density=1.0, viscosity=0.02, **TINY), "good")

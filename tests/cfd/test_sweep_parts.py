@@ -296,3 +296,23 @@ def test_stop_now_rewrites_only_stop_at_and_the_field_files_parse_back(tmp_path)
     assert u["FoamFile"]["class"] == "volVectorField"
     assert list(u["internalField"]) == pytest.approx([-1.0, 0.0, 0.0])  # the body moves +x: water comes at it
     assert "farfield" in u["boundaryField"]
+
+
+def test_capture_bands_refine_every_cell_the_body_touches_down_to_the_surface_level():
+    from hydrokit.cfd.mesh3d import capture_bands
+
+    h = 0.7
+    bands = capture_bands(h, 3)
+    assert [b[1] for b in bands] == [3, 2, 1]  # finest first, as snappyHexMesh reads them
+    for dist, k in bands:
+        # a level-(k−1) cell touched by the body has its centre within √3/2 of its size of the
+        # surface: the band of level k must reach that far
+        assert dist >= math.sqrt(3) / 2 * h / 2 ** (k - 1)
+        assert dist <= 2.0 * h / 2**k * 1.0001  # and no further than two cells of its level
+    from hydrokit.api import load_cfd_body
+    from hydrokit.cfd.mesh3d import mesh_dicts, surface_level
+
+    case = Case(load_cfd_body("myring"), Flow(1.0), Settings())
+
+    regions = mesh_dicts(case)["snappyHexMeshDict"]["castellatedMeshControls"]["refinementRegions"]
+    assert regions["body"] == {"mode": "distance", "levels": capture_bands(case.body.length / 2, surface_level(case))}

@@ -44,6 +44,20 @@ def surface_level(case: Case) -> int:
     return case.settings.surface_level + extra
 
 
+def capture_bands(h: float, level: int) -> list[list[float]]:
+    """snappyHexMesh distance bands around the body that find it however thin it is: level k
+    within one level-(k−1) cell, 2·h/2^k, of the surface (h: background cell size, m).
+
+    snappyHexMesh sees a surface only where it cuts a line between neighbouring cell centres;
+    a body thinner than the background cell (a 0.19 m Myring hull in 0.69 m cells) can lie
+    between those lines once they are refined, and the mesher then drops it whole (all loads 0).
+    A distance band is measured from each cell centre to the nearest surface point, which is
+    at most half a cell diagonal (0.87 cell) away from any cell the body touches, so every
+    cell the body touches is refined level by level down to ``level``.
+    """
+    return [[2.0 * h / 2.0**k, k] for k in range(level, 0, -1)]
+
+
 def cell_size(case: Case) -> float:
     """Background cell size, m."""
     s = case.settings
@@ -135,6 +149,7 @@ def mesh_dicts(case: Case) -> dict[str, dict[str, Any]]:
             "refinementSurfaces": {n: {"level": [lvl, lvl], "patchInfo": {"type": "wall"}} for n in names},
             "resolveFeatureAngle": 30,
             "refinementRegions": {
+                **{n: {"mode": "distance", "levels": capture_bands(h, lvl)} for n in names},
                 "near": {"mode": "inside", "levels": [[1e15, max(0, lvl - 1)]]},
                 "wake": {"mode": "inside", "levels": [[1e15, max(0, lvl - 2)]]},
             },
