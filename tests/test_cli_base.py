@@ -5,6 +5,8 @@ from __future__ import annotations
 import subprocess
 import sys
 
+import pytest
+
 # every command (README "Quick start" and "More commands"; tune in docs/control.md), in the
 # sorted order click lists them
 COMMANDS = [
@@ -58,3 +60,26 @@ def test_help_does_not_import_heavy_modules() -> None:
     res = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=False)
     assert res.returncode == 0
     assert res.stdout.strip().endswith("[]"), res.stdout
+
+
+@pytest.mark.parametrize(("code", "ends"), [(143, "os._exit"), (130, "os._exit"), (2, "sys.exit"), (0, "sys.exit")])
+def test_an_interrupted_program_ends_without_interpreter_teardown(monkeypatch, code, ends) -> None:
+    # after a signal the outputs are already cleaned up; teardown is where an interrupted numba
+    # compile crashed (exit −11 instead of 143). Plain exits keep the normal path (atexit etc.)
+    import hydrokit.cli.entry as m
+
+    calls: list[tuple[str, int]] = []
+
+    def ending(name: str):
+        def end(c: int) -> None:
+            calls.append((name, c))
+            raise SystemExit(c)  # neither returns
+
+        return end
+
+    monkeypatch.setattr(m, "main", lambda: code)
+    monkeypatch.setattr(m.os, "_exit", ending("os._exit"))
+    monkeypatch.setattr(m.sys, "exit", ending("sys.exit"))
+    with pytest.raises(SystemExit):
+        m.entry()
+    assert calls == [(ends, code)]

@@ -1,3 +1,3 @@
-from hydrokit.cli.main import main
+from hydrokit.cli.entry import entry
 
-raise SystemExit(main())
+entry()
