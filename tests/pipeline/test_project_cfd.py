@@ -102,3 +102,33 @@ def test_the_cfd_column_is_computed_from_the_body(tmp_path):
     assert force(surge["linear_damping"], surge["quadratic_damping"]) == pytest.approx(force(k_l, k_q), rel=0.12)
     assert surge["se"]["quadratic_damping"] > 0 and surge["points"] == 3
     assert surge["computed"].startswith("OpenFOAM (3 cases, 0 failed)")
+
+
+def test_the_bundled_lingyun_project_carries_li2021_table_4_into_its_truth_and_base_vehicle():
+    from hydrokit.io.project import check_inputs
+    from hydrokit.io.vehicle import load_vehicle
+    from hydrokit.pipeline.compare import cfd_sweep_inputs
+
+    p = load_project("lingyun")
+    check_inputs(p)
+    # LI2021 Table 4 (non-dimensional): X'_udot, Y'_vdot, Z'_wdot; X'_uu (read as u|u|), Y'_v|v|,
+    # Z'_w√(v²+w²); model scale 1:5 (L = 0.25 m) in the tank's fresh water
+    dot = {"surge": 5.8589e-02, "sway": 3.8083e-01, "heave": 1.1718e-01}
+    quad = {"surge": 1.35758e-01, "sway": 7.85474e-01, "heave": 1.3851717}
+    for c in p.campaigns:
+        q = 0.5 * 998.2
+        assert c.truth["added_mass"] == pytest.approx(dot[c.dof] * q * 0.25**3, rel=1e-5)
+        assert c.truth["quadratic_damping"] == pytest.approx(quad[c.dof] * q * 0.25**2, rel=1e-5)
+    # the base vehicle holds the same terms at full scale (sea water, L = 1.25 m) in its
+    # diagonals and no longer among its terms, so the tank's values replace them, not add to them
+    v = load_vehicle(p.vehicle)
+    q = 0.5 * 1025.9
+    for i, dof in enumerate(("surge", "sway", "heave")):
+        assert v.M_A[i, i] == pytest.approx(dot[dof] * q * 1.25**3, rel=1e-5)
+        assert v.D_Q[i] == pytest.approx(quad[dof] * q * 1.25**2, rel=1e-5)
+    names = set(v.terms.names)
+    assert not names & {"X_udot", "Y_vdot", "Z_wdot", "X_u|u|", "Y_v|v|", "Y_|v|v", "Z_w*sqrt(v^2+w^2)"}
+    assert {"X_vv", "M_pp", "Y_wr"} <= names
+    body, settings, sweep, cases = cfd_sweep_inputs(p, 1025.9)
+    assert body.length == pytest.approx(1.25) and settings.density == 1025.9
+    assert len(cases) == 12 and {c.flow.axis for c in cases} == {"x", "y", "z"}
