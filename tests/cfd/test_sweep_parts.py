@@ -196,6 +196,9 @@ def test_a_sweep_is_assembled_into_rows_fits_and_derivatives():
     cases = make_cases(body, spec, Settings())
     # 4 speeds + 2 drift angles at the reference speed 2.0 (the straight 2.0 case is shared)
     assert len(cases) == 6
+    # one mesh family for the whole sweep: a wedge at β = 0 beside 3-D angles would bias X_vv
+    assert {c.path for c in cases} == {"3d"}
+    assert {c.path for c in make_cases(body, SweepSpec((0.5, 1.0, 1.5)), Settings())} == {"wedge"}
     K_Q, Y_uv, N_uv = 20.0, -30.0, -12.0
     outs = []
     for c in cases:

@@ -88,7 +88,15 @@ def _label(flow: Flow, grid: int) -> str:
 
 
 def make_cases(body: Body, spec: SweepSpec, settings: Settings) -> list[Case]:
-    """Every case of the sweep, without duplicates, in a stable order."""
+    """Every case of the sweep, without duplicates, in a stable order.
+
+    A sweep with angles or rates runs all its cases on the 3-D path, its straight ones too:
+    derivatives are differences between cases, and a wedge's zero point beside 3-D angle cases
+    put the mesh difference into them (a Myring's X at β = 5° was 15 % above the wedge's at
+    β = 0, read as X_vv). A profile's pure speed sweep keeps the fast wedge.
+    """
+    if (spec.drifts or spec.attacks or spec.yaw_rates or spec.pitch_rates) and settings.path == "auto":
+        settings = replace(settings, path="3d")
     flows: list[Flow] = []
     for axis in spec.axes:
         flows += [Flow(U, axis=axis) for U in spec.speeds]
