@@ -319,3 +319,15 @@ def test_capture_bands_refine_every_cell_the_body_touches_down_to_the_surface_le
 
     regions = mesh_dicts(case)["snappyHexMeshDict"]["castellatedMeshControls"]["refinementRegions"]
     assert regions["body"] == {"mode": "distance", "levels": capture_bands(case.body.length / 2, surface_level(case))}
+
+
+def test_openfoam_runs_without_the_malloc_trim_setting_of_dask_workers(monkeypatch, tmp_path):
+    # Dask's nanny exports MALLOC_TRIM_THRESHOLD_=65536; under it simpleFoam ran at half speed
+    from hydrokit.cfd.foam import OpenFOAM
+
+    monkeypatch.setenv("MALLOC_TRIM_THRESHOLD_", "65536")
+    monkeypatch.setenv("FOAM_SIGFPE", "1")
+    monkeypatch.setenv("HYDROKIT_PROBE", "kept")
+    env = OpenFOAM(tmp_path / "bin", tmp_path).env()
+    assert "MALLOC_TRIM_THRESHOLD_" not in env and "FOAM_SIGFPE" not in env
+    assert env["HYDROKIT_PROBE"] == "kept" and env["WM_PROJECT_DIR"] == str(tmp_path)

@@ -59,6 +59,10 @@ class OpenFOAM:
         env.setdefault("OMP_NUM_THREADS", "1")
         # a run is a child of hydrokit: no colour codes or banners meant for a terminal
         env.pop("FOAM_SIGFPE", None)
+        # Dask's nanny sets MALLOC_TRIM_THRESHOLD_=65536 in its workers: glibc then hands memory
+        # back to the system after every field OpenFOAM frees, and simpleFoam runs at half speed
+        # (10.9 s → 20.6 s for 400 iterations of a small case, system time 1.7 → 7.3 s)
+        env.pop("MALLOC_TRIM_THRESHOLD_", None)
         return env
 
     def run(
