@@ -74,6 +74,9 @@ def test_the_cache_key_changes_with_every_input_that_changes_the_result():
     ]
     assert len({c.key() for c in others} | {base.key()}) == 6
     assert base.path == "wedge" and others[1].path == "3d"
+    # the path taken is what counts: auto going 3-D is the 3-D case, forcing 3-D is another case
+    assert others[1].key() == Case(body, Flow(1.0, drift=0.1), Settings(path="3d")).key()
+    assert base.key() != Case(body, Flow(1.0), Settings(path="3d")).key()
 
 
 def test_profile_refusals_name_the_row_and_value():

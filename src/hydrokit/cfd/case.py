@@ -267,8 +267,12 @@ class Case:
             "format": CASE_FORMAT,
             "body": self.body.digest(),
             "flow": asdict(self.flow),
-            # the timeout and the number of processes change when a result comes, not what it is
-            "settings": {k: v for k, v in asdict(self.settings).items() if k not in ("timeout", "processes")},
+            # the timeout and the number of processes change when a result comes, not what it is;
+            # the path is the one taken (``auto`` that goes 3-D is the same case as ``3d``)
+            "settings": {
+                **{k: v for k, v in asdict(self.settings).items() if k not in ("timeout", "processes")},
+                "path": self.path,
+            },
         }
         return hashlib.sha256(json.dumps(data, sort_keys=True).encode()).hexdigest()[:16]
 
