@@ -137,6 +137,23 @@ def body_of_revolution(work: Path, quick: bool, workers: int) -> None:
             abs(R / ref - 1) <= 0.10,
             f"R {R:.4g} N vs ITTC-1957·(1+k) {ref:.4g} N ({R / ref - 1:+.1%}){gtxt}, {r['status']}",
         )
+    from hydrokit.cfd.run import cached_case
+
+    # the two paths on the same equations first: laminar at Re_L 1000 (no wall model on either)
+    lam = {}
+    for path, mesh in (("auto", {}), ("3d", {"base_cells": 2, "surface_level": 3, "layers": 3})):
+        s = Settings(density=rho, viscosity=L / 1000.0, turbulence="laminar", tolerance=5e-4, path=path, **mesh)
+        lam[path] = cached_case((Case(b, Flow(1.0), s, f"myring-lam-{path}"), str(work / "body3d"), None))
+    if "failed" in (lam["auto"]["status"], lam["3d"]["status"]):
+        verdict("Myring 3-D vs axisymmetric, laminar Re_L 1000", False, "a case failed")
+    else:
+        R3, R2 = -lam["3d"]["forces"][0], -lam["auto"]["forces"][0]
+        verdict(
+            "Myring 3-D vs axisymmetric, laminar Re_L 1000",
+            abs(R3 / R2 - 1) <= 0.03,
+            f"3-D {R3:.4g} N ({lam['3d']['mesh']['cells']} cells) vs wedge {R2:.4g} N "
+            f"({lam['auto']['mesh']['cells']} cells): {R3 / R2 - 1:+.2%}",
+        )
     U = speeds[0]
     s3 = Settings(
         density=rho,
@@ -144,14 +161,12 @@ def body_of_revolution(work: Path, quick: bool, workers: int) -> None:
         turbulence="kOmegaSST",
         tolerance=5e-4,
         max_iterations=3000,
-        base_cells=3,
-        surface_level=4 if quick else 5,
+        base_cells=2 if quick else 3,
+        surface_level=3 if quick else 4,
         layers=5,
         path="3d",
     )
     case = Case(b, Flow(U), s3, "myring-3d")
-    from hydrokit.cfd.run import cached_case
-
     out = cached_case((case, str(work / "body3d"), None))
     if out["status"] == "failed":
         verdict("Myring 3-D vs axisymmetric", False, out.get("reason", ""))
