@@ -46,7 +46,7 @@ def run(
     samples: int | None,
     quiet: bool,
 ) -> None:
-    """Run PROJECT (a project file, a folder holding project.yaml, or a bundled name: udrobot, rov2).
+    """Run PROJECT (a project file, a folder holding project.yaml, or a bundled name: udrobot, rov2, udrobot_cfd, lingyun).
 
     Identifies every campaign, scales it to full size, compares with geometry/BEM/CFD, chooses per
     the project's rule, writes vehicle.yaml with an uncertainty block, flies the mission with PID
