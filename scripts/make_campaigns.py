@@ -58,6 +58,19 @@ AMPLITUDE_JITTER = 0.03
 PUSH = 0.02
 
 
+def spring_doc(axis: str, gravity: float, body: dict, k: float, scale: float) -> dict:
+    """A spring rig file's fields (tank water RHO, NU)."""
+    return {
+        "test": "spring",
+        "axis": axis,
+        "gravity": gravity,
+        "fluid": {"density": RHO, "kinematic_viscosity": NU},
+        "body": body,
+        "spring": {"stiffness": k},
+        "scale": scale,
+    }
+
+
 def campaign(folder: Path, prefix: str, rig, truth, amplitudes, launches, duration, sensor, seed, column, digits):
     # one generator for the campaign: every launch draws its own noise, grid offset and release
     rng = np.random.default_rng(seed)
@@ -114,15 +127,8 @@ def udrobot() -> list[str]:
         M = m + ma
         zq = 2 / (3 * math.pi) * RHO * cd[ax] * area[ax] * 0.025 / M
         KL = max(0.02, zeta[ax] - zq) * 2 * math.sqrt(k * M)
-        doc = {
-            "test": "spring",
-            "axis": axis,
-            "gravity": 9.79,
-            "fluid": {"density": RHO, "kinematic_viscosity": NU},
-            "body": {"mass": m, "volume": V, "reference_area": area[ax], "reference_length": 0.09},
-            "spring": {"stiffness": k},
-            "scale": 0.30,
-        }
+        body = {"mass": m, "volume": V, "reference_area": area[ax], "reference_length": 0.09}
+        doc = spring_doc(axis, 9.79, body, k, 0.30)
         if ax == "z":
             doc["wall_distance"] = 0.06  # tank 0.40 m deep: the model moves close to the floor
         rig = write_rig(base, f"spring_{ax}", doc, f"CELY2019-like spring rig, {axis} (see README.md)")
@@ -333,15 +339,8 @@ def lingyun() -> None:
         ma = LINGYUN_DOT[ax] * 0.5 * RHO * L**3
         KQ = LINGYUN_QUAD[ax] * 0.5 * RHO * L**2
         KL = 0.03 * 2 * math.sqrt(k * (m + ma))
-        doc = {
-            "test": "spring",
-            "axis": axis,
-            "gravity": 9.81,
-            "fluid": {"density": RHO, "kinematic_viscosity": NU},
-            "body": {"mass": round(m, 6), "volume": round(V, 9), "reference_area": round(area[ax], 6), "reference_length": L},
-            "spring": {"stiffness": k},
-            "scale": lam,
-        }
+        body = {"mass": round(m, 6), "volume": round(V, 9), "reference_area": round(area[ax], 6), "reference_length": L}
+        doc = spring_doc(axis, 9.81, body, k, lam)
         rig = write_rig(base, f"spring_{ax}", doc, f"Lingyun-like 1:5 spring rig, {axis} (see README.md)")
         campaign(
             base / f"spring_{ax}",
@@ -367,7 +366,7 @@ def lingyun() -> None:
                 "",
                 VIRTUAL,
                 "",
-                f"A 1:5 model of the Lingyun lander (LI2021 Table 1: L × B × H = 1.25 × 0.47 × 0.93 m, 519.798 kg,",
+                "A 1:5 model of the Lingyun lander (LI2021 Table 1: L × B × H = 1.25 × 0.47 × 0.93 m, 519.798 kg,",
                 f"0.5066747 m³): {L:.3f} × {B:.3f} × {H:.3f} m, m = {m:.4f} kg, V = {V * 1e6:.1f} cm³ (neutral),",
                 f"spring k = {k:g} N/m (ours), fresh water {RHO} kg/m³; encoder as the UDrobot spring rig;",
                 "releases from 20, 40, 60 mm; 10 s records.",
