@@ -146,11 +146,31 @@ def test_recommendation_names_the_best_amplitude_per_coefficient():
     from hydrokit.identify.design import recommend
 
     assert recommend([]) == "no candidate amplitudes"
+    # truth m_a 1, K_L 2, K_Q 10: relative errors are the absolute ones over these
     rows = [
-        {"amplitude": 0.1, "quadratic_damping_rel": 0.5, "linear_damping_rel": 0.01, "added_mass_rel": 0.03},
-        {"amplitude": 0.3, "quadratic_damping_rel": 0.05, "linear_damping_rel": 0.02, "added_mass_rel": 0.002},
+        {"amplitude": 0.1, "quadratic_damping": 5.0, "linear_damping": 0.02, "added_mass": 0.03},
+        {"amplitude": 0.3, "quadratic_damping": 0.5, "linear_damping": 0.04, "added_mass": 0.002},
     ]
+    for r in rows:
+        for k, true in (("added_mass", 1.0), ("linear_damping", 2.0), ("quadratic_damping", 10.0)):
+            r[k + "_rel"] = r[k] / true
     text = recommend(rows)
     assert "largest speeds (amplitude 0.3: ±5 %)" in text
     assert "linear damping at amplitude 0.1 (±1 %)" in text
     assert "added mass at 0.3 (±0.2 %)" in text
+
+
+def test_recommendation_with_a_true_coefficient_of_zero_names_the_absolute_error():
+    # rig plan with --linear-damping 0 printed "amplitude 0.01 (±nan %)": nan ranks first in min()
+    from hydrokit.identify.design import recommend
+
+    nan = float("nan")
+    rows = [
+        {"amplitude": 0.01, "quadratic_damping": 1.6, "linear_damping": 0.06, "added_mass": 3e-4},
+        {"amplitude": 0.02, "quadratic_damping": 0.27, "linear_damping": 0.018, "added_mass": 1.6e-4},
+    ]
+    for r in rows:
+        r |= {"quadratic_damping_rel": r["quadratic_damping"] / 5, "linear_damping_rel": nan, "added_mass_rel": 1.0}
+    text = recommend(rows)
+    assert "linear damping at amplitude 0.02 (±0.018 SI, the true value being 0)" in text
+    assert "nan" not in text

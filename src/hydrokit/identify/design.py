@@ -121,13 +121,18 @@ def recommend(plan: Sequence[dict[str, Any]]) -> str:
     """A one-paragraph recommendation from :func:`plan_experiment`'s rows."""
     if not plan:
         return "no candidate amplitudes"
-    best_q = min(plan, key=lambda r: r["quadratic_damping_rel"])
-    best_l = min(plan, key=lambda r: r["linear_damping_rel"])
-    best_m = min(plan, key=lambda r: r["added_mass_rel"])
+    # the truth is the same in every row, so the smallest error is the smallest relative error;
+    # ranking by the absolute one also works when a true coefficient is 0 (relative: nan)
+    best_q, best_l, best_m = (min(plan, key=lambda r, k=k: r[k]) for k in COEFFS[::-1])
+
+    def err(row: dict[str, Any], k: str) -> str:
+        rel = row[k + "_rel"]
+        return f"±{100 * rel:.2g} %" if math.isfinite(rel) else f"±{row[k]:.2g} SI, the true value being 0"
+
     return (
         f"quadratic damping is best resolved by the largest speeds (amplitude {best_q['amplitude']:.4g}: "
-        f"±{100 * best_q['quadratic_damping_rel']:.2g} %), linear damping at amplitude {best_l['amplitude']:.4g} "
-        f"(±{100 * best_l['linear_damping_rel']:.2g} %), added mass at {best_m['amplitude']:.4g} "
-        f"(±{100 * best_m['added_mass_rel']:.2g} %). Run launches over the whole operating speed range "
+        f"{err(best_q, 'quadratic_damping')}), linear damping at amplitude {best_l['amplitude']:.4g} "
+        f"({err(best_l, 'linear_damping')}), added mass at {best_m['amplitude']:.4g} "
+        f"({err(best_m, 'added_mass')}). Run launches over the whole operating speed range "
         "so the damping force curve is covered; K_L and K_Q trade off, the force curve does not."
     )
