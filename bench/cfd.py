@@ -6,8 +6,10 @@
   log–log fit of the measurements and their scatter;
 - body: the bundled Myring hull on the axisymmetric path at Re_L 1e6–1e7 against the ITTC-1957
   line with Hoerner's form factor (R = ½ρU²S C_F (1 + k), C_F = 0.075/(log10 Re − 2)²,
-  1 + k = 1 + 1.5 (d/L)^1.5 + 7 (d/L)³), each with its GCI over a grid triplet, and the 3-D path
-  on the same body at one Reynolds number against the axisymmetric value (target within 3 %);
+  1 + k = 1 + 1.5 (d/L)^1.5 + 7 (d/L)³), each with its GCI over a grid triplet; the 3-D path
+  on the same body against the axisymmetric one, laminar at Re_L 1000 and k-ω SST at Re_L 1e6
+  with the first cell laid for y⁺ 50 on both (target within 3 %), and what the wall treatment
+  alone moves (the wedge at y⁺ 50 vs y⁺ 1);
 - drift: a drift sweep of the 3-D Myring: Y and N antisymmetric in β, Y opposing v, the Munk
   moment's sign (N < 0 for v > 0 about the centre of buoyancy);
 - arm: the rotating arm at a 100-length radius against straight flow (target within 1 %) and a
@@ -155,30 +157,41 @@ def body_of_revolution(work: Path, quick: bool, workers: int) -> None:
             f"3-D {R3:.4g} N ({lam['3d']['mesh']['cells']} cells) vs wedge {R2:.4g} N "
             f"({lam['auto']['mesh']['cells']} cells): {R3 / R2 - 1:+.2%}",
         )
-    U = speeds[0]
+    # turbulent, Re_L 1e6: both paths with their first cell laid for the same y⁺ (50, the log
+    # layer, Spalding's wall function on both), and the wedge's own y⁺ 1 beside it to show what
+    # the wall treatment alone moves
+    U, y_plus = speeds[0], 50.0
+    common = dict(density=rho, viscosity=nu, turbulence="kOmegaSST", tolerance=5e-4, max_iterations=3000)
     s3 = Settings(
-        density=rho,
-        viscosity=nu,
-        turbulence="kOmegaSST",
-        tolerance=5e-4,
-        max_iterations=3000,
-        base_cells=2 if quick else 3,
-        surface_level=3 if quick else 4,
-        layers=5,
-        path="3d",
+        **common, base_cells=2 if quick else 3, surface_level=3 if quick else 4, layers=5, path="3d", y_plus=y_plus
     )
-    case = Case(b, Flow(U), s3, "myring-3d")
-    out = cached_case((case, str(work / "body3d"), None))
-    if out["status"] == "failed":
-        verdict("Myring 3-D vs axisymmetric", False, out.get("reason", ""))
+    out = {
+        "3d": cached_case((Case(b, Flow(U), s3, "myring-3d"), str(work / "body3d"), None)),
+        "wedge": cached_case(
+            (Case(b, Flow(U), Settings(**common, y_plus=y_plus), "myring-wedge"), str(work / "body3d"), None)
+        ),
+    }
+    bad = [k for k, o in out.items() if o["status"] == "failed"]
+    if bad:
+        verdict(f"Myring 3-D vs axisymmetric at y⁺ {y_plus:g}", False, f"{bad} failed: {out[bad[0]].get('reason', '')}")
         return
-    R3 = -out["forces"][0]
-    R2 = axi[U]
+    R3, R2 = -out["3d"]["forces"][0], -out["wedge"]["forces"][0]
     verdict(
-        "Myring 3-D vs axisymmetric",
+        f"Myring 3-D vs axisymmetric, k-ω SST Re_L 1e6, first cell at y⁺ {y_plus:g} on both",
         abs(R3 / R2 - 1) <= 0.03,
-        f"3-D {R3:.4g} N ({out['mesh']['cells']} cells, y⁺ {out.get('y_plus')}) vs wedge {R2:.4g} N ({R3 / R2 - 1:+.1%})",
+        f"3-D {R3:.4g} N ({out['3d']['mesh']['cells']} cells, y⁺ {_yp(out['3d'])}) vs wedge {R2:.4g} N "
+        f"({out['wedge']['mesh']['cells']} cells, y⁺ {_yp(out['wedge'])}): {R3 / R2 - 1:+.1%}",
     )
+    print(
+        f"  wall treatment (wedge): y⁺ {y_plus:g} (wall function) {R2:.4g} N vs y⁺ 1 (sublayer resolved) "
+        f"{axi[U]:.4g} N: {R2 / axi[U] - 1:+.1%}"
+    )
+
+
+def _yp(outcome: dict) -> str:
+    """'min–max (mean m)' of a case's y⁺ at the body, as OpenFOAM's yPlus reports it (cell centres)."""
+    y = outcome.get("y_plus")
+    return f"{y[0]:.3g}–{y[1]:.3g} (mean {y[2]:.3g})" if y else "n/a"
 
 
 def drift(work: Path, quick: bool, workers: int) -> None:

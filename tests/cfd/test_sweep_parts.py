@@ -71,8 +71,9 @@ def test_the_cache_key_changes_with_every_input_that_changes_the_result():
         Case(body, Flow(1.0), Settings(grid=2)),
         Case(body, Flow(1.0), Settings(density=1000.0)),
         Case(profile_body(*_spheroid(b=0.11)), Flow(1.0), Settings()),
+        Case(body, Flow(1.0), Settings(y_plus=50.0)),
     ]
-    assert len({c.key() for c in others} | {base.key()}) == 6
+    assert len({c.key() for c in others} | {base.key()}) == 7
     assert base.path == "wedge" and others[1].path == "3d"
     # the path taken is what counts: auto going 3-D is the 3-D case, forcing 3-D is another case
     assert others[1].key() == Case(body, Flow(1.0, drift=0.1), Settings(path="3d")).key()
@@ -334,3 +335,110 @@ def test_openfoam_runs_without_the_malloc_trim_setting_of_dask_workers(monkeypat
     env = OpenFOAM(tmp_path / "bin", tmp_path).env()
     assert "MALLOC_TRIM_THRESHOLD_" not in env and "FOAM_SIGFPE" not in env
     assert env["HYDROKIT_PROBE"] == "kept" and env["WM_PROJECT_DIR"] == str(tmp_path)
+
+
+def test_a_case_keeps_the_key_it_had_before_the_y_plus_setting_existed():
+    # cached sweeps stay valid: with y_plus at its default the key is the hash of the old inputs
+    import hashlib
+    import json
+    from dataclasses import asdict
+
+    from hydrokit.cfd.case import CASE_FORMAT
+
+    case = Case(profile_body(*_spheroid()), Flow(1.2, drift=0.05), Settings(density=1000.0))
+    old = {k: v for k, v in asdict(case.settings).items() if k not in ("timeout", "processes", "y_plus")}
+    old["path"] = "3d"
+    data = {"format": CASE_FORMAT, "body": case.body.digest(), "flow": asdict(case.flow), "settings": old}
+    assert case.key() == hashlib.sha256(json.dumps(data, sort_keys=True).encode()).hexdigest()[:16]
+
+
+@pytest.mark.parametrize("bad", [-1.0, float("nan"), 1e4, True, "50"])
+def test_a_target_y_plus_outside_0_to_1000_is_refused(bad):
+    with pytest.raises(InputError, match=r"y_plus = .*: expected 0 \(each path's default\) or a target y⁺"):
+        Settings(y_plus=bad)
+
+
+def _myring_3d(y_plus: float, re: float = 1e6, **kw) -> Case:
+    from hydrokit.api import load_cfd_body
+
+    body = load_cfd_body("myring")
+    s = Settings(density=1000.0, viscosity=1e-6, turbulence="kOmegaSST", path="3d", y_plus=y_plus, **kw)
+    return Case(body, Flow(re * 1e-6 / body.length), s)
+
+
+def _layers(case: Case) -> dict:
+    from hydrokit.cfd.mesh3d import mesh_dicts
+
+    return mesh_dicts(case)["snappyHexMeshDict"]["addLayersControls"]
+
+
+def test_layers_laid_from_a_target_y_plus_span_the_turbulent_boundary_layer():
+    # first layer: Δy = y⁺ ν / u_τ, u_τ = U √(C_f/2), C_f = 0.026 Re^(-1/7) (White eq. 7.45);
+    # layers growing by 1.2 until they reach δ = 0.37 L Re^(-1/5) at the tail (White eq. 7.41)
+    case = _myring_3d(50.0, surface_level=3, layers=3)
+    U, nu, L = case.flow.speed, 1e-6, case.body.length
+    dy = 50.0 * nu / (U * math.sqrt(0.026 * 1e6 ** (-1 / 7) / 2))
+    delta = 0.37 * L * 1e6**-0.2
+    c = _layers(case)
+    assert c["relativeSizes"] is False and "finalLayerThickness" not in c
+    assert c["firstLayerThickness"] == pytest.approx(dy, rel=1e-9)
+    assert c["minThickness"] == pytest.approx(0.1 * dy) and c["expansionRatio"] == 1.2
+    n = c["layers"]['"body.*"']["nSurfaceLayers"]
+    total = lambda k: dy * (1.2**k - 1) / 0.2  # noqa: E731 -- k layers growing by 1.2
+    assert total(n - 1) < delta <= total(n)
+    assert n == 9  # 50 at Re 1e6 on the bundled Myring: Δy 1.63 mm, δ 21.5 mm
+
+
+def test_layers_from_a_small_y_plus_stop_at_20_or_a_surface_cell_and_default_stays_relative():
+    from hydrokit.cfd.mesh3d import cell_size, surface_level
+
+    fine = _layers(_myring_3d(1.0, surface_level=3))
+    assert fine["layers"]['"body.*"']["nSurfaceLayers"] == 20  # y⁺ 1 would need 29 to reach δ
+    for y_plus, level in ((30.0, 3), (300.0, 3), (100.0, 1)):
+        case = _myring_3d(y_plus, surface_level=level)
+        c = _layers(case)
+        n = c["layers"]['"body.*"']["nSurfaceLayers"]
+        surface_cell = cell_size(case) / 2 ** surface_level(case)
+        assert n >= 1 and c["firstLayerThickness"] * 1.2 ** (n - 1) <= surface_cell
+    default = _layers(_myring_3d(0.0, layers=4))
+    assert default["relativeSizes"] is True and default["finalLayerThickness"] == 0.5
+    assert default["layers"]['"body.*"']["nSurfaceLayers"] == 4 and "firstLayerThickness" not in default
+
+
+def test_the_wedge_lays_its_first_cell_for_the_target_y_plus(monkeypatch):
+    from hydrokit.cfd import run, wedge
+
+    seen = []
+    real = wedge.blockmesh_dict
+    monkeypatch.setattr(wedge, "blockmesh_dict", lambda *a, **kw: seen.append(kw["first_cell"]) or real(*a, **kw))
+    for y_plus in (0.0, 1.0, 30.0):
+        case = _myring_3d(y_plus)
+        case = Case(case.body, case.flow, Settings(**{**case.settings.__dict__, "path": "auto"}))
+        assert case.path == "wedge"
+        run._mesh_dicts(case)
+    U, nu = 1e6 * 1e-6 / case.body.length, 1e-6
+    u_tau = U * math.sqrt(0.026 * 1e6 ** (-1 / 7) / 2)
+    # default: y⁺ 1 but at most a twentieth of the laminar layer (0.25 L/√Re = 0.35 mm here)
+    assert seen[0] == pytest.approx(min(nu / u_tau, 0.25 * case.body.length / 1e3))
+    assert seen[1] == pytest.approx(nu / u_tau) and seen[2] == pytest.approx(30 * nu / u_tau)
+
+
+def test_the_cli_options_reach_the_settings_in_si():
+    import click
+
+    from hydrokit.cli._cfd_options import _OPTIONS, sweep_inputs
+
+    opts = {}
+    for flags, kw in _OPTIONS:
+        name = flags[-1] if not flags[-1].startswith("--") else flags[0][2:].replace("-", "_")
+        default = kw.get("default")
+        opts[name] = (
+            kw["type"].convert(default, None, None)
+            if isinstance(kw.get("type"), click.ParamType) and default is not None
+            else default
+        )
+    opts |= {"y_plus": 40.0, "drift": [5.0], "surface_level": 3}
+    settings, spec = sweep_inputs(opts)
+    assert settings.y_plus == 40.0 and settings.surface_level == 3
+    assert spec.drifts == pytest.approx((math.radians(5.0),))
+    assert Settings().y_plus == 0.0  # the default: each path its own wall resolution

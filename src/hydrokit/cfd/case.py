@@ -107,6 +107,12 @@ class Settings:
     processes : int — MPI processes of one case's solver (decomposePar + mpirun; 1: serial)
     path : str — ``auto`` (a profile at zero incidence takes the axisymmetric wedge) or ``3d``
         (always snappyHexMesh: to compare the two paths on one body)
+    y_plus : float — target y⁺ of the first cell at the body, dimensionless. 0 (the default): each
+        path its own way (the wedge at y⁺ ≈ 1, the viscous sublayer resolved; the 3-D path with
+        ``layers`` prism layers sized relative to its surface cells, y⁺ wherever that falls).
+        > 0: both paths lay their first cell for it from flat-plate friction (30–100: in the log
+        layer, where the wall functions hold), and the 3-D path grows its prism layers from it
+        (ratio 1.2) until they span the turbulent boundary layer at the tail (up to 20 layers)
     """
 
     density: float = 1025.0
@@ -126,12 +132,16 @@ class Settings:
     timeout: float = 3600.0
     path: str = "auto"
     processes: int = 1
+    y_plus: float = 0.0
 
     def __post_init__(self) -> None:
         for name in ("density", "viscosity", "upstream", "downstream", "lateral", "tolerance", "timeout"):
             v = getattr(self, name)
             if isinstance(v, bool) or not (isinstance(v, int | float) and math.isfinite(v) and v > 0):
                 raise InputError(f"{name} = {v!r}: expected a positive finite number")
+        y = self.y_plus
+        if isinstance(y, bool) or not (isinstance(y, int | float) and math.isfinite(y) and 0 <= y <= 1000):
+            raise InputError(f"y_plus = {y!r}: expected 0 (each path's default) or a target y⁺ from 0 to 1000")
         if self.turbulence not in ("auto", *TURBULENCE_MODELS):
             raise InputError(f"turbulence = {self.turbulence!r}: expected auto, laminar, kOmegaSST or kEpsilon")
         if self.path not in ("auto", "3d"):
@@ -269,8 +279,14 @@ class Case:
             "flow": asdict(self.flow),
             # the timeout and the number of processes change when a result comes, not what it is;
             # the path is the one taken (``auto`` that goes 3-D is the same case as ``3d``)
+            # a setting added later (y_plus) counts only away from its default, so the cases
+            # computed before it keep their keys
             "settings": {
-                **{k: v for k, v in asdict(self.settings).items() if k not in ("timeout", "processes")},
+                **{
+                    k: v
+                    for k, v in asdict(self.settings).items()
+                    if k not in ("timeout", "processes") and not (k == "y_plus" and v == 0)
+                },
                 "path": self.path,
             },
         }

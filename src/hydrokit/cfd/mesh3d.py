@@ -58,6 +58,39 @@ def capture_bands(h: float, level: int) -> list[list[float]]:
     return [[2.0 * h / 2.0**k, k] for k in range(level, 0, -1)]
 
 
+#: growth ratio of the prism layers laid from a target y⁺
+LAYER_GROWTH = 1.2
+
+
+def boundary_layer_thickness(length: float, reynolds: float) -> float:
+    """Turbulent flat-plate boundary-layer thickness at x = L, δ = 0.37 L Re_L^(−1/5), m
+    (Schlichting's one-seventh power law; White, *Fluid Mechanics*, eq. 7.41)."""
+    return 0.37 * length * reynolds ** (-0.2)
+
+
+def layer_plan(case: Case) -> tuple[int, float | None]:
+    """(prism layers, first-layer height in m or None for sizes relative to the surface cells).
+
+    Without a target y⁺ (``settings.y_plus`` 0): ``settings.layers`` relative layers. With one:
+    the first layer from flat-plate friction (:func:`hydrokit.cfd.wedge.first_cell_height`) and
+    as many layers, growing by :data:`LAYER_GROWTH`, as span the turbulent boundary layer at the
+    tail (:func:`boundary_layer_thickness`) — at least ``settings.layers``, at most 20, and no
+    more than keep the last layer thinner than a surface cell.
+    """
+    s = case.settings
+    if s.y_plus <= 0:
+        return s.layers, None
+    from hydrokit.cfd.wedge import first_cell_height
+
+    L, re = case.body.length, case.reynolds
+    first = first_cell_height(L, re, s.y_plus)
+    g = LAYER_GROWTH
+    span = math.ceil(math.log(1.0 + (g - 1.0) * boundary_layer_thickness(L, re) / first) / math.log(g))
+    surface_cell = cell_size(case) / 2.0 ** surface_level(case)
+    fit = 1 + math.floor(math.log(max(surface_cell / first, 1.0)) / math.log(g))
+    return max(1, min(20, fit, max(s.layers, span))), first
+
+
 def cell_size(case: Case) -> float:
     """Background cell size, m."""
     s = case.settings
@@ -79,7 +112,7 @@ def domain(case: Case) -> tuple[np.ndarray, np.ndarray]:
 
 def mesh_dicts(case: Case) -> dict[str, dict[str, Any]]:
     """``system/`` dictionaries of the 3-D mesh: blockMeshDict, surfaceFeatureExtractDict, snappyHexMeshDict."""
-    s, L = case.settings, case.body.length
+    L = case.body.length
     lo, hi = domain(case)
     h = cell_size(case)
     n = [int(round(x)) for x in (hi - lo) / h]
@@ -128,12 +161,23 @@ def mesh_dicts(case: Case) -> dict[str, dict[str, Any]]:
     wake_lo = np.minimum(near_lo, wake_end - 0.4 * d)
     wake_hi = np.maximum(near_hi, wake_end + 0.4 * d)
     lvl = surface_level(case)
+    n_layers, first = layer_plan(case)
+    layer_sizes: dict[str, Any] = {"layers": {'"body.*"': {"nSurfaceLayers": n_layers}}}
+    if first is None:  # relative to the surface cells: the last layer half a cell
+        layer_sizes |= {"relativeSizes": True, "expansionRatio": 1.2, "finalLayerThickness": 0.5, "minThickness": 0.1}
+    else:  # in metres, from the first layer (snappyHexMesh's first-and-expansion specification)
+        layer_sizes |= {
+            "relativeSizes": False,
+            "firstLayerThickness": first,
+            "expansionRatio": LAYER_GROWTH,
+            "minThickness": 0.1 * first,
+        }
     inside = lo + _INSIDE * (hi - lo)
     inside[0] = lo[0] + 0.37 * (blo[0] - lo[0]) + 0.0137 * h
     snappy = {
         "castellatedMesh": True,
         "snap": True,
-        "addLayers": s.layers > 0,
+        "addLayers": n_layers > 0,
         "geometry": {
             **{f"{n}.stl": {"type": "triSurfaceMesh", "name": n} for n in names},
             "near": {"type": "searchableBox", "min": _f(near_lo), "max": _f(near_hi)},
@@ -167,11 +211,7 @@ def mesh_dicts(case: Case) -> dict[str, dict[str, Any]]:
             "multiRegionFeatureSnap": False,
         },
         "addLayersControls": {
-            "relativeSizes": True,
-            "layers": {'"body.*"': {"nSurfaceLayers": s.layers}},
-            "expansionRatio": 1.2,
-            "finalLayerThickness": 0.5,
-            "minThickness": 0.1,
+            **layer_sizes,
             "nGrow": 0,
             "featureAngle": 130,
             "slipFeatureAngle": 30,
@@ -215,7 +255,6 @@ def estimate_cells(case: Case) -> int:
     cells, plus the refined boxes (each level × 8) and the body's surface layers."""
     if case.path == "wedge":
         return int(15_000 * 2 ** (case.settings.grid - 1))
-    s = case.settings
     lo, hi = domain(case)
     h = cell_size(case)
     total = float(np.prod((hi - lo) / h))
@@ -229,5 +268,5 @@ def estimate_cells(case: Case) -> int:
         for t in case.body.surfaces()
     )
     hs = h / 2**lvl
-    total += area / hs**2 * (s.layers + 3)
+    total += area / hs**2 * (layer_plan(case)[0] + 3)
     return int(total)

@@ -67,6 +67,15 @@ _OPTIONS: list[tuple[tuple[str, ...], dict[str, Any]]] = [
         },
     ),
     (
+        ("--y-plus",),
+        {
+            "type": Number("dimensionless", at_least=0, at_most=1000),
+            "default": 0.0,
+            "help": "Target y⁺ of the first cell at the body (dimensionless); 0: each path's own (wedge y⁺ ≈ 1, "
+            "3-D prism layers relative to the surface cells); 30–100 lays both paths for wall functions.",
+        },
+    ),
+    (
         ("--iterations",),
         {
             "type": Count(10, 1_000_000),
@@ -115,6 +124,7 @@ def sweep_inputs(opts: dict[str, Any]) -> tuple[Any, Any]:
         turbulence=opts["turbulence"],
         base_cells=opts["cells_per_length"],
         surface_level=opts["surface_level"],
+        y_plus=opts["y_plus"],
         max_iterations=opts["iterations"],
         timeout=opts["timeout"],
         processes=opts["processes"],
