@@ -158,6 +158,7 @@ def _stl(path: Path, tri: np.ndarray) -> Path:
         ("sphere", ("--axes", "x,w"), "--axes"),
         ("sphere", ("--grids", "2"), "--grids"),
         ("sphere", ("--y-plus", "-5"), "--y-plus"),
+        ("sphere", ("--inflow-intensity", "0"), "--inflow-intensity"),
     ],
 )
 def test_bad_input_is_one_line_and_exit_2_before_any_solver_runs(run_cli, tmp_path, make, args, match):

@@ -337,19 +337,45 @@ def test_openfoam_runs_without_the_malloc_trim_setting_of_dask_workers(monkeypat
     assert env["HYDROKIT_PROBE"] == "kept" and env["WM_PROJECT_DIR"] == str(tmp_path)
 
 
-def test_a_case_keeps_the_key_it_had_before_the_y_plus_setting_existed():
-    # cached sweeps stay valid: with y_plus at its default the key is the hash of the old inputs
+def test_a_laminar_case_keeps_the_key_it_had_before_y_plus_and_the_inflow_settings_existed():
+    # cached laminar sweeps stay valid: the key is the hash of the inputs it had before;
+    # a turbulent case's key holds the inflow turbulence (its default changed: such cases rerun)
     import hashlib
     import json
     from dataclasses import asdict
 
     from hydrokit.cfd.case import CASE_FORMAT
 
-    case = Case(profile_body(*_spheroid()), Flow(1.2, drift=0.05), Settings(density=1000.0))
-    old = {k: v for k, v in asdict(case.settings).items() if k not in ("timeout", "processes", "y_plus")}
+    new = ("timeout", "processes", "y_plus", "inflow_intensity", "inflow_viscosity_ratio")
+    body = profile_body(*_spheroid())
+    case = Case(body, Flow(1.2, drift=0.05), Settings(density=1000.0, turbulence="laminar"))
+    old = {k: v for k, v in asdict(case.settings).items() if k not in new}
     old["path"] = "3d"
     data = {"format": CASE_FORMAT, "body": case.body.digest(), "flow": asdict(case.flow), "settings": old}
     assert case.key() == hashlib.sha256(json.dumps(data, sort_keys=True).encode()).hexdigest()[:16]
+    laminar = Settings(turbulence="laminar", inflow_intensity=0.05)
+    assert Case(body, Flow(1.0), laminar).key() == Case(body, Flow(1.0), Settings(turbulence="laminar")).key()
+    turbulent = [
+        Settings(turbulence="kOmegaSST", **kw)
+        for kw in ({}, {"inflow_intensity": 0.005}, {"inflow_viscosity_ratio": 1.0})
+    ]
+    assert len({Case(body, Flow(1.0), t).key() for t in turbulent}) == 3
+
+
+def test_the_inflow_turbulence_follows_its_settings():
+    from hydrokit.cfd.case import inflow
+
+    body = profile_body(*_spheroid())
+    s = Settings(viscosity=1e-6, inflow_intensity=0.02, inflow_viscosity_ratio=5.0)
+    t = inflow(Case(body, Flow(2.0), s))
+    k = 1.5 * (0.02 * 2.0) ** 2  # k = 3/2 (I U)², ν_t = 5 ν = k/ω = 0.09 k²/ε
+    assert t["k"] == pytest.approx(k) and t["omega"] == pytest.approx(k / 5e-6)
+    assert t["epsilon"] == pytest.approx(0.09 * k * k / 5e-6)
+    default = inflow(Case(body, Flow(1.0), Settings(viscosity=1e-6)))
+    assert default["k"] == pytest.approx(1.5e-4) and default["omega"] == pytest.approx(15.0)  # 1 %, ν_t/ν 10
+    for bad in ({"inflow_intensity": 0.0}, {"inflow_intensity": 0.8}, {"inflow_viscosity_ratio": float("inf")}):
+        with pytest.raises(InputError, match=f"{next(iter(bad))} = .*: expected a number above 0"):
+            Settings(**bad)
 
 
 @pytest.mark.parametrize("bad", [-1.0, float("nan"), 1e4, True, "50"])
@@ -437,8 +463,9 @@ def test_the_cli_options_reach_the_settings_in_si():
             if isinstance(kw.get("type"), click.ParamType) and default is not None
             else default
         )
-    opts |= {"y_plus": 40.0, "drift": [5.0], "surface_level": 3}
+    opts |= {"y_plus": 40.0, "drift": [5.0], "surface_level": 3, "inflow_intensity": 0.02}
     settings, spec = sweep_inputs(opts)
     assert settings.y_plus == 40.0 and settings.surface_level == 3
+    assert settings.inflow_intensity == 0.02 and settings.inflow_viscosity_ratio == 10.0
     assert spec.drifts == pytest.approx((math.radians(5.0),))
     assert Settings().y_plus == 0.0  # the default: each path its own wall resolution

@@ -34,9 +34,12 @@ CASE_FORMAT = 1
 #: Re_L below which ``turbulence="auto"`` runs laminar (the issue's threshold)
 LAMINAR_BELOW = 2000.0
 TURBULENCE_MODELS = ("laminar", "kOmegaSST", "kEpsilon")
-#: free-stream turbulence: intensity and eddy-to-molecular viscosity ratio (a quiet tank or sea)
-INTENSITY = 0.005
-VISCOSITY_RATIO = 1.0
+#: default free-stream turbulence at the inlet: intensity and eddy-to-molecular viscosity ratio.
+#: Enough for k-ω SST to make the boundary layer turbulent from the nose (a tripped model, as
+#: ITTC-1957's line assumes); at 0.5 % and 1 it left a laminar run of SST's own making whose
+#: length moved with the smallest disturbance (a rotating arm at 100 L: +1.8 % drag)
+INTENSITY = 0.01
+VISCOSITY_RATIO = 10.0
 
 
 @dataclass(frozen=True)
@@ -107,6 +110,12 @@ class Settings:
     processes : int — MPI processes of one case's solver (decomposePar + mpirun; 1: serial)
     path : str — ``auto`` (a profile at zero incidence takes the axisymmetric wedge) or ``3d``
         (always snappyHexMesh: to compare the two paths on one body)
+    inflow_intensity : float — free-stream turbulence intensity at the inlet, √(2k/3)/U,
+        dimensionless (0.01 = 1 %); turbulent models only
+    inflow_viscosity_ratio : float — free-stream eddy-to-molecular viscosity ratio ν_t/ν at the
+        inlet, dimensionless; turbulent models only. The defaults (1 %, 10) make k-ω SST's boundary
+        layer turbulent from the nose, like a tripped tow-tank model; 0.005 and 1 leave a laminar
+        run of uncertain length (natural transition in a quiet tank)
     y_plus : float — target y⁺ of the first cell at the body, dimensionless. 0 (the default): each
         path its own way (the wedge at y⁺ ≈ 1, the viscous sublayer resolved; the 3-D path with
         ``layers`` prism layers sized relative to its surface cells, y⁺ wherever that falls).
@@ -133,6 +142,8 @@ class Settings:
     path: str = "auto"
     processes: int = 1
     y_plus: float = 0.0
+    inflow_intensity: float = INTENSITY
+    inflow_viscosity_ratio: float = VISCOSITY_RATIO
 
     def __post_init__(self) -> None:
         for name in ("density", "viscosity", "upstream", "downstream", "lateral", "tolerance", "timeout"):
@@ -142,6 +153,10 @@ class Settings:
         y = self.y_plus
         if isinstance(y, bool) or not (isinstance(y, int | float) and math.isfinite(y) and 0 <= y <= 1000):
             raise InputError(f"y_plus = {y!r}: expected 0 (each path's default) or a target y⁺ from 0 to 1000")
+        for name, hi in (("inflow_intensity", 0.5), ("inflow_viscosity_ratio", 1e4)):
+            v = getattr(self, name)
+            if isinstance(v, bool) or not (isinstance(v, int | float) and math.isfinite(v) and 0 < v <= hi):
+                raise InputError(f"{name} = {v!r}: expected a number above 0 and at most {hi:g}")
         if self.turbulence not in ("auto", *TURBULENCE_MODELS):
             raise InputError(f"turbulence = {self.turbulence!r}: expected auto, laminar, kOmegaSST or kEpsilon")
         if self.path not in ("auto", "3d"):
@@ -279,13 +294,16 @@ class Case:
             "flow": asdict(self.flow),
             # the timeout and the number of processes change when a result comes, not what it is;
             # the path is the one taken (``auto`` that goes 3-D is the same case as ``3d``)
-            # a setting added later (y_plus) counts only away from its default, so the cases
-            # computed before it keep their keys
+            # a setting added later counts only where it can change the answer, so the cases
+            # computed before it keep their keys: y_plus away from its default, the inflow
+            # turbulence in a turbulent case (whose default changed with it: those are redone)
             "settings": {
                 **{
                     k: v
                     for k, v in asdict(self.settings).items()
-                    if k not in ("timeout", "processes") and not (k == "y_plus" and v == 0)
+                    if k not in ("timeout", "processes")
+                    and not (k == "y_plus" and v == 0)
+                    and not (k.startswith("inflow_") and self.model == "laminar")
                 },
                 "path": self.path,
             },
@@ -344,9 +362,10 @@ def write_stl(path: Path, triangles: np.ndarray, solid: str = "body") -> None:
 
 def inflow(case: Case) -> dict[str, float]:
     """Free-stream turbulence for the case's model: k (m²/s²), ω (1/s), ε (m²/s³)."""
-    U, nu = case.flow.speed, case.settings.viscosity
-    k = 1.5 * (INTENSITY * U) ** 2
-    nut = VISCOSITY_RATIO * nu
+    s = case.settings
+    U, nu = case.flow.speed, s.viscosity
+    k = 1.5 * (s.inflow_intensity * U) ** 2
+    nut = s.inflow_viscosity_ratio * nu
     return {"k": k, "omega": k / nut, "epsilon": 0.09 * k * k / nut}
 
 

@@ -47,6 +47,24 @@ _OPTIONS: list[tuple[tuple[str, ...], dict[str, Any]]] = [
         {"type": _MODELS, "default": "auto", "help": "Flow model; auto: laminar below Re_L = 2000, else k-ω SST."},
     ),
     (
+        ("--inflow-intensity",),
+        {
+            "type": Number("dimensionless", above=0, at_most=0.5),
+            "default": 0.01,
+            "help": "Free-stream turbulence intensity at the inlet (dimensionless, 0.01 = 1 %); with "
+            "--inflow-viscosity-ratio 10 k-ω SST's boundary layer is turbulent from the nose (a tripped model).",
+        },
+    ),
+    (
+        ("--inflow-viscosity-ratio",),
+        {
+            "type": Number("dimensionless", above=0, at_most=1e4),
+            "default": 10.0,
+            "help": "Free-stream eddy-to-molecular viscosity ratio ν_t/ν at the inlet (dimensionless); "
+            "an intensity of 0.005 with a ratio of 1 leaves a laminar run of uncertain length (natural transition).",
+        },
+    ),
+    (
         ("--grids",),
         {
             "type": click.Choice(["1", "3"]),
@@ -125,6 +143,8 @@ def sweep_inputs(opts: dict[str, Any]) -> tuple[Any, Any]:
         base_cells=opts["cells_per_length"],
         surface_level=opts["surface_level"],
         y_plus=opts["y_plus"],
+        inflow_intensity=opts["inflow_intensity"],
+        inflow_viscosity_ratio=opts["inflow_viscosity_ratio"],
         max_iterations=opts["iterations"],
         timeout=opts["timeout"],
         processes=opts["processes"],

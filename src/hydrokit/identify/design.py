@@ -121,9 +121,13 @@ def recommend(plan: Sequence[dict[str, Any]]) -> str:
     """A one-paragraph recommendation from :func:`plan_experiment`'s rows."""
     if not plan:
         return "no candidate amplitudes"
+
     # the truth is the same in every row, so the smallest error is the smallest relative error;
     # ranking by the absolute one also works when a true coefficient is 0 (relative: nan)
-    best_q, best_l, best_m = (min(plan, key=lambda r, k=k: r[k]) for k in COEFFS[::-1])
+    def best(k: str) -> dict[str, Any]:
+        return min(plan, key=lambda r: float(r[k]))
+
+    best_q, best_l, best_m = best("quadratic_damping"), best("linear_damping"), best("added_mass")
 
     def err(row: dict[str, Any], k: str) -> str:
         rel = row[k + "_rel"]
