@@ -467,5 +467,8 @@ def test_the_cli_options_reach_the_settings_in_si():
     settings, spec = sweep_inputs(opts)
     assert settings.y_plus == 40.0 and settings.surface_level == 3
     assert settings.inflow_intensity == 0.02 and settings.inflow_viscosity_ratio == 10.0
+    assert settings.base_cells == 2 and settings.max_iterations == 1500 and settings.density == 1025.0
+    assert settings.timeout == 3600.0 and settings.processes == 1 and settings.turbulence == "auto"
+    assert spec.speeds == (0.5, 1.0, 1.5, 2.0) and spec.axes == ("x",) and spec.grids == 1
     assert spec.drifts == pytest.approx((math.radians(5.0),))
     assert Settings().y_plus == 0.0  # the default: each path its own wall resolution

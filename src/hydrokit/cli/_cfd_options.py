@@ -126,6 +126,7 @@ def cfd_options(f: Any) -> Any:
 
 def sweep_inputs(opts: dict[str, Any]) -> tuple[Any, Any]:
     """(Settings, SweepSpec) from the parsed options, in SI (degrees → rad)."""
+    import dataclasses
     import math
 
     from hydrokit.cfd.case import Settings
@@ -136,28 +137,11 @@ def sweep_inputs(opts: dict[str, Any]) -> tuple[Any, Any]:
         raise click.BadParameter(
             f"{opts['axes']!r}: expected body axes among x, y, z (comma-separated)", param_hint="'--axes'"
         )
-    settings = Settings(
-        density=opts["density"],
-        viscosity=opts["viscosity"],
-        turbulence=opts["turbulence"],
-        base_cells=opts["cells_per_length"],
-        surface_level=opts["surface_level"],
-        y_plus=opts["y_plus"],
-        inflow_intensity=opts["inflow_intensity"],
-        inflow_viscosity_ratio=opts["inflow_viscosity_ratio"],
-        max_iterations=opts["iterations"],
-        timeout=opts["timeout"],
-        processes=opts["processes"],
-    )
+    # every option named as a Settings field goes there; two are named for the user
+    field = {"cells_per_length": "base_cells", "iterations": "max_iterations"}
+    known = {f.name for f in dataclasses.fields(Settings)}
+    settings = Settings(**{field.get(k, k): v for k, v in opts.items() if field.get(k, k) in known})
     rad = lambda v: tuple(math.radians(x) for x in v or ())  # noqa: E731
-    spec = SweepSpec(
-        tuple(opts["speeds"]),
-        rad(opts["drift"]),
-        rad(opts["attack"]),
-        tuple(opts["yaw_rates"] or ()),
-        tuple(opts["pitch_rates"] or ()),
-        axes,
-        int(opts["grids"]),
-        opts["reference_speed"],
-    )
+    angles = (rad(opts["drift"]), rad(opts["attack"]), tuple(opts["yaw_rates"] or ()), tuple(opts["pitch_rates"] or ()))
+    spec = SweepSpec(tuple(opts["speeds"]), *angles, axes, int(opts["grids"]), opts["reference_speed"])
     return settings, spec
