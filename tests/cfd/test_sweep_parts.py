@@ -463,6 +463,11 @@ def test_the_cli_options_reach_the_settings_in_si():
             if isinstance(kw.get("type"), click.ParamType) and default is not None
             else default
         )
+    # the CLI's defaults are the library's (written twice: the CLI does not import numpy to start)
+    defaults, _ = sweep_inputs(dict(opts))
+    lib = Settings()
+    for name in ("density", "viscosity", "turbulence", "y_plus", "inflow_intensity", "inflow_viscosity_ratio"):
+        assert getattr(defaults, name) == getattr(lib, name), name
     opts |= {"y_plus": 40.0, "drift": [5.0], "surface_level": 3, "inflow_intensity": 0.02}
     settings, spec = sweep_inputs(opts)
     assert settings.y_plus == 40.0 and settings.surface_level == 3
