@@ -159,9 +159,10 @@ def body_of_revolution(work: Path, quick: bool, workers: int) -> None:
         )
     # turbulent, Re_L 1e6: both paths with their first cell laid for the same y⁺ (50, the log
     # layer, Spalding's wall function on both), and the wedge's own y⁺ 1 beside it to show what
-    # the wall treatment alone moves. The 3-D path on surface level 3 and (full run) 4: its error
-    # halves with the surface cell (first order: the snapped, faceted surface and its pressure
-    # drag), so the pair gives a Richardson estimate with p = 1 (assumed, not observed)
+    # the wall treatment alone moves. The 3-D path on surface level 3 and (full run) 4, each with
+    # one level more on the nose and tail (end_level 1), where the snapped, faceted surface
+    # misplaces the stagnation push and the pressure recovery: the remaining error halves with
+    # the surface cell (first order), so the pair gives a Richardson estimate with p = 1 (assumed)
     U, y_plus = speeds[0], 50.0
     common = dict(density=rho, viscosity=nu, turbulence="kOmegaSST", tolerance=5e-4, max_iterations=3000)
     wedge = cached_case(
@@ -170,7 +171,7 @@ def body_of_revolution(work: Path, quick: bool, workers: int) -> None:
     levels = (3,) if quick else (3, 4)
     runs = {}
     for level in levels:
-        s3 = Settings(**common, base_cells=2, surface_level=level, layers=5, path="3d", y_plus=y_plus)
+        s3 = Settings(**common, base_cells=2, surface_level=level, layers=5, path="3d", y_plus=y_plus, end_level=1)
         runs[level] = cached_case((Case(b, Flow(U), s3, f"myring-3d-{level}"), str(work / "body3d"), None))
     bad = [o.get("reason", "") for o in (wedge, *runs.values()) if o["status"] == "failed"]
     if bad:
@@ -186,17 +187,26 @@ def body_of_revolution(work: Path, quick: bool, workers: int) -> None:
         )
     finest = R3[levels[-1]]
     verdict(
-        f"Myring 3-D (finest, level {levels[-1]}) vs axisymmetric, k-ω SST Re_L 1e6, y⁺ {y_plus:g} on both",
+        f"Myring 3-D (finest, level {levels[-1]}, ends +1) vs axisymmetric, k-ω SST Re_L 1e6, y⁺ {y_plus:g} on both",
         abs(finest / R2 - 1) <= 0.03,
         f"{finest / R2 - 1:+.1%}",
     )
     if len(levels) == 2:
-        extrapolated = 2 * R3[4] - R3[3]  # Richardson, ratio 2, p = 1
-        verdict(
-            "Myring 3-D Richardson estimate (levels 3, 4; p = 1 assumed) vs axisymmetric",
-            abs(extrapolated / R2 - 1) <= 0.03,
-            f"{extrapolated:.4g} N vs {R2:.4g} N: {extrapolated / R2 - 1:+.2%}",
-        )
+        # a Richardson estimate needs the two levels on the same side of the answer; when the
+        # finer one crosses over, the change between them is the honest error band instead
+        step = R3[4] - R3[3]
+        if (R3[3] - R2) * (R3[4] - R2) > 0:
+            extrapolated = 2 * R3[4] - R3[3]  # Richardson, ratio 2, p = 1 (assumed)
+            verdict(
+                "Myring 3-D Richardson estimate (levels 3, 4; p = 1 assumed) vs axisymmetric",
+                abs(extrapolated / R2 - 1) <= 0.03,
+                f"{extrapolated:.4g} N vs {R2:.4g} N: {extrapolated / R2 - 1:+.2%}",
+            )
+        else:
+            print(
+                f"  levels 3 → 4 cross the wedge's value (not yet monotone; no Richardson estimate): "
+                f"the change {step / R2:+.1%} of the wedge bounds the level-4 error"
+            )
     print(
         f"  wall treatment (wedge): y⁺ {y_plus:g} (wall function) {R2:.4g} N vs y⁺ 1 (sublayer resolved) "
         f"{axi[U]:.4g} N: {R2 / axi[U] - 1:+.1%}"

@@ -288,3 +288,30 @@ def test_kept_cases_are_whole_openfoam_cases_and_count_as_cached(tmp_path):
     assert (kept / "system" / "controlDict").is_file() and (kept / "log.simpleFoam").is_file()
     assert (kept / "constant" / "polyMesh" / "owner").exists() or (kept / "constant" / "polyMesh" / "owner.gz").exists()
     assert cached_case((case, str(tmp_path / "cache"), str(tmp_path / "cases")))["cached"] is True
+
+
+def _finest_level(log: Path) -> int:
+    """The finest refinement level in snappyHexMesh's last 'Cells per refinement level' table."""
+    table = log.read_text().rsplit("Cells per refinement level:", 1)[1].splitlines()[1:]
+    levels = []
+    for line in table:
+        parts = line.split()
+        if len(parts) != 2 or not all(p.isdigit() for p in parts):
+            break
+        levels.append(int(parts[0]) if int(parts[1]) > 0 else -1)
+    return max(levels)
+
+
+@needs_openfoam
+def test_the_ends_get_a_level_more_and_no_patch_of_their_own(tmp_path):
+    from hydrokit.cfd.mesh3d import surface_level
+
+    settings = Settings(density=1.0, viscosity=0.02, **TINY, end_level=1)
+    case = Case(_sphere(), Flow(1.0), settings, "ends")
+    out = cached_case((case, str(tmp_path / "cache"), str(tmp_path / "cases")))
+    assert out["status"] != "failed", out.get("reason")
+    kept = Path(out["case_dir"])
+    assert _finest_level(kept / "log.snappyHexMesh") == surface_level(case) + 1
+    assert "ends" not in (kept / "constant" / "polyMesh" / "boundary").read_text()
+    assert (kept / "constant" / "triSurface" / "ends.stl").is_file()
+    assert out["forces"][0] < 0  # still a drag

@@ -337,7 +337,7 @@ def test_openfoam_runs_without_the_malloc_trim_setting_of_dask_workers(monkeypat
     assert env["HYDROKIT_PROBE"] == "kept" and env["WM_PROJECT_DIR"] == str(tmp_path)
 
 
-def test_a_laminar_case_keeps_the_key_it_had_before_y_plus_and_the_inflow_settings_existed():
+def test_a_laminar_case_keeps_the_key_it_had_before_y_plus_the_inflow_and_end_level_existed():
     # cached laminar sweeps stay valid: the key is the hash of the inputs it had before;
     # a turbulent case's key holds the inflow turbulence (its default changed: such cases rerun)
     import hashlib
@@ -346,7 +346,7 @@ def test_a_laminar_case_keeps_the_key_it_had_before_y_plus_and_the_inflow_settin
 
     from hydrokit.cfd.case import CASE_FORMAT
 
-    new = ("timeout", "processes", "y_plus", "inflow_intensity", "inflow_viscosity_ratio")
+    new = ("timeout", "processes", "y_plus", "inflow_intensity", "inflow_viscosity_ratio", "end_level")
     body = profile_body(*_spheroid())
     case = Case(body, Flow(1.2, drift=0.05), Settings(density=1000.0, turbulence="laminar"))
     old = {k: v for k, v in asdict(case.settings).items() if k not in new}
@@ -400,8 +400,9 @@ def _layers(case: Case) -> dict:
 
 def test_layers_laid_from_a_target_y_plus_span_the_turbulent_boundary_layer():
     # first layer: Δy = y⁺ ν / u_τ, u_τ = U √(C_f/2), C_f = 0.026 Re^(-1/7) (White eq. 7.45);
-    # layers growing by 1.2 until they reach δ = 0.37 L Re^(-1/5) at the tail (White eq. 7.41)
-    case = _myring_3d(50.0, surface_level=3, layers=3)
+    # layers growing by 1.2 until they reach δ = 0.37 L Re^(-1/5) at the tail (White eq. 7.41),
+    # on surface cells coarse enough (level 1 + 3: 43 mm) to hold the whole stack
+    case = _myring_3d(50.0, surface_level=1, layers=3)
     U, nu, L = case.flow.speed, 1e-6, case.body.length
     dy = 50.0 * nu / (U * math.sqrt(0.026 * 1e6 ** (-1 / 7) / 2))
     delta = 0.37 * L * 1e6**-0.2
@@ -412,7 +413,20 @@ def test_layers_laid_from_a_target_y_plus_span_the_turbulent_boundary_layer():
     n = c["layers"]['"body.*"']["nSurfaceLayers"]
     total = lambda k: dy * (1.2**k - 1) / 0.2  # noqa: E731 -- k layers growing by 1.2
     assert total(n - 1) < delta <= total(n)
-    assert n == 9  # 50 at Re 1e6 on the bundled Myring: Δy 1.63 mm, δ 21.5 mm
+    assert n == 9  # 50 at Re 1e6 on the bundled Myring: Δy 1.63 mm, δ 32.4 mm
+
+
+def test_prism_layers_from_a_target_y_plus_fit_together_in_one_surface_cell():
+    # nine layers (34 mm) in the 11 mm cells of surface level 3 stayed off the Myring's aft 13 %
+    from hydrokit.cfd.mesh3d import cell_size, surface_level
+
+    case = _myring_3d(50.0, surface_level=3, layers=3)
+    c = _layers(case)
+    n, dy = c["layers"]['"body.*"']["nSurfaceLayers"], c["firstLayerThickness"]
+    cell = cell_size(case) / 2 ** surface_level(case)
+    total = lambda k: dy * (1.2**k - 1) / 0.2  # noqa: E731 -- k layers growing by 1.2
+    assert total(n) <= cell < total(n + 1)
+    assert n == 4  # 8.7 mm of layers in 10.8 mm cells; five would be 12.1 mm
 
 
 def test_layers_from_a_small_y_plus_stop_at_20_or_a_surface_cell_and_default_stays_relative():
@@ -425,10 +439,75 @@ def test_layers_from_a_small_y_plus_stop_at_20_or_a_surface_cell_and_default_sta
         c = _layers(case)
         n = c["layers"]['"body.*"']["nSurfaceLayers"]
         surface_cell = cell_size(case) / 2 ** surface_level(case)
-        assert n >= 1 and c["firstLayerThickness"] * 1.2 ** (n - 1) <= surface_cell
+        assert n >= 1 and c["firstLayerThickness"] * (1.2**n - 1) / 0.2 <= max(surface_cell, c["firstLayerThickness"])
     default = _layers(_myring_3d(0.0, layers=4))
     assert default["relativeSizes"] is True and default["finalLayerThickness"] == 0.5
     assert default["layers"]['"body.*"']["nSurfaceLayers"] == 4 and "firstLayerThickness" not in default
+
+
+def test_the_ends_are_the_triangles_in_the_fore_and_aft_tenth_and_refined_end_level_more():
+    from hydrokit.cfd.mesh3d import cell_size, end_triangles, estimate_cells, mesh_dicts, surface_level
+
+    case = _myring_3d(50.0, surface_level=3, end_level=2)
+    tri = np.concatenate(case.body.surfaces())
+    x = tri[:, :, 0].mean(axis=1)
+    lo, hi = x.min(), x.max()
+    ends = end_triangles(case)
+    ex = ends[:, :, 0].mean(axis=1)
+    L = case.body.length  # the profile's bounding box: its length along x
+    nose, tail = ex > hi - 0.2 * L, ex < lo + 0.2 * L
+    assert nose.any() and tail.any() and (nose | tail).all()
+    assert ex[nose].min() >= case.body.bounds()[1][0] - 0.1 * L and ex[tail].max() <= case.body.bounds()[0][0] + 0.1 * L
+    inner = (x > case.body.bounds()[0][0] + 0.1 * L) & (x < case.body.bounds()[1][0] - 0.1 * L)
+    assert len(ends) == len(tri) - inner.sum()  # every triangle is either an end or mid-body
+    snappy = mesh_dicts(case)["snappyHexMeshDict"]
+    geo, regions = snappy["geometry"], snappy["castellatedMeshControls"]["refinementRegions"]
+    assert geo["ends.stl"] == {"type": "triSurfaceMesh", "name": "ends"}
+    h, lvl = cell_size(case), surface_level(case)
+    # level k within one level-(k−1) cell of the ends, as the capture bands around the body
+    assert regions["ends"] == {
+        "mode": "distance",
+        "levels": [[2 * h / 2 ** (lvl + 2), lvl + 2], [2 * h / 2 ** (lvl + 1), lvl + 1]],
+    }
+    assert "ends" not in snappy["castellatedMeshControls"]["refinementSurfaces"]  # no wall patch of its own
+    plain = _myring_3d(50.0, surface_level=3)
+    plain_snappy = mesh_dicts(plain)["snappyHexMeshDict"]
+    assert (
+        "ends.stl" not in plain_snappy["geometry"]
+        and "ends" not in plain_snappy["castellatedMeshControls"]["refinementRegions"]
+    )
+    assert estimate_cells(plain) < estimate_cells(_myring_3d(50.0, surface_level=3, end_level=1)) < estimate_cells(case)
+
+
+@pytest.mark.parametrize("bad", [-1, 4, 1.0, True])
+def test_an_end_level_outside_0_to_3_is_refused(bad):
+    with pytest.raises(InputError, match=r"end_level = .*: expected a whole number from 0 to 3"):
+        Settings(end_level=bad)
+
+
+def test_end_level_changes_the_key_of_a_3d_case_only():
+    three_d = _myring_3d(0.0)
+    wedge = Case(three_d.body, three_d.flow, Settings(viscosity=1e-6, turbulence="kOmegaSST"))
+    assert wedge.path == "wedge"
+    with_ends = lambda c: Case(c.body, c.flow, Settings(**{**c.settings.__dict__, "end_level": 1}))  # noqa: E731
+    assert with_ends(three_d).key() != three_d.key()
+    assert with_ends(wedge).key() == wedge.key()
+    # the layer stack laid from a target y⁺ changed: those 3-D cases are redone, the wedge's kept
+    import hashlib
+    import json
+    from dataclasses import asdict
+
+    from hydrokit.cfd.case import CASE_FORMAT
+
+    def before(case: Case) -> str:  # the key as it was computed until the layer stack was capped
+        settings = {k: v for k, v in asdict(case.settings).items() if k not in ("timeout", "processes", "end_level")}
+        data = {"format": CASE_FORMAT, "body": case.body.digest(), "flow": asdict(case.flow)}
+        data["settings"] = {**settings, "path": case.path}
+        return hashlib.sha256(json.dumps(data, sort_keys=True).encode()).hexdigest()[:16]
+
+    y50 = _myring_3d(50.0)
+    wedge50 = Case(y50.body, y50.flow, Settings(**{**y50.settings.__dict__, "path": "auto"}))
+    assert y50.key() != before(y50) and wedge50.key() == before(wedge50)
 
 
 def test_the_wedge_lays_its_first_cell_for_the_target_y_plus(monkeypatch):

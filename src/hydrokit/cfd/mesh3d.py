@@ -6,7 +6,9 @@ behind it and ``lateral`` to each side, above and below; its six faces form the 
 a refinement triplet with a constant ratio √2 — and snappyHexMesh refines to
 ``surface_level`` more halvings at the body, ``surface_level − 1`` in a box around the body
 and ``surface_level − 2`` in the near wake, with ``layers`` prism layers on the body; a slender
-body gets more levels, so its diameter is resolved like a sphere's (:func:`surface_level`).
+body gets more levels, so its diameter is resolved like a sphere's (:func:`surface_level`), and
+``end_level`` more at its fore and aft ends (:func:`end_triangles`), where the stagnation
+pressure and the pressure recovery decide the pressure drag.
 """
 
 from __future__ import annotations
@@ -75,7 +77,10 @@ def layer_plan(case: Case) -> tuple[int, float | None]:
     the first layer from flat-plate friction (:func:`hydrokit.cfd.wedge.first_cell_height`) and
     as many layers, growing by :data:`LAYER_GROWTH`, as span the turbulent boundary layer at the
     tail (:func:`boundary_layer_thickness`) — at least ``settings.layers``, at most 20, and no
-    more than keep the last layer thinner than a surface cell.
+    more than fit, all together, in one surface cell. A thicker stack pushes into the castellated
+    cells until snappyHexMesh gives up where the surface turns: on the 3-D Myring at y⁺ 50, nine
+    layers (34 mm in 11 mm cells) stayed off the aft 13 % of the hull, whose wall-function y⁺ rose
+    to 271; four (9 mm) cover 99 % of it.
     """
     s = case.settings
     if s.y_plus <= 0:
@@ -87,8 +92,30 @@ def layer_plan(case: Case) -> tuple[int, float | None]:
     g = LAYER_GROWTH
     span = math.ceil(math.log(1.0 + (g - 1.0) * boundary_layer_thickness(L, re) / first) / math.log(g))
     surface_cell = cell_size(case) / 2.0 ** surface_level(case)
-    fit = 1 + math.floor(math.log(max(surface_cell / first, 1.0)) / math.log(g))
+    # n layers are first·(gⁿ − 1)/(g − 1) thick together
+    fit = math.floor(math.log(1.0 + (g - 1.0) * surface_cell / first) / math.log(g) + 1e-9)
     return max(1, min(20, fit, max(s.layers, span))), first
+
+
+#: the body's fore and aft ends, refined ``end_level`` more: this fraction of its length each
+END_FRACTION = 0.1
+
+
+def end_triangles(case: Case) -> np.ndarray:
+    """The body's triangles (k, 3, 3), m, whose centroids lie in its fore or aft
+    :data:`END_FRACTION` of the length along x (all parts together; empty when no centroid does).
+
+    Pressure drag of a streamlined body is the small difference between the stagnation push on
+    the nose and the recovery on the tail; a faceted, snapped surface gets both slightly wrong.
+    On the 3-D Myring at Re_L 1e6 (surface level 3), one more level on these ends cut the excess
+    over the axisymmetric wedge from +8.5 % to +5.0 % for 34 % more cells, where a level more
+    over the whole body costs 4×.
+    """
+    tri = np.concatenate(case.body.surfaces())
+    lo, hi = case.body.bounds()
+    x = tri[:, :, 0].mean(axis=1)
+    band = END_FRACTION * (hi[0] - lo[0])
+    return tri[(x <= lo[0] + band) | (x >= hi[0] - band)]
 
 
 def cell_size(case: Case) -> float:
@@ -161,6 +188,8 @@ def mesh_dicts(case: Case) -> dict[str, dict[str, Any]]:
     wake_lo = np.minimum(near_lo, wake_end - 0.4 * d)
     wake_hi = np.maximum(near_hi, wake_end + 0.4 * d)
     lvl = surface_level(case)
+    ends = case.settings.end_level > 0 and len(end_triangles(case)) > 0
+    end_level = lvl + case.settings.end_level
     n_layers, first = layer_plan(case)
     layer_sizes: dict[str, Any] = {"layers": {'"body.*"': {"nSurfaceLayers": n_layers}}}
     if first is None:  # relative to the surface cells: the last layer half a cell
@@ -182,6 +211,7 @@ def mesh_dicts(case: Case) -> dict[str, dict[str, Any]]:
             **{f"{n}.stl": {"type": "triSurfaceMesh", "name": n} for n in names},
             "near": {"type": "searchableBox", "min": _f(near_lo), "max": _f(near_hi)},
             "wake": {"type": "searchableBox", "min": _f(wake_lo), "max": _f(wake_hi)},
+            **({"ends.stl": {"type": "triSurfaceMesh", "name": "ends"}} if ends else {}),
         },
         "castellatedMeshControls": {
             "maxLocalCells": 5_000_000,
@@ -196,6 +226,12 @@ def mesh_dicts(case: Case) -> dict[str, dict[str, Any]]:
                 **{n: {"mode": "distance", "levels": capture_bands(h, lvl)} for n in names},
                 "near": {"mode": "inside", "levels": [[1e15, max(0, lvl - 1)]]},
                 "wake": {"mode": "inside", "levels": [[1e15, max(0, lvl - 2)]]},
+                # the ends: every level past the body's, each within one cell of the coarser level
+                **(
+                    {"ends": {"mode": "distance", "levels": capture_bands(h, end_level)[: case.settings.end_level]}}
+                    if ends
+                    else {}
+                ),
             },
             "locationInMesh": _f(inside),
             "allowFreeStandingZoneFaces": True,
@@ -269,4 +305,8 @@ def estimate_cells(case: Case) -> int:
     )
     hs = h / 2**lvl
     total += area / hs**2 * (layer_plan(case)[0] + 3)
+    if case.settings.end_level > 0:
+        tri = end_triangles(case)
+        end_area = float(np.linalg.norm(np.cross(tri[:, 1] - tri[:, 0], tri[:, 2] - tri[:, 0]), axis=1).sum()) / 2
+        total += end_area / hs**2 * (4**case.settings.end_level - 1) * 3
     return int(total)

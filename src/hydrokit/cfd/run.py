@@ -170,11 +170,15 @@ def run_case(case: Case, folder: Path, foam: OpenFOAM | None = None) -> dict[str
             times[program] = times.get(program, 0.0) + time.perf_counter() - t0
 
     try:
-        write_case(case, folder, _mesh_dicts(case))
+        dicts = _mesh_dicts(case)
+        write_case(case, folder, dicts)
         if case.path == "3d":
-            from hydrokit.cfd.mesh3d import surface_names
+            from hydrokit.cfd.mesh3d import end_triangles, surface_names
 
-            for name, tri in zip(surface_names(case), case.body.surfaces(), strict=True):
+            surfaces = dict(zip(surface_names(case), case.body.surfaces(), strict=True))
+            if "ends.stl" in dicts["snappyHexMeshDict"]["geometry"]:  # refined, not a wall
+                surfaces["ends"] = end_triangles(case)
+            for name, tri in surfaces.items():
                 write_stl(folder / "constant" / "triSurface" / f"{name}.stl", tri, name)
             run("blockMesh")
             run("surfaceFeatureExtract")

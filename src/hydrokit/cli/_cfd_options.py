@@ -6,6 +6,7 @@ from typing import Any
 
 import click
 
+from hydrokit.cli._cfd_mesh_options import MESH_OPTIONS
 from hydrokit.cli._types import Count, Number, Numbers
 
 _MODELS = click.Choice(["auto", "laminar", "kOmegaSST", "kEpsilon"])
@@ -64,35 +65,7 @@ _OPTIONS: list[tuple[tuple[str, ...], dict[str, Any]]] = [
             "an intensity of 0.005 with a ratio of 1 leaves a laminar run of uncertain length (natural transition).",
         },
     ),
-    (
-        ("--grids",),
-        {
-            "type": click.Choice(["1", "3"]),
-            "default": "1",
-            "help": "1 grid, or 3 (a refinement triplet, ratio √2) for Richardson extrapolation and GCI.",
-        },
-    ),
-    (
-        ("--cells-per-length",),
-        {"type": Count(2, 200), "default": 2, "help": "Background cells per body length at grid level 1 (count)."},
-    ),
-    (
-        ("--surface-level",),
-        {
-            "type": Count(0, 8),
-            "default": 4,
-            "help": "Refinement levels at the body (count; each halves the cell size).",
-        },
-    ),
-    (
-        ("--y-plus",),
-        {
-            "type": Number("dimensionless", at_least=0, at_most=1000),
-            "default": 0.0,
-            "help": "Target y⁺ of the first cell at the body (dimensionless); 0: each path's own (wedge y⁺ ≈ 1, "
-            "3-D prism layers relative to the surface cells); 30–100 lays both paths for wall functions.",
-        },
-    ),
+    *MESH_OPTIONS,
     (
         ("--iterations",),
         {
