@@ -53,7 +53,7 @@ def cgw(re: float) -> float:
     return 24.0 / re * (1.0 + 0.1935 * re**0.6305)
 
 
-def sphere(work: Path, quick: bool, data: Path | None, workers: int, fine: bool = False) -> None:
+def sphere(work: Path, quick: bool, data: Path | None, workers: int, fine: bool = False, end_level: int = 0) -> None:
     print("sphere (3-D path from an STL, laminar)", flush=True)
     m = shape_mesh("sphere", 96, diameter=1.0)
     body = mesh_body(m.vertices[m.triangles()], "sphere", area=math.pi / 4)
@@ -64,6 +64,7 @@ def sphere(work: Path, quick: bool, data: Path | None, workers: int, fine: bool 
     else:
         # surface level 4 (80 863 cells) gave +2.59 % at Re 200; level 5 (238 584 cells) +1.18 %
         mesh = {"base_cells": 2, "surface_level": 5, "layers": 3, "upstream": 6.0, "downstream": 12.0, "lateral": 8.0}
+    mesh["end_level"] = end_level
     settings = Settings(density=1.0, viscosity=1.0, turbulence="laminar", tolerance=5e-4, max_iterations=3000, **mesh)
     res_list = [20.0, 50.0, 100.0, 200.0]
     spec = SweepSpec(tuple(res_list))  # U = Re with D = 1 m, ν = 1 m²/s
@@ -229,11 +230,17 @@ def _yp(outcome: dict) -> str:
     return f"{y[0]:.3g}–{y[1]:.3g} (mean {y[2]:.3g})" if y else "n/a"
 
 
-def drift(work: Path, quick: bool, workers: int) -> None:
+def drift(work: Path, quick: bool, workers: int, end_level: int = 0) -> None:
     print("drift sweep (3-D Myring, centre of buoyancy as moment reference)", flush=True)
     b = load_cfd_body("myring")
     settings = Settings(
-        density=1000.0, viscosity=1e-6, base_cells=2, surface_level=3 if quick else 4, layers=3, max_iterations=2000
+        density=1000.0,
+        viscosity=1e-6,
+        base_cells=2,
+        surface_level=3 if quick else 4,
+        layers=3,
+        max_iterations=2000,
+        end_level=end_level,
     )
     betas = (-10.0, -5.0, 5.0, 10.0)
     spec = SweepSpec((1.0,), drifts=tuple(math.radians(x) for x in betas))
@@ -258,11 +265,17 @@ def drift(work: Path, quick: bool, workers: int) -> None:
         print(f"  {d.name} = {d.value:.4g} ± {d.se:.2g} (SI), {d.nondimensional:.4g} ÷ ½ρL^{d.k}")
 
 
-def arm(work: Path, quick: bool, workers: int) -> None:
+def arm(work: Path, quick: bool, workers: int, end_level: int = 0) -> None:
     print("rotating arm (SRFSimpleFoam; Myring, 3-D)", flush=True)
     b = load_cfd_body("myring")
     settings = Settings(
-        density=1000.0, viscosity=1e-6, base_cells=2, surface_level=3 if quick else 4, layers=3, max_iterations=2000
+        density=1000.0,
+        viscosity=1e-6,
+        base_cells=2,
+        surface_level=3 if quick else 4,
+        layers=3,
+        max_iterations=2000,
+        end_level=end_level,
     )
     U = 1.0
     big = U / (100 * b.length)
@@ -331,18 +344,19 @@ def main() -> None:
     ap.add_argument("--work", type=Path, help="cache folder (kept; a rerun takes finished cases from it)")
     ap.add_argument("--workers", type=int, default=2)
     ap.add_argument("--fine", action="store_true", help="the sphere on a 30 D domain (hours on 2 cores)")
+    ap.add_argument("--end-level", type=int, default=0, help="sphere, drift, arm: levels added at the ends (count)")
     args = ap.parse_args()
     work = args.work or Path(tempfile.mkdtemp(prefix="hydrokit-bench-cfd-"))
     print(f"work folder: {work}", flush=True)
     for s in args.sections:
         if s == "sphere":
-            sphere(work, args.quick, args.sphere_data, args.workers, args.fine)
+            sphere(work, args.quick, args.sphere_data, args.workers, args.fine, args.end_level)
         elif s == "body":
             body_of_revolution(work, args.quick, args.workers)
         elif s == "drift":
-            drift(work, args.quick, args.workers)
+            drift(work, args.quick, args.workers, args.end_level)
         elif s == "arm":
-            arm(work, args.quick, args.workers)
+            arm(work, args.quick, args.workers, args.end_level)
         elif s == "speed":
             speed(work, args.quick)
         else:
