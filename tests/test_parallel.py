@@ -192,3 +192,18 @@ def test_dask_tests_skip_with_a_reason_where_dask_is_missing() -> None:
     assert f"{len(names)} skipped" in proc.stdout, proc.stdout[-2000:]
     reasons = [ln for ln in proc.stdout.splitlines() if ln.startswith("SKIPPED")]
     assert reasons and all(ln.endswith("Dask is not installed: pip install 'hydrokit[dask]'") for ln in reasons)
+
+
+def test_the_resource_tracker_starts_with_its_leaked_semaphore_warning_off():
+    # a run stopped by SIGTERM must print one line; the tracker (own process, our stderr)
+    # would add "resource_tracker: There appear to be N leaked semaphore objects …"
+    import subprocess
+    import sys
+
+    code = (
+        "import sys; from hydrokit._parallel import _quiet_resource_tracker as q; before = list(sys.warnoptions); q(); "
+        "from multiprocessing import resource_tracker as r; assert sys.warnoptions == before; "
+        "print(open(f'/proc/{r._resource_tracker._pid}/cmdline').read().replace(chr(0), ' '))"
+    )
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=60, check=True).stdout
+    assert "-Wignore:resource_tracker:UserWarning" in out and "resource_tracker" in out

@@ -34,6 +34,25 @@ def _quiet_task_failures() -> None:
     logging.getLogger("distributed.worker").addFilter(_DropComputeFailed())
 
 
+def _quiet_resource_tracker() -> None:
+    """Start multiprocessing's resource tracker with its leaked-semaphore warning off.
+
+    A run stopped by a signal can end before the LocalCluster's worker nannies release their
+    semaphores; the tracker, a process of its own writing to this process's stderr, unlinks
+    them anyway and would print a two-line warning under the one-line "interrupted" message.
+    The tracker takes its warning filters from ``-W`` options given when it starts.
+    """
+    import sys
+    from multiprocessing import resource_tracker
+
+    saved = list(sys.warnoptions)
+    sys.warnoptions.append("ignore:resource_tracker:UserWarning")
+    try:
+        resource_tracker.ensure_running()
+    finally:
+        sys.warnoptions[:] = saved
+
+
 class Executor:
     """Run ``fn(item)`` for every item, serially or on Dask; use as a context manager.
 
@@ -99,6 +118,7 @@ class Executor:
             raise MissingExtraError("dask", "dask") from exc
         with contextlib.ExitStack() as stack:
             if self.scheduler is None:
+                _quiet_resource_tracker()
                 cluster = LocalCluster(
                     n_workers=self.workers,
                     threads_per_worker=1,
