@@ -242,10 +242,9 @@ def _yp(outcome: dict) -> str:
     return f"{y[0]:.3g}–{y[1]:.3g} (mean {y[2]:.3g})" if y else "n/a"
 
 
-def drift(work: Path, quick: bool, workers: int, end_level: int = 0) -> None:
-    print("drift sweep (3-D Myring, centre of buoyancy as moment reference)", flush=True)
-    b = load_cfd_body("myring")
-    settings = Settings(
+def _myring_settings(quick: bool, end_level: int) -> Settings:
+    """The drift and arm sweeps' settings: fresh water, surface level 3 (quick) or 4."""
+    return Settings(
         density=1000.0,
         viscosity=1e-6,
         base_cells=2,
@@ -254,6 +253,12 @@ def drift(work: Path, quick: bool, workers: int, end_level: int = 0) -> None:
         max_iterations=2000,
         end_level=end_level,
     )
+
+
+def drift(work: Path, quick: bool, workers: int, end_level: int = 0) -> None:
+    print("drift sweep (3-D Myring, centre of buoyancy as moment reference)", flush=True)
+    b = load_cfd_body("myring")
+    settings = _myring_settings(quick, end_level)
     betas = (-10.0, -5.0, 5.0, 10.0)
     spec = SweepSpec((1.0,), drifts=tuple(math.radians(x) for x in betas))
     result = run_sweep(b, spec, settings, work / "drift", workers=workers)
@@ -280,15 +285,7 @@ def drift(work: Path, quick: bool, workers: int, end_level: int = 0) -> None:
 def arm(work: Path, quick: bool, workers: int, end_level: int = 0) -> None:
     print("rotating arm (SRFSimpleFoam; Myring, 3-D)", flush=True)
     b = load_cfd_body("myring")
-    settings = Settings(
-        density=1000.0,
-        viscosity=1e-6,
-        base_cells=2,
-        surface_level=3 if quick else 4,
-        layers=3,
-        max_iterations=2000,
-        end_level=end_level,
-    )
+    settings = _myring_settings(quick, end_level)
     U = 1.0
     big = U / (100 * b.length)
     rates = (-0.2, -0.1, 0.1, 0.2)
