@@ -515,7 +515,12 @@ def test_the_wedge_lays_its_first_cell_for_the_target_y_plus(monkeypatch):
 
     seen = []
     real = wedge.blockmesh_dict
-    monkeypatch.setattr(wedge, "blockmesh_dict", lambda *a, **kw: seen.append(kw["first_cell"]) or real(*a, **kw))
+    held = []
+    monkeypatch.setattr(
+        wedge,
+        "blockmesh_dict",
+        lambda *a, **kw: seen.append(kw["first_cell"]) or held.append(kw["hold_first_cell"]) or real(*a, **kw),
+    )
     for y_plus in (0.0, 1.0, 30.0):
         case = _myring_3d(y_plus)
         case = Case(case.body, case.flow, Settings(**{**case.settings.__dict__, "path": "auto"}))
@@ -526,6 +531,34 @@ def test_the_wedge_lays_its_first_cell_for_the_target_y_plus(monkeypatch):
     # default: y⁺ 1 but at most a twentieth of the laminar layer (0.25 L/√Re = 0.35 mm here)
     assert seen[0] == pytest.approx(min(nu / u_tau, 0.25 * case.body.length / 1e3))
     assert seen[1] == pytest.approx(nu / u_tau) and seen[2] == pytest.approx(30 * nu / u_tau)
+    # an asked-for y⁺ is held on the finer grid levels; the default one refines with the grid
+    assert held == [False, True, True]
+
+
+def test_a_held_first_cell_changes_the_key_of_finer_wedge_levels_only():
+    base = _myring_3d(50.0)
+    at = lambda grid, y_plus: Case(  # noqa: E731
+        base.body, base.flow, Settings(**{**base.settings.__dict__, "path": "auto", "grid": grid, "y_plus": y_plus})
+    )
+    import hashlib
+    import json
+    from dataclasses import asdict
+
+    from hydrokit.cfd.case import CASE_FORMAT
+
+    def before(case: Case) -> str:  # the key as it was computed until the first cell was held
+        settings = {k: v for k, v in asdict(case.settings).items() if k not in ("timeout", "processes", "end_level")}
+        settings = {k: v for k, v in settings.items() if not (k == "y_plus" and v == 0)}
+        data = {"format": CASE_FORMAT, "body": case.body.digest(), "flow": asdict(case.flow)}
+        data["settings"] = {**settings, "path": case.path}
+        return hashlib.sha256(json.dumps(data, sort_keys=True).encode()).hexdigest()[:16]
+
+    assert at(1, 50.0).path == "wedge"
+    # level 1 is the same mesh, and the default y⁺ still refines with the grid: their keys stay
+    assert at(1, 50.0).key() == before(at(1, 50.0))
+    assert at(2, 0.0).key() == before(at(2, 0.0)) and at(3, 0.0).key() == before(at(3, 0.0))
+    # finer levels at an asked-for y⁺ have a new mesh: computed anew
+    assert at(2, 50.0).key() != before(at(2, 50.0)) and at(3, 50.0).key() != before(at(3, 50.0))
 
 
 def test_the_cli_options_reach_the_settings_in_si():

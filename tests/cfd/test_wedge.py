@@ -93,7 +93,9 @@ def _write(path: Path, entries: dict) -> None:
         f[key] = value
 
 
-def build(case: Path, x: np.ndarray, r: np.ndarray, level: int = 1, **domain: float) -> Built:
+def build(
+    case: Path, x: np.ndarray, r: np.ndarray, level: int = 1, hold_first_cell: bool = False, **domain: float
+) -> Built:
     (case / "system").mkdir(parents=True)
     # writePrecision 15: at the default 6 digits the wedge sides stop being planar (checkMesh warns)
     _write(
@@ -105,7 +107,9 @@ def build(case: Path, x: np.ndarray, r: np.ndarray, level: int = 1, **domain: fl
     _write(case / "system" / "fvSchemes", dict.fromkeys(schemes, {}))
     _write(case / "system" / "fvSolution", {"solvers": {}})
     h = first_cell_height(float(x[-1] - x[0]), RE_L, 1.0)
-    mesh = blockmesh_dict(x, r, first_cell=h, level=level, wedge_deg=WEDGE_DEG, **domain)
+    mesh = blockmesh_dict(
+        x, r, first_cell=h, level=level, wedge_deg=WEDGE_DEG, hold_first_cell=hold_first_cell, **domain
+    )
     _write(case / "system" / "blockMeshDict", mesh)
     env = dict(os.environ, WM_PROJECT_DIR="/usr/share/openfoam")
     outputs = []
@@ -113,7 +117,7 @@ def build(case: Path, x: np.ndarray, r: np.ndarray, level: int = 1, **domain: fl
         run = subprocess.run([program, "-case", str(case)], capture_output=True, text=True, env=env, timeout=120)
         assert run.returncode == 0, f"{program} failed:\n{run.stdout[-2000:]}\n{run.stderr[-2000:]}"
         outputs.append(run.stdout)
-    return Built(case, cell_count(mesh), outputs[1], h / refinement_ratio(level), x, r)
+    return Built(case, cell_count(mesh), outputs[1], h if hold_first_cell else h / refinement_ratio(level), x, r)
 
 
 def read_mesh(case: Path) -> tuple[np.ndarray, list[list[int]], np.ndarray, np.ndarray, dict]:
@@ -131,6 +135,26 @@ def face_area_vector(points: np.ndarray, face: list[int]) -> np.ndarray:
     if len(face) == 3:
         return 0.5 * np.cross(p[1] - p[0], p[2] - p[0])
     return 0.5 * np.cross(p[2] - p[0], p[3] - p[1])  # a planar quadrilateral
+
+
+def first_cell_at_mid_body(built: Built) -> float:
+    """Wall-normal height, m, of the body cell nearest mid-length, measured on the built mesh."""
+    points, faces, owner, neighbour, boundary = read_mesh(built.case)
+    body = boundary["body"]
+    start, n = body["startFace"], body["nFaces"]
+    centres = np.array([points[faces[i]].mean(axis=0) for i in range(start, start + n)])
+    mid = 0.5 * (built.x[0] + built.x[-1])
+    f_body = start + int(np.argmin(abs(centres[:, 0] - mid)))
+    cell = owner[f_body]
+    # the cell's face opposite the wall shares no point with the wall face
+    n_internal = len(neighbour)
+    cell_faces = [f for f in np.flatnonzero(owner == cell)] + [f for f in np.flatnonzero(neighbour == cell)]
+    wall = set(faces[f_body])
+    opposite = [f for f in cell_faces if f < n_internal and not wall & set(faces[f])]
+    assert len(opposite) == 1
+    normal = face_area_vector(points, faces[f_body])
+    normal /= np.linalg.norm(normal)
+    return abs(float((points[faces[opposite[0]]].mean(axis=0) - points[faces[f_body]].mean(axis=0)) @ normal))
 
 
 def checkmesh_value(text: str, label: str) -> float:
@@ -200,23 +224,7 @@ def test_spheroid_body_area_is_the_wedge_share_of_the_closed_form(built_spheroid
 @pytest.mark.cfd
 @needs_openfoam
 def test_first_cell_height_at_mid_body(built: Built):
-    points, faces, owner, neighbour, boundary = read_mesh(built.case)
-    body = boundary["body"]
-    start, n = body["startFace"], body["nFaces"]
-    centres = np.array([points[faces[i]].mean(axis=0) for i in range(start, start + n)])
-    mid = 0.5 * (built.x[0] + built.x[-1])
-    f_body = start + int(np.argmin(abs(centres[:, 0] - mid)))
-    cell = owner[f_body]
-    # the cell's face opposite the wall shares no point with the wall face
-    n_internal = len(neighbour)
-    cell_faces = [f for f in np.flatnonzero(owner == cell)] + [f for f in np.flatnonzero(neighbour == cell)]
-    wall = set(faces[f_body])
-    opposite = [f for f in cell_faces if f < n_internal and not wall & set(faces[f])]
-    assert len(opposite) == 1
-    normal = face_area_vector(points, faces[f_body])
-    normal /= np.linalg.norm(normal)
-    height = abs(float((points[faces[opposite[0]]].mean(axis=0) - points[faces[f_body]].mean(axis=0)) @ normal))
-    assert height == pytest.approx(built.first_cell, rel=0.05)
+    assert first_cell_at_mid_body(built) == pytest.approx(built.first_cell, rel=0.05)
 
 
 @pytest.mark.cfd
@@ -226,6 +234,18 @@ def test_level_two_mesh_builds_with_twice_the_cells(tmp_path: Path):
     level2 = build(tmp_path / "level2", x, r, level=2)
     assert "Mesh OK." in level2.check
     assert int(checkmesh_value(level2.check, "cells:")) == level2.asked
+    # refined with the rest: the first cell is the level-1 height ÷ √2
+    assert first_cell_at_mid_body(level2) == pytest.approx(first_cell_height(1.0, RE_L, 1.0) / math.sqrt(2.0), rel=0.05)
+
+
+@pytest.mark.cfd
+@needs_openfoam
+def test_a_held_first_cell_keeps_its_height_on_level_two(tmp_path: Path):
+    # a wall-function grid study refines along and across the body but keeps the y⁺ of the wall cell
+    x, r = spheroid()
+    held = build(tmp_path / "held", x, r, level=2, hold_first_cell=True)
+    assert "Mesh OK." in held.check
+    assert first_cell_at_mid_body(held) == pytest.approx(first_cell_height(1.0, RE_L, 1.0), rel=0.05)
 
 
 def capsule() -> tuple[np.ndarray, np.ndarray]:
@@ -357,6 +377,17 @@ def test_levels_form_a_root_two_triplet(body):
     # √2 per direction in 2-D (rounded per block): ×2 and ×4 within 2 %
     assert counts[1] / counts[0] == pytest.approx(2.0, rel=0.02)
     assert counts[2] / counts[0] == pytest.approx(4.0, rel=0.02)
+
+
+def test_a_held_first_cell_keeps_the_cell_counts_of_the_level():
+    x, r = spheroid()
+    h = first_cell_height(1.0, RE_L, 1.0)
+    for level in (1, 2, 3):
+        plain = blockmesh_dict(x, r, first_cell=h, level=level)
+        held = blockmesh_dict(x, r, first_cell=h, level=level, hold_first_cell=True)
+        assert cell_count(held) == cell_count(plain)
+        # level 1 is the same mesh; finer levels differ only in their wall-normal grading
+        assert (held == plain) == (level == 1)
 
 
 def test_dictionary_is_plain_and_wedge_sides_planar():

@@ -41,7 +41,8 @@ def _mesh_dicts(case: Case) -> dict[str, Any]:
         x, r = case.body.profile[:, 0], case.body.profile[:, 1]
         # y⁺ = 1 for turbulent flow; at low Re that height exceeds a laminar boundary layer
         # (δ ≈ 5 L / √Re): then a twentieth of δ, and never more than 2 % of the body's radius.
-        # A y⁺ asked for in the settings is laid out as asked (within the 2 %)
+        # A y⁺ asked for in the settings is laid out as asked (within the 2 %) and held on every
+        # grid level, so a wall-function grid study refines the grid, not the wall treatment
         L, re, y_plus = case.body.length, case.reynolds, case.settings.y_plus
         if y_plus > 0:
             first = min(wedge.first_cell_height(L, re, y_plus), 0.02 * float(r.max()))
@@ -57,6 +58,7 @@ def _mesh_dicts(case: Case) -> dict[str, Any]:
                 downstream=case.settings.downstream,
                 radial=case.settings.lateral,
                 wedge_deg=WEDGE_DEG,
+                hold_first_cell=y_plus > 0,
             )
         }
     from hydrokit.cfd import mesh3d
