@@ -199,7 +199,7 @@ def body_of_revolution(work: Path, quick: bool, workers: int, fine: bool = False
         return
     W = {g: -o["forces"][0] for g, o in wedges.items()}
     for g, o in wedges.items():
-        print(f"  wedge at y⁺ {y_plus:g}, level {g}: {W[g]:.4g} N ({o['mesh']['cells']} cells, y⁺ {_yp(o)})")
+        print(f"  wedge at y⁺ {y_plus:g}, level {g}: {W[g]:.4g} N ({o['mesh']['cells']} cells, y⁺ {_yp(o)}){_parts(o)}")
     R2, ref_name = W[max(W)], f"the wedge's level {max(W)}"
     if len(W) == 3:
         from hydrokit.cfd.gci import grid_study
@@ -216,7 +216,7 @@ def body_of_revolution(work: Path, quick: bool, workers: int, fine: bool = False
     R3 = {level: -o["forces"][0] for level, o in runs.items()}
     for level, o in runs.items():
         print(
-            f"  3-D surface level {level}: {R3[level]:.4g} N ({o['mesh']['cells']} cells, y⁺ {_yp(o)}): "
+            f"  3-D surface level {level}: {R3[level]:.4g} N ({o['mesh']['cells']} cells, y⁺ {_yp(o)}){_parts(o)}: "
             f"{R3[level] / R2 - 1:+.1%} vs {ref_name}"
         )
     finest = R3[levels[-1]]
@@ -263,6 +263,14 @@ def _yp(outcome: dict) -> str:
     """'min–max (mean m)' of a case's y⁺ at the body, as OpenFOAM's yPlus reports it (cell centres)."""
     y = outcome.get("y_plus")
     return f"{y[0]:.3g}–{y[1]:.3g} (mean {y[2]:.3g})" if y else "n/a"
+
+
+def _parts(outcome: dict) -> str:
+    """', pressure P + friction F N' of a case's resistance (outcomes computed before the parts were kept: '')."""
+    parts = outcome.get("force_parts") or {}
+    if not parts:
+        return ""
+    return f", pressure {-parts['pressure'][0]:.4g} + friction {-parts['viscous'][0]:.4g} N"
 
 
 def _myring_settings(quick: bool, end_level: int) -> Settings:

@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 
 from hydrokit.cfd.gci import grid_study
-from hydrokit.cfd.history import autocorrelation_time, converged, judge, read_dat, read_forces
+from hydrokit.cfd.history import autocorrelation_time, converged, judge, read_dat, read_force_parts, read_forces
 
 
 def test_richardson_recovers_an_exact_second_order_series():
@@ -135,3 +135,8 @@ def test_force_files_of_openfoam_v1912_are_read_without_their_unfinished_last_li
     assert loads[1, 0] == pytest.approx(-0.43) and loads[0, 1] == pytest.approx(3.5e-3)
     assert loads[1, 3] == pytest.approx(-0.43)  # the moment file's total_x
     assert read_forces(tmp_path / "missing")[1].shape == (0, 6)
+    pressure, viscous = read_force_parts(tmp_path / "forces")
+    assert pressure.shape == viscous.shape == (2, 3)
+    assert pressure[1, 0] == pytest.approx(-0.20) and viscous[1, 0] == pytest.approx(-0.23)
+    assert pressure + viscous == pytest.approx(loads[:, :3])  # OpenFOAM's total is their sum
+    assert read_force_parts(tmp_path / "missing")[0].shape == (0, 3)

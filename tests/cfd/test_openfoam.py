@@ -66,6 +66,12 @@ def test_a_tiny_sphere_gives_a_drag_near_the_correlation_and_a_cached_rerun(tmp_
     # 4 k cells in a 5 D box: 10 % of the correlation (the benchmark mesh holds 2 %)
     assert cd == pytest.approx(_cgw(50.0), rel=0.10)
     assert abs(Y) < 0.01 * abs(X) and abs(Z) < 0.01 * abs(X)
+    # drag apart: both parts resist, sum to X, and friction's share lies below Stokes flow's 2/3
+    # (creeping flow: 4πμUa of 6πμUa is friction; the share falls as Re grows, ≈ 0.5 at Re 50)
+    parts = out["force_parts"]
+    assert parts["pressure"][0] < 0 and parts["viscous"][0] < 0
+    assert parts["pressure"][0] + parts["viscous"][0] == pytest.approx(X, rel=1e-9)
+    assert 0.3 < parts["viscous"][0] / X < 2.0 / 3.0
     assert out["mesh"]["cells"] > 500 and out["mesh"]["failed_checks"] == 0
     assert 0 < out["foam_time"] <= out["wall_time"]
     assert len(out["history"]["X"]) >= 10
@@ -262,6 +268,9 @@ def test_the_axisymmetric_wedge_of_a_sphere_profile_gives_the_whole_body_drag(tm
     # 6 k cells: 12 % (1.71 against 1.57 here); a wrong sector factor or sign is off by far more
     assert cd == pytest.approx(_cgw(50.0), rel=0.12)
     assert out["forces"][1:] == [0.0] * 5  # side forces and moments vanish by symmetry
+    parts = out["force_parts"]  # the parts in body axes, × 72, like the total
+    assert parts["pressure"][0] + parts["viscous"][0] == pytest.approx(out["forces"][0], rel=1e-9)
+    assert parts["pressure"][0] < 0 and parts["viscous"][0] < 0
 
 
 @needs_openfoam

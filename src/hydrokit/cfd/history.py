@@ -70,6 +70,25 @@ def read_forces(post: Path) -> tuple[np.ndarray, np.ndarray]:
     return f[:n, 0], np.column_stack([f[:n, 1:4], m[:n, 1:4]])
 
 
+def read_force_parts(post: Path) -> tuple[np.ndarray, np.ndarray]:
+    """Pressure and viscous force (n, 3) each, N, from ``postProcessing/forces``, on the rows
+    :func:`read_forces` returns (their sum is its total force).
+
+    Friction and pressure drag move differently with the mesh (a wall function's friction with
+    the first cell, pressure drag with the surface's facets), so a grid study reads them apart.
+    """
+    folders = sorted((p for p in post.glob("*") if p.is_dir()), key=lambda p: _time(p.name))
+    empty = np.zeros((0, 3))
+    if not folders:
+        return empty, empty
+    f = read_dat(folders[-1] / "force.dat")
+    m = read_dat(folders[-1] / "moment.dat")
+    n = min(len(f), len(m))
+    if n == 0 or f.shape[1] < 10:
+        return empty, empty
+    return f[:n, 4:7], f[:n, 7:10]
+
+
 def _time(name: str) -> float:
     try:
         return float(name)

@@ -140,6 +140,20 @@ def body_loads(case: Case, raw: np.ndarray) -> np.ndarray:
     return raw
 
 
+def _force_parts(case: Case, post: Path, samples: int) -> dict[str, list[float]]:
+    """Mean pressure and viscous force [X, Y, Z], N, body axes, over the judged last ``samples``
+    iterations (empty when OpenFOAM wrote no parts)."""
+    pressure, viscous = history.read_force_parts(post)
+    if len(pressure) == 0:
+        return {}
+    tail = slice(max(0, len(pressure) - max(1, samples)), None)
+    zeros = np.zeros_like(pressure)
+    return {
+        name: [float(v) for v in body_loads(case, np.column_stack([part, zeros]))[tail, :3].mean(axis=0)]
+        for name, part in (("pressure", pressure), ("viscous", viscous))
+    }
+
+
 def run_case(case: Case, folder: Path, foam: OpenFOAM | None = None) -> dict[str, Any]:
     """Build and run ``case`` in ``folder`` (created; must not exist); return its outcome.
 
@@ -148,6 +162,7 @@ def run_case(case: Case, folder: Path, foam: OpenFOAM | None = None) -> dict[str
     dict — ``status`` (converged, averaged, not converged or failed), ``forces`` and ``std``
     (X Y Z in N, K M N in N·m, body axes, SNAME signs), ``mesh`` (cells, checks), ``iterations``,
     ``y_plus`` [min, max, mean] (turbulent cases), ``history`` (thinned force history),
+    ``force_parts`` (``pressure`` and ``viscous`` force [X, Y, Z], N, over the same iterations),
     ``wall_time`` and ``foam_time`` (s: all, and inside OpenFOAM's programs), ``reason`` when failed.
     """
     started = time.perf_counter()
@@ -235,6 +250,7 @@ def run_case(case: Case, folder: Path, foam: OpenFOAM | None = None) -> dict[str
             y_plus=_y_plus(folder),
             slice=_slice(case, folder),
             history=_thin(it, values),
+            force_parts=_force_parts(case, post, j.samples),
         )
     except SolverError as exc:
         outcome.update(status="failed", reason=str(exc))
