@@ -317,8 +317,9 @@ class Case:
             },
         }
         if self.path == "3d" and self.settings.y_plus > 0:
-            # the prism layers laid from a target y⁺ fit in one surface cell since 2026-11-27
-            data["layers"] = "stack within a surface cell"
+            # the prism layers laid from a target y⁺ fit in two surface cells since 2026-11-27
+            # (one surface cell in the morning of that day)
+            data["layers"] = "stack within two surface cells"
         if self.path == "wedge" and self.settings.y_plus > 0 and self.settings.grid > 1:
             # the first cell of an asked-for y⁺ is held on the finer levels since 2026-11-27 (late)
             data["first_cell"] = "held"
