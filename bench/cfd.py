@@ -8,8 +8,9 @@
   line with Hoerner's form factor (R = ½ρU²S C_F (1 + k), C_F = 0.075/(log10 Re − 2)²,
   1 + k = 1 + 1.5 (d/L)^1.5 + 7 (d/L)³), each with its GCI over a grid triplet; the 3-D path
   on the same body against the axisymmetric one, laminar at Re_L 1000 and k-ω SST at Re_L 1e6
-  with the first cell laid for y⁺ 50 on both (target within 3 %), and what the wall treatment
-  alone moves (the wedge at y⁺ 50 vs y⁺ 1);
+  with the first cell laid for y⁺ 50 on both (target within 3 % of the wedge's grid-converged
+  value, its first cell held across its triplet), the pressure and friction parts of each, and
+  what the wall treatment alone moves (the wedge at y⁺ 50 vs y⁺ 1);
 - drift: a drift sweep of the 3-D Myring: Y and N antisymmetric in β, Y opposing v, the Munk
   moment's sign (N < 0 for v > 0 about the centre of buoyancy);
 - arm: the rotating arm at a 100-length radius against straight flow (target within 1 %) and a
@@ -172,8 +173,10 @@ def body_of_revolution(work: Path, quick: bool, workers: int, fine: bool = False
     # layer, Spalding's wall function on both), and the wedge's own y⁺ 1 beside it to show what
     # the wall treatment alone moves. The 3-D path on surface level 3 and (full run) 4, each with
     # one level more on the nose and tail (end_level 1), where the snapped, faceted surface
-    # misplaces the stagnation push and the pressure recovery: the remaining error halves with
-    # the surface cell (first order), so the pair gives a Richardson estimate with p = 1 (assumed)
+    # misplaces the stagnation push and the pressure recovery: that pressure excess shrinks with
+    # the surface cell (first order), so the pair gives a Richardson estimate with p = 1
+    # (assumed). Each line shows the pressure and friction parts: the friction is the wall
+    # function's and depends on the prism stack (mesh3d.layer_plan), the pressure on the facets
     U, y_plus = speeds[0], 50.0
     common = dict(density=rho, viscosity=nu, turbulence="kOmegaSST", tolerance=5e-4, max_iterations=3000)
     # the wedge's own triplet with its first cell held at y⁺ 50 (refined with the grid, it walked
