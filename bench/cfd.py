@@ -222,6 +222,15 @@ def body_of_revolution(work: Path, quick: bool, workers: int, fine: bool = False
             f"  3-D surface level {level}: {R3[level]:.4g} N ({o['mesh']['cells']} cells, y⁺ {_yp(o)}){_parts(o)}: "
             f"{R3[level] / R2 - 1:+.1%} vs {ref_name}"
         )
+    wp = wedges[max(W)].get("force_parts") or {}
+    for level, o in runs.items():
+        tp = o.get("force_parts") or {}
+        if wp and tp:  # which part differs: friction (the wall function, the layers) or pressure (the facets)
+            print(
+                f"  3-D level {level} vs the wedge's level {max(W)}: friction "
+                f"{tp['viscous'][0] / wp['viscous'][0] - 1:+.1%}, pressure {tp['pressure'][0] / wp['pressure'][0] - 1:+.0%} "
+                f"({-tp['pressure'][0]:.4g} vs {-wp['pressure'][0]:.4g} N)"
+            )
     finest = R3[levels[-1]]
     verdict(
         f"Myring 3-D (finest, level {levels[-1]}, ends +1) vs axisymmetric, k-ω SST Re_L 1e6, y⁺ {y_plus:g} on both",

@@ -200,10 +200,15 @@ def test_the_resource_tracker_starts_with_its_leaked_semaphore_warning_off():
     import subprocess
     import sys
 
+    # the tracker's command line is read once it has exec'd: right after the fork it is empty
+    # (a loaded machine showed that gap)
     code = (
-        "import sys; from hydrokit._parallel import _quiet_resource_tracker as q; before = list(sys.warnoptions); q(); "
-        "from multiprocessing import resource_tracker as r; assert sys.warnoptions == before; "
-        "print(open(f'/proc/{r._resource_tracker._pid}/cmdline').read().replace(chr(0), ' '))"
+        "import sys, time; from hydrokit._parallel import _quiet_resource_tracker as q; before = list(sys.warnoptions); "
+        "q(); from multiprocessing import resource_tracker as r; assert sys.warnoptions == before; "
+        "end = time.monotonic() + 20; line = ''\n"
+        "while 'resource_tracker' not in line and time.monotonic() < end:\n"
+        "    line = open(f'/proc/{r._resource_tracker._pid}/cmdline').read().replace(chr(0), ' '); time.sleep(0.01)\n"
+        "print(line)"
     )
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=60, check=True).stdout
     assert "-Wignore:resource_tracker:UserWarning" in out and "resource_tracker" in out
