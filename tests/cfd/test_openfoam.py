@@ -73,6 +73,7 @@ def test_a_tiny_sphere_gives_a_drag_near_the_correlation_and_a_cached_rerun(tmp_
     assert parts["pressure"][0] + parts["viscous"][0] == pytest.approx(X, rel=1e-9)
     assert 0.3 < parts["viscous"][0] / X < 2.0 / 3.0
     assert out["mesh"]["cells"] > 500 and out["mesh"]["failed_checks"] == 0
+    assert out["prism_layers"] == case.settings.layers  # relative layers: the count asked for
     assert 0 < out["foam_time"] <= out["wall_time"]
     assert len(out["history"]["X"]) >= 10
     # the report's slice: the wake trails behind the body (−x for a body moving forward)

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import math
+from dataclasses import replace
 
 import numpy as np
 import pytest
@@ -232,6 +233,35 @@ def test_a_failed_case_leaves_its_row_empty_and_the_others_are_fitted():
     assert math.isnan(row["X"])
     assert res.fits["x"].n == 3 and res.fits["x"].K_Q == pytest.approx(10.0, rel=1e-6)
     assert ",failed" in res.forces_csv()
+
+
+def test_a_3d_grid_study_whose_levels_carry_different_layer_stacks_says_so():
+    from hydrokit.cfd.mesh3d import layer_plan
+
+    body = _myring_3d(50.0).body
+    spec = SweepSpec((0.5, 1.0, 1.5), grids=3)
+    base = Settings(density=1000.0, viscosity=1e-6, turbulence="kOmegaSST", path="3d", surface_level=4)
+    cases = make_cases(body, spec, base)
+    # the stack laid for y⁺ 50 fits in fewer layers as the surface cells shrink by √2 per grid
+    layers: dict[float, dict[int, int]] = {}
+    for c in cases:
+        n = layer_plan(replace(c, settings=replace(c.settings, y_plus=50.0)))[0]
+        layers.setdefault(c.flow.speed, {})[c.settings.grid] = n
+    assert all(by_grid[1] > by_grid[3] for by_grid in layers.values())
+    for y_plus, expected in ((50.0, True), (0.0, False)):
+        outs = []
+        for c in cases:
+            c = replace(c, settings=replace(c.settings, y_plus=y_plus))
+            o = _outcome(c, -10 * c.flow.speed**2 * (1 + 0.01 / c.settings.grid))
+            o["prism_layers"] = layer_plan(c)[0]
+            outs.append(o)
+        res = assemble(body, spec, base, outs)
+        said = [w for w in res.warnings if "prism layers" in w]
+        assert bool(said) is expected
+        if expected:  # one line per flow, naming its own three stacks
+            assert len(said) == 3
+            for speed, n in layers.items():
+                assert any(w.startswith(f"U{speed:g}_") and f"{n[1]} / {n[2]} / {n[3]} prism layers" in w for w in said)
 
 
 def test_the_bundled_bodies_are_the_shapes_their_files_describe():

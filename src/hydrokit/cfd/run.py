@@ -163,6 +163,7 @@ def run_case(case: Case, folder: Path, foam: OpenFOAM | None = None) -> dict[str
     (X Y Z in N, K M N in N·m, body axes, SNAME signs), ``mesh`` (cells, checks), ``iterations``,
     ``y_plus`` [min, max, mean] (turbulent cases), ``history`` (thinned force history),
     ``force_parts`` (``pressure`` and ``viscous`` force [X, Y, Z], N, over the same iterations),
+    ``prism_layers`` (3-D path: the layers asked of snappyHexMesh, count),
     ``wall_time`` and ``foam_time`` (s: all, and inside OpenFOAM's programs), ``reason`` when failed.
     """
     started = time.perf_counter()
@@ -190,7 +191,9 @@ def run_case(case: Case, folder: Path, foam: OpenFOAM | None = None) -> dict[str
         dicts = _mesh_dicts(case)
         write_case(case, folder, dicts)
         if case.path == "3d":
-            from hydrokit.cfd.mesh3d import end_triangles, surface_names
+            from hydrokit.cfd.mesh3d import end_triangles, layer_plan, surface_names
+
+            outcome["prism_layers"] = layer_plan(case)[0]  # asked of snappyHexMesh (count)
 
             surfaces = dict(zip(surface_names(case), case.body.surfaces(), strict=True))
             if "ends.stl" in dicts["snappyHexMeshDict"]["geometry"]:  # refined, not a wall

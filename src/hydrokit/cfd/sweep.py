@@ -298,6 +298,13 @@ def rows_from(outcomes: Sequence[dict[str, Any]], grids: int) -> tuple[list[dict
                 row[f"{k}_convergence"] = study.kind
                 if k == "X" and study.kind != "monotonic":
                     notes.append(f"{fine['label']}: X converges {study.kind}ly over the three grids")
+            layers = [by_grid[g].get("prism_layers") for g in (1, 2, 3) if g in by_grid]
+            if len(set(layers)) > 1 and None not in layers:
+                # a stack laid from a target y⁺ fits in fewer layers as the surface cells shrink
+                notes.append(
+                    f"{fine['label']}: the three grids carry {' / '.join(map(str, layers))} prism layers; "
+                    "their GCI includes that change of near-wall resolution (docs/cfd.md)"
+                )
         rows.append(row)
     return rows, notes
 
