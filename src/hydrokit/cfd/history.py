@@ -53,21 +53,30 @@ def read_dat(path: Path) -> np.ndarray:
     return np.array(rows, dtype=float)
 
 
+def _force_rows(post: Path) -> tuple[np.ndarray, np.ndarray]:
+    """The newest start-time folder's ``force.dat`` and ``moment.dat`` rows, cut to the rows
+    present in both (empty arrays when either is missing or has fewer than 4 columns)."""
+    folders = sorted((p for p in post.glob("*") if p.is_dir()), key=lambda p: _time(p.name))
+    if not folders:
+        return np.zeros((0, 0)), np.zeros((0, 0))
+    f = read_dat(folders[-1] / "force.dat")
+    m = read_dat(folders[-1] / "moment.dat")
+    n = min(len(f), len(m))
+    if n == 0 or f.shape[1] < 4 or m.shape[1] < 4:
+        return np.zeros((0, 0)), np.zeros((0, 0))
+    return f[:n], m[:n]
+
+
 def read_forces(post: Path) -> tuple[np.ndarray, np.ndarray]:
     """Iterations (n,) and total force and moment (n, 6), N and N·m, from ``postProcessing/forces``.
 
     Reads the newest start-time folder's ``force.dat`` and ``moment.dat`` (OpenFOAM v1912 layout:
     time, (total), (pressure), (viscous)); rows present in both files only.
     """
-    folders = sorted((p for p in post.glob("*") if p.is_dir()), key=lambda p: _time(p.name))
-    if not folders:
+    f, m = _force_rows(post)
+    if len(f) == 0:
         return np.zeros(0), np.zeros((0, 6))
-    f = read_dat(folders[-1] / "force.dat")
-    m = read_dat(folders[-1] / "moment.dat")
-    n = min(len(f), len(m))
-    if n == 0 or f.shape[1] < 4 or m.shape[1] < 4:
-        return np.zeros(0), np.zeros((0, 6))
-    return f[:n, 0], np.column_stack([f[:n, 1:4], m[:n, 1:4]])
+    return f[:, 0], np.column_stack([f[:, 1:4], m[:, 1:4]])
 
 
 def read_force_parts(post: Path) -> tuple[np.ndarray, np.ndarray]:
@@ -77,16 +86,10 @@ def read_force_parts(post: Path) -> tuple[np.ndarray, np.ndarray]:
     Friction and pressure drag move differently with the mesh (a wall function's friction with
     the first cell, pressure drag with the surface's facets), so a grid study reads them apart.
     """
-    folders = sorted((p for p in post.glob("*") if p.is_dir()), key=lambda p: _time(p.name))
-    empty = np.zeros((0, 3))
-    if not folders:
-        return empty, empty
-    f = read_dat(folders[-1] / "force.dat")
-    m = read_dat(folders[-1] / "moment.dat")
-    n = min(len(f), len(m))
-    if n == 0 or f.shape[1] < 10:
-        return empty, empty
-    return f[:n, 4:7], f[:n, 7:10]
+    f, _ = _force_rows(post)
+    if len(f) == 0 or f.shape[1] < 10:
+        return np.zeros((0, 3)), np.zeros((0, 3))
+    return f[:, 4:7], f[:, 7:10]
 
 
 def _time(name: str) -> float:
