@@ -90,7 +90,9 @@ def test_the_cfd_column_is_computed_from_the_body(tmp_path):
     speeds = [0.5, 1.0, 1.5]
     data = _project(tmp_path, {"speeds": speeds, "density": 1.0, "viscosity": 0.02, "settings": TINY})
     p = parse_project(data, tmp_path / "project.yaml")
-    out = computed_cfd_sources(p, 1000.0, tmp_path / "cache")
+    done: list[int] = []
+    out = computed_cfd_sources(p, 1000.0, tmp_path / "cache", progress=done.append)
+    assert done == [1, 1, 1]  # the main job's bar advances per case, not once for the sweep
     surge = out["surge"]
     # independent: the Chin fit of the drag the Clift-Grace-Weber curve gives at Re = U D / ν
     U = np.array(speeds)
@@ -132,3 +134,32 @@ def test_the_bundled_lingyun_project_carries_li2021_table_4_into_its_truth_and_b
     body, settings, sweep, cases = cfd_sweep_inputs(p, 1025.9)
     assert body.length == pytest.approx(1.25) and settings.density == 1025.9
     assert len(cases) == 12 and {c.flow.axis for c in cases} == {"x", "y", "z"}
+
+
+@pytest.mark.skipif(shutil.which("simpleFoam") is None, reason="OpenFOAM is not installed")
+def test_the_main_jobs_cfd_bar_counts_cases_and_names_the_reynolds_span(tmp_path, monkeypatch):
+    import hydrokit.pipeline.compare as compare
+    from hydrokit.pipeline.cache import StepCache
+    from hydrokit.pipeline.steps import Runner
+
+    data = _project(tmp_path, {"speeds": [0.5, 1.0, 1.5], "density": 1.0, "viscosity": 0.02, "settings": TINY})
+    (tmp_path / "project.yaml").write_text(yaml.safe_dump(data))
+    p = load_project(tmp_path / "project.yaml")
+    bars: dict[str, list[int]] = {}
+
+    def progress(label: str, total: int):  # noqa: ANN202
+        bars[label] = [total, 0]
+        return lambda n: bars[label].__setitem__(1, bars[label][1] + n)
+
+    def fake(project, density, cache_dir, mapper=None, progress=None):  # noqa: ANN001, ANN202
+        for _ in range(3):  # what run_sweep does as each case finishes
+            progress(1)
+        return {}
+
+    monkeypatch.setattr(compare, "computed_cfd_sources", fake)
+    runner = Runner(p, StepCache(tmp_path / "c"), None, progress, bem=False, samples=0)
+    runner.others({})
+    (label,) = [k for k in bars if k.startswith("CFD")]
+    # Re_L = U L / ν with the unit sphere: 0.5 / 0.02 = 25 to 1.5 / 0.02 = 75
+    assert "3 cases" in label and "Re_L 25–75" in label
+    assert bars[label] == [3, 3]  # a bar of 3 cases, full when the sweep is done

@@ -104,9 +104,12 @@ def cfd_sweep_inputs(project: Project, density: float) -> tuple[Any, Any, Any, l
     return body, settings, sweep, make_cases(body, sweep, settings)
 
 
-def computed_cfd_sources(project: Project, density: float, cache_dir: Any, mapper: Any = None) -> dict[str, Any]:
+def computed_cfd_sources(
+    project: Project, density: float, cache_dir: Any, mapper: Any = None, progress: Any = None
+) -> dict[str, Any]:
     """The CFD column computed with OpenFOAM (``hydrokit cfd``) for the DOFs of ``cfd:``: per DOF
-    the Chin fit of its speed sweep (weighted by each case's σ), as :func:`cfd_sources` gives."""
+    the Chin fit of its speed sweep (weighted by each case's σ), as :func:`cfd_sources` gives.
+    ``progress`` is called with 1 as each case finishes (cached ones at once)."""
     from dataclasses import replace
 
     from hydrokit.cfd.foam import find_openfoam
@@ -115,7 +118,7 @@ def computed_cfd_sources(project: Project, density: float, cache_dir: Any, mappe
 
     body, settings, sweep, cases = cfd_sweep_inputs(project, density)
     find_openfoam()
-    result = run_sweep(body, sweep, settings, cache_dir, cases=cases, mapper=mapper)
+    result = run_sweep(body, sweep, settings, cache_dir, cases=cases, mapper=mapper, progress=progress)
     spec = project.cfd
     assert spec is not None
     out: dict[str, Any] = {}

@@ -126,7 +126,9 @@ class Runner:
             from hydrokit.pipeline.compare import computed_cfd_sources
 
             n = len(self.cfd_cases)
-            self.progress(f"CFD with OpenFOAM ({n} cases; cached cases are free)", 1)
+            res = sorted(c.reynolds for c in self.cfd_cases)
+            span = f", Re_L {res[0]:.3g}–{res[-1]:.3g}" if res else ""
+            advance = self.progress(f"CFD with OpenFOAM ({n} cases{span}; cached cases are free)", n)
             computed = self._timed(
                 "cfd (OpenFOAM)",
                 computed_cfd_sources,
@@ -134,6 +136,7 @@ class Runner:
                 self.base.density,
                 self.cache.directory / "cfd",
                 self.mapper,
+                advance,
             )
             out["cfd"] = {**(out["cfd"] or {}), **computed}
         return out
