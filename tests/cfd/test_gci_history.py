@@ -8,7 +8,15 @@ import numpy as np
 import pytest
 
 from hydrokit.cfd.gci import grid_study
-from hydrokit.cfd.history import autocorrelation_time, converged, judge, read_dat, read_force_parts, read_forces
+from hydrokit.cfd.history import (
+    autocorrelation_time,
+    converged,
+    judge,
+    read_dat,
+    read_force_parts,
+    read_forces,
+    remaining_change,
+)
 
 
 def test_richardson_recovers_an_exact_second_order_series():
@@ -112,6 +120,32 @@ def test_a_settled_history_is_converged_with_the_window_half_range():
     assert j.status == "converged" and j.samples == 100
     last = x[-100:]
     assert j.std[0] == pytest.approx(0.5 * (last.max() - last.min()))
+
+
+def test_a_creeping_history_is_converged_with_the_change_still_to_come_as_its_sigma():
+    # x_n = L + A qⁿ: window means step geometrically by r = q^W, so Δ r/(1 − r) is exactly the
+    # distance of the last window's mean from the limit L (closed form)
+    q, W, n = 0.998, 100, np.arange(1500)
+    x = -10.0 - 2.0 * q**n
+    j = judge(_loads(x), window=W, min_iterations=100, tolerance=5e-3, length=1.0)
+    assert j.status == "converged"
+    assert j.std[0] == pytest.approx(abs(x[-W:].mean() + 10.0), rel=1e-6)
+    half_range = 0.5 * np.ptp(x[-W:])
+    assert j.std[0] > 4 * half_range  # the window's range alone understates it
+    # Y = 0.01 X creeps the same way: its own remainder
+    assert j.std[1] == pytest.approx(0.01 * j.std[0], rel=1e-6)
+    assert remaining_change(_loads(x)[: 2 * W], W)[0] == 0.0  # fewer than three windows: no estimate
+
+
+def test_noise_about_a_settled_value_adds_no_creep():
+    rng = np.random.default_rng(7)
+    x = -2.0 + 1e-3 * rng.standard_normal(600)
+    j = judge(_loads(x), window=100, min_iterations=100, tolerance=5e-3, length=1.0)
+    assert j.status == "converged"
+    assert j.std[0] == pytest.approx(0.5 * np.ptp(x[-100:]))
+    # growing steps (a history that speeds up) are not extrapolated either
+    y = -2.0 - 1e-4 * np.exp(np.arange(600) / 150.0)
+    assert remaining_change(_loads(y), 100)[0] == 0.0
 
 
 FORCE_DAT = """# Force
