@@ -135,6 +135,10 @@ def test_a_creeping_history_is_converged_with_the_change_still_to_come_as_its_si
     # Y = 0.01 X creeps the same way: its own remainder
     assert j.std[1] == pytest.approx(0.01 * j.std[0], rel=1e-6)
     assert remaining_change(_loads(x)[: 2 * W], W)[0] == 0.0  # fewer than three windows: no estimate
+    # a creep slower than r = 0.95 per window is extrapolated with r = 0.95: 19 last steps
+    slow = -10.0 - 2.0 * 0.9996 ** np.arange(1500)  # r = 0.9996^100 = 0.961
+    means = [slow[k : k + W].mean() for k in (1300, 1400)]
+    assert remaining_change(_loads(slow), W)[0] == pytest.approx(19 * abs(means[1] - means[0]), rel=1e-9)
 
 
 def test_noise_about_a_settled_value_adds_no_creep():
