@@ -12,6 +12,7 @@ from hydrokit.cfd.history import (
     autocorrelation_time,
     converged,
     judge,
+    read_all,
     read_dat,
     read_force_parts,
     read_forces,
@@ -152,6 +153,35 @@ def test_noise_about_a_settled_value_adds_no_creep():
     assert remaining_change(_loads(y), 100)[0] == 0.0
 
 
+def _counter_moving(n: int, rate: float) -> tuple[np.ndarray, np.ndarray]:
+    """A total of −10 N that is flat to 1e-9 while its parts trade ``rate`` N per iteration:
+    pressure falls, friction climbs (the Myring wedge at Re_L 1e7 on its finest grid)."""
+    it = np.arange(n, dtype=float)
+    pressure = -1.0 + rate * it
+    viscous = -9.0 - rate * it
+    total = pressure + viscous
+    parts = np.zeros((n, 6))
+    parts[:, 0], parts[:, 3] = pressure, viscous
+    return _loads(total), parts
+
+
+def test_a_total_flat_because_its_parts_trade_is_not_converged():
+    loads, parts = _counter_moving(600, 1e-3)  # each part moves 0.1 N = 1 % of |F| per window
+    kw = dict(window=100, min_iterations=100, tolerance=5e-4, length=1.0)
+    assert converged(loads, **kw)  # the total alone looks settled
+    assert not converged(loads, parts=parts, **kw)
+    # parts that move less than the tolerance (5e-4 × 10 N = 5 mN per window) pass
+    slow_loads, slow_parts = _counter_moving(600, 4e-5)
+    assert converged(slow_loads, parts=slow_parts, **kw)
+    # a finished run judged the same way: the trade goes on across the last half, so the case
+    # is not converged (it was "converged" on the total)
+    assert judge(loads, **kw).status == "converged"
+    assert judge(loads, parts=parts, **kw).status == "not converged"
+    assert judge(slow_loads, parts=slow_parts, **kw).status == "converged"
+    with pytest.raises(ValueError, match="one per load row"):
+        converged(loads, parts=parts[:-1], **kw)
+
+
 FORCE_DAT = """# Force
 # CofR          : (0.00000000e+00 0.00000000e+00 0.00000000e+00)
 #
@@ -178,3 +208,6 @@ def test_force_files_of_openfoam_v1912_are_read_without_their_unfinished_last_li
     assert pressure[1, 0] == pytest.approx(-0.20) and viscous[1, 0] == pytest.approx(-0.23)
     assert pressure + viscous == pytest.approx(loads[:, :3])  # OpenFOAM's total is their sum
     assert read_force_parts(tmp_path / "missing")[0].shape == (0, 3)
+    # one reading gives all four on the same rows
+    it2, loads2, p2, v2 = read_all(tmp_path / "forces")
+    assert list(it2) == [1.0, 2.0] and loads2 == pytest.approx(loads) and p2 + v2 == pytest.approx(loads2[:, :3])

@@ -29,8 +29,10 @@ import numpy as np
 
 from hydrokit.errors import InputError, MissingExtraError
 
-#: bump when the case files change in a way that changes results: cached cases are redone
-CASE_FORMAT = 1
+#: bump when the case files or the stopping rule change in a way that changes results: cached
+#: cases are redone. 2: a case stops only when the force's pressure and viscous parts have settled
+#: too, not just their sum (2026-11-27)
+CASE_FORMAT = 2
 #: Re_L below which ``turbulence="auto"`` runs laminar (the issue's threshold)
 LAMINAR_BELOW = 2000.0
 TURBULENCE_MODELS = ("laminar", "kOmegaSST", "kEpsilon")

@@ -6,7 +6,11 @@ moment history** instead:
 
 * **converged** — at least ``min_iterations`` done and, over the last ``window`` iterations,
   every one of the six components stays within ``tolerance`` of the load scale (|F| for forces,
-  |F|·L for moments; a relative test, not an absolute one). The value is the window's mean and
+  |F|·L for moments; a relative test, not an absolute one) — and so do the force's pressure and
+  viscous parts, each against the same |F|: on a streamlined body the friction can still climb
+  while the pressure drag falls, and their sum then looks settled long before either is (the
+  Myring wedge at Re_L 1e7, finest grid: the total's window spanned 0.03 N while the friction
+  still rose 0.04 N per 100 iterations and the pressure fell). The value is the window's mean and
   its iterative uncertainty U_I = ½ (max − min) over the window (ITTC 7.5-03-01-01's estimate
   from the last oscillation) — or, where the history still creeps one way, the change still to
   come, whichever is larger: the means of the last three windows that step the same way by
@@ -15,7 +19,7 @@ moment history** instead:
   wedge case at Re_L 1e7 was still 0.15 N from its end when its window spanned 0.03 N).
 * **averaged** — the run ended (iteration limit) without settling, but the last half of the
   history is stationary: a straight line through it changes by less than the tolerance or
-  than 3 σ of that change (the residuals' autocorrelation counted). The value is the mean
+  than 3 σ of that change (the residuals' autocorrelation counted), the parts' lines too. The value is the mean
   of that half; its σ is the standard error of a correlated series, s √(τ/n) with τ the
   integrated autocorrelation time (Sokal's self-consistent window, c = 5), so a slowly
   oscillating force is not credited with n independent samples.
@@ -77,10 +81,8 @@ def read_forces(post: Path) -> tuple[np.ndarray, np.ndarray]:
     Reads the newest start-time folder's ``force.dat`` and ``moment.dat`` (OpenFOAM v1912 layout:
     time, (total), (pressure), (viscous)); rows present in both files only.
     """
-    f, m = _force_rows(post)
-    if len(f) == 0:
-        return np.zeros(0), np.zeros((0, 6))
-    return f[:, 0], np.column_stack([f[:, 1:4], m[:, 1:4]])
+    it, loads, _, _ = read_all(post)
+    return it, loads
 
 
 def read_force_parts(post: Path) -> tuple[np.ndarray, np.ndarray]:
@@ -90,10 +92,20 @@ def read_force_parts(post: Path) -> tuple[np.ndarray, np.ndarray]:
     Friction and pressure drag move differently with the mesh (a wall function's friction with
     the first cell, pressure drag with the surface's facets), so a grid study reads them apart.
     """
-    f, _ = _force_rows(post)
-    if len(f) == 0 or f.shape[1] < 10:
-        return np.zeros((0, 3)), np.zeros((0, 3))
-    return f[:, 4:7], f[:, 7:10]
+    return read_all(post)[2:]
+
+
+def read_all(post: Path) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+    """:func:`read_forces` and :func:`read_force_parts` from one reading of the files, so that a
+    file still being written gives all four on the same rows: iterations (n,), loads (n, 6),
+    pressure and viscous force (n, 3) each (parts (0, 3) when OpenFOAM wrote none)."""
+    f, m = _force_rows(post)
+    if len(f) == 0:
+        return np.zeros(0), np.zeros((0, 6)), np.zeros((0, 3)), np.zeros((0, 3))
+    loads = np.column_stack([f[:, 1:4], m[:, 1:4]])
+    if f.shape[1] < 10:
+        return f[:, 0], loads, np.zeros((0, 3)), np.zeros((0, 3))
+    return f[:, 0], loads, f[:, 4:7], f[:, 7:10]
 
 
 def _time(name: str) -> float:
@@ -129,14 +141,33 @@ def _scales(values: np.ndarray, length: float) -> np.ndarray:
     return np.array([force] * 3 + [force * length] * 3)
 
 
-def converged(values: np.ndarray, *, window: int, min_iterations: int, tolerance: float, length: float) -> bool:
-    """True when the last ``window`` rows of (n, 6) loads all stay within ``tolerance`` of the load scale."""
+def converged(
+    values: np.ndarray,
+    *,
+    window: int,
+    min_iterations: int,
+    tolerance: float,
+    length: float,
+    parts: np.ndarray | None = None,
+) -> bool:
+    """True when the last ``window`` rows of (n, 6) loads all stay within ``tolerance`` of the load
+    scale, and so do the same rows of ``parts`` (n, k): forces, N, such as the pressure and viscous
+    parts of the total force, each judged against the total's scale |F|."""
     n = len(values)
     if n < max(min_iterations, window):
         return False
     last = values[-window:]
+    scales = _scales(last, length)
     spread = last.max(axis=0) - last.min(axis=0)
-    return bool(np.all(spread <= tolerance * _scales(last, length)))
+    if not np.all(spread <= tolerance * scales):
+        return False
+    if parts is None or np.size(parts) == 0:
+        return True
+    p = np.asarray(parts, float)
+    if len(p) != n:
+        raise ValueError(f"parts has {len(p)} rows: expected one per load row ({n})")
+    tail = p[-window:]
+    return bool(np.all(tail.max(axis=0) - tail.min(axis=0) <= tolerance * scales[0]))
 
 
 #: largest window-to-window ratio a geometric extrapolation of a creeping history assumes
@@ -193,14 +224,23 @@ def autocorrelation_time(x: np.ndarray, c: float = 5.0) -> float:
     return float(min(max(tau, 1.0), n))
 
 
-def judge(values: np.ndarray, *, window: int, min_iterations: int, tolerance: float, length: float) -> Judgement:
-    """Judge a finished run's (n, 6) load history (see the module docstring)."""
+def judge(
+    values: np.ndarray,
+    *,
+    window: int,
+    min_iterations: int,
+    tolerance: float,
+    length: float,
+    parts: np.ndarray | None = None,
+) -> Judgement:
+    """Judge a finished run's (n, 6) load history (see the module docstring); ``parts`` (n, k),
+    N: the force's parts that must settle too (pressure and viscous), as in :func:`converged`."""
     values = np.asarray(values, float)
     n = len(values)
     if n == 0:
         nan = np.full(6, math.nan)
         return Judgement("not converged", nan, nan, 0, 0, math.nan)
-    if converged(values, window=window, min_iterations=min_iterations, tolerance=tolerance, length=length):
+    if converged(values, window=window, min_iterations=min_iterations, tolerance=tolerance, length=length, parts=parts):
         last = values[-window:]
         spread = 0.5 * (last.max(axis=0) - last.min(axis=0))
         return Judgement(
@@ -214,7 +254,11 @@ def judge(values: np.ndarray, *, window: int, min_iterations: int, tolerance: fl
     drift, drift_sd = _trend(half)
     # a trend across the last half larger than the tolerance and than 3 σ of its own estimate
     # (residuals' autocorrelation counted): the history still moves
-    moving = (np.abs(drift) > 3.0 * drift_sd) & (np.abs(drift) > tolerance * _scales(half, length))
+    scales = _scales(half, length)
+    moving = (np.abs(drift) > 3.0 * drift_sd) & (np.abs(drift) > tolerance * scales)
+    if parts is not None and np.size(parts):
+        p_drift, p_sd = _trend(np.asarray(parts, float)[n // 2 :])
+        moving = np.r_[moving, (np.abs(p_drift) > 3.0 * p_sd) & (np.abs(p_drift) > tolerance * scales[0])]
     status = "not converged" if bool(np.any(moving)) else "averaged"
     if status == "not converged":
         sigma = np.maximum(sigma, 0.5 * np.abs(drift))

@@ -140,18 +140,48 @@ def body_loads(case: Case, raw: np.ndarray) -> np.ndarray:
     return raw
 
 
-def _force_parts(case: Case, post: Path, samples: int) -> dict[str, list[float]]:
-    """Mean pressure and viscous force [X, Y, Z], N, body axes, over the judged last ``samples``
-    iterations (empty when OpenFOAM wrote no parts)."""
-    pressure, viscous = history.read_force_parts(post)
+def loads_and_parts(case: Case, post: Path) -> tuple[np.ndarray, np.ndarray, np.ndarray | None]:
+    """Iterations (n,), loads on the body (n, 6) and the force's pressure and viscous parts in
+    body axes (n, 6: X, Y, Z of the pressure part, then of the viscous part, N; None when
+    OpenFOAM wrote no parts), from one reading of ``postProcessing/forces``."""
+    it, raw, pressure, viscous = history.read_all(post)
     if len(pressure) == 0:
-        return {}
-    tail = slice(max(0, len(pressure) - max(1, samples)), None)
+        return it, body_loads(case, raw), None
     zeros = np.zeros_like(pressure)
+    parts = [body_loads(case, np.column_stack([part, zeros]))[:, :3] for part in (pressure, viscous)]
+    return it, body_loads(case, raw), np.column_stack(parts)
+
+
+def _rule(case: Case) -> dict[str, Any]:
+    """The case's convergence rule as :func:`history.converged` and :func:`history.judge` take it."""
+    s = case.settings
     return {
-        name: [float(v) for v in body_loads(case, np.column_stack([part, zeros]))[tail, :3].mean(axis=0)]
-        for name, part in (("pressure", pressure), ("viscous", viscous))
+        "window": s.window,
+        "min_iterations": s.min_iterations,
+        "tolerance": s.tolerance,
+        "length": case.body.length,
     }
+
+
+def settled(case: Case, post: Path) -> bool:
+    """True when the history in ``post`` (``postProcessing/forces``) has converged by the case's
+    settings: the loads and the force's pressure and viscous parts (the solver's stop signal)."""
+    _, values, parts = loads_and_parts(case, post)
+    return history.converged(values, parts=parts, **_rule(case))
+
+
+def judged(case: Case, values: np.ndarray, parts: np.ndarray | None) -> history.Judgement:
+    """A finished run's judgement of :func:`loads_and_parts`' loads and parts by the case's settings."""
+    return history.judge(values, parts=parts, **_rule(case))
+
+
+def _force_parts(parts: np.ndarray | None, samples: int) -> dict[str, list[float]]:
+    """Mean pressure and viscous force [X, Y, Z], N, body axes, over the judged last ``samples``
+    rows of :func:`loads_and_parts`' (n, 6) parts (empty when OpenFOAM wrote no parts)."""
+    if parts is None or len(parts) == 0:
+        return {}
+    mean = parts[max(0, len(parts) - max(1, samples)) :].mean(axis=0)
+    return {"pressure": [float(v) for v in mean[:3]], "viscous": [float(v) for v in mean[3:]]}
 
 
 def run_case(case: Case, folder: Path, foam: OpenFOAM | None = None) -> dict[str, Any]:
@@ -212,15 +242,7 @@ def run_case(case: Case, folder: Path, foam: OpenFOAM | None = None) -> dict[str
         fatal = [p for p in outcome["mesh"]["problems"] if any(w in p for w in _FATAL_MESH)]
         if fatal:  # a solver would run on it and return numbers; they would mean nothing
             raise SolverError(f"checkMesh: {fatal[0]} (log: {folder / 'log.checkMesh'})")
-        s = case.settings
         post = folder / "postProcessing" / "forces"
-
-        def settled() -> bool:
-            values = body_loads(case, history.read_forces(post)[1])
-            return history.converged(
-                values, window=s.window, min_iterations=s.min_iterations, tolerance=s.tolerance, length=case.body.length
-            )
-
         n = case.settings.processes
         if n > 1:
             # Debian's OpenFOAM ships scotch as a stub: slabs along the flow instead
@@ -229,9 +251,8 @@ def run_case(case: Case, folder: Path, foam: OpenFOAM | None = None) -> dict[str
                 {"numberOfSubdomains": n, "method": "simple", "simpleCoeffs": {"n": [n, 1, 1], "delta": 0.001}},
             )
             run("decomposePar", ("-force",))
-        run(solver(case), monitor=settled, processes=n)
-        it, raw = history.read_forces(post)
-        values = body_loads(case, raw)
+        run(solver(case), monitor=lambda: settled(case, post), processes=n)
+        it, values, parts = loads_and_parts(case, post)
         if len(values) and not np.any(values):
             # every load exactly zero: the mesher kept no face of the body (a surface it could not
             # refine into, or a region choice that dropped it); a converged zero is no answer
@@ -240,9 +261,7 @@ def run_case(case: Case, folder: Path, foam: OpenFOAM | None = None) -> dict[str
             )
         if len(values) == 0 or not np.all(np.isfinite(values)):
             raise SolverError(f"the solver wrote no finite forces (diverged?) (log: {folder / f'log.{solver(case)}'})")
-        j = history.judge(
-            values, window=s.window, min_iterations=s.min_iterations, tolerance=s.tolerance, length=case.body.length
-        )
+        j = judged(case, values, parts)
         outcome.update(
             status=j.status,
             forces=[float(v) for v in j.mean],
@@ -253,7 +272,7 @@ def run_case(case: Case, folder: Path, foam: OpenFOAM | None = None) -> dict[str
             y_plus=_y_plus(folder),
             slice=_slice(case, folder),
             history=_thin(it, values),
-            force_parts=_force_parts(case, post, j.samples),
+            force_parts=_force_parts(parts, j.samples),
         )
     except SolverError as exc:
         outcome.update(status="failed", reason=str(exc))
