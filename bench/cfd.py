@@ -6,8 +6,9 @@
   log–log fit of the measurements and their scatter;
 - body: the bundled Myring hull on the axisymmetric path at Re_L 1e6–1e7 against the ITTC-1957
   line with Hoerner's form factor (R = ½ρU²S C_F (1 + k), C_F = 0.075/(log10 Re − 2)²,
-  1 + k = 1 + 1.5 (d/L)^1.5 + 7 (d/L)³), each with its GCI over a grid triplet; the 3-D path
-  on the same body against the axisymmetric one, laminar at Re_L 1000 and k-ω SST at Re_L 1e6
+  1 + k = 1 + 1.5 (d/L)^1.5 + 7 (d/L)³), each with its GCI over a grid triplet, and taken apart:
+  friction against the friction lines, pressure, each part's own grid study;
+- body3d: the 3-D path on the same body against the axisymmetric one, laminar at Re_L 1000 and k-ω SST at Re_L 1e6
   with the first cell laid for y⁺ 50 on both (target within 3 % of the wedge's grid-converged
   value, its first cell held across its triplet), the pressure and friction parts of each, and
   what the wall treatment alone moves (the wedge at y⁺ 50 vs y⁺ 1);
@@ -18,7 +19,7 @@
 - speed: hydrokit's own share of a sweep's wall time (target ≤ 5 %), a sweep of 8 cases on 2
   workers against 1 (target ≥ 1.6×) and a cached rerun (target < 2 s).
 
-    python bench/cfd.py [sphere body drift arm speed] [--sphere-data PATH] [--quick] [--work DIR]
+    python bench/cfd.py [sphere body body3d drift arm speed] [--sphere-data PATH] [--quick] [--work DIR]
 
 Each section prints its figures and PASS/FAIL against its target; ``--quick`` runs coarse meshes
 (minutes, not the targets' meshes).
@@ -124,27 +125,34 @@ def wetted_area(profile: np.ndarray) -> float:
     return float(np.sum(math.pi * (r[1:] + r[:-1]) * np.hypot(np.diff(x), np.diff(r))))
 
 
-def body_of_revolution(work: Path, quick: bool, workers: int, fine: bool = False) -> None:
+#: the body section's fluid: fresh water, ρ kg/m³ and ν m²/s
+_RHO, _NU = 1000.0, 1.0e-6
+
+
+def _body_ittc_settings() -> Settings:
+    """The body section's wedge triplet: k-ω SST, the sublayer resolved (y⁺ ≈ 1)."""
+    return Settings(density=_RHO, viscosity=_NU, turbulence="kOmegaSST", tolerance=5e-4, max_iterations=3000)
+
+
+def body_of_revolution(work: Path, quick: bool, workers: int) -> None:
     print("body of revolution (Myring hull, axisymmetric wedge, k-ω SST)", flush=True)
     b = load_cfd_body("myring")
     L, d = b.length, 2 * float(b.profile[:, 1].max())
     S = wetted_area(b.profile)
     form = 1 + 1.5 * (d / L) ** 1.5 + 7 * (d / L) ** 3
-    nu, rho = 1.0e-6, 1000.0
+    nu, rho = _NU, _RHO
     res = [1e6, 3e6] if quick else [1e6, 3e6, 1e7]
     speeds = tuple(re * nu / L for re in res)
-    settings = Settings(density=rho, viscosity=nu, turbulence="kOmegaSST", tolerance=5e-4, max_iterations=3000)
+    settings = _body_ittc_settings()
     t0 = time.perf_counter()
     result = run_sweep(b, SweepSpec(speeds, grids=1 if quick else 3), settings, work / "body", workers=workers)
     print(f"  {len(result.outcomes)} cases in {time.perf_counter() - t0:.0f} s; S = {S:.4f} m², 1 + k = {form:.4f}")
-    axi = {}
     for r in sorted(result.rows, key=lambda r: r["speed"]):
         re = r["speed"] * L / nu
         R = -r["X"]
         ref = 0.5 * rho * r["speed"] ** 2 * S * ittc(re) * form
         gci = r.get("X_gci")
         gtxt = f", GCI ±{gci / R:.1%} ({r.get('X_convergence')})" if gci is not None and math.isfinite(gci) else ""
-        axi[r["speed"]] = R
         verdict(
             f"Myring Re_L {re:.0e}",
             abs(R / ref - 1) <= 0.10,
@@ -152,8 +160,25 @@ def body_of_revolution(work: Path, quick: bool, workers: int, fine: bool = False
         )
         flat = ref * schoenherr(re) / ittc(re)
         print(f"        vs Schoenherr·(1+k) {flat:.4g} N ({R / flat - 1:+.1%}): a flat-plate line, for comparison")
+        _triplet_parts(result.outcomes, r["speed"], 0.5 * rho * r["speed"] ** 2 * S, re, form)
+
+
+def body_paths(work: Path, quick: bool, fine: bool = False) -> None:
+    """The 3-D path on the Myring against the axisymmetric one (laminar Re_L 1000; k-ω SST at
+    Re_L 1e6 with y⁺ 50 on both) and what the wall treatment alone moves."""
     from hydrokit.cfd.run import cached_case
 
+    print("body of revolution, 3-D path vs axisymmetric (Myring hull)", flush=True)
+    b = load_cfd_body("myring")
+    L, nu, rho = b.length, _NU, _RHO
+    speeds = (1e6 * nu / L,)
+    # the body section's finest wedge at Re_L 1e6 and y⁺ 1 (a cache hit when body ran first)
+    grids = 1 if quick else 3
+    finest = next(
+        c for c in make_cases(b, SweepSpec(speeds, grids=grids), _body_ittc_settings()) if c.settings.grid == grids
+    )
+    sublayer = cached_case((finest, str(work / "body"), None))
+    axi = {speeds[0]: -sublayer["forces"][0]}
     # the two paths on the same equations first: laminar at Re_L 1000 (no wall model on either)
     lam = {}
     for path, mesh in (("auto", {}), ("3d", {"base_cells": 2, "surface_level": 3, "layers": 3})):
@@ -281,6 +306,41 @@ def body_of_revolution(work: Path, quick: bool, workers: int, fine: bool = False
     )
 
 
+def _triplet_parts(outcomes, speed: float, qS: float, re: float, form: float) -> None:
+    """Print a wedge triplet's resistance taken apart: friction against the friction lines
+    (ITTC-1957, Schoenherr; no form factor) and pressure, each with its own grid study, and the
+    CFD's own form factor (total / friction) against the empirical one."""
+    from hydrokit.cfd.gci import grid_study
+
+    parts = {
+        o["settings"]["grid"]: (-o["force_parts"]["viscous"][0], -o["force_parts"]["pressure"][0])
+        for o in outcomes
+        if o.get("force_parts") and math.isclose(o["flow"]["speed"], speed, rel_tol=1e-9)
+    }
+    if not parts:
+        print("        (friction and pressure parts not kept by these cached cases)")
+        return
+    for g in sorted(parts):
+        F, P = parts[g]
+        print(
+            f"        level {g}: friction {F:.4g} N (C_F {F / qS:.4g}: {F / (qS * ittc(re)) - 1:+.1%} vs ITTC-1957, "
+            f"{F / (qS * schoenherr(re)) - 1:+.1%} vs Schoenherr), pressure {P:.4g} N"
+        )
+    finest = max(parts)
+    F, P = parts[finest]
+    print(
+        f"        level {finest}: 1 + k = total / friction = {(F + P) / F:.4f} (the empirical one used above: {form:.4f})"
+    )
+    if sorted(parts) == [1, 2, 3]:
+        for j, name in enumerate(("friction", "pressure")):
+            g = grid_study(parts[3][j], parts[2][j], parts[1][j], math.sqrt(2.0))
+            ext = f", extrapolated {g.extrapolated:.4g} N, order {g.order:.2f}" if g.kind == "monotonic" else ""
+            print(
+                f"        {name} over levels 1, 2, 3: {' / '.join(f'{parts[k][j]:.4g}' for k in (1, 2, 3))} N, "
+                f"{g.kind}{ext}, GCI ±{g.gci:.3g} N"
+            )
+
+
 def _yp(outcome: dict) -> str:
     """'min–max (mean m)' of a case's y⁺ at the body, as OpenFOAM's yPlus reports it (cell centres)."""
     y = outcome.get("y_plus")
@@ -400,12 +460,12 @@ def speed(work: Path, quick: bool) -> None:
 
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("sections", nargs="*", default=["sphere", "body", "drift", "arm", "speed"])
+    ap.add_argument("sections", nargs="*", default=["sphere", "body", "body3d", "drift", "arm", "speed"])
     ap.add_argument("--sphere-data", type=Path, help="Roos & Willmarth CSV (Re, C_D)")
     ap.add_argument("--quick", action="store_true", help="coarse meshes (minutes)")
     ap.add_argument("--work", type=Path, help="cache folder (kept; a rerun takes finished cases from it)")
     ap.add_argument("--workers", type=int, default=2)
-    ap.add_argument("--fine", action="store_true", help="sphere on a 30 D domain; body: a third 3-D level (hours)")
+    ap.add_argument("--fine", action="store_true", help="sphere on a 30 D domain; body3d: a third 3-D level (hours)")
     ap.add_argument("--end-level", type=int, default=0, help="sphere, drift, arm: levels added at the ends (count)")
     args = ap.parse_args()
     work = args.work or Path(tempfile.mkdtemp(prefix="hydrokit-bench-cfd-"))
@@ -414,7 +474,9 @@ def main() -> None:
         if s == "sphere":
             sphere(work, args.quick, args.sphere_data, args.workers, args.fine, args.end_level)
         elif s == "body":
-            body_of_revolution(work, args.quick, args.workers, args.fine)
+            body_of_revolution(work, args.quick, args.workers)
+        elif s == "body3d":
+            body_paths(work, args.quick, args.fine)
         elif s == "drift":
             drift(work, args.quick, args.workers, args.end_level)
         elif s == "arm":
@@ -422,7 +484,7 @@ def main() -> None:
         elif s == "speed":
             speed(work, args.quick)
         else:
-            raise SystemExit(f"unknown section {s!r}: expected sphere, body, drift, arm or speed")
+            raise SystemExit(f"unknown section {s!r}: expected sphere, body, body3d, drift, arm or speed")
     failed = [n for n, ok in RESULTS if not ok]
     print(f"{len(RESULTS) - len(failed)} passed, {len(failed)} failed")
 
