@@ -180,6 +180,12 @@ def test_a_total_flat_because_its_parts_trade_is_not_converged():
     assert judge(slow_loads, parts=slow_parts, **kw).status == "converged"
     with pytest.raises(ValueError, match="one per load row"):
         converged(loads, parts=parts[:-1], **kw)
+    # the parts are forces: judged against |F| (5 mN here), not the moments' |F|·L (50 mN on a
+    # 10 m body), so a 10 mN trade per window still holds a long body's case
+    long = dict(kw, length=10.0)
+    mid_loads, mid_parts = _counter_moving(600, 1e-4)
+    assert not converged(mid_loads, parts=mid_parts, **long)
+    assert judge(mid_loads, parts=mid_parts, **long).status == "not converged"
 
 
 FORCE_DAT = """# Force
