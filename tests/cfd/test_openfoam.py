@@ -17,6 +17,7 @@ import signal
 import subprocess
 import sys
 import time
+from dataclasses import replace
 from pathlib import Path
 
 import numpy as np
@@ -325,3 +326,44 @@ def test_the_ends_get_a_level_more_and_no_patch_of_their_own(tmp_path):
     assert "ends" not in (kept / "constant" / "polyMesh" / "boundary").read_text()
     assert (kept / "constant" / "triSurface" / "ends.stl").is_file()
     assert out["forces"][0] < 0  # still a drag
+
+
+@needs_openfoam
+def test_turbulence_order_2_continues_the_settled_first_order_state(tmp_path):
+    from hydrokit.cfd.history import read_dat
+
+    settings = Settings(density=1.0, viscosity=1e-4, turbulence="kOmegaSST", **TINY)
+    first = cached_case((Case(_sphere(), Flow(1.0), settings, "o1"), str(tmp_path / "c"), None))
+    second = replace(settings, turbulence_order=2)
+    out = cached_case((Case(_sphere(), Flow(1.0), second, "o2"), str(tmp_path / "c"), str(tmp_path / "k")))
+    assert first["status"] == out["status"] == "converged", (first.get("reason"), out.get("reason"))
+    assert "stages" not in first
+    stage1, stage2 = out["stages"]
+    assert stage1["convection"] == "upwind" and stage1["settled"] and stage2["convection"] == "linearUpwind"
+    assert stage2["iterations"] >= settings.min_iterations
+    assert out["iterations"] == stage1["iterations"] + stage2["iterations"]
+    case = next((tmp_path / "k").iterdir())
+    assert "linearUpwind limitedGrad" in (case / "system" / "fvSchemes").read_text()
+    # the second stage starts from the first's written state, not from the free stream: its first
+    # iteration's drag is the settled one (a cold start's first iterations are far off)
+    starts = sorted((case / "postProcessing" / "forces").iterdir(), key=lambda p: float(p.name))
+    assert [float(p.name) for p in starts][0] == 0 and float(starts[1].name) >= stage1["iterations"] - 1
+    f1, f2 = read_dat(starts[0] / "force.dat"), read_dat(starts[1] / "force.dat")
+    assert f2[0, 1] == pytest.approx(f1[-1, 1], rel=0.02)
+    assert f2[0, 0] > f1[-1, 0]
+    # a sphere's drag at Re 1e4 barely moves with the order of k and ω; it is the same flow
+    assert out["forces"][0] == pytest.approx(first["forces"][0], rel=0.02)
+    assert out["forces"][0] != first["forces"][0]
+
+
+@needs_openfoam
+def test_a_first_stage_that_does_not_settle_is_not_continued(tmp_path):
+    from hydrokit.cfd.run import run_case
+
+    short = {**TINY, "max_iterations": 40}  # fewer than the 50 the judgement needs
+    settings = Settings(density=1.0, viscosity=1e-4, turbulence="kOmegaSST", turbulence_order=2, **short)
+    out = run_case(Case(_sphere(), Flow(1.0), settings, "short"), tmp_path / "short")
+    assert out["status"] == "not converged"
+    assert out["stages"][1] == {"convection": "linearUpwind", "skipped": "the first-order stage did not settle"}
+    assert not (tmp_path / "short" / "log.simpleFoam.2").exists()
+    assert "upwind;" in (tmp_path / "short" / "system" / "fvSchemes").read_text()

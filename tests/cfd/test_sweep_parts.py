@@ -376,7 +376,15 @@ def test_a_laminar_case_keeps_the_key_it_had_before_y_plus_the_inflow_and_end_le
 
     from hydrokit.cfd.case import CASE_FORMAT
 
-    new = ("timeout", "processes", "y_plus", "inflow_intensity", "inflow_viscosity_ratio", "end_level")
+    new = (
+        "timeout",
+        "processes",
+        "y_plus",
+        "inflow_intensity",
+        "inflow_viscosity_ratio",
+        "end_level",
+        "turbulence_order",
+    )
     body = profile_body(*_spheroid())
     case = Case(body, Flow(1.2, drift=0.05), Settings(density=1000.0, turbulence="laminar"))
     old = {k: v for k, v in asdict(case.settings).items() if k not in new}
@@ -534,7 +542,8 @@ def test_end_level_changes_the_key_of_a_3d_case_only():
     from hydrokit.cfd.case import CASE_FORMAT
 
     def before(case: Case) -> str:  # the key as it was computed until the layer stack was capped
-        settings = {k: v for k, v in asdict(case.settings).items() if k not in ("timeout", "processes", "end_level")}
+        skip = ("timeout", "processes", "end_level", "turbulence_order")
+        settings = {k: v for k, v in asdict(case.settings).items() if k not in skip}
         data = {"format": CASE_FORMAT, "body": case.body.digest(), "flow": asdict(case.flow)}
         data["settings"] = {**settings, "path": case.path}
         return hashlib.sha256(json.dumps(data, sort_keys=True).encode()).hexdigest()[:16]
@@ -581,7 +590,8 @@ def test_a_held_first_cell_changes_the_key_of_finer_wedge_levels_only():
     from hydrokit.cfd.case import CASE_FORMAT
 
     def before(case: Case) -> str:  # the key as it was computed until the first cell was held
-        settings = {k: v for k, v in asdict(case.settings).items() if k not in ("timeout", "processes", "end_level")}
+        skip = ("timeout", "processes", "end_level", "turbulence_order")
+        settings = {k: v for k, v in asdict(case.settings).items() if k not in skip}
         settings = {k: v for k, v in settings.items() if not (k == "y_plus" and v == 0)}
         data = {"format": CASE_FORMAT, "body": case.body.digest(), "flow": asdict(case.flow)}
         data["settings"] = {**settings, "path": case.path}
@@ -623,3 +633,63 @@ def test_the_cli_options_reach_the_settings_in_si():
     assert spec.speeds == (0.5, 1.0, 1.5, 2.0) and spec.axes == ("x",) and spec.grids == 1
     assert spec.drifts == pytest.approx((math.radians(5.0),))
     assert Settings().y_plus == 0.0  # the default: each path its own wall resolution
+
+
+@pytest.mark.parametrize("bad", [0, 3, 2.0, True])
+def test_a_turbulence_order_other_than_1_or_2_is_refused(bad):
+    with pytest.raises(InputError, match=r"turbulence_order = .*: expected a whole number from 1 to 2"):
+        Settings(turbulence_order=bad)
+
+
+def test_turbulence_order_2_changes_the_key_of_a_turbulent_case_only():
+    # order 1 (the default) keeps every key computed before the setting existed (the key tests
+    # above); order 2 is another answer for a turbulent case and none for a laminar one
+    turbulent = _myring_3d(0.0)
+    second = Case(turbulent.body, turbulent.flow, replace(turbulent.settings, turbulence_order=2))
+    assert second.key() != turbulent.key()
+    laminar = Settings(turbulence="laminar")
+    assert (
+        Case(turbulent.body, turbulent.flow, replace(laminar, turbulence_order=2)).key()
+        == Case(turbulent.body, turbulent.flow, laminar).key()
+    )
+
+
+def test_the_second_stage_continues_with_second_order_k_and_omega(tmp_path):
+    from hydrokit.cfd.case import _schemes, foamlib, write_second_stage
+
+    FoamFile = foamlib().FoamFile  # noqa: N806 -- foamlib's class
+    first = _schemes("kOmegaSST")
+    assert first["divSchemes"]["div(phi,k)"] == ("bounded", "Gauss", "upwind")
+    assert first["divSchemes"]["div(phi,omega)"] == ("bounded", "Gauss", "upwind")
+    assert "limitedGrad" not in first["gradSchemes"]
+    case = Case(_myring_3d(0.0).body, _myring_3d(0.0).flow, Settings(turbulence="kOmegaSST", max_iterations=700))
+    (tmp_path / "system").mkdir()
+    write_second_stage(case, tmp_path, 365)
+    schemes = FoamFile(tmp_path / "system" / "fvSchemes")
+    for q in ("k", "omega", "epsilon"):
+        assert list(schemes["divSchemes"][f"div(phi,{q})"]) == ["bounded", "Gauss", "linearUpwind", "limitedGrad"]
+    assert list(schemes["gradSchemes"]["limitedGrad"]) == ["cellLimited", "Gauss", "linear", 1]
+    # the velocity's own scheme is the first stage's: only the turbulence changes order
+    assert list(schemes["divSchemes"]["div(phi,U)"]) == list(first["divSchemes"]["div(phi,U)"])
+    control = FoamFile(tmp_path / "system" / "controlDict")
+    assert control["startFrom"] == "latestTime" and control["stopAt"] == "endTime"
+    assert control["endTime"] == 365 + 700 and control["writeInterval"] == 365 + 700
+    assert "forces" in control["functions"]
+
+
+def test_a_turbulent_grid_study_that_does_not_converge_points_to_second_order_turbulence():
+    body = profile_body(*_spheroid())
+    spec = SweepSpec((0.5, 1.0, 1.5), grids=3)
+    # each finer grid moves the drag further (the Myring wedge's first-order triplets): "diverging"
+    drop = {1: 1.000, 2: 0.996, 3: 0.990}
+    for model, order, expected in (("kOmegaSST", 1, True), ("kOmegaSST", 2, False), ("laminar", 1, False)):
+        base = Settings(turbulence=model, turbulence_order=order)
+        outs = []
+        for c in make_cases(body, spec, base):
+            o = _outcome(c, -10 * c.flow.speed**2 * drop[c.settings.grid])
+            o["model"] = c.model
+            outs.append(o)
+        res = assemble(body, spec, base, outs)
+        assert all(r["X_convergence"] == "diverging" for r in res.rows)
+        said = [w for w in res.warnings if "--turbulence-order 2" in w]
+        assert len(said) == (3 if expected else 0), (model, order, said)

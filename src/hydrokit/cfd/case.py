@@ -128,6 +128,14 @@ class Settings:
     end_level : int — 3-D path: refinement levels added at the body's fore and aft tenth of its
         length (0 to 3), where the stagnation pressure and the pressure recovery set a streamlined
         hull's pressure drag; 1 costs about a third more cells on a slender hull
+    turbulence_order : int — order of the convection of k and ω (ε), dimensionless. 1 (the
+        default): first-order upwind throughout, the robust choice; its error is first order and
+        on a fine grid it can move the friction against the rest of the solution (the Myring
+        wedge's Re_L 3e6 triplet: friction 5.818 / 5.846 / 5.792 N, "diverging"). 2: upwind until
+        the forces settle, then second-order ``linearUpwind`` (cell-limited gradient) continued from
+        that state until they settle again (5.809 / 5.872 / 5.905 N, monotonic, observed order 1.9);
+        a grid study (``--grids 3``) of a turbulent hull wants it. Started cold, a second-order ω
+        leaves a laminar boundary layer that separates: hence the two stages
     """
 
     density: float = 1025.0
@@ -151,6 +159,7 @@ class Settings:
     end_level: int = 0
     inflow_intensity: float = INTENSITY
     inflow_viscosity_ratio: float = VISCOSITY_RATIO
+    turbulence_order: int = 1
 
     def __post_init__(self) -> None:
         for name in ("density", "viscosity", "upstream", "downstream", "lateral", "tolerance", "timeout"):
@@ -179,6 +188,7 @@ class Settings:
             ("min_iterations", 1, 1_000_000),
             ("window", 5, 1_000_000),
             ("processes", 1, 1024),
+            ("turbulence_order", 1, 2),
         ):
             v = getattr(self, name)
             if isinstance(v, bool) or not isinstance(v, int) or not lo <= v <= hi:
@@ -305,7 +315,7 @@ class Case:
             # a setting added later counts only where it can change the answer, so the cases
             # computed before it keep their keys: y_plus away from its default, the inflow
             # turbulence in a turbulent case (whose default changed with it: those are redone),
-            # end_level away from 0 on the 3-D path
+            # end_level away from 0 on the 3-D path, turbulence_order 2 in a turbulent case
             "settings": {
                 **{
                     k: v
@@ -314,6 +324,7 @@ class Case:
                     and not (k == "y_plus" and v == 0)
                     and not (k.startswith("inflow_") and self.model == "laminar")
                     and not (k == "end_level" and (v == 0 or self.path == "wedge"))
+                    and not (k == "turbulence_order" and (v == 1 or self.model == "laminar"))
                 },
                 "path": self.path,
             },
@@ -474,6 +485,17 @@ def write_case(case: Case, folder: Path, mesh_dicts: Mapping[str, Mapping[str, A
         _field_file(folder / "0" / name, cls, dims, internal, {"farfield": farfield, '"body.*"': body, **side})
 
 
+def write_second_stage(case: Case, folder: Path, start: int) -> None:
+    """Turn a case whose first stage (upwind k, ω) has settled at iteration ``start`` into its
+    second: second-order convection of the turbulence, continued from the latest written time
+    for at most ``max_iterations`` more (``turbulence_order`` 2)."""
+    U = "U" if case.arm_centre is None else "Urel"
+    foam_file(folder / "system" / "fvSchemes", _schemes(case.model, U, order=2))
+    end = int(start) + case.settings.max_iterations
+    control = {**_control(case), "startFrom": "latestTime", "endTime": end, "writeInterval": end}
+    foam_file(folder / "system" / "controlDict", control)
+
+
 def _field_file(path: Path, cls: str, dims: list[int], internal: Any, boundary: dict[str, Any]) -> None:
     DimensionSet = foamlib().DimensionSet  # noqa: N806 -- foamlib's class
     foam_file(path, {"dimensions": DimensionSet(*dims), "internalField": internal, "boundaryField": boundary}, cls)
@@ -548,17 +570,25 @@ def _control(case: Case) -> dict[str, Any]:
     }
 
 
-def _schemes(model: str, U: str = "U") -> dict[str, Any]:
+def _schemes(model: str, U: str = "U", order: int = 1) -> dict[str, Any]:
+    """fvSchemes: second-order U; k, ω, ε first-order upwind (``order`` 1) or second-order
+    ``linearUpwind`` on a cell-limited gradient (``order`` 2, the second stage of a case whose
+    ``turbulence_order`` is 2)."""
     div: dict[str, Any] = {
         "default": "none",
         f"div(phi,{U})": ("bounded", "Gauss", "linearUpwindV", f"grad({U})"),
         f"div((nuEff*dev2(T(grad({U})))))": ("Gauss", "linear"),
     }
+    grad: dict[str, Any] = {"default": ("Gauss", "linear"), f"grad({U})": ("cellLimited", "Gauss", "linear", 1)}
     for q in ("k", "omega", "epsilon"):
         div[f"div(phi,{q})"] = ("bounded", "Gauss", "upwind")
+        if order == 2:
+            div[f"div(phi,{q})"] = ("bounded", "Gauss", "linearUpwind", "limitedGrad")
+    if order == 2:
+        grad["limitedGrad"] = ("cellLimited", "Gauss", "linear", 1)
     return {
         "ddtSchemes": {"default": "steadyState"},
-        "gradSchemes": {"default": ("Gauss", "linear"), f"grad({U})": ("cellLimited", "Gauss", "linear", 1)},
+        "gradSchemes": grad,
         "divSchemes": div,
         "laplacianSchemes": {"default": ("Gauss", "linear", "limited", "corrected", 0.5)},
         "interpolationSchemes": {"default": "linear"},

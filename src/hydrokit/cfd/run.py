@@ -23,7 +23,7 @@ from typing import Any
 import numpy as np
 
 from hydrokit.cfd import history
-from hydrokit.cfd.case import Case, foam_file, solver, write_case, write_stl
+from hydrokit.cfd.case import Case, foam_file, solver, write_case, write_second_stage, write_stl
 from hydrokit.cfd.foam import OpenFOAM, SolverError, find_openfoam
 
 #: force-history points kept in an outcome (for convergence plots)
@@ -253,6 +253,12 @@ def run_case(case: Case, folder: Path, foam: OpenFOAM | None = None) -> dict[str
             run("decomposePar", ("-force",))
         run(solver(case), monitor=lambda: settled(case, post), processes=n)
         it, values, parts = loads_and_parts(case, post)
+        first: tuple[np.ndarray, np.ndarray] | None = None
+        if case.settings.turbulence_order == 2 and case.model != "laminar":
+            first, stages = _second_stage(case, folder, post, run)
+            outcome["stages"] = stages
+            if first is not None:
+                it, values, parts = loads_and_parts(case, post)
         if len(values) and not np.any(values):
             # every load exactly zero: the mesher kept no face of the body (a surface it could not
             # refine into, or a region choice that dropped it); a converged zero is no answer
@@ -262,16 +268,17 @@ def run_case(case: Case, folder: Path, foam: OpenFOAM | None = None) -> dict[str
         if len(values) == 0 or not np.all(np.isfinite(values)):
             raise SolverError(f"the solver wrote no finite forces (diverged?) (log: {folder / f'log.{solver(case)}'})")
         j = judged(case, values, parts)
+        whole = (it, values) if first is None else (np.r_[first[0], it], np.r_[first[1], values])
         outcome.update(
             status=j.status,
             forces=[float(v) for v in j.mean],
             std=[float(v) for v in j.std],
-            iterations=j.iterations,
+            iterations=j.iterations + (0 if first is None else len(first[0])),
             samples=j.samples,
             autocorrelation_time=j.tau,
             y_plus=_y_plus(folder),
             slice=_slice(case, folder),
-            history=_thin(it, values),
+            history=_thin(*whole),
             force_parts=_force_parts(parts, j.samples),
         )
     except SolverError as exc:
@@ -280,6 +287,35 @@ def run_case(case: Case, folder: Path, foam: OpenFOAM | None = None) -> dict[str
     outcome["foam_times"] = times
     outcome["wall_time"] = time.perf_counter() - started
     return outcome
+
+
+def _second_stage(
+    case: Case, folder: Path, post: Path, run: Any
+) -> tuple[tuple[np.ndarray, np.ndarray] | None, list[dict[str, Any]]]:
+    """``turbulence_order`` 2: once the first-order stage has settled, rewrite the schemes to a
+    second-order k, ω and run the solver on from the state it wrote (its forces go to a new
+    start-time folder, which the judgement then reads alone).
+
+    Returns the first stage's (iterations, loads) — None when it did not settle, and the case
+    stays first-order (a history that has not settled is no state to continue from) — and the
+    ``stages`` record of cfd.json.
+    """
+    it, values, _ = loads_and_parts(case, post)
+    stages: list[dict[str, Any]] = [
+        {"convection": "upwind", "iterations": len(it), "settled": bool(settled(case, post))}
+    ]
+    if not stages[0]["settled"] or len(it) == 0:
+        stages.append({"convection": "linearUpwind", "skipped": "the first-order stage did not settle"})
+        return None, stages
+    write_second_stage(case, folder, int(it[-1]))
+    run(
+        solver(case),
+        log=f"log.{solver(case)}.2",
+        monitor=lambda: settled(case, post),
+        processes=case.settings.processes,
+    )
+    stages.append({"convection": "linearUpwind", "iterations": len(loads_and_parts(case, post)[0])})
+    return (it, values), stages
 
 
 def cached_case(item: tuple[Case, str, str | None]) -> dict[str, Any]:

@@ -298,6 +298,12 @@ def rows_from(outcomes: Sequence[dict[str, Any]], grids: int) -> tuple[list[dict
                 row[f"{k}_convergence"] = study.kind
                 if k == "X" and study.kind != "monotonic":
                     notes.append(f"{fine['label']}: X converges {study.kind}ly over the three grids")
+                    if fine.get("model") != "laminar" and fine["settings"].get("turbulence_order", 1) == 1:
+                        # first-order k, ω moved the Myring's finest friction against the rest
+                        notes.append(
+                            f"{fine['label']}: k and ω were convected first-order; --turbulence-order 2 "
+                            "(settings: turbulence_order: 2) continues each grid second-order"
+                        )
             layers = [by_grid[g].get("prism_layers") for g in (1, 2, 3) if g in by_grid]
             if len(set(layers)) > 1 and None not in layers:
                 # a stack laid from a target y⁺ fits in fewer layers as the surface cells shrink

@@ -65,6 +65,15 @@ _OPTIONS: list[tuple[tuple[str, ...], dict[str, Any]]] = [
             "an intensity of 0.005 with a ratio of 1 leaves a laminar run of uncertain length (natural transition).",
         },
     ),
+    (
+        ("--turbulence-order",),
+        {
+            "type": Count(1, 2),
+            "default": 1,
+            "help": "Order of the convection of k and ω (1 or 2, dimensionless): 1 first-order upwind; 2 upwind "
+            "until the forces settle, then second-order linearUpwind on from there (a grid study wants 2).",
+        },
+    ),
     *MESH_OPTIONS,
     (
         ("--iterations",),
