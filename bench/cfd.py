@@ -162,6 +162,13 @@ def body_of_revolution(work: Path, quick: bool, workers: int) -> None:
             abs(R / ref - 1) <= 0.10,
             f"R {R:.4g} N vs ITTC-1957·(1+k) {ref:.4g} N ({R / ref - 1:+.1%}){gtxt}, {r['status']}",
         )
+        if r.get("X_parts_gci") is not None and math.isfinite(r["X_parts_gci"]):
+            ext = -r["X_parts_extrapolated"]
+            etxt = f"extrapolated {ext:.4g} N ({ext / ref - 1:+.1%} vs ITTC·(1+k)), " if math.isfinite(ext) else ""
+            print(
+                f"        from its pressure and viscous parts' grid studies: {etxt}"
+                f"GCI ±{r['X_parts_gci'] / R:.1%} ({r['X_parts_convergence']})"
+            )
         flat = ref * schoenherr(re) / ittc(re)
         print(f"        vs Schoenherr·(1+k) {flat:.4g} N ({R / flat - 1:+.1%}): a flat-plate line, for comparison")
         _triplet_parts(result.outcomes, r["speed"], 0.5 * rho * r["speed"] ** 2 * S, re, form)

@@ -693,3 +693,70 @@ def test_a_turbulent_grid_study_that_does_not_converge_points_to_second_order_tu
         assert all(r["X_convergence"] == "diverging" for r in res.rows)
         said = [w for w in res.warnings if "--turbulence-order 2" in w]
         assert len(said) == (3 if expected else 0), (model, order, said)
+
+
+def _triplet(fine_to_coarse: dict[str, tuple[float, float, float]]) -> tuple[list, list]:
+    """Outcomes of a Myring-like wedge triplet (one speed) whose resistance has the given
+    pressure and viscous parts (N) on grids 3, 2, 1."""
+    body = profile_body(*_spheroid())
+    spec = SweepSpec((1.0,), grids=3)
+    base = Settings(turbulence="kOmegaSST", turbulence_order=2)
+    outs = []
+    for c in make_cases(body, spec, base):
+        i = 3 - c.settings.grid
+        p, v = fine_to_coarse["pressure"][i], fine_to_coarse["viscous"][i]
+        o = _outcome(c, -(p + v))
+        o["force_parts"] = {"pressure": [-p, 0.0, 0.0], "viscous": [-v, 0.0, 0.0]}
+        outs.append(o)
+    return outs, assemble(body, spec, base, outs).rows
+
+
+def test_a_sum_of_parts_converging_at_their_own_rates_is_studied_part_by_part():
+    from hydrokit.cfd.gci import grid_study
+
+    # the Myring wedge at Re_L 1e6, second-order k and ω (bench/cfd.py body, 2026-11-28)
+    friction, pressure = (0.7858, 0.7800, 0.7714), (0.0879, 0.0887, 0.0938)
+    outs, rows = _triplet({"pressure": pressure, "viscous": friction})
+    (row,) = rows
+    assert row["X_convergence"] == "diverging"  # 0.8737 / 0.8687 / 0.8652: the steps grow
+    assert row["X_parts_convergence"] == "monotonic"
+    # each part by Richardson with a constant ratio √2: p = ln(ε32/ε21) / ln √2, GCI = F_s |ε21| / (r^p − 1)
+    expected_gci, expected_ext = 0.0, 0.0
+    for s1, s2, s3 in (friction, pressure):
+        e21, e32 = s2 - s1, s3 - s2
+        order = math.log(e32 / e21) / math.log(math.sqrt(2.0))
+        fs = 1.25 if abs(order / 2 - 1) <= 0.1 else 3.0
+        expected_gci += fs * abs(e21) / (math.sqrt(2.0) ** order - 1)
+        expected_ext += s1 - e21 / (math.sqrt(2.0) ** order - 1)
+    # SNAME signs: the loads are −(p + v), so the extrapolation is too
+    assert row["X_parts_extrapolated"] == pytest.approx(-expected_ext, rel=1e-9)
+    assert row["X_parts_gci"] == pytest.approx(expected_gci, rel=1e-9)
+    # the friction's slow convergence (p 1.1, F_s 3) makes the parts' GCI the wider here: 4 %
+    # against the total's "diverging" 3 max|ε| = 1.7 % — the cancellation hid it
+    assert row["X_parts_gci"] > row["X_gci"]
+    assert grid_study(*(-f for f in friction), math.sqrt(2.0)).kind == "monotonic"
+    res = assemble(profile_body(*_spheroid()), SweepSpec((1.0,), grids=3), Settings(turbulence="kOmegaSST"), outs)
+    said = [w for w in res.warnings if "X_parts_gci" in w]
+    assert len(said) == 1 and "each converge monotonically" in said[0] and f"{-expected_ext:.6g} N" in said[0]
+
+
+def test_the_parts_study_is_as_good_as_its_worst_part_and_reaches_forces_csv():
+    # friction oscillating over the grids: no extrapolation from the parts, and the kind says so
+    outs, rows = _triplet({"pressure": (0.0879, 0.0887, 0.0938), "viscous": (0.780, 0.786, 0.771)})
+    (row,) = rows
+    assert row["X_parts_convergence"] == "oscillatory" and math.isnan(row["X_parts_extrapolated"])
+    # an oscillating part's U is half its range (the pressure part's own GCI is checked above)
+    assert row["X_parts_gci"] == pytest.approx(0.5 * (0.786 - 0.771) + _pressure_gci(), rel=1e-9)
+    res = assemble(profile_body(*_spheroid()), SweepSpec((1.0,), grids=3), Settings(turbulence="kOmegaSST"), outs)
+    head = res.forces_csv().splitlines()[0].split(",")
+    assert head[-5:] == ["X_parts_gci", "Y_parts_gci", "Z_parts_gci", "axis", "status"]
+    # cases cached before the parts were recorded: no parts columns, no error
+    bare = [{k: v for k, v in o.items() if k != "force_parts"} for o in outs]
+    res = assemble(profile_body(*_spheroid()), SweepSpec((1.0,), grids=3), Settings(turbulence="kOmegaSST"), bare)
+    assert "X_parts_gci" not in res.rows[0] and "X_parts_gci" not in res.forces_csv()
+
+
+def _pressure_gci() -> float:
+    from hydrokit.cfd.gci import grid_study
+
+    return grid_study(0.0879, 0.0887, 0.0938, math.sqrt(2.0)).gci
