@@ -760,3 +760,40 @@ def _pressure_gci() -> float:
     from hydrokit.cfd.gci import grid_study
 
     return grid_study(0.0879, 0.0887, 0.0938, math.sqrt(2.0)).gci
+
+
+def test_a_rotating_arm_case_limits_the_absolute_velocitys_gradient_as_straight_flow_does(tmp_path):
+    # SRFSimpleFoam solves for Urel but builds its turbulence model on U = Urel + Ω × r: the
+    # model's production and wall functions and the forces' viscous stress take grad(U). Left to
+    # the unlimited default, the Myring's friction on the arm was 2.8 % under straight flow at
+    # every radius down to Ω → 0 (surface level 4, 2026-11-28); limited, +0.01 %
+    from hydrokit.cfd.case import foamlib, write_case
+
+    FoamFile = foamlib().FoamFile  # noqa: N806 -- foamlib's class
+    straight = _myring_3d(0.0)
+    arm = Case(straight.body, Flow(straight.flow.speed, yaw_rate=0.05), straight.settings)
+    grads = {}
+    for name, case in (("straight", straight), ("arm", arm)):
+        write_case(case, tmp_path / name, {})
+        grads[name] = FoamFile(tmp_path / name / "system" / "fvSchemes")["gradSchemes"]
+    limited = ["cellLimited", "Gauss", "linear", 1]
+    assert list(grads["straight"]["grad(U)"]) == limited
+    assert list(grads["arm"]["grad(U)"]) == limited  # the turbulence model's, absolute velocity
+    assert list(grads["arm"]["grad(Urel)"]) == limited  # the momentum equation's
+    assert FoamFile(tmp_path / "arm" / "system" / "controlDict")["application"] == "SRFSimpleFoam"
+    # arm cases computed before the fix are redone, straight ones keep their keys
+    import hashlib
+    import json
+    from dataclasses import asdict
+
+    from hydrokit.cfd.case import CASE_FORMAT
+
+    def before(case: Case) -> str:  # the key as it was computed until grad(U) was limited on the arm
+        skip = ("timeout", "processes", "y_plus", "end_level", "turbulence_order")
+        settings = {k: v for k, v in asdict(case.settings).items() if k not in skip}
+        data = {"format": CASE_FORMAT, "body": case.body.digest(), "flow": asdict(case.flow)}
+        data["settings"] = {**settings, "path": case.path}
+        return hashlib.sha256(json.dumps(data, sort_keys=True).encode()).hexdigest()[:16]
+
+    assert straight.key() == before(straight)
+    assert arm.key() != before(arm)
