@@ -154,6 +154,35 @@ def _stl(path: Path, tri: np.ndarray) -> Path:
     return path
 
 
+@needs_openfoam
+def test_the_command_on_a_users_stl_writes_every_output_and_names_them(run_cli, tmp_path):
+    import csv
+
+    import yaml
+
+    m = shape_mesh("sphere", 24, diameter=1.0)
+    stl = _stl(tmp_path / "ball.stl", m.vertices[m.triangles()])
+    args = ("--speeds", "0.5,1,1.5", "--density", "1", "--viscosity", "0.02", "--surface-level", "2")
+    code, out, err = run_cli("cfd", stl, "--out", tmp_path / "o", *args, "--iterations", "300", "--workers", "1")
+    assert code == 0, err
+    names = ("forces.csv", "resistance.csv", "coefficients.yaml", "cfd.json", "report.html")
+    assert sorted(p.name for p in (tmp_path / "o").iterdir() if p.name != ".cache") == sorted(names)
+    said = out.strip().splitlines()[-1]
+    assert said.startswith("3 case(s), 0 failed; wrote ") and all(n in said for n in names)
+    rows = list(csv.DictReader((tmp_path / "o" / "forces.csv").open()))
+    frozen = "case,speed,drift_deg,attack_deg,yaw_rate,pitch_rate,X,Y,Z,K,M,N".split(",")
+    assert list(rows[0])[:12] == frozen and all(f"{q}_std" in rows[0] for q in "XYZKMN")
+    # resistance is negative X; at Re = U d / ν = 50 the drag is Clift–Grace–Weber's within 10 %
+    # (11 k cells; the benchmark mesh is within 1 %)
+    high = next(r for r in rows if float(r["speed"]) == 1.0)
+    cd = -float(high["X"]) / (0.5 * 1.0 * 1.0 * math.pi / 4)
+    assert cd == pytest.approx(_cgw(50.0), rel=0.10)
+    # CELY2019's Chin fit F = K_L u + K_Q u² through the three speeds gives back the force at 1 m/s
+    chin = yaml.safe_load((tmp_path / "o" / "coefficients.yaml").read_text())["chin"]["x"]
+    assert chin["K_L"] > 0 and chin["K_Q"] > 0
+    assert chin["K_L"] + chin["K_Q"] == pytest.approx(-float(high["X"]), rel=0.03)
+
+
 @pytest.mark.parametrize(
     ("make", "args", "match"),
     [

@@ -35,13 +35,10 @@ def cfd(body: str, **opts: Any) -> None:
     result = _run(b, spec, settings, cases, out, opts["workers"], opts["scheduler"], opts["keep_cases"])
     if len(result.failed) == len(cases):
         raise SolverError(f"every case failed; the first: {result.failed[0].get('reason', 'no reason')}")
-    _write(result, out)
+    written = _write(result, out)
     for w in result.warnings:
         click.echo(f"warning: {w}", err=True)
-    click.echo(
-        f"{len(cases)} case(s), {len(result.failed)} failed; wrote forces.csv, coefficients.yaml, cfd.json, "
-        f"report.html to {out}"
-    )
+    click.echo(f"{len(cases)} case(s), {len(result.failed)} failed; wrote {', '.join(written)} to {out}")
 
 
 def _announce(b: Any, cases: list[Any]) -> None:
@@ -105,7 +102,8 @@ def _run(
             stop.set()
 
 
-def _write(result: Any, out: Path) -> None:
+def _write(result: Any, out: Path) -> list[str]:
+    """Write the outputs, all or nothing; return the names written."""
     import yaml
 
     from hydrokit.report.cfd import render
@@ -121,3 +119,4 @@ def _write(result: Any, out: Path) -> None:
     if resistance is not None:
         files[out / "resistance.csv"] = resistance
     write_all(files)
+    return [p.name for p in files]
