@@ -178,12 +178,12 @@ def test_vehicle_file_with_drag_elements_loads(tmp_path) -> None:  # noqa: ANN00
     assert v.drag_elements[0].linear == (0.0, 0.0, 0.0)  # optional, zeros by default
     np.testing.assert_array_equal(v.drag_packed, [[0, -0.75, 0, 0, 0, 0, 83.28, 0, 0], [0.2, 0, 0.3, 1, 2, 3, 4, 5, 6]])
     p = pack(v)
-    assert p.scal[8] == 2 and p.scal.shape == (9 + 18,)
-    np.testing.assert_array_equal(p.scal[9:].reshape(2, 9), v.drag_packed)
+    assert p.scal[8] == 2 and p.scal.shape == (9 + 18 + 6 + 1,)  # then the DOF mask and the fin count (0)
+    np.testing.assert_array_equal(p.scal[9:27].reshape(2, 9), v.drag_packed)
     assert not any("drag_elements" in w for w in v.warnings)  # a known field
     # without the field: no elements, and the packed scal still says n = 0
     plain = hydrokit.load_vehicle("bluerov2-heavy")
-    assert plain.drag_elements == () and pack(plain).scal[8] == 0 and pack(plain).scal.shape == (9,)
+    assert plain.drag_elements == () and pack(plain).scal[8] == 0 and pack(plain).scal.shape == (9 + 6 + 1,)
 
 
 BAD = [

@@ -129,7 +129,7 @@ def test_rigid_joint_loads_equal_a_numpy_newton_euler_at_a_turning_state(asm):
     for k, c in enumerate(asm.joint_parts):
         sub = asm.subtree(c)
         veh = asm.subtrees[c]
-        own = hydro_force(pack(veh), veh.terms.force, x[6:12], R)
+        own = hydro_force(pack(veh), x[6:12], R)
         mask = np.array([asm.thruster_part[j] in sub for j in range(len(asm.thruster_part))])
         w = veh.M @ nu_dot - own - T[:, mask] @ r.thrust[i, mask]
         j = asm.joints[c]

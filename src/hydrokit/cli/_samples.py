@@ -64,15 +64,15 @@ def sampled_files(
     vehicle: Any, nominal: Any, samples: int, seed: int, run: tuple[Any, ...], out_file: str, plots_dir: str | None
 ) -> tuple[dict[str, bytes], str]:
     """Fly ``samples`` drawn vehicles (``run`` = duration s, dt s, τ N/N·m, η₀, ν₀, current, output
-    step count) and return the files OUT_envelope.csv, OUT_samples.csv (and envelope.png in
+    step count, constant deflections rad or None) and return the files OUT_envelope.csv, OUT_samples.csv (and envelope.png in
     ``plots_dir``) with a line on the final velocity's 5–95 % spread (empty for no samples)."""
     if samples == 0:
         return {}, ""
     from hydrokit.io.trajectory import table_csv
     from hydrokit.simulate.samples import simulate_samples
 
-    duration, dt, tau, eta0, nu0, cur, every = run
-    res = simulate_samples(vehicle, samples, seed, duration, dt, tau, eta0, nu0, cur, every)
+    duration, dt, tau, eta0, nu0, cur, every, deflection = run
+    res = simulate_samples(vehicle, samples, seed, duration, dt, tau, eta0, nu0, cur, every, deflection)
     out = Path(out_file)
     stem = out.with_name(out.stem)
     files = {

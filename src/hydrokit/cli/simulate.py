@@ -7,6 +7,7 @@ from typing import Any
 
 import click
 
+from hydrokit.cli._deflection import deflection_input, deflection_options
 from hydrokit.cli._samples import check_samples, sampled_files, samples_options
 from hydrokit.cli._types import SECONDS, Count, Numbers
 
@@ -60,6 +61,7 @@ from hydrokit.cli._types import SECONDS, Count, Numbers
 @click.option(
     "--plots", "plots_dir", type=click.Path(file_okay=False), help="Write states.png, path.png here (folder)."
 )
+@deflection_options
 @samples_options("OUT_envelope.csv (5/50/95 %, min, max per state and time; SI), OUT_samples.csv, envelope.png")
 def simulate(
     vehicle: str,
@@ -77,6 +79,8 @@ def simulate(
     plots_dir: str | None,
     samples: int,
     seed: int,
+    deflection: str | None,
+    deflection_csv: str | None,
 ) -> None:
     """Simulate VEHICLE (a vehicle YAML file or a bundled name: bluerov2-heavy, minerva,
     lingyun, udrobot) under a constant or tabulated force, from rest unless told otherwise."""
@@ -93,7 +97,8 @@ def simulate(
 
         tau = read_force_table(force_csv)
     nu0, eta0, cur = initial_velocity or [0.0] * 6, initial_pose or [0.0] * 6, current_ned
-    check_samples(v, samples, force_csv, integrator, attitude)  # before the run, like every input
+    delta = deflection_input(v, deflection, deflection_csv)
+    check_samples(v, samples, force_csv or deflection_csv, integrator, attitude)  # before the run, like every input
     from hydrokit.io.trajectory import trajectory_csv
     from hydrokit.simulate.driver import simulate as run
 
@@ -111,6 +116,7 @@ def simulate(
             attitude,
             output_every,
             progress=lambda t: bar.update(task, completed=t),
+            deflection=delta,
         )
     import numpy as np
 
@@ -121,7 +127,7 @@ def simulate(
 
         files[str(Path(plots_dir) / "states.png")] = to_png(states_figure(traj, f"{v.name}: states"))
         files[str(Path(plots_dir) / "path.png")] = to_png(path_figure(traj, f"{v.name}: path"))
-    setup = (duration, dt, tau, eta0, nu0, cur, output_every)
+    setup = (duration, dt, tau, eta0, nu0, cur, output_every, delta)
     extra, spread = sampled_files(v, traj, samples, seed, setup, out_file, plots_dir)
     write_all(files | extra)
     for w in traj.warnings:

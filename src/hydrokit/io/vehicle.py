@@ -35,6 +35,9 @@ naming the field (``drag_elements[1].position``).
 A negative damping entry (``linear_damping`` diagonal, ``quadratic_damping``) feeds energy in:
 refused unless the file sets ``allow_negative_damping: true`` (then warned).
 
+``control_surfaces:`` (rudders, planes, fins) and ``dofs:`` (planar models), issue #45, are read
+by :mod:`hydrokit.io.surfaces`; terms may then use ``delta(NAME)`` factors.
+
 ``uncertainty:`` (written by ``hydrokit run``, docs/run.md) is read into
 ``Vehicle.uncertainty`` (:mod:`hydrokit.model.uncertainty`): standard errors per coefficient
 (6 numbers ≥ 0 each, SI), ``parameters`` and their ``covariance``; ``--samples`` of
@@ -90,6 +93,8 @@ KNOWN = set(REQUIRED) | {
     "project",
     "drag_elements",
     "allow_negative_damping",
+    "control_surfaces",
+    "dofs",
 }
 #: the keys of the ``fluid`` block (the viscosity is read by other tools: Reynolds numbers)
 FLUID_KEYS = ("density", "kinematic_viscosity")
@@ -301,6 +306,10 @@ def parse_vehicle(data: dict[str, Any], source: str) -> Vehicle:
     default_nd = data.get("terms_nondimensional", False)
     if not isinstance(default_nd, bool):
         raise InputError(f"field 'terms_nondimensional' = {cut_repr(default_nd)}: expected true or false", source)
+    from hydrokit.io.surfaces import read_control_surfaces, read_dofs
+
+    surfaces = read_control_surfaces(data.get("control_surfaces"), source)
+    dofs = read_dofs(data.get("dofs"), source)
     terms_raw = data.get("terms") or {}
     if not isinstance(terms_raw, dict):
         raise InputError(f"field 'terms' = {cut_repr(terms_raw)}: expected a mapping of term names to values", source)
@@ -322,7 +331,7 @@ def parse_vehicle(data: dict[str, Any], source: str) -> Vehicle:
             value = _number(spec["value"], where + ".value", source)
         else:
             value = _number(spec, where, source)
-        term = parse_term(str(name), source)
+        term = parse_term(str(name), source, surfaces.names)
         if nd:
             if L is None:
                 raise InputError(
@@ -366,4 +375,6 @@ def parse_vehicle(data: dict[str, Any], source: str) -> Vehicle:
         elements,
         uncertainty,
         _provenance(data),
+        surfaces,
+        dofs,
     )

@@ -32,20 +32,27 @@ from hydrokit.core.kinematics import (
     rotation_zyx,
 )
 from hydrokit.errors import InputError
+from hydrokit.model.surfaces import FIN_WIDTH, fin_wrench
+from hydrokit.model.terms import add_term_forces
 from hydrokit.model.vehicle import Vehicle
 
-Dynamics = Callable[[float, np.ndarray, np.ndarray], np.ndarray]
+Dynamics = Callable[..., np.ndarray]
 
 
 @dataclass(frozen=True)
 class Packed:
     """A vehicle as flat arrays (SI).
 
-    scal = [W, B, r_g (3), r_b (3), n, then 9 numbers per drag element]: W and B in N, r_g and
-    r_b in m, n the number of drag elements (stored as a float), and per element the packed row
-    [x, y, z, Lx, Ly, Lz, Qx, Qy, Qz] (m, N·s/m, N·s²/m²; :mod:`hydrokit.core.drag`). Stacks
-    of several vehicles pad shorter rows with zeros (:func:`stack_scal`): n says how many
-    elements are real.
+    scal = [W, B, r_g (3), r_b (3), n, then 9 numbers per drag element, the DOF mask (6), m,
+    then FIN_WIDTH numbers per physical fin]: W and B in N, r_g and r_b in m, n the number of drag
+    elements (stored as a float), and per element the packed row [x, y, z, Lx, Ly, Lz, Qx, Qy, Qz]
+    (m, N·s/m, N·s²/m²; :mod:`hydrokit.core.drag`); the mask is 1 for a kept DOF and 0 for a
+    dropped one (planar models); m the number of fins and their rows
+    (:meth:`hydrokit.model.surfaces.SurfaceSet.pack_fins`). Stacks of several vehicles pad
+    shorter rows with zeros (:func:`stack_scal`): n and m say how many elements are real.
+
+    Minv is the inverse of M_RB + M_A over the kept DOF (zero rows and columns for the dropped
+    ones): a planar model solves its own reduced equations, not rows of the 6-DOF inverse.
     """
 
     Minv: np.ndarray
@@ -63,13 +70,28 @@ def pack(v: Vehicle) -> Packed:
     """Flatten ``v`` for the compiled integrators."""
     M = v.M
     Mc = v.M_coriolis
+    kept = list(v.dofs)
+    Minv = np.zeros((6, 6))
+    Minv[np.ix_(kept, kept)] = np.linalg.inv(M[np.ix_(kept, kept)])
+    mask = np.zeros(6)
+    mask[kept] = 1.0
+    fins = v.surfaces.pack_fins(v.density)
     return Packed(
-        Minv=np.ascontiguousarray(np.linalg.inv(M)),
+        Minv=np.ascontiguousarray(Minv),
         Mc=np.ascontiguousarray(0.5 * (Mc + Mc.T)),
         DL=np.ascontiguousarray(v.D_L, dtype=float),
         DQ=np.ascontiguousarray(v.D_Q, dtype=float),
         scal=np.concatenate(
-            [[v.weight, v.buoyancy], v.r_g, v.r_b, [len(v.drag_elements)], v.drag_packed.ravel()]
+            [
+                [v.weight, v.buoyancy],
+                v.r_g,
+                v.r_b,
+                [len(v.drag_elements)],
+                v.drag_packed.ravel(),
+                mask,
+                [fins.shape[0]],
+                fins.ravel(),
+            ]
         ).astype(float),
         t_dof=v.terms.dof,
         t_coef=np.ascontiguousarray(v.terms.coef, dtype=float),
@@ -82,6 +104,17 @@ def scal_elements(scal: np.ndarray) -> np.ndarray:
     """The (n, 9) drag-element rows held in a packed ``scal`` (empty for none)."""
     n = int(scal[8])  # always packed, 0 without elements
     return scal[9 : 9 + PACKED_WIDTH * n].reshape(n, PACKED_WIDTH)
+
+
+def scal_mask_offset(scal: np.ndarray) -> int:
+    """Index in a packed ``scal`` of the DOF mask (6 numbers), followed by the fin count and rows."""
+    return 9 + PACKED_WIDTH * int(scal[8])
+
+
+def scal_fins(scal: np.ndarray) -> tuple[int, int]:
+    """(first index, count) of the fin rows in a packed ``scal``."""
+    o = scal_mask_offset(scal) + 6
+    return o + 1, int(scal[o])
 
 
 def stack_scal(rows: list[np.ndarray]) -> np.ndarray:
@@ -121,10 +154,12 @@ def interp_table(tab: np.ndarray, t: float) -> tuple[np.ndarray, np.ndarray]:
 
 
 def hydro_force(
-    p: Packed, terms_force: Callable[[np.ndarray], np.ndarray], nr: np.ndarray, R: np.ndarray
+    p: Packed, nr: np.ndarray, R: np.ndarray, delta: np.ndarray | None = None, thrust_x: float = 0.0
 ) -> np.ndarray:
-    """τ-independent right-hand side −C ν_r − D ν_r + τ_terms + τ_drag − g (N, N·m) at ν_r with
-    rotation R."""
+    """τ-independent right-hand side −C ν_r − D ν_r + τ_terms + τ_drag + τ_fins − g (N, N·m) at
+    ν_r with rotation R, deflections ``delta`` (rad) and the commanded surge force ``thrust_x``
+    (N; a rudder's propeller race)."""
+    d = np.zeros(0) if delta is None else np.asarray(delta, float)
     cor = coriolis_force(p.Mc, nr, symmetric=True)  # p.Mc was symmetrised once in pack()
     damp = p.DL @ nr + p.DQ * np.abs(nr) * nr
     W, B = p.scal[0], p.scal[1]
@@ -132,15 +167,23 @@ def hydro_force(
     down = R[2]  # Rᵀ e_z: NED "down" in body axes
     fg, fb = W * down, -B * down
     g = -np.concatenate([fg + fb, np.cross(rg, fg) + np.cross(rb, fb)])
-    out = -cor - damp + terms_force(nr) - g
+    out = -cor - damp - g
+    add_term_forces(p.t_dof, p.t_coef, p.t_kind, p.t_idx, nr, d, d.shape[0], out)
     elements = scal_elements(p.scal)
     if elements.shape[0]:
         out += drag_wrench(elements, nr)
+    first, n_fins = scal_fins(p.scal)
+    for e in range(n_fins):
+        fin_wrench(p.scal, first + FIN_WIDTH * e, nr, thrust_x, d, d.shape[0], out)
     return out
 
 
 def vehicle_dynamics(vehicle: Vehicle, current_ned: object = None, attitude: str = "euler") -> Dynamics:
-    """f(t, x, τ) → ẋ for ``vehicle`` (numpy; see module docstring for the state layout).
+    """f(t, x, τ, δ=None) → ẋ for ``vehicle`` (numpy; see module docstring for the state layout).
+
+    τ: 6 floats (N, N·m); δ: the control surfaces' deflections (rad, file order; None: all 0).
+    A planar vehicle's dropped DOF have zero rates (their velocities and angles stay where they
+    start: at zero, for a planar model).
 
     Parameters
     ----------
@@ -150,12 +193,14 @@ def vehicle_dynamics(vehicle: Vehicle, current_ned: object = None, attitude: str
     """
     if attitude not in ("euler", "quaternion"):
         raise InputError(f"attitude = {attitude!r}: expected euler or quaternion")
+    if attitude == "quaternion" and vehicle.planar:
+        raise InputError(f"vehicle {vehicle.name!r} is planar (dofs): expected attitude euler")
     p = pack(vehicle)
     ctab = current_table(current_ned)
-    terms_force = vehicle.terms.force
     quat = attitude == "quaternion"
+    mask = p.scal[scal_mask_offset(p.scal) : scal_mask_offset(p.scal) + 6]
 
-    def f(t: float, x: np.ndarray, tau: np.ndarray) -> np.ndarray:
+    def f(t: float, x: np.ndarray, tau: np.ndarray, delta: np.ndarray | None = None) -> np.ndarray:
         if quat:
             q = x[3:7]
             R = quaternion_to_rotation(q / math.sqrt(q @ q))
@@ -167,16 +212,19 @@ def vehicle_dynamics(vehicle: Vehicle, current_ned: object = None, attitude: str
         vcb = R.T @ vc
         nr = nu.copy()
         nr[:3] -= vcb
-        nr_dot = p.Minv @ (np.asarray(tau, float) + hydro_force(p, terms_force, nr, R))
+        tau = np.asarray(tau, float)
+        nr_dot = p.Minv @ (tau + hydro_force(p, nr, R, delta, float(tau[0])))
         nu_dot = nr_dot
         nu_dot[:3] += -np.cross(nu[3:], vcb) + R.T @ vc_dot
+        nu_dot *= mask
         pos_dot = R @ nu[:3]
         if quat:
             qd = quaternion_rate(x[3:7], nu[3:])
             # gentle constraint stabilisation keeps |q| = 1 under integration error
             qd += 0.5 * (1.0 - float(x[3:7] @ x[3:7])) * x[3:7]
             return np.concatenate([pos_dot, qd, nu_dot])
-        return np.concatenate([pos_dot, euler_rate_matrix(x[3], x[4]) @ nu[3:], nu_dot])
+        pos_dot[2] *= mask[2]
+        return np.concatenate([pos_dot, mask[3:] * (euler_rate_matrix(x[3], x[4]) @ nu[3:]), nu_dot])
 
     return f
 

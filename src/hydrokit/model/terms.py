@@ -9,9 +9,14 @@ grammar — never ``eval``:
              | "(" VEL "/|" VEL "|)"                 sign of a velocity (0 at rest)
              | "sqrt(" VEL "^2" ("+" VEL "^2")+ ")"  magnitude of several velocities
              | VEL "dot"                             acceleration (alone: an added-mass entry)
+             | "delta(" NAME ")"                     a control surface's deflection (rad; issue #45)
+    power   := factor "^" DIGIT                      the factor repeated (2–5 times)
 
 Examples: ``X_uu``, ``Y_v|v|``, ``Y_vq``, ``Z_|w|``, ``N_p|p|``, ``X_udot``,
-``Z_w*sqrt(v^2+w^2)``, ``N_(v/|v|)*sqrt(v^2+w^2)*|r|``.
+``Z_w*sqrt(v^2+w^2)``, ``N_(v/|v|)*sqrt(v^2+w^2)*|r|``, ``Y_uu*delta(rudder)`` (Prestero 2001's
+Y_uuδr), ``X_uu*delta(rudder)^2``. NAME is a control surface of the vehicle
+(:mod:`hydrokit.model.surfaces`); a deflection is dimensionless and counts for nothing in the
+scaling below.
 
 Dimensional value (``nondimensional: false``) is used as is: the force is value × product (SI).
 Non-dimensional values are scaled by ½ρL^k (SPEC §3): with n_a the number of angular-rate
@@ -34,9 +39,9 @@ from hydrokit.errors import InputError
 # the grammar works on single characters: "XYZKMN" and "uvwpqr", in core.names' DOF order
 DOFS = "".join(FORCE_SYMBOLS)
 VELS = "".join(VELOCITY_SYMBOLS)
-# factor kinds (codes used by the compiled evaluator)
-VEL, ABS, SIGN, NORM = 1, 2, 3, 4
-MAX_FACTORS = 4
+# factor kinds (codes used by the compiled evaluator); DELTA's index is the surface's
+VEL, ABS, SIGN, NORM, DELTA = 1, 2, 3, 4, 5
+MAX_FACTORS = 5
 
 
 @dataclass(frozen=True)
@@ -48,7 +53,12 @@ class Factor:
 
     @property
     def angular(self) -> bool:
-        return all(i >= 3 for i in self.indices)
+        return self.kind != DELTA and all(i >= 3 for i in self.indices)
+
+    @property
+    def velocity(self) -> bool:
+        """A factor that counts as a velocity in the scaling (not a sign, not a deflection)."""
+        return self.kind not in (SIGN, DELTA)
 
 
 @dataclass(frozen=True)
@@ -69,12 +79,17 @@ class Term:
         moment = self.dof >= 3
         if self.acceleration is not None:
             return 3 + moment + (self.acceleration >= 3)
-        n_a = sum(1 for f in self.factors if f.kind != SIGN and f.angular)
+        n_a = sum(1 for f in self.factors if f.velocity and f.angular)
         return 2 + n_a + moment
 
     def order(self) -> int:
-        """Number of velocity factors (signs excluded)."""
-        return sum(1 for f in self.factors if f.kind != SIGN)
+        """Number of velocity factors (signs and deflections excluded)."""
+        return sum(1 for f in self.factors if f.velocity)
+
+    @property
+    def surfaces(self) -> tuple[int, ...]:
+        """Indices of the control surfaces the term's deflection factors name."""
+        return tuple(f.indices[0] for f in self.factors if f.kind == DELTA)
 
     def dimensional(self, value: float, density: float, length: float, speed: float | None, source: str = "") -> float:
         """The SI coefficient of a non-dimensional ``value``."""
@@ -94,16 +109,17 @@ class Term:
 
 
 class _Parser:
-    def __init__(self, name: str, source: str):
+    def __init__(self, name: str, source: str, surfaces: tuple[str, ...]):
         self.name = name
         self.s = name.replace(" ", "")
         self.i = 0
         self.source = source
+        self.surfaces = surfaces
 
     def fail(self, what: str) -> InputError:
         return InputError(
             f"term {self.name!r}: {what} at position {self.i + 1}; expected SNAME form like X_uu, Y_v|v|, "
-            "Z_w*sqrt(v^2+w^2), N_(v/|v|)*|r|, X_udot",
+            "Z_w*sqrt(v^2+w^2), N_(v/|v|)*|r|, X_udot, Y_uu*delta(rudder)",
             self.source,
         )
 
@@ -121,6 +137,13 @@ class _Parser:
             return VELS.index(self.s[self.i - 1])
         raise self.fail("a velocity u, v, w, p, q or r")
 
+    def power(self, factors: list[Factor]) -> None:
+        """``^N`` after a factor: the factor repeated N times in all (2 ≤ N ≤ 5)."""
+        if not factors or self.i + 1 >= len(self.s) or self.s[self.i + 1] not in "2345":
+            raise self.fail("'^' must follow a factor and give a power 2 to 5")
+        factors.extend([factors[-1]] * (int(self.s[self.i + 1]) - 1))
+        self.i += 2
+
     def parse(self) -> Term:
         s = self.s
         if len(s) < 3 or s[0] not in DOFS or s[1] != "_":
@@ -135,7 +158,28 @@ class _Parser:
                     raise self.fail("'*' must stand between two factors")
                 self.i += 1
                 continue
-            if self.peek("sqrt("):
+            if self.peek("^"):
+                self.power(factors)
+                continue
+            if self.peek("delta("):
+                self.i += 6
+                j = self.i
+                while j < len(s) and (s[j].isalnum() or s[j] in "_-."):
+                    j += 1
+                surface = s[self.i : j]
+                if not surface:
+                    raise self.fail("a control surface's name in delta()")
+                if surface not in self.surfaces:
+                    known = ", ".join(self.surfaces) or "none"
+                    raise InputError(
+                        f"term {self.name!r}: delta({surface}) names no control surface of the vehicle "
+                        f"(control_surfaces: {known})",
+                        self.source,
+                    )
+                self.i = j
+                self.eat(")")
+                factors.append(Factor(DELTA, (self.surfaces.index(surface),)))
+            elif self.peek("sqrt("):
                 self.i += 5
                 idx = [self.vel()]
                 self.eat("^2")
@@ -179,11 +223,14 @@ class _Parser:
         return Term(self.name, dof, tuple(factors), accel)
 
 
-def parse_term(name: str, source: str = "") -> Term:
-    """Parse an SNAME term name (see module docstring); InputError names a bad term."""
+def parse_term(name: str, source: str = "", surfaces: tuple[str, ...] | list[str] = ()) -> Term:
+    """Parse an SNAME term name (see module docstring); InputError names a bad term.
+
+    ``surfaces`` are the names of the vehicle's control surfaces that ``delta(NAME)`` may use.
+    """
     if not isinstance(name, str) or not name.strip():
         raise InputError(f"term name {name!r}: expected text like X_uu", source)
-    return _Parser(name.strip(), source).parse()
+    return _Parser(name.strip(), source, tuple(surfaces)).parse()
 
 
 @dataclass(frozen=True)
@@ -225,27 +272,42 @@ class TermSet:
                     idx[k, j, m] = i
         return TermSet(tuple(t.name for t, _ in terms), dof, coef, kinds, idx)
 
-    def force(self, nu: np.ndarray) -> np.ndarray:
-        """Σ coef · product, per DOF (N, N·m) at ν_r."""
+    def force(self, nu: np.ndarray, delta: np.ndarray | None = None) -> np.ndarray:
+        """Σ coef · product, per DOF (N, N·m) at ν_r and deflections ``delta`` (rad)."""
         out = np.zeros(6)
-        for k in range(self.dof.size):
-            prod = self.coef[k]
-            for j in range(MAX_FACTORS):
-                kind = self.kinds[k, j]
-                if kind == 0:
-                    break
-                i0 = self.idx[k, j, 0]
-                if kind == VEL:
-                    prod *= nu[i0]
-                elif kind == ABS:
-                    prod *= abs(nu[i0])
-                elif kind == SIGN:
-                    prod *= np.sign(nu[i0])
-                else:
-                    ss = 0.0
-                    for m in range(3):
-                        if self.idx[k, j, m] >= 0:
-                            ss += nu[self.idx[k, j, m]] ** 2
-                    prod *= math.sqrt(ss)
-            out[self.dof[k]] += prod
+        d = np.zeros(0) if delta is None else np.asarray(delta, float)
+        add_term_forces(self.dof, self.coef, self.kinds, self.idx, np.asarray(nu, float), d, d.shape[0], out)
         return out
+
+
+def add_term_forces(dof, coef, kinds, idx, nr, delta, n_delta, f):  # noqa: ANN001, ANN201
+    """Add Σ coef · product of every term to ``f`` (N, N·m), per DOF, at ν_r = ``nr`` (m/s,
+    rad/s) and deflections ``delta`` (rad; the first ``n_delta`` are real, a missing one is 0).
+
+    The one implementation of the terms: :meth:`TermSet.force` calls it as Python and the
+    compiled integrators (:mod:`hydrokit.simulate.compiled`) compile it with numba.
+    """
+    for k in range(dof.shape[0]):
+        prod = coef[k]
+        for j in range(kinds.shape[1]):
+            kind = kinds[k, j]
+            if kind == 0:
+                break
+            i0 = idx[k, j, 0]
+            if kind == VEL:
+                prod *= nr[i0]
+            elif kind == ABS:
+                prod *= abs(nr[i0])
+            elif kind == SIGN:
+                val = nr[i0]
+                prod *= 1.0 if val > 0 else (-1.0 if val < 0 else 0.0)
+            elif kind == DELTA:
+                prod *= delta[i0] if i0 < n_delta else 0.0
+            else:
+                ss = 0.0
+                for m in range(idx.shape[2]):
+                    ii = idx[k, j, m]
+                    if ii >= 0:
+                        ss += nr[ii] * nr[ii]
+                prod *= math.sqrt(ss)
+        f[dof[k]] += prod

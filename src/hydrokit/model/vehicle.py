@@ -21,6 +21,7 @@ import numpy as np
 from hydrokit.core.drag import DragElement, pack_elements
 from hydrokit.core.rigid_body import rigid_body_mass_matrix
 from hydrokit.errors import InputError
+from hydrokit.model.surfaces import SurfaceSet
 from hydrokit.model.terms import TermSet
 
 #: relative asymmetry of M_RB + M_A tolerated (and symmetrised with a warning); larger is an error
@@ -58,6 +59,11 @@ class Vehicle:
     provenance : tuple of str — where the coefficients came from, as the vehicle file says
         (``hydrokit run``'s ``project.sources``, a ``source`` or ``sources`` field); exports
         write it into their comments
+    surfaces : SurfaceSet — control surfaces (rudders, planes, fins; :mod:`hydrokit.model.surfaces`):
+        deflection variables of the ``delta(NAME)`` terms and, where given a fin model, forces of
+        their own
+    dofs : tuple of int — the degrees of freedom kept (0 surge … 5 yaw); a planar model
+        (``dofs: [surge, sway, yaw]``) holds the others at zero and drops their equations
 
     A vehicle is equal only to itself (``eq=False``): its fields are arrays, which have no
     single truth value; compare the fields of two vehicles with numpy.
@@ -82,6 +88,13 @@ class Vehicle:
     thrusters: Any = field(default=None, repr=False)
     uncertainty: Any = field(default=None, repr=False)
     provenance: tuple[str, ...] = field(default=(), repr=False)
+    surfaces: SurfaceSet = field(default_factory=SurfaceSet)
+    dofs: tuple[int, ...] = (0, 1, 2, 3, 4, 5)
+
+    @property
+    def planar(self) -> bool:
+        """True when some degrees of freedom are dropped."""
+        return len(self.dofs) < 6
 
     @property
     def M_RB(self) -> np.ndarray:
@@ -181,6 +194,8 @@ def make_vehicle(
     drag_elements: tuple[DragElement, ...] | list[DragElement] | None = None,
     uncertainty: Any = None,
     provenance: tuple[str, ...] = (),
+    surfaces: SurfaceSet | None = None,
+    dofs: tuple[int, ...] | list[int] | None = None,
 ) -> Vehicle:
     """Validate and build a :class:`Vehicle`.
 
@@ -257,6 +272,7 @@ def make_vehicle(
             source,
         )
     elements = _drag_elements(drag_elements, source)
+    kept = _dofs(dofs, source)
     D_Q = np.asarray(D_Q, float)
     if np.any(D_Q < 0):
         warn.append(f"quadratic_damping has negative entries {D_Q.tolist()}: energy is fed in at speed")
@@ -279,4 +295,19 @@ def make_vehicle(
         drag_elements=elements,
         uncertainty=uncertainty,
         provenance=tuple(provenance),
+        surfaces=surfaces if surfaces is not None else SurfaceSet(),
+        dofs=kept,
     )
+
+
+def _dofs(dofs: object, source: str) -> tuple[int, ...]:
+    """Kept DOF indices, sorted: surge (0) must stay, none twice, each 0–5."""
+    if dofs is None:
+        return (0, 1, 2, 3, 4, 5)
+    if not isinstance(dofs, (list, tuple)) or not dofs:
+        raise InputError(f"field 'dofs' = {dofs!r}: expected a list of DOF indices 0–5", source)
+    if any(not isinstance(d, int) or isinstance(d, bool) or not 0 <= d <= 5 for d in dofs):
+        raise InputError(f"field 'dofs' = {list(dofs)}: expected DOF indices 0–5", source)
+    if len(set(dofs)) != len(dofs):
+        raise InputError(f"field 'dofs' = {list(dofs)}: a DOF is repeated", source)
+    return tuple(sorted(dofs))

@@ -99,6 +99,7 @@ def simulate_batch(
     current_ned: Any = None,
     output_every: int | None = None,
     attitude: str = "euler",
+    deflection: Any = None,
 ) -> BatchTrajectory:
     """Simulate every vehicle of ``vehicles`` (same derivative-term structure) in parallel.
 
@@ -109,6 +110,7 @@ def simulate_batch(
     tau : 6 floats (N, N·m) for all, or (n_vehicles, 6)
     eta0, nu0 : (6,) or (n_vehicles, 6) — initial pose (m, rad) and velocity (m/s, rad/s)
     output_every : int — keep every n-th step (default: only the final state)
+    deflection : None or one constant deflection per control surface (rad, file order), for all
 
     Returns
     -------
@@ -139,7 +141,15 @@ def simulate_batch(
     taus = np.broadcast_to(tau, (nv, 6)) if tau.ndim <= 1 else tau
     if taus.shape != (nv, 6):
         raise InputError(f"tau of shape {tau.shape}: expected 6 values or one row of 6 per vehicle")
-    tau_tab = np.ascontiguousarray(np.concatenate([np.zeros((nv, 1)), taus], axis=1)[:, None, :])
+    cols = [np.zeros((nv, 1)), taus]
+    if deflection is not None:
+        from hydrokit.simulate.driver import deflection_table
+
+        dtab = deflection_table(vehicles[0], deflection)
+        if dtab is None or dtab.shape[0] != 1:
+            raise InputError("deflection: a batch takes one constant deflection per control surface (rad)")
+        cols.append(np.broadcast_to(dtab[0, 1:], (nv, len(vehicles[0].surfaces))))
+    tau_tab = np.ascontiguousarray(np.concatenate(cols, axis=1)[:, None, :])
     dim = 13 if quat else 12
     eta = np.broadcast_to(np.zeros(6) if eta0 is None else np.asarray(eta0, float), (nv, 6))
     nu = np.broadcast_to(np.zeros(6) if nu0 is None else np.asarray(nu0, float), (nv, 6))

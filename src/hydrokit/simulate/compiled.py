@@ -27,12 +27,24 @@ import math
 import numba
 import numpy as np
 
+from hydrokit.model.surfaces import FIN_WIDTH, MAX_SURFACES, fin_wrench, servo_step
+from hydrokit.model.terms import add_term_forces
+
 #: ``numba.njit`` for kernels that allocate nothing: compiled without numba's reference
 #: counting, which otherwise updates every array argument's count atomically on entry and exit
 #: (with ~60 array arguments per closed-loop step this was a fifth of the step). Such a kernel
 #: may call only kernels of the same kind (numba passes the setting on to callees, and
 #: allocation needs it), so code that allocates stays in ordinary ``numba.njit`` kernels.
 njit_noalloc = numba.njit(cache=True, _nrt=False)  # type: ignore[call-overload]
+
+#: scratch length of :func:`deriv` (40 numbers, then the force table's values and slopes:
+#: 6 forces and up to MAX_SURFACES deflections each)
+BUF_SIZE = 40 + 2 * (6 + MAX_SURFACES)
+
+# The laws written once in model/ (plain floats and loops), compiled here: not copies.
+_terms = njit_noalloc(add_term_forces)
+_fin = njit_noalloc(fin_wrench)
+servo_step_compiled = numba.njit(cache=True)(servo_step)
 
 
 @numba.njit(cache=True, inline="always")
@@ -65,7 +77,11 @@ def _interp(tab, t, val, slope):  # noqa: ANN001, ANN202
 
 @njit_noalloc
 def deriv(t, x, quat, tau_tab, cur_tab, Minv, Mc, DL, DQ, scal, t_dof, t_coef, t_kind, t_idx, buf, out):  # noqa: ANN001, ANN201
-    """ẋ into ``out``; ``buf`` is scratch of length ≥ 40."""
+    """ẋ into ``out``; ``buf`` is scratch of length ≥ BUF_SIZE.
+
+    ``tau_tab`` rows are [t, X, Y, Z, K, M, N, δ_1 … δ_n] (s, N, N·m, rad): the deflections of the
+    vehicle's control surfaces may follow the six forces (missing ones are 0).
+    """
     if quat:
         q0, q1, q2, q3 = x[3], x[4], x[5], x[6]
         nq = math.sqrt(q0 * q0 + q1 * q1 + q2 * q2 + q3 * q3)
@@ -95,9 +111,13 @@ def deriv(t, x, quat, tau_tab, cur_tab, Minv, Mc, DL, DQ, scal, t_dof, t_coef, t
         R22 = ct * cf
         o = 6
     u, v, w, p, q, r = x[o], x[o + 1], x[o + 2], x[o + 3], x[o + 4], x[o + 5]
-    tau = buf[0:6]
-    tslope = buf[6:12]
-    _interp(tau_tab, t, tau, tslope)
+    m_tab = tau_tab.shape[1] - 1
+    tval = buf[40 : 40 + m_tab]
+    tslope = buf[40 + m_tab : 40 + 2 * m_tab]
+    _interp(tau_tab, t, tval, tslope)
+    tau = tval[0:6]
+    delta = tval[6:m_tab]
+    n_delta = m_tab - 6
     vc = buf[12:15]
     vcd = buf[15:18]
     _interp(cur_tab, t, vc, vcd)
@@ -135,29 +155,8 @@ def deriv(t, x, quat, tau_tab, cur_tab, Minv, Mc, DL, DQ, scal, t_dof, t_coef, t
         for j in range(6):
             s += DL[i, j] * nr[j]
         f[i] += tau[i] - s
-    # general derivative terms
-    for k in range(t_dof.shape[0]):
-        prod = t_coef[k]
-        for jf in range(t_kind.shape[1]):
-            kind = t_kind[k, jf]
-            if kind == 0:
-                break
-            i0 = t_idx[k, jf, 0]
-            if kind == 1:
-                prod *= nr[i0]
-            elif kind == 2:
-                prod *= abs(nr[i0])
-            elif kind == 3:
-                val = nr[i0]
-                prod *= 1.0 if val > 0 else (-1.0 if val < 0 else 0.0)
-            else:
-                ss = 0.0
-                for mm in range(3):
-                    ii = t_idx[k, jf, mm]
-                    if ii >= 0:
-                        ss += nr[ii] * nr[ii]
-                prod *= math.sqrt(ss)
-        f[t_dof[k]] += prod
+    # general derivative terms (model.terms.add_term_forces, compiled)
+    _terms(t_dof, t_coef, t_kind, t_idx, nr, delta, n_delta, f)
     # restoring: −g(η); down = Rᵀ e_z = third row of R
     W, B = scal[0], scal[1]
     d0, d1, d2 = R20, R21, R22
@@ -190,7 +189,12 @@ def deriv(t, x, quat, tau_tab, cur_tab, Minv, Mc, DL, DQ, scal, t_dof, t_coef, t
         f[3] += ry * fz - rz * fy
         f[4] += rz * fx - rx * fz
         f[5] += rx * fy - ry * fx
-    # ν̇ = M⁻¹ f − [ω × Rᵀv_c − Rᵀv̇_c; 0]
+    # physical fins (model.surfaces.fin_wrench, compiled): after the mask (6) and their count
+    om = 9 + 9 * n_el
+    n_fin = int(scal[om + 6])
+    for e in range(n_fin):
+        _fin(scal, om + 7 + FIN_WIDTH * e, nr, tau[0], delta, n_delta, f)
+    # ν̇ = M⁻¹ f − [ω × Rᵀv_c − Rᵀv̇_c; 0], zero for a dropped DOF
     for i in range(6):
         s = 0.0
         for j in range(6):
@@ -199,6 +203,8 @@ def deriv(t, x, quat, tau_tab, cur_tab, Minv, Mc, DL, DQ, scal, t_dof, t_coef, t
     out[o] += -(q * cb2 - r * cb1) + cd0
     out[o + 1] += -(r * cb0 - p * cb2) + cd1
     out[o + 2] += -(p * cb1 - q * cb0) + cd2
+    for i in range(6):
+        out[o + i] *= scal[om + i]
     # kinematics
     out[0] = R00 * u + R01 * v + R02 * w
     out[1] = R10 * u + R11 * v + R12 * w
@@ -212,9 +218,10 @@ def deriv(t, x, quat, tau_tab, cur_tab, Minv, Mc, DL, DQ, scal, t_dof, t_coef, t
         out[6] = 0.5 * (q0 * r + q1 * q - q2 * p) + corr * q3
     else:
         tt = st / ct
-        out[3] = p + (sf * q + cf * r) * tt
-        out[4] = cf * q - sf * r
-        out[5] = (sf * q + cf * r) / ct
+        out[2] *= scal[om + 2]
+        out[3] = (p + (sf * q + cf * r) * tt) * scal[om + 3]
+        out[4] = (cf * q - sf * r) * scal[om + 4]
+        out[5] = (sf * q + cf * r) / ct * scal[om + 5]
 
 
 @numba.njit(cache=True)
@@ -232,7 +239,7 @@ def rk4_run(
     k3 = np.empty(n)
     k4 = np.empty(n)
     tmp = np.empty(n)
-    buf = np.empty(40)
+    buf = np.empty(BUF_SIZE)
     for i in range(n):
         out[0, i] = x[i]
     j = 1
@@ -293,21 +300,26 @@ def rk4_batch(
 
 
 def make_dynamics(vehicle, current_ned=None, attitude: str = "euler"):  # noqa: ANN001, ANN201
-    """f(t, x, τ) → ẋ calling the compiled right-hand side (same equations as
+    """f(t, x, τ, δ=None) → ẋ calling the compiled right-hand side (same equations as
     :func:`hydrokit.model.dynamics.vehicle_dynamics`, about 50× faster per call). Used by the
-    closed loop, where τ changes every step."""
+    closed loop and the manoeuvres, where τ (N, N·m) and the deflections δ (rad, one per control
+    surface) change every step."""
+    from hydrokit.errors import InputError
     from hydrokit.model.dynamics import current_table, pack
 
+    if attitude == "quaternion" and vehicle.planar:
+        raise InputError(f"vehicle {vehicle.name!r} is planar (dofs): expected attitude euler")
     p = pack(vehicle)
     ctab = current_table(current_ned)
     quat = attitude == "quaternion"
     n = 13 if quat else 12
-    tau_tab = np.zeros((1, 7))
-    buf = np.empty(40)
+    tau_tab = np.zeros((1, 7 + len(vehicle.surfaces)))
+    buf = np.empty(BUF_SIZE)
     args = (p.Minv, p.Mc, p.DL, p.DQ, p.scal, p.t_dof, p.t_coef, p.t_kind, p.t_idx)
 
-    def f(t: float, x: np.ndarray, tau: np.ndarray) -> np.ndarray:
-        tau_tab[0, 1:] = tau
+    def f(t: float, x: np.ndarray, tau: np.ndarray, delta: np.ndarray | None = None) -> np.ndarray:
+        tau_tab[0, 1:7] = tau
+        tau_tab[0, 7:] = 0.0 if delta is None else delta
         out = np.empty(n)
         deriv(float(t), np.asarray(x, dtype=float), quat, tau_tab, ctab, *args, buf, out)
         return out

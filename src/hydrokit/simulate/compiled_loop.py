@@ -54,7 +54,7 @@ from hydrokit.model.guidance import _HORIZONTAL_EPS, Path
 from hydrokit.model.thrusters import IdealCurve, PropellerCurve, TableCurve, ThrusterSet
 from hydrokit.simulate.budget import check_memory
 from hydrokit.simulate.closed_loop import ClosedLoopResult
-from hydrokit.simulate.compiled import deriv, njit_noalloc
+from hydrokit.simulate.compiled import BUF_SIZE, deriv, njit_noalloc
 
 _EPS = float(np.finfo(float).eps)
 # status codes of _loop
@@ -506,7 +506,7 @@ def _work(m):  # noqa: ANN001, ANN202
     """Scratch arrays of one flight (one set per fleet member)."""
     return (
         np.zeros((1, 7)),  # tau_tab
-        np.empty(40),  # buf
+        np.empty(BUF_SIZE),  # buf
         np.empty(12),  # k1v
         np.empty(12),  # k2v
         np.empty(12),  # k3v

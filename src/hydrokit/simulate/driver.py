@@ -97,6 +97,7 @@ def simulate(
     attitude: str = "euler",
     output_every: int = 1,
     progress: Callable[[float], None] | None = None,
+    deflection: Any = None,
 ) -> Trajectory:
     """Simulate ``vehicle`` for ``duration`` s.
 
@@ -112,6 +113,9 @@ def simulate(
     integrator : "rk4" (compiled), "rk4-numpy", "dop853" or "rk45"
     attitude : "euler" or "quaternion"
     output_every : int — keep every n-th step
+    deflection : None (all 0), one deflection per control surface (rad, file order) or rows
+        [t, δ_1 … δ_n] (s, rad; interpolated linearly, held at the ends). Checked against each
+        surface's ``max_deflection``.
 
     Raises
     ------
@@ -143,6 +147,9 @@ def simulate(
     x0 = np.concatenate([eta0[:3], euler_to_quaternion(*eta0[3:]), nu0]) if quat else np.concatenate([eta0, nu0])
     warnings = list(vehicle.warnings)
     ttab = _tau_table(tau)
+    dtab = deflection_table(vehicle, deflection)
+    if ttab is not None and dtab is not None:
+        ttab = merge_tables(ttab, dtab)
     ctab = current_table(current_ned)
     if integrator == "rk4" and ttab is not None:
         from hydrokit.simulate.compiled import rk4_run
@@ -181,16 +188,19 @@ def simulate(
     else:
         f = vehicle_dynamics(vehicle, current_ned, attitude)
         if ttab is None:
+            from hydrokit.model.dynamics import interp_table
 
             def rhs(t: float, x: np.ndarray) -> np.ndarray:
                 eta = _eta(x, quat)
                 nu = x[-6:]
-                return f(t, x, np.asarray(tau(t, eta, nu), float))
+                d = None if dtab is None else interp_table(dtab, t)[0]
+                return f(t, x, np.asarray(tau(t, eta, nu), float), d)
         else:
             from hydrokit.model.dynamics import interp_table
 
             def rhs(t: float, x: np.ndarray) -> np.ndarray:
-                return f(t, x, interp_table(ttab, t)[0])
+                row = interp_table(ttab, t)[0]
+                return f(t, x, row[:6], row[6:])
 
         if integrator in ("rk4", "rk4-numpy"):
             prog = None if progress is None else (lambda k: progress(k * dt))
@@ -208,6 +218,41 @@ def simulate(
             "singularity at ±90°; use --attitude quaternion"
         )
     return Trajectory(times, eta, nu, warnings)
+
+
+def deflection_table(vehicle: Vehicle, deflection: Any) -> np.ndarray | None:
+    """``deflection`` (see :func:`simulate`) as rows [t, δ_1 … δ_n] (s, rad), or None for none;
+    InputError for a wrong width, a time that does not increase or a deflection beyond a
+    surface's limit."""
+    if deflection is None:
+        return None
+    ns = len(vehicle.surfaces)
+    a = np.asarray(deflection, dtype=float)
+    if ns == 0:
+        raise InputError(f"vehicle {vehicle.name!r} has no control surfaces: expected no deflection")
+    if a.shape == (ns,):
+        a = np.concatenate([[0.0], a])[None, :]
+    elif not (a.ndim == 2 and a.shape[1] == ns + 1 and a.shape[0] >= 1):
+        raise InputError(
+            f"deflection of shape {a.shape}: expected {ns} values (rad, {', '.join(vehicle.surfaces.names)}) "
+            f"or rows [t, {', '.join(vehicle.surfaces.names)}]"
+        )
+    if not np.all(np.isfinite(a)):
+        raise InputError("deflection: expected finite numbers (s, rad)")
+    if np.any(np.diff(a[:, 0]) <= 0):
+        raise InputError("deflection table: times must increase strictly (s)")
+    vehicle.surfaces.check_deflection(a[:, 1:])
+    return np.ascontiguousarray(a)
+
+
+def merge_tables(a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """Two piecewise-linear tables (rows [t, values…], held beyond their ends) as one on the
+    union of their times: [t, a's values, b's values] — exact, both being linear between rows."""
+    from hydrokit.model.dynamics import interp_table
+
+    times = np.union1d(a[:, 0], b[:, 0])
+    rows = [np.concatenate([[t], interp_table(a, t)[0], interp_table(b, t)[0]]) for t in times]
+    return np.ascontiguousarray(np.array(rows))
 
 
 def _rk4(rhs: Any, x0: np.ndarray, dt: float, n: int, every: int, progress: Any) -> tuple[np.ndarray, np.ndarray]:

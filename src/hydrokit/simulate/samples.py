@@ -133,6 +133,7 @@ def simulate_samples(
     nu0: Any = None,
     current_ned: Any = None,
     output_every: int = 1,
+    deflection: Any = None,
 ) -> SampledRuns:
     """Draw ``samples`` vehicles from ``vehicle.uncertainty`` and fly them (compiled batch RK4).
 
@@ -146,6 +147,7 @@ def simulate_samples(
     eta0, nu0 : 6 floats — start pose (m, rad) and velocity (m/s, rad/s)
     current_ned : 3 floats — m/s
     output_every : int — keep every n-th step
+    deflection : None or one constant deflection per control surface, rad
 
     Raises
     ------
@@ -166,7 +168,7 @@ def simulate_samples(
     n_out = int(duration / dt + 1e-9) // output_every + 1
     check_memory(2.0 * samples * n_out * 12 * 8, f"the {samples} sampled trajectories ({n_out} rows each)")
     vehicles, values, clipped = unc.sample_vehicles(vehicle, samples, seed)
-    batch = simulate_batch(vehicles, duration, dt, tau, eta0, nu0, current_ned, output_every)
+    batch = simulate_batch(vehicles, duration, dt, tau, eta0, nu0, current_ned, output_every, deflection=deflection)
     states = np.array(batch.states, float)
     for k, steps in enumerate(batch.steps):
         cut = int(steps) // output_every + 1

@@ -44,7 +44,7 @@ from hydrokit._result import Result, html_table, jsonable
 from hydrokit.errors import InputError
 from hydrokit.model.assembly import Assembly, check_model
 from hydrokit.model.dynamics import stack_scal
-from hydrokit.simulate.compiled import deriv
+from hydrokit.simulate.compiled import BUF_SIZE, deriv
 from hydrokit.simulate.compiled_loop import _pack_thrusters, _thrust
 
 COLUMNS = ("time", "x", "y", "z", "phi", "theta", "psi", "u", "v", "w", "p", "q", "r")
@@ -97,7 +97,7 @@ def _rigid(x0, dt, n_steps, every, cmd, sel, P, E, TH, tau_ext, V, SJ, out_x, ou
     zero_tab = np.zeros((1, 7))
     ctab = np.zeros((1, 4))
     eye = np.eye(6)
-    buf = np.empty(40)
+    buf = np.empty(BUF_SIZE)
     k1 = np.empty(12)
     k2 = np.empty(12)
     k3 = np.empty(12)
@@ -307,7 +307,7 @@ def _multibody(
         np.zeros((nb, 6)),
         np.zeros((1, 7)),
         np.zeros((1, 4)),
-        np.empty(40),
+        np.empty(BUF_SIZE),
         np.zeros((3, 3)),
         np.zeros(3),
         np.zeros(3),
