@@ -7,7 +7,7 @@ its numpy source at random states, so a sign or index slip in either copy fails 
 - rotation R(Θ) and R(q)         ↔ core.kinematics.rotation_zyx / quaternion_to_rotation
 - Euler and quaternion rates     ↔ core.kinematics.euler_rate_matrix / quaternion_rate
 - Coriolis–centripetal C(ν) ν    ↔ core.coriolis.coriolis_force
-- point drag elements            ↔ core.drag.drag_wrench (through the whole right-hand side)
+- point drag elements            ↔ core.drag.add_drag_wrench (one law, compiled and called as Python)
 - the whole right-hand side      ↔ model.dynamics.vehicle_dynamics (terms, current table)
 - one RK4 step                   ↔ simulate.integrators.rk4_step
 """

@@ -57,17 +57,35 @@ def pack_elements(elements: tuple[DragElement, ...] | list[DragElement]) -> Arra
 def drag_wrench(packed: ArrayLike, nu_r: ArrayLike) -> Array:
     """Body wrench [F; M] (N, N·m, body axes, moments about the origin) of packed elements at
     the relative velocity ``nu_r`` = [u, v, w, p, q, r] (m/s, rad/s)."""
-    P = np.asarray(packed, dtype=float).reshape(-1, PACKED_WIDTH)
-    nu = np.asarray(nu_r, dtype=float)
+    P = np.ascontiguousarray(np.asarray(packed, dtype=float).reshape(-1, PACKED_WIDTH))
     out = np.zeros(6)
-    if P.shape[0] == 0:
-        return out
-    r = P[:, 0:3]
-    vp = nu[:3] + np.cross(nu[3:6], r)
-    f = -P[:, 3:6] * vp - P[:, 6:9] * np.abs(vp) * vp
-    out[:3] = f.sum(axis=0)
-    out[3:] = np.cross(r, f).sum(axis=0)
+    add_drag_wrench(P.ravel(), 0, P.shape[0], np.asarray(nu_r, dtype=float), out)
     return out
+
+
+def add_drag_wrench(rows, start, n, nr, f):  # noqa: ANN001, ANN201
+    """Add the wrench of ``n`` packed elements, stored from ``rows[start]`` on, to ``f``.
+
+    Each element at r sees v_P = v_r + ω × r and gives F = −L v_P − Q |v_P| v_P per axis and
+    r × F. The one implementation of the law: :func:`drag_wrench` calls it as Python, the
+    compiled integrators compile it (plain floats and loops, so that both can).
+    """
+    p, q, r = nr[3], nr[4], nr[5]
+    for e in range(n):
+        b = start + PACKED_WIDTH * e
+        rx, ry, rz = rows[b], rows[b + 1], rows[b + 2]
+        vx = nr[0] + (q * rz - r * ry)
+        vy = nr[1] + (r * rx - p * rz)
+        vz = nr[2] + (p * ry - q * rx)
+        fx = -rows[b + 3] * vx - rows[b + 6] * abs(vx) * vx
+        fy = -rows[b + 4] * vy - rows[b + 7] * abs(vy) * vy
+        fz = -rows[b + 5] * vz - rows[b + 8] * abs(vz) * vz
+        f[0] += fx
+        f[1] += fy
+        f[2] += fz
+        f[3] += ry * fz - rz * fy
+        f[4] += rz * fx - rx * fz
+        f[5] += rx * fy - ry * fx
 
 
 def moved_elements(packed: ArrayLike, rotation: ArrayLike, position: ArrayLike) -> Array:

@@ -2,20 +2,25 @@
 
 The same equations as :func:`hydrokit.model.dynamics.vehicle_dynamics`, written with scalar
 loops and preallocated buffers so that one RK4 step costs a few hundred flops and no
-allocation. Inputs: a force table (rows [t, X, Y, Z, K, M, N], linear interpolation, held
-beyond its ends; one row = constant) and a current table (rows [t, v_N, v_E, v_D]).
+allocation. Inputs: a force table (rows [t, X, Y, Z, K, M, N, δ_1 … δ_n], linear
+interpolation, held beyond its ends; one row = constant; the control surfaces' deflections,
+rad, may follow the forces) and a current table (rows [t, v_N, v_E, v_D]).
 Outputs are preallocated and the run stops at the first non-finite state (its step index is
 returned), so cost grows linearly with the duration.
 
-Every block here is a compiled *copy* of a numpy source, kept for speed only; the numpy one
-is the definition, and tests/model/test_compiled_vs_numpy.py compares each copy with it at
-random states: R(Θ), R(q) (:func:`hydrokit.core.kinematics.rotation_zyx`,
+The force laws written on plain floats are compiled here from their one implementation (the
+pattern new laws follow, issue #45): the derivative terms
+(:func:`hydrokit.model.terms.add_term_forces`), the point drag elements
+(:func:`hydrokit.core.drag.add_drag_wrench`), the physical fins
+(:func:`hydrokit.model.surfaces.fin_wrench`) and the servo
+(:func:`hydrokit.model.surfaces.servo_step`). The remaining blocks are still compiled *copies*
+of a numpy source, kept for speed only (a debt, to move onto the same pattern when touched);
+the numpy one is the definition, and tests/model/test_compiled_vs_numpy.py compares each copy
+with it at random states: R(Θ), R(q) (:func:`hydrokit.core.kinematics.rotation_zyx`,
 :func:`~hydrokit.core.kinematics.quaternion_to_rotation`), T(Θ) and q̇
 (:func:`~hydrokit.core.kinematics.euler_rate_matrix`,
 :func:`~hydrokit.core.kinematics.quaternion_rate`), C(ν)ν
-(:func:`hydrokit.core.coriolis.coriolis_force`), the point drag elements
-(:func:`hydrokit.core.drag.drag_wrench`, read from ``scal``: see
-:class:`hydrokit.model.dynamics.Packed`), the right-hand side
+(:func:`hydrokit.core.coriolis.coriolis_force`), the right-hand side
 (:func:`hydrokit.model.dynamics.vehicle_dynamics`) and the RK4 step
 (:func:`hydrokit.simulate.integrators.rk4_step`). Change a formula there first.
 """
@@ -27,6 +32,7 @@ import math
 import numba
 import numpy as np
 
+from hydrokit.core.drag import add_drag_wrench
 from hydrokit.model.surfaces import FIN_WIDTH, MAX_SURFACES, fin_wrench, servo_step
 from hydrokit.model.terms import add_term_forces
 
@@ -43,6 +49,7 @@ BUF_SIZE = 40 + 2 * (6 + MAX_SURFACES)
 
 # The laws written once in model/ (plain floats and loops), compiled here: not copies.
 _terms = njit_noalloc(add_term_forces)
+_drag = njit_noalloc(add_drag_wrench)
 _fin = njit_noalloc(fin_wrench)
 servo_step_compiled = numba.njit(cache=True)(servo_step)
 
@@ -170,25 +177,9 @@ def deriv(t, x, quat, tau_tab, cur_tab, Minv, Mc, DL, DQ, scal, t_dof, t_coef, t
     f[3] += W * (g1 * d2 - g2 * d1) - B * (h1 * d2 - h2 * d1)
     f[4] += W * (g2 * d0 - g0 * d2) - B * (h2 * d0 - h0 * d2)
     f[5] += W * (g0 * d1 - g1 * d0) - B * (h0 * d1 - h1 * d0)
-    # point drag elements (core.drag.drag_wrench): scal[8] = n, then rows [r, L, Q] of 9
+    # point drag elements (core.drag.add_drag_wrench, compiled): scal[8] = n, then rows of 9
     n_el = int(scal[8])
-    for e in range(n_el):
-        b = 9 + 9 * e
-        rx, ry, rz = scal[b], scal[b + 1], scal[b + 2]
-        # v_P = v_r + ω × r
-        vx = nr[0] + (q * rz - r * ry)
-        vy = nr[1] + (r * rx - p * rz)
-        vz = nr[2] + (p * ry - q * rx)
-        fx = -scal[b + 3] * vx - scal[b + 6] * abs(vx) * vx
-        fy = -scal[b + 4] * vy - scal[b + 7] * abs(vy) * vy
-        fz = -scal[b + 5] * vz - scal[b + 8] * abs(vz) * vz
-        f[0] += fx
-        f[1] += fy
-        f[2] += fz
-        # r × f
-        f[3] += ry * fz - rz * fy
-        f[4] += rz * fx - rx * fz
-        f[5] += rx * fy - ry * fx
+    _drag(scal, 9, n_el, nr, f)
     # physical fins (model.surfaces.fin_wrench, compiled): after the mask (6) and their count
     om = 9 + 9 * n_el
     n_fin = int(scal[om + 6])
