@@ -36,7 +36,9 @@ A negative damping entry (``linear_damping`` diagonal, ``quadratic_damping``) fe
 refused unless the file sets ``allow_negative_damping: true`` (then warned).
 
 ``control_surfaces:`` (rudders, planes, fins) and ``dofs:`` (planar models), issue #45, are read
-by :mod:`hydrokit.io.surfaces`; terms may then use ``delta(NAME)`` factors.
+by :mod:`hydrokit.io.surfaces`; terms may then use ``delta(NAME)`` factors. ``hull:`` (cross-flow
+drag strips and viscous lift of a body of revolution from its profile) is read by
+:mod:`hydrokit.io.hull`: its strips join the drag elements, its terms the ``terms:``.
 
 ``uncertainty:`` (written by ``hydrokit run``, docs/run.md) is read into
 ``Vehicle.uncertainty`` (:mod:`hydrokit.model.uncertainty`): standard errors per coefficient
@@ -95,6 +97,7 @@ KNOWN = set(REQUIRED) | {
     "allow_negative_damping",
     "control_surfaces",
     "dofs",
+    "hull",
 }
 #: the keys of the ``fluid`` block (the viscosity is read by other tools: Reynolds numbers)
 FLUID_KEYS = ("density", "kinematic_viscosity")
@@ -314,6 +317,12 @@ def parse_vehicle(data: dict[str, Any], source: str) -> Vehicle:
     if not isinstance(terms_raw, dict):
         raise InputError(f"field 'terms' = {cut_repr(terms_raw)}: expected a mapping of term names to values", source)
     velocity_terms = []
+    hull_elements: list[DragElement] = []
+    if data.get("hull") is not None:
+        from hydrokit.io.hull import read_hull_block
+
+        hull_elements, hull_terms = read_hull_block(data["hull"], source, rho)
+        velocity_terms += [(parse_term(n, source, surfaces.names), c) for n, c in hull_terms]
     for name, spec in terms_raw.items():
         where = f"terms.{cut(str(name))}"
         nd = default_nd
@@ -350,6 +359,8 @@ def parse_vehicle(data: dict[str, Any], source: str) -> Vehicle:
     if not isinstance(cor, bool):
         raise InputError(f"field 'added_mass_coriolis' = {cut_repr(cor)}: expected true or false", source)
     elements = _drag_elements(data["drag_elements"], source) if "drag_elements" in data else None
+    if hull_elements:
+        elements = (elements or []) + hull_elements
     allow = data.get("allow_negative_damping", False)
     if not isinstance(allow, bool):
         raise InputError(f"field 'allow_negative_damping' = {cut_repr(allow)}: expected true or false", source)
