@@ -1,4 +1,5 @@
-"""``hydrokit ingest``: a real recording (CSV/TSV, ROS bag, ArduPilot log, video) → launch files.
+"""``hydrokit ingest``: a real recording (CSV/TSV, ROS bag, ArduPilot log, video) → launch files, or
+a vehicle log (ArduPilot, ROS bag) → a run file for ``hydrokit sysid`` (``--run-out``, :mod:`._run_options`).
 
 Heavy imports stay inside the command function so ``hydrokit --help`` starts fast.
 """
@@ -11,13 +12,14 @@ from typing import Any
 import click
 
 from hydrokit.cli._common import write_all
+from hydrokit.cli._run_options import run_options, write_run
 from hydrokit.cli._types import Number
 
 
 @click.command()
 @click.argument("source", metavar="SOURCE", type=click.Path())
-@click.option("--rig", "rig_file", required=True, type=click.Path(dir_okay=False), help="Rig file (RIG.yaml).")
-@click.option("--out", "out_dir", required=True, type=click.Path(file_okay=False), help="Output directory.")
+@click.option("--rig", "rig_file", default=None, type=click.Path(dir_okay=False), help="Launches: rig file (RIG.yaml).")
+@click.option("--out", "out_dir", default=None, type=click.Path(file_okay=False), help="Launches: output directory.")
 @click.option(
     "--format",
     "fmt",
@@ -45,6 +47,7 @@ from hydrokit.cli._types import Number
 @click.option(
     "--plots", is_flag=True, help="Also write DIR/ingest.png (the launches cut) and, for a video, DIR/tracking.png."
 )
+@run_options
 def ingest(
     source: str,
     rig_file: str,
@@ -61,13 +64,25 @@ def ingest(
     fps: float | None,
     split: bool,
     plots: bool,
+    vehicle_file: str | None,
+    run_out: str | None,
+    **run: Any,
 ) -> None:
     """Read SOURCE and write DIR/launch_001.csv, … (the launch format of hydrokit identify) and
     DIR/ingest.json. Time in s (the source's time base), signal in m or rad. Nothing is written
-    unless everything could be read."""
+    unless everything could be read. With --run-out: a run file from an ArduPilot log or a ROS bag
+    (docs/ingest.md)."""
     from hydrokit.api import load_rig
+    from hydrokit.errors import InputError
     from hydrokit.io.ingest import detect_format, ingest_files, read_recording
 
+    if run_out is not None:
+        launch = {"rig_file": rig_file, "out_dir": out_dir, "time_field": time_field, "signal": signal}
+        launch |= {"time_unit": time_unit, "signal_unit": signal_unit, "topic": topic, "roi": roi, "pivot": pivot}
+        write_run(source, fmt, run_out, vehicle_file, {**run, **launch, "fps": fps, "split": split, "plots": plots})
+        return
+    if rig_file is None or out_dir is None:
+        raise InputError("give --rig RIG.yaml and --out DIR (launches), or --vehicle V.yaml and --run-out RUN.csv")
     rig = load_rig(rig_file)
     fmt = fmt or detect_format(source)
     rec = read_recording(

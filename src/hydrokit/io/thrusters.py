@@ -21,6 +21,9 @@ Each entry (units in the file: m, N, s, rpm, degrees)::
         wake_fraction: 0.1
         time_constant: 0.2            # s, first-order rotor lag
         thrust_table: {command: [...], thrust: [...]}  # table model, thrust in N
+        channel: 1                    # autopilot servo output (SERVOn / RCOU Cn), 1-based
+        motor: 1                      # or the ArduSub motor number (MOT_n); both: logs only
+        reversed: false               # a positive autopilot command pushes against 'direction'
 
 Conversions (rpm → rev/s, degrees → rad) happen here and nowhere else.
 """
@@ -54,6 +57,9 @@ ALLOWED = {
     "wake_fraction",
     "time_constant",
     "thrust_table",
+    "channel",
+    "motor",
+    "reversed",
 }
 
 
@@ -144,6 +150,10 @@ def _one(entry: dict[str, Any], name: str, where: str, density: float | None) ->
         "min_thrust": entry.get("min_thrust"),
         "time_constant": entry.get("time_constant", 0.0),
         "wake_fraction": entry.get("wake_fraction", 0.0),
+        # log metadata (hydrokit ingest --run-out): which autopilot output drives it
+        "channel": entry.get("channel"),
+        "motor": entry.get("motor"),
+        "reversed": entry.get("reversed", False),
     }
     if "diameter" in entry:
         kw["diameter"] = entry["diameter"]

@@ -563,6 +563,13 @@ class Thruster:
         with ρ = 1025 kg/m³ until a ThrusterSet binds its density, neither →
         :class:`IdealCurve`). Given: the curve fields above must be left unset (they stay
         None) or describe the same curve.
+    channel : int or None — autopilot servo output driving it, 1-based (ArduPilot ``SERVOn``,
+        ``RCOU`` ``Cn``); metadata for reading logs (``hydrokit ingest --run-out``), unused by
+        the model
+    motor : int or None — ArduSub motor number driving it (``MOT_n``, 1-based); metadata as
+        ``channel``
+    reversed : bool — a positive autopilot command pushes against ``direction`` (the layout's
+        positive direction is the opposite of the autopilot frame's); metadata as ``channel``
     """
 
     name: str
@@ -582,12 +589,24 @@ class Thruster:
     table_command: tuple[float, ...] | None = None
     table_thrust: tuple[float, ...] | None = None
     curve: ThrustCurve | None = None
+    channel: int | None = field(default=None, compare=False)
+    motor: int | None = field(default=None, compare=False)
+    reversed: bool = field(default=False, compare=False)
 
     def __post_init__(self) -> None:
         where = f"thruster '{self.name}'"
         put = lambda k, v: object.__setattr__(self, k, v)
         if not isinstance(self.name, str) or not self.name.strip():
             raise InputError(f"thruster name {self.name!r}: expected a non-empty string")
+        for key in ("channel", "motor"):
+            v = getattr(self, key)
+            if v is not None and (isinstance(v, bool) or not isinstance(v, (int, np.integer)) or not 1 <= v <= 32):
+                raise InputError(f"{where} {key} = {v!r}: expected an output number 1…32 (1-based)")
+            if v is not None:
+                put(key, int(v))
+        if not isinstance(self.reversed, (bool, np.bool_)):
+            raise InputError(f"{where} reversed = {self.reversed!r}: expected true or false")
+        put("reversed", bool(self.reversed))
         pos = quantities(self.position, f"{where} position", 3)
         d = np.asarray(quantities(self.direction, f"{where} direction", 3))
         norm = float(np.linalg.norm(d))
