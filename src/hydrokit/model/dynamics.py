@@ -106,6 +106,51 @@ def scal_elements(scal: np.ndarray) -> np.ndarray:
     return scal[9 : 9 + PACKED_WIDTH * n].reshape(n, PACKED_WIDTH)
 
 
+@dataclass(frozen=True)
+class Steering:
+    """What the closed loop needs to steer a vehicle's control surfaces
+    (:func:`hydrokit.model.surfaces.steer_surfaces`): the packed terms and fins, the fins' place in
+    ``scal``, and each surface's limit (rad), rate limit (rad/s) and servo lag (s)."""
+
+    t_dof: np.ndarray
+    t_coef: np.ndarray
+    t_kind: np.ndarray
+    t_idx: np.ndarray
+    scal: np.ndarray
+    fin_first: int
+    n_fin: int
+    smax: np.ndarray
+    srate: np.ndarray
+    stc: np.ndarray
+
+    def args(self) -> tuple[object, ...]:
+        """The law's arguments after (τ_d, ν_r, τ_X), up to the servo lag."""
+        return (
+            self.t_dof,
+            self.t_coef,
+            self.t_kind,
+            self.t_idx,
+            self.scal,
+            self.fin_first,
+            self.n_fin,
+            self.smax,
+            self.srate,
+            self.stc,
+        )
+
+
+def steering(v: Vehicle) -> Steering | None:
+    """The :class:`Steering` of ``v``, None when it has no control surfaces."""
+    if len(v.surfaces) == 0:
+        return None
+    p = pack(v)
+    first, n = scal_fins(p.scal)
+    s = v.surfaces
+    return Steering(
+        p.t_dof, p.t_coef, p.t_kind, p.t_idx, p.scal, first, n, s.max_deflection, s.rate_limit, s.time_constant
+    )
+
+
 def scal_mask_offset(scal: np.ndarray) -> int:
     """Index in a packed ``scal`` of the DOF mask (6 numbers), followed by the fin count and rows."""
     return 9 + PACKED_WIDTH * int(scal[8])

@@ -44,6 +44,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from hydrokit.errors import InputError
+from hydrokit.model.terms import add_term_forces
 
 #: numbers per packed fin row (see :func:`pack_fins`)
 FIN_WIDTH = 20
@@ -303,3 +304,75 @@ def servo_step(delta, command, dt, max_deflection, rate_limit, time_constant, ou
         elif step < -rmax:
             step = -rmax
         out[k] = delta[k] + step
+
+
+#: deflection step of the effectiveness difference quotient, rad
+EFFECTIVENESS_STEP = 1e-3
+
+
+#: scratch :func:`steer_surfaces` needs: 12 + 3 per surface
+def steer_work_size(n_surfaces: int) -> int:
+    """Length of the ``work`` scratch of :func:`steer_surfaces` for ``n_surfaces``."""
+    return 12 + 3 * n_surfaces
+
+
+def steer_surfaces(
+    tau_d, nr, thrust_x, t_dof, t_coef, t_kind, t_idx, scal, fin_first, n_fin, smax, srate, stc, dt, delta, work
+):  # noqa: ANN001, ANN201, E501
+    """Move the control surfaces one servo step of ``dt`` (s) towards the deflections that give
+    the autopilot's demanded moments (the closed loop's surface allocation, issue #45).
+
+    Each surface's effectiveness b = ∂τ/∂δ (N·m/rad) at the present relative velocity ``nr``
+    (m/s, rad/s) and propulsion ``thrust_x`` (N) is the central difference of the force laws
+    themselves (:func:`hydrokit.model.terms.add_term_forces` for the ``delta()`` terms,
+    :func:`fin_wrench` for the fins; step :data:`EFFECTIVENESS_STEP`), so it grows with u² and
+    vanishes at rest. A surface steers the moment (roll K, pitch M or yaw N) it is most effective
+    on; the surfaces that steer one moment share its demand ``tau_d`` equally:
+    δ_cmd = τ_d,row / (n_row b_row), then the servo law (:func:`servo_step`: mechanical limit
+    ``smax`` rad, rate limit ``srate`` rad/s, lag ``stc`` s) moves ``delta`` (rad, in/out).
+    A surface with |b| below 1e-9 N·m/rad (no flow) is commanded to 0.
+
+    ``work`` is scratch of at least :func:`steer_work_size` numbers. Plain floats and loops: the
+    Python closed loop calls it as Python and the compiled loop compiles it.
+    """
+    ns = delta.shape[0]
+    fp = work[0:6]
+    fm = work[6:12]
+    dv = work[12 : 12 + ns]
+    gain = work[12 + ns : 12 + 2 * ns]
+    cmd = work[12 + 2 * ns : 12 + 3 * ns]
+    h = EFFECTIVENESS_STEP
+    count3, count4, count5 = 0, 0, 0
+    for k in range(ns):
+        for i in range(ns):
+            dv[i] = 0.0
+        for i in range(6):
+            fp[i] = 0.0
+            fm[i] = 0.0
+        dv[k] = h
+        add_term_forces(t_dof, t_coef, t_kind, t_idx, nr, dv, ns, fp)
+        for e in range(n_fin):
+            fin_wrench(scal, fin_first + FIN_WIDTH * e, nr, thrust_x, dv, ns, fp)
+        dv[k] = -h
+        add_term_forces(t_dof, t_coef, t_kind, t_idx, nr, dv, ns, fm)
+        for e in range(n_fin):
+            fin_wrench(scal, fin_first + FIN_WIDTH * e, nr, thrust_x, dv, ns, fm)
+        row, best = 5, 0.0
+        for i in range(3, 6):
+            b = (fp[i] - fm[i]) / (2.0 * h)
+            if abs(b) > abs(best):
+                row, best = i, b
+        gain[k] = best
+        cmd[k] = row  # the row, for now
+        if abs(best) > 1e-9:
+            if row == 3:
+                count3 += 1
+            elif row == 4:
+                count4 += 1
+            else:
+                count5 += 1
+    for k in range(ns):
+        row = int(cmd[k])
+        n_row = count3 if row == 3 else (count4 if row == 4 else count5)
+        cmd[k] = tau_d[row] / (n_row * gain[k]) if abs(gain[k]) > 1e-9 else 0.0
+    servo_step(delta, cmd, dt, smax, srate, stc, delta)

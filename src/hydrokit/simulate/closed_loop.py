@@ -34,12 +34,14 @@ from hydrokit.core.kinematics import rotation_zyx, wrap_angle
 from hydrokit.errors import InputError, SimulationError
 from hydrokit.model.allocation import Allocator
 from hydrokit.model.control import Autopilot
+from hydrokit.model.dynamics import Steering
 from hydrokit.model.guidance import Path, path_distance
+from hydrokit.model.surfaces import steer_surfaces, steer_work_size
 from hydrokit.model.thrusters import ThrusterSet
 from hydrokit.simulate.integrators import rk4_step
 
 Array = NDArray[np.float64]
-Dynamics = Callable[[float, Array, Array], Array]
+Dynamics = Callable[..., Array]
 
 
 @dataclass(frozen=True)
@@ -61,6 +63,8 @@ class ClosedLoopResult:
     waypoint_times : list — time (s) each waypoint 1..N was reached, or None
     thruster_names : list of str
     dt : float — integration step, s
+    deflection : (n, s) — control-surface deflections held over each step, rad (s = 0 without
+        surfaces)
     """
 
     time: Array
@@ -78,6 +82,7 @@ class ClosedLoopResult:
     thruster_names: list[str]
     dt: float
     path: Path = field(repr=False)
+    deflection: Array = field(default_factory=lambda: np.zeros((0, 0)), repr=False)
 
     def metrics(self, thrusters: ThrusterSet | None = None) -> dict[str, Any]:
         """Tracking and effort figures; see :func:`mission_metrics`."""
@@ -98,6 +103,7 @@ def run_closed_loop(
     output_every: int = 1,
     progress: Callable[[float], None] | None = None,
     stop_when_done: bool = False,
+    steering: Steering | None = None,
 ) -> ClosedLoopResult:
     """Run guidance, autopilot, allocation and thrusters in the loop with the vehicle.
 
@@ -118,6 +124,11 @@ def run_closed_loop(
     output_every : int — keep every n-th step
     progress : callable or None — called with the simulated time (s) now and then
     stop_when_done : bool — end the run once the last waypoint is reached
+    steering : Steering or None — the vehicle's control surfaces
+        (:func:`hydrokit.model.dynamics.steering`): each step they are moved towards the
+        autopilot's demanded moments (:func:`hydrokit.model.surfaces.steer_surfaces`) and the
+        deflections, held over the step, reach ``dynamics`` as its fourth argument (rad); the
+        thrusters are allocated the whole demand as before
 
     Raises
     ------
@@ -152,7 +163,11 @@ def run_closed_loop(
         "thrust": np.empty((n_out, m)),
         "limited": np.zeros(n_out, dtype=bool),
         "leg": np.empty(n_out, dtype=int),
+        "deflection": np.zeros((n_out, 0 if steering is None else steering.smax.size)),
     }
+    delta = np.zeros(0 if steering is None else steering.smax.size)
+    work = np.zeros(steer_work_size(delta.size))
+    law: Any = None if steering is None else steering.args()
     x = np.concatenate([np.asarray(eta0, float), np.asarray(nu0, float)])
     c = np.zeros(m)
     gstate = path.initial_state(heading=float(x[5]))
@@ -190,17 +205,21 @@ def run_closed_loop(
         f_cmd, limited = allocator(tau_d)
         # advance speed from the velocity relative to the water
         if still_water:
-            va = advance_speed(nu)
+            nu_r = nu
         else:
             R = rotation_zyx(eta[3], eta[4], psi)
             nu_r = nu.copy()
             nu_r[:3] -= R.T @ vc
-            va = advance_speed(nu_r)
+        va = advance_speed(nu_r)
         c_cmd = command_for_thrust(f_cmd, va).clip(cmd_min, cmd_max)
         c_mean = c_cmd + (c - c_cmd) * mean_w
         f_act = thrust(c_mean, va)
         sat = limited or bool((c_cmd >= sat_hi).any() or (c_cmd <= sat_lo).any())
+        tau_act = T @ f_act
+        if law is not None:
+            steer_surfaces(tau_d, nu_r, float(tau_act[0]), *law, dt, delta, work)  # type: ignore[call-arg]
         if k % output_every == 0:
+            rec["deflection"][j] = delta
             r_time[j] = t
             r_eta[j] = eta
             r_nu[j] = nu
@@ -218,7 +237,11 @@ def run_closed_loop(
             limited_any = limited_any or sat
         if k == n_steps or (stop_when_done and gstate.leg > n_legs):
             break
-        x = rk4_step(dynamics, t, x, dt, u=T @ f_act)
+        if law is None:
+            x = rk4_step(dynamics, t, x, dt, u=tau_act)
+        else:
+            held = delta.copy()
+            x = rk4_step(lambda t_, x_, u_, d=held: dynamics(t_, x_, u_, d), t, x, dt, u=tau_act)
         c = c_cmd + (c - c_cmd) * decay
         if not np.isfinite(x).all():
             raise SimulationError(f"the state became non-finite at t = {t + dt:.6g} s")

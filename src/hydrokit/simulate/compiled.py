@@ -28,12 +28,13 @@ with it at random states: R(Θ), R(q) (:func:`hydrokit.core.kinematics.rotation_
 from __future__ import annotations
 
 import math
+import types
 
 import numba
 import numpy as np
 
 from hydrokit.core.drag import add_drag_wrench
-from hydrokit.model.surfaces import FIN_WIDTH, MAX_SURFACES, fin_wrench, servo_step
+from hydrokit.model.surfaces import FIN_WIDTH, MAX_SURFACES, fin_wrench, servo_step, steer_surfaces
 from hydrokit.model.terms import add_term_forces
 
 #: ``numba.njit`` for kernels that allocate nothing: compiled without numba's reference
@@ -47,11 +48,27 @@ njit_noalloc = numba.njit(cache=True, _nrt=False)  # type: ignore[call-overload]
 #: 6 forces and up to MAX_SURFACES deflections each)
 BUF_SIZE = 40 + 2 * (6 + MAX_SURFACES)
 
-# The laws written once in model/ (plain floats and loops), compiled here: not copies.
-_terms = njit_noalloc(add_term_forces)
-_drag = njit_noalloc(add_drag_wrench)
-_fin = njit_noalloc(fin_wrench)
-servo_step_compiled = numba.njit(cache=True)(servo_step)
+
+def compile_law(func, **callees):  # noqa: ANN001, ANN003, ANN201
+    """``njit_noalloc`` of a law written once on plain floats in core/ or model/, with the laws it
+    calls (``callees``: name → their compiled dispatchers) bound in its globals — numba calls
+    only compiled functions, the Python original keeps calling the Python ones. Not a copy: the
+    same code object."""
+    scope = dict(func.__globals__)
+    scope.update(callees)
+    bound = types.FunctionType(func.__code__, scope, func.__name__, func.__defaults__, func.__closure__)
+    bound.__module__, bound.__qualname__, bound.__doc__ = func.__module__, func.__qualname__, func.__doc__
+    return njit_noalloc(bound)
+
+
+# The laws written once in model/ and core/ (plain floats and loops), compiled here: not copies.
+_terms = compile_law(add_term_forces)
+_drag = compile_law(add_drag_wrench)
+_fin = compile_law(fin_wrench)
+servo_step_compiled = compile_law(servo_step)
+steer_surfaces_compiled = compile_law(
+    steer_surfaces, add_term_forces=_terms, fin_wrench=_fin, servo_step=servo_step_compiled
+)
 
 
 @numba.njit(cache=True, inline="always")

@@ -54,7 +54,7 @@ from hydrokit.model.guidance import _HORIZONTAL_EPS, Path
 from hydrokit.model.thrusters import IdealCurve, PropellerCurve, TableCurve, ThrusterSet
 from hydrokit.simulate.budget import check_memory
 from hydrokit.simulate.closed_loop import ClosedLoopResult
-from hydrokit.simulate.compiled import BUF_SIZE, deriv, njit_noalloc
+from hydrokit.simulate.compiled import BUF_SIZE, deriv, njit_noalloc, steer_surfaces_compiled
 
 _EPS = float(np.finfo(float).eps)
 # status codes of _loop
@@ -502,10 +502,11 @@ def _allocate_limited(tau_d, A, f_cmd):  # noqa: ANN001, ANN202
 
 # ============================================================================ the loop
 @numba.njit(cache=True)
-def _work(m):  # noqa: ANN001, ANN202
-    """Scratch arrays of one flight (one set per fleet member)."""
+def _work(m, ns):  # noqa: ANN001, ANN202
+    """Scratch arrays of one flight (one set per fleet member); ``ns`` control surfaces, whose
+    deflections (rad, the servo's state) live in tau_tab[0, 7:]."""
     return (
-        np.zeros((1, 7)),  # tau_tab
+        np.zeros((1, 7 + ns)),  # tau_tab
         np.empty(BUF_SIZE),  # buf
         np.empty(12),  # k1v
         np.empty(12),  # k2v
@@ -536,8 +537,9 @@ def _work(m):  # noqa: ANN001, ANN202
 #   H thrusters: kind, dirs, arms, wake, cmd_min, cmd_max, decay, mean_w, tab_c, tab_f, tab_n,
 #     prop, kf, kr
 #   ctl (5, 6) rows [kind, p1..p5] and angle flags (5,); vc (3,) NED current, m/s
-#   V vehicle: current table, Minv, Mc, DL, DQ, scal (with the drag elements, see
-#     model.dynamics.Packed), t_dof, t_coef, t_kind, t_idx
+#   V vehicle: current table, Minv, Mc, DL, DQ, scal (with the drag elements and fins, see
+#     model.dynamics.Packed), t_dof, t_coef, t_kind, t_idx, and the control surfaces' limits smax
+#     (rad), rate limits srate (rad/s), servo lags stc (s) and sfin [first fin index in scal, fins]
 # numba's on-disk cache of these kernels holds its own copy of compiled.deriv and is keyed on
 # this file's time stamp only: after a change to compiled.py, touch this file (or clear its
 # __pycache__), else the closed loop keeps flying the old right-hand side.
@@ -669,7 +671,7 @@ def _thrusters(vc, x, c, A, H, W, limited):  # noqa: ANN001, ANN202
     """Thruster commands and thrusts for W's f_cmd at state x: fills W's c_cmd and f_act and
     returns whether any thruster saturated (or the allocation was limited)."""
     kind, dirs, arms, wake, cmd_min, cmd_max, decay, mean_w, tab_c, tab_f, tab_n, prop, kf, kr = H
-    _tt, _b, _k1, _k2, _k3, _k4, _tmp, _tau, f_cmd, va, _pa, c_cmd, f_act, _me, _se, _ra, _ou = W
+    _tt, _b, _k1, _k2, _k3, _k4, _tmp, _tau, f_cmd, va, pa, c_cmd, f_act, _me, _se, _ra, _ou = W
     f_min, f_max = A[1], A[2]
     m = f_cmd.shape[0]
     still = vc[0] == 0.0 and vc[1] == 0.0 and vc[2] == 0.0
@@ -694,6 +696,8 @@ def _thrusters(vc, x, c, A, H, W, limited):  # noqa: ANN001, ANN202
         ur = u - (R00 * vc[0] + R10 * vc[1] + R20 * vc[2])
         vr = v - (R01 * vc[0] + R11 * vc[1] + R21 * vc[2])
         wr = w - (R02 * vc[0] + R12 * vc[1] + R22 * vc[2])
+    # the relative linear velocity, for _steer (pa is _control's scratch, free from here on)
+    pa[0], pa[1], pa[2] = ur, vr, wr
     for i in range(m):
         va[i] = wake[i] * (
             (dirs[i, 0] * ur + dirs[i, 1] * vr + dirs[i, 2] * wr) + (arms[i, 0] * p + arms[i, 1] * q + arms[i, 2] * r)
@@ -714,10 +718,32 @@ def _thrusters(vc, x, c, A, H, W, limited):  # noqa: ANN001, ANN202
 
 
 @njit_noalloc
+def _steer(dt, x, T, V, W):  # noqa: ANN001, ANN202
+    """One servo step of the control surfaces towards W's τ_d (model.surfaces.steer_surfaces,
+    compiled) at the relative velocity _thrusters left in W's pa; the deflections, in W's
+    tau_tab[0, 7:], are then held over the step by _integrate."""
+    _ct, _Mi, _Mc, _DL, _DQ, scal, t_dof, t_coef, t_kind, t_idx, smax, srate, stc, sfin = V
+    tau_tab, buf, _k1, _k2, _k3, _k4, _tmp, tau_d, _fc, _va, pa, _cc, f_act, _me, _se, _ra, _ou = W
+    ns = smax.shape[0]
+    if ns == 0:
+        return
+    nr = buf[0:6]
+    nr[0], nr[1], nr[2] = pa[0], pa[1], pa[2]
+    nr[3], nr[4], nr[5] = x[9], x[10], x[11]
+    tx = 0.0
+    for i in range(T.shape[1]):
+        tx += T[0, i] * f_act[i]
+    delta = tau_tab[0, 7 : 7 + ns]
+    steer_surfaces_compiled(
+        tau_d, nr, tx, t_dof, t_coef, t_kind, t_idx, scal, sfin[0], sfin[1], smax, srate, stc, dt, delta, buf[8:]
+    )
+
+
+@njit_noalloc
 def _integrate(t, dt, x, c, T, decay, V, W):  # noqa: ANN001, ANN202
-    """One RK4 step of the vehicle with W's thrust f_act held, then the rotor lag; False when
-    the state became non-finite."""
-    ctab, Minv, Mc, DL, DQ, scal, t_dof, t_coef, t_kind, t_idx = V
+    """One RK4 step of the vehicle with W's thrust f_act and deflections held, then the rotor
+    lag; False when the state became non-finite."""
+    ctab, Minv, Mc, DL, DQ, scal, t_dof, t_coef, t_kind, t_idx, _smax, _srate, _stc, _sfin = V
     tau_tab, buf, k1v, k2v, k3v, k4v, tmp, _td, _fc, _va, _pa, c_cmd, f_act, _me, _se, _ra, _ou = W
     m = T.shape[1]
     for jd in range(6):
@@ -752,12 +778,18 @@ def _loop(
     """Steps k0 … k1−1 of one run, recording every ``every``-th step into R (time, η, ν,
     references, τ_d, command demand, command, thrust demand, thrust, limited, leg); returns
     (status, k): _RUNNING, _DONE at step k, or _DIVERGED at k."""
-    r_time, r_eta, r_nu, r_ref, r_tau, r_cmd_d, r_cmd, r_f_d, r_f, r_lim, r_leg = R
+    r_time, r_eta, r_nu, r_ref, r_tau, r_cmd_d, r_cmd, r_f_d, r_f, r_lim, r_leg, r_def = R
     T = A[4]
     decay = H[6]
     m = T.shape[1]
     n_legs = G[1].shape[0]
-    W = _work(m)
+    ns = V[10].shape[0]
+    W = _work(m, ns)
+    tau_tab = W[0]
+    # the deflections persist between chunks in fstate[11:] (the servo's state)
+    for i in range(ns):
+        tau_tab[0, 7 + i] = fstate[11 + i]
+    status, k_last = _RUNNING, k1 - 1
     tau_d, f_cmd, c_cmd, f_act = W[7], W[8], W[11], W[12]
     for k in range(k0, k1):
         t = k * dt
@@ -767,6 +799,7 @@ def _loop(
         if limited:
             _allocate_limited(tau_d, A, f_cmd)
         sat = _thrusters(vc, x, c, A, H, W, limited)
+        _steer(dt, x, T, V, W)
         # ---------------------------------------------------------------- record
         if k % every == 0:
             j = istate[1]
@@ -781,6 +814,8 @@ def _loop(
                 r_cmd[j, i] = c[i]
                 r_f_d[j, i] = f_cmd[i]
                 r_f[j, i] = f_act[i]
+            for i in range(ns):
+                r_def[j, i] = tau_tab[0, 7 + i]
             r_lim[j] = sat or istate[2] != 0
             r_leg[j] = kk
             istate[2] = 0
@@ -788,10 +823,14 @@ def _loop(
         elif sat:
             istate[2] = 1
         if k == n_steps or (stop_when_done and kk > n_legs):
-            return _DONE, k
+            status, k_last = _DONE, k
+            break
         if not _integrate(t, dt, x, c, T, decay, V, W):
-            return _DIVERGED, k
-    return _RUNNING, k1 - 1
+            status, k_last = _DIVERGED, k
+            break
+    for i in range(ns):
+        fstate[11 + i] = tau_tab[0, 7 + i]
+    return status, k_last
 
 
 # ============================================================================ the fleet
@@ -831,7 +870,7 @@ def _fleet_member(
     m = T.shape[1]
     pts = G[0]
     n_legs = G[1].shape[0]
-    W = _work(m)
+    W = _work(m, V[10].shape[0])
     f_act = W[12]
     c = np.zeros(m)
     fstate = np.zeros(11)
@@ -846,6 +885,7 @@ def _fleet_member(
         if limited:
             _allocate_limited(W[7], A, W[8])
         sat = _thrusters(vc, x, c, A, H, W, limited)
+        _steer(dt, x, T, V, W)
         if path_every > 0 and k % path_every == 0:
             jp = k // path_every
             for i in range(6):
@@ -968,7 +1008,7 @@ def _fleet(
 ):  # noqa: ANN001, ANN201, E501
     """_fleet_member for every member i (numba.prange): gains ctl_all[i], current vc_all[i],
     vehicle V_all[·][i], start x_all[i]; status and the last step in status[i], k_end[i]."""
-    ctab_a, Minv_a, Mc_a, DL_a, DQ_a, scal_a, t_dof, t_coef_a, t_kind, t_idx = V_all
+    ctab_a, Minv_a, Mc_a, DL_a, DQ_a, scal_a, t_dof, t_coef_a, t_kind, t_idx, smax_a, srate_a, stc_a, sfin_a = V_all
     for i in numba.prange(x_all.shape[0]):
         # Every member flies on its own copies of the arrays it reads (and writes its own
         # buffers, copied out at the end): arrays shared between threads would share their
@@ -984,6 +1024,10 @@ def _fleet(
             t_coef_a[i].copy(),
             t_kind.copy(),
             t_idx.copy(),
+            smax_a[i].copy(),
+            srate_a[i].copy(),
+            stc_a[i].copy(),
+            sfin_a[i].copy(),
         )
         acc_i = acc[i].copy()
         arr_i = arrivals[i].copy()
@@ -1102,11 +1146,16 @@ def _pack_thrusters(thrusters: ThrusterSet) -> tuple[np.ndarray, ...]:
 
 def _pack_vehicle(vehicle: Any, vc: np.ndarray) -> tuple[np.ndarray, ...]:
     """V: the vehicle group of the kernel (current table and the packed model)."""
-    from hydrokit.model.dynamics import current_table, pack
+    from hydrokit.model.dynamics import current_table, pack, scal_fins
 
     p = pack(vehicle)
     ctab = np.ascontiguousarray(current_table(vc), dtype=np.float64)
-    return (ctab, p.Minv, p.Mc, p.DL, p.DQ, p.scal, p.t_dof, p.t_coef, p.t_kind, p.t_idx)
+    s = vehicle.surfaces
+    sfin = np.array(scal_fins(p.scal), dtype=np.int64)
+    return (
+        *(ctab, p.Minv, p.Mc, p.DL, p.DQ, p.scal, p.t_dof, p.t_coef, p.t_kind, p.t_idx),
+        *(s.max_deflection, s.rate_limit, s.time_constant, sfin),
+    )
 
 
 def _check_current(current_ned: ArrayLike | None) -> np.ndarray:
@@ -1235,15 +1284,16 @@ def run_closed_loop_compiled(
     r_f = np.empty((n_out, m))
     r_lim = np.zeros(n_out, dtype=np.bool_)
     r_leg = np.empty(n_out, dtype=np.int64)
+    r_def = np.zeros((n_out, len(vehicle.surfaces)))
     x = np.concatenate([np.asarray(eta0, float).reshape(6), np.asarray(nu0, float).reshape(6)])
     c = np.zeros(m)
-    fstate = np.zeros(11)
+    fstate = np.zeros(11 + len(vehicle.surfaces))  # [heading, integral×5, previous×5, δ…]
     gs = path.initial_state(heading=float(x[5]))
     fstate[0] = gs.heading
     istate = np.zeros(8, dtype=np.int64)
     istate[0] = gs.leg
     arrivals = np.full(path.n_legs, np.nan)
-    R = (r_time, r_eta, r_nu, r_ref, r_tau, r_cmd_d, r_cmd, r_f_d, r_f, r_lim, r_leg)
+    R = (r_time, r_eta, r_nu, r_ref, r_tau, r_cmd_d, r_cmd, r_f_d, r_f, r_lim, r_leg, r_def)
     args = (G, A, H, ctl, ctl_angle, vc, V, x, c, fstate, istate, arrivals, R)
     chunk = max(1, (n_steps + 1) // 100) if progress is not None else n_steps + 1
     k0 = 0
@@ -1276,6 +1326,7 @@ def run_closed_loop_compiled(
         leg=r_leg[:j].astype(int),
         waypoint_times=[None if math.isnan(a) else float(a) for a in arrivals],
         thruster_names=thrusters.names,
+        deflection=r_def[:j],
         dt=dt * output_every,
         path=path,
     )

@@ -320,7 +320,7 @@ def fly_fleet(
             return stack_scal([r[j] for r in V_rows])
         return np.ascontiguousarray(np.stack([r[j] for r in V_rows]), dtype=first[j].dtype)
 
-    V_all = tuple(stacked(j) for j in range(10))
+    V_all = tuple(stacked(j) for j in range(14))
     G, A, H = _pack_common(thrusters, mission.path, dt, mission.weights)
     m = len(thrusters)
     if all(th.diameter is not None for th in thrusters.thrusters):

@@ -220,7 +220,16 @@ def fly_mission(
         else:
             warnings.warn(f"compiled closed loop: {why}; flying the Python loop instead", stacklevel=2)
     if run is None:
+        from hydrokit.model.dynamics import steering
+
         run = run_closed_loop(
-            make_dynamics(vehicle, current), thrusters, autopilot, mission.path, mission.eta0, mission.nu0, **common
+            make_dynamics(vehicle, current),
+            thrusters,
+            autopilot,
+            mission.path,
+            mission.eta0,
+            mission.nu0,
+            **common,
+            steering=steering(vehicle),
         )
     return MissionResult(mission, kind, run, thrusters, run.metrics(thrusters))
