@@ -18,8 +18,13 @@ copies with ±20 % surge and yaw damping. And gain tuning (``hydrokit tune``'s s
 cross-track RMS before/after for both controllers on the bundled Lingyun mission and the
 udrobot project mission, and which controller wins after tuning.
 
+Then a mission steered by control surfaces (issue #45): a REMUS-100-like AUV with physical
+fins, hull lift and cross-flow strips, one propeller, rudder on heading and stern plane on
+pitch, flying a square — steps/s of both loops (the surface allocation and the fins' forces
+in every step), to set beside the thruster-only figure above.
+
     .venv/bin/python bench/closed_loop.py [--steps N] [--python-steps N] [--no-fleet]
-        [--no-tune] [MISSION ...]
+        [--no-tune] [--fins-steps N] [MISSION ...]
         (default: 200 000 steps for both loops; both bundled missions for the metrics)
 """
 
@@ -113,6 +118,86 @@ def main(mission_name: str = "lingyun_path") -> None:
     print(f"lower cross-track RMS: {'PID' if better == 'pid' else 'S-plane'}")
 
 
+FIN = {"area": 0.0133, "aspect_ratio": 2.21, "lift_slope": 3.12, "stall_angle_deg": 15, "max_deflection_deg": 15}
+FINNED_AUV = {
+    "name": "finned-auv",
+    "gravity": 9.81,
+    "fluid": {"density": 1030.0},
+    "mass": 30.48,
+    "volume": 30.48 / 1030.0,
+    "inertia": [0.177, 3.45, 3.45],
+    "center_of_gravity": [0.0, 0.0, 0.0196],
+    "center_of_buoyancy": [0.0, 0.0, 0.0],
+    "added_mass": [0.93, 35.5, 35.5, 0.0141, 4.88, 4.88],
+    "linear_damping": [0, 0, 0, 0, 0, 0],
+    "quadratic_damping": [0, 0, 0, 0, 0, 0],
+    "hull": {"profile": "remus100", "origin_from_nose": 0.611, "lift": True},
+    "terms": {"X_u|u|": -1.62, "K_p|p|": -0.0013},
+    "control_surfaces": [
+        {"name": "rudder", "position": [-0.638, 0, 0], "axis": [0, 0, 1], "rate_limit_deg_s": 20, **FIN},
+        {"name": "sternplane", "position": [-0.638, 0, 0], "axis": [0, 1, 0], "rate_limit_deg_s": 20, **FIN},
+    ],
+    "thrusters": [
+        {"name": "prop", "position": [-0.7, 0, 0], "direction": [1, 0, 0], "model": "ideal", "max_thrust": 10},
+    ],
+}
+FINNED_MISSION = {
+    "name": "fin-square",
+    "dt": 0.05,
+    "duration": 400,
+    "controller": "pid",
+    "controllers": {
+        "pid": {
+            "speed": {"kp": 20, "ki": 2, "kd": 0, "limit": 10},
+            "depth": {"kp": 0, "ki": 0, "kd": 0, "limit": 1},
+            "heading": {"kp": 10, "ki": 0, "kd": 10, "limit": 5},
+            "pitch": {"kp": 10, "ki": 0, "kd": 10, "limit": 5},
+        }
+    },
+    "guidance": {
+        "acceptance_radius": 3,
+        "lookahead": 5,
+        "speed": 1.5,
+        "waypoints": [[0, 0, 0], [60, 0, 0], [60, 60, 0], [0, 60, 0], [0, 0, 0]],
+    },
+}
+
+
+def fins_speed(steps: int = 100_000, python_steps: int = 20_000) -> dict[str, float]:
+    """Steps/s of the closed loop steered by fins (compiled and Python) and the square's
+    tracking; prints and returns the speeds."""
+    import tempfile
+    from pathlib import Path
+
+    import yaml
+
+    from hydrokit import fly, load_mission, load_vehicle
+
+    with tempfile.TemporaryDirectory() as tmp:
+        vpath = Path(tmp) / "finned-auv.yaml"
+        vpath.write_text(yaml.safe_dump(FINNED_AUV))
+        mpath = Path(tmp) / "fin-square.yaml"
+        mpath.write_text(yaml.safe_dump(dict(FINNED_MISSION, vehicle=str(vpath))))
+        mis = load_mission(mpath)
+        vehicle = load_vehicle(vpath)
+        out = {}
+        for loop, n in (("compiled", steps), ("python", python_steps)):
+            fly(mis, "pid", vehicle=vehicle, duration=mis.dt, loop=loop)  # start-up excluded
+            t0 = time.perf_counter()
+            fly(mis, "pid", vehicle=vehicle, duration=n * mis.dt, loop=loop)
+            out[loop] = n / (time.perf_counter() - t0)
+            print(f"fins, {loop:8s}: {n} steps, {out[loop]:,.0f} steps/s")
+        print(f"fins: compiled / Python = {out['compiled'] / out['python']:.0f}×")
+        square = fly(mis, "pid", vehicle=vehicle)
+        m = square.metrics
+        rud = abs(square.run.deflection[:, 0]).max()
+        print(
+            f"fin square ({mis.duration:.0f} s): completed {m['completed']}, cross-track RMS {m['cross_track_rms']:.2f} m, "
+            f"heading error RMS {math.degrees(m['heading_error_rms']):.1f}°, largest rudder {math.degrees(rud):.1f}°"
+        )
+    return out
+
+
 def fleet_speed(mission_name: str = "lingyun_path", sizes: tuple[int, ...] = (1, 100, 10_000)) -> dict[int, float]:
     """Vehicle-steps/s of fleets of N copies (damping ±20 %); prints and returns them."""
     import numpy as np
@@ -187,9 +272,12 @@ if __name__ == "__main__":
     ap.add_argument("--python-steps", type=int, default=None, help="steps for the Python loop (default: --steps)")
     ap.add_argument("--no-fleet", action="store_true", help="skip the fleet speeds")
     ap.add_argument("--no-tune", action="store_true", help="skip the gain tuning")
+    ap.add_argument("--fins-steps", type=int, default=100_000, help="steps of the fin-steered speed run (compiled)")
     ap.add_argument("missions", nargs="*", default=["lingyun_path", "minerva_square"])
     args = ap.parse_args()
     compiled_vs_python("lingyun_path", args.steps, args.python_steps)
+    print()
+    fins_speed(args.fins_steps, max(1, args.fins_steps // 5))
     print()
     for name in args.missions:
         main(name)
