@@ -18,6 +18,7 @@ COMMANDS = [
     "fit-forces",
     "identify",
     "ingest",
+    "manoeuvre",
     "mission",
     "rig",
     "run",

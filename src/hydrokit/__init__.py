@@ -43,6 +43,7 @@ _LAZY = {
     "export_vehicle": "hydrokit.api",
     "load_assembly": "hydrokit.api",
     "transport": "hydrokit.api",
+    "manoeuvre": "hydrokit.api",
     "load_project": "hydrokit.io.project",
     "run_project": "hydrokit.pipeline",
     "RunResult": "hydrokit.pipeline.result",

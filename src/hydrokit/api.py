@@ -231,7 +231,8 @@ def simulate(
     duration, dt : float — s
     tau : 6 floats (N, N·m), rows [t, X, Y, Z, K, M, N] or a callable ``tau(t, x)``
     **options : eta0 (m, rad), nu0 (m/s, rad/s), current_ned (m/s), integrator ("rk4",
-        "rk4-numpy", "dop853", "rk45"), attitude ("euler", "quaternion"), output_every
+        "rk4-numpy", "dop853", "rk45"), attitude ("euler", "quaternion"), output_every,
+        deflection (one per control surface, rad, or rows [t, δ…])
 
     Returns
     -------
@@ -247,6 +248,30 @@ def simulate(
     from hydrokit.simulate.driver import simulate as _simulate
 
     return _simulate(_as_vehicle(vehicle), duration, dt, tau, **options)
+
+
+def manoeuvre(vehicle: Vehicle | PathLike, manoeuvre: Any, **options: Any) -> Any:
+    """Fly a standard manoeuvre (IMO MSC.137(76), ITTC 7.5-04-02-01) and measure it.
+
+    Parameters
+    ----------
+    vehicle : Vehicle or vehicle name/path — with ``control_surfaces``
+    manoeuvre : a :class:`hydrokit.simulate.manoeuvre.Manoeuvre` from ``turning_circle(deg)``,
+        ``zigzag(a, b)``, ``spiral(...)``, ``pull_out(...)``, ``depth_change(...)``,
+        ``vertical_zigzag(a, b)`` of that module
+    **options : surface, tau (N, N·m), nu0 (m/s, rad/s), eta0, dt (s), duration (s), approach (s),
+        current_ned (m/s), loop ("compiled" or "python"), hold (bool or None: hold depth and
+        pitch with the stern planes in horizontal manoeuvres, heading with the rudder in vertical
+        ones; None = on for a 6-DOF vehicle with such a second surface) — see
+        :func:`hydrokit.simulate.manoeuvre.run_manoeuvre`
+
+    Returns
+    -------
+    ManoeuvreResult — metrics from the execute point, ``to_dict()``, ``plot()``
+    """
+    from hydrokit.simulate.manoeuvre import run_manoeuvre
+
+    return run_manoeuvre(_as_vehicle(vehicle), manoeuvre, **options)
 
 
 def simulate_batch(

@@ -72,6 +72,24 @@ CALLS: dict[str, tuple[dict[str, Source], Callable[[Files], list[object]]]] = {
         {"rig.yaml": UDROBOT / "spring_x.yaml", "record.csv": UDROBOT / "spring_x" / "spring_x_L1_1.csv"},
         lambda f: ["ingest", f["record.csv"], "--rig", f["rig.yaml"], "--out", "ing"],
     ),
+    "manoeuvre": (
+        {"vehicle.yaml": DATA_DIR / "vehicles" / "mariner.yaml"},
+        lambda f: [
+            "manoeuvre",
+            f["vehicle.yaml"],
+            "--turning-circle",
+            "35",
+            "--force",
+            "727000,0,0,0,0,0",
+            "--initial-velocity",
+            "7.7,0,0,0,0,0",
+            "--dt",
+            "0.5",
+            "--no-plots",
+            "--out",
+            "mm",
+        ],  # fmt: skip
+    ),
     "mission": (
         {"vehicle.yaml": VEHICLE, "mission.yaml": _mission},
         lambda f: ["mission", f["mission.yaml"], "--duration", "1", "--no-plots", "--out", "m"],

@@ -131,9 +131,12 @@ def test_allocate_bad_input_one_line_exit_2(run_cli, tmp_path: Path, thrusters, 
 def test_allocate_missing_vehicle(run_cli, tmp_path: Path) -> None:
     code, _, err = run_cli("allocate", tmp_path / "nope.yaml", "--tau", "1,0,0,0,0,0")
     assert code == 2
+    from hydrokit.io.vehicle import bundled_vehicles
+
+    names = bundled_vehicles()
+    assert {"bluerov2-heavy", "lingyun", "minerva", "remus100", "mariner", "udrobot"} <= set(names)
     assert err.splitlines() == [
-        f"error: no such file or bundled vehicle '{tmp_path / 'nope.yaml'}' "
-        "(bundled: bluerov2-heavy, lingyun, lingyun-diagonal, minerva, minerva-rehman, udrobot)"
+        f"error: no such file or bundled vehicle '{tmp_path / 'nope.yaml'}' (bundled: {', '.join(names)})"
     ]
 
 

@@ -147,3 +147,51 @@ def test_two_surfaces_on_one_moment_share_it():
     f = hydrokit.model.dynamics.hydro_force(pack(v), np.array([1.5, 0, 0, 0, 0, 0]), np.eye(3), d)
     f0 = hydrokit.model.dynamics.hydro_force(pack(v), np.array([1.5, 0, 0, 0, 0, 0]), np.eye(3), np.zeros(2))
     assert f[5] - f0[5] == pytest.approx(-0.5, rel=2e-3)
+
+
+def test_depth_through_pitch_dives_with_the_stern_planes(tmp_path):
+    # depth_pitch: the pitch loop's set-point is clip(gain (z − z_d), ±max) — the AUV has no heave
+    # thruster, so it can only reach 4 m by pitching nose down with its stern plane
+    v = tmp_path / "auv.yaml"
+    v.write_text(yaml.safe_dump(AUV))
+    gains = dict(MISSION["controllers"]["pid"], depth_pitch={"gain": 0.3, "max_pitch_deg": 20})
+    way = [[0, 0, 0], [80, 0, 4], [160, 0, 4]]
+    data = dict(MISSION, vehicle=str(v), duration=100, controllers={"pid": gains})
+    data["guidance"] = dict(MISSION["guidance"], waypoints=way)
+    m = tmp_path / "dive.yaml"
+    m.write_text(yaml.safe_dump(data))
+    mission, vehicle = hydrokit.load_mission(m), hydrokit.load_vehicle(v)
+    a = fly_mission(mission, vehicle, loop="python")
+    b = fly_mission(mission, vehicle, loop="compiled")
+    np.testing.assert_allclose(b.eta, a.eta, rtol=0, atol=1e-9)
+    assert abs(a.eta[-1, 2] - 4.0) < 0.3  # at depth
+    assert a.eta[:, 4].min() < -0.05  # it pitched nose down to get there
+    assert np.max(np.abs(a.run.deflection[:, 1])) > 0.02  # with the stern plane
+    # without the cascade the same AUV stays near the surface
+    flat = dict(data, controllers={"pid": MISSION["controllers"]["pid"]})
+    m.write_text(yaml.safe_dump(flat))
+    c = fly_mission(hydrokit.load_mission(m), vehicle)
+    assert abs(c.eta[-1, 2]) < 1.0
+
+
+def test_depth_to_pitch_law_and_its_file_errors(tmp_path):
+    from hydrokit.errors import InputError
+    from hydrokit.model.control import depth_to_pitch
+
+    assert depth_to_pitch(1.0, 4.0, 0.1, 0.35) == pytest.approx(-0.3)  # too shallow: nose down
+    assert depth_to_pitch(1.0, 9.0, 0.1, 0.35) == -0.35 and depth_to_pitch(9.0, 1.0, 0.1, 0.35) == 0.35
+    v = tmp_path / "auv.yaml"
+    v.write_text(yaml.safe_dump(AUV))
+    for extra, message in (
+        (
+            {"depth_pitch": {"gain": 0.3, "max_pitch_deg": 20}, "pitch": None},
+            r"depth_pitch': depth through pitch needs",
+        ),
+        ({"depth_pitch": {"gain": 0.3, "max_pitch_deg": 95}}, r"max_pitch_deg' = 95: expected an angle below 90"),
+        ({"depth_pitch": {"gain": 0.3}}, r"depth_pitch': missing 'max_pitch_deg'"),
+    ):
+        gains = {k: w for k, w in dict(MISSION["controllers"]["pid"], **extra).items() if w is not None}
+        m = tmp_path / "bad.yaml"
+        m.write_text(yaml.safe_dump(dict(MISSION, vehicle=str(v), controllers={"pid": gains})))
+        with pytest.raises(InputError, match=message):
+            hydrokit.load_mission(m)

@@ -1,8 +1,7 @@
 """The ``hydrokit`` command.
 
 Subcommands are registered by name and imported only when invoked, so ``hydrokit --help``
-starts quickly (no numpy/scipy/numba/matplotlib import). Each subcommand module defines a
-click command object; heavy imports go inside the command function.
+starts quickly (no numpy/scipy/numba/matplotlib import); heavy imports go inside commands.
 
 Errors: a :class:`hydrokit.errors.HydrokitError` (bad input) prints one line on stderr and
 exits with code 2, as do click's usage errors, an operating-system error (disk full, no
@@ -26,7 +25,7 @@ COMMANDS: dict[str, tuple[str, str]] = {
     "run": ("hydrokit.cli.run:run", "The main job: tank launches to an identified, flown vehicle and one report."),
     "demo": ("hydrokit.cli.demo:demo", "Identify the bundled UDrobot campaign and write an HTML report."),
     "identify": ("hydrokit.cli.identify:identify", "Identify coefficients from free-decay launches."),
-    "ingest": ("hydrokit.cli.ingest:ingest", "Real recordings (CSV, ROS bag, ArduPilot log) to launch files."),
+    "ingest": ("hydrokit.cli.ingest:ingest", "Recordings to launch files; vehicle logs to run files (--run-out)."),
     "scale": ("hydrokit.cli.scale:scale", "Scale model-test coefficients to full size (similitude)."),
     "rig": ("hydrokit.cli.rig:rig", "Virtual rig: simulate launches, plan an experiment."),
     "simulate": ("hydrokit.cli.simulate:simulate", "Simulate a vehicle under a constant or tabulated force."),
@@ -38,13 +37,14 @@ COMMANDS: dict[str, tuple[str, str]] = {
     "cfd": ("hydrokit.cli.cfd:cfd", "Virtual tow tank and rotating arm on OpenFOAM: forces to coefficients."),
     "export": ("hydrokit.cli.export:export", "Export a vehicle to Gazebo, uuv_simulator or python-control."),
     "transport": ("hydrokit.cli.transport:transport", "Fly joined vehicles carrying a payload; joint loads."),
+    "manoeuvre": ("hydrokit.cli.manoeuvre:manoeuvre", "Standard manoeuvres: turning circle, zigzag, spiral, pull-out."),
 }
 
 
 class LazyGroup(click.Group):
     """A click group whose subcommands are imported on first use."""
 
-    def list_commands(self, ctx: click.Context) -> list[str]:
+    def list_commands(self, ctx: click.Context) -> list[str]:  # noqa: D102
         return sorted(COMMANDS)
 
     def get_command(self, ctx: click.Context, cmd_name: str) -> click.Command | None:
@@ -62,9 +62,8 @@ class LazyGroup(click.Group):
 
     def format_commands(self, ctx: click.Context, formatter: click.HelpFormatter) -> None:
         # Short help without importing every subcommand module.
-        rows = [(name, COMMANDS[name][1]) for name in self.list_commands(ctx)]
         with formatter.section("Commands"):
-            formatter.write_dl(rows)
+            formatter.write_dl([(name, COMMANDS[name][1]) for name in self.list_commands(ctx)])
 
 
 @click.group(cls=LazyGroup, context_settings={"help_option_names": ["-h", "--help"]})

@@ -15,6 +15,8 @@ A mission file (YAML, units in the file: m, s, m/s, N, N·m, degrees where a key
         depth:   {kp: 300, ki: 10, kd: 600, limit: 150}
         heading: {kp: 200, ki: 2,  kd: 300, limit: 60}
         roll:    {kp: 100, kd: 50, limit: 30}       # optional hold loops
+        pitch:   {kp: 10, kd: 10, limit: 5}
+        depth_pitch: {gain: 0.3, max_pitch_deg: 20}  # optional: depth through pitch (stern planes)
       s-plane:                    # P = -scale (2/(1+exp(-k1 e - k2 ė)) - 1)
         speed:   {k1: 8, k2: 0, scale: 150}
         depth:   {k1: 2, k2: 4, scale: 150}
@@ -179,6 +181,9 @@ def _parse_gains(value: Any, source: str) -> dict[str, dict[str, dict[str, float
         parsed: dict[str, dict[str, float]] = {}
         for loop, g in loops.items():
             where = f"controllers.{kind}.{loop}"
+            if loop == "depth_pitch":
+                parsed[loop] = _depth_pitch(g, where, source)
+                continue
             if loop not in LOOPS:
                 raise InputError(f"field '{cut(where)}': unknown loop (expected {', '.join(LOOPS)})", source)
             g = _mapping(g, where, source)
@@ -205,8 +210,27 @@ def _parse_gains(value: Any, source: str) -> dict[str, dict[str, dict[str, float
         for req in ("speed", "depth", "heading"):
             if req not in parsed:
                 raise InputError(f"field 'controllers.{kind}': missing the '{req}' loop", source)
+        if "depth_pitch" in parsed and "pitch" not in parsed:
+            raise InputError(
+                f"field 'controllers.{kind}.depth_pitch': depth through pitch needs a 'pitch' loop; expected its gains",
+                source,
+            )
         out[kind] = parsed
     return out
+
+
+def _depth_pitch(value: Any, where: str, source: str) -> dict[str, float]:
+    """``depth_pitch: {gain: rad/m, max_pitch_deg: deg}`` → gain (rad/m), max_pitch (rad)."""
+    g = _mapping(value, where, source)
+    check_keys(g, ("gain", "max_pitch_deg"), where, source)
+    for key in ("gain", "max_pitch_deg"):
+        if key not in g:
+            raise InputError(f"field '{where}': missing '{key}'", source)
+    gain = _num(g["gain"], f"{where}.gain", source, positive=True)
+    deg = _num(g["max_pitch_deg"], f"{where}.max_pitch_deg", source, positive=True)
+    if deg >= 90:
+        raise InputError(f"field '{where}.max_pitch_deg' = {deg:g}: expected an angle below 90 degrees", source)
+    return {"gain": gain, "max_pitch": math.radians(deg)}
 
 
 def _parse_guidance(value: Any, source: str) -> WaypointPath:

@@ -215,6 +215,20 @@ class SPlane:
         return -self.scale * u, AxisState(integral=state.integral, previous=float(measurement))
 
 
+def depth_to_pitch(z, z_d, gain, max_pitch):  # noqa: ANN001, ANN201
+    """Pitch set-point θ_d (rad) of a vehicle that dives with its stern planes (issue #45):
+    θ_d = clip(gain · (z − z_d), ±max_pitch), ``gain`` in rad/m, depths z, z_d in m (NED, down
+    positive), ``max_pitch`` in rad — too shallow (z < z_d) gives nose down (θ_d < 0), the outer
+    loop of the usual depth autopilot of a torpedo AUV (Fossen 2011 §13.1, depth via pitch).
+    Plain floats: the Python autopilot calls it and the compiled loop compiles it."""
+    th = gain * (z - z_d)
+    if th > max_pitch:
+        return max_pitch
+    if th < -max_pitch:
+        return -max_pitch
+    return th
+
+
 @dataclass(frozen=True)
 class Reference:
     """Set-points for the autopilot.
@@ -271,6 +285,9 @@ class Autopilot:
     depth : AxisController — depth loop, output Z in N
     heading : AxisController — heading loop (angle=True), output N in N·m
     roll, pitch : AxisController or None — optional hold loops, outputs K, M in N·m
+    depth_pitch : (gain rad/m, max pitch rad) or None — depth through pitch: the pitch loop's
+        set-point becomes :func:`depth_to_pitch` of the depth error (the stern planes of a torpedo
+        AUV then hold depth); needs a ``pitch`` loop
 
     Notes
     -----
@@ -284,6 +301,11 @@ class Autopilot:
     heading: AxisController
     roll: AxisController | None = None
     pitch: AxisController | None = None
+    depth_pitch: tuple[float, float] | None = None
+
+    def __post_init__(self) -> None:
+        if self.depth_pitch is not None and self.pitch is None:
+            raise InputError("depth_pitch: depth through pitch needs a pitch loop; expected pitch gains too")
 
     def _loops(self) -> list[AxisController | None]:
         return [self.speed, self.depth, self.heading, self.roll, self.pitch]
@@ -312,5 +334,8 @@ class Autopilot:
         if self.roll is not None:
             tau[3], new[3] = self.roll.update(s[3], phi, reference.roll, dt, phidot)
         if self.pitch is not None:
-            tau[4], new[4] = self.pitch.update(s[4], theta, reference.pitch, dt, thetadot)
+            theta_d = reference.pitch
+            if self.depth_pitch is not None:
+                theta_d = depth_to_pitch(z, reference.depth, self.depth_pitch[0], self.depth_pitch[1])
+            tau[4], new[4] = self.pitch.update(s[4], theta, theta_d, dt, thetadot)
         return np.array(tau, dtype=float), AutopilotState(tuple(new))

@@ -66,6 +66,9 @@ class Mission:
             )
         loops: dict[str, Any] = {}
         for loop, g in self.gains[kind].items():
+            if loop == "depth_pitch":
+                loops[loop] = (g["gain"], g["max_pitch"])
+                continue
             angle = loop in ("heading", "roll", "pitch")
             if kind == "pid":
                 lim = g.get("limit", math.inf)

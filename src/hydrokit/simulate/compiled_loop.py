@@ -49,14 +49,15 @@ from numpy.typing import ArrayLike
 
 from hydrokit.errors import InputError, SimulationError
 from hydrokit.model.allocation import Allocator, _ConstrainedSolver
-from hydrokit.model.control import PID, Autopilot, SPlane
+from hydrokit.model.control import PID, Autopilot, SPlane, depth_to_pitch
 from hydrokit.model.guidance import _HORIZONTAL_EPS, Path
 from hydrokit.model.thrusters import IdealCurve, PropellerCurve, TableCurve, ThrusterSet
 from hydrokit.simulate.budget import check_memory
 from hydrokit.simulate.closed_loop import ClosedLoopResult
-from hydrokit.simulate.compiled import BUF_SIZE, deriv, njit_noalloc, steer_surfaces_compiled
+from hydrokit.simulate.compiled import BUF_SIZE, compile_law, deriv, njit_noalloc, steer_surfaces_compiled
 
 _EPS = float(np.finfo(float).eps)
+_depth_to_pitch = compile_law(depth_to_pitch)
 # status codes of _loop
 _RUNNING, _DONE, _DIVERGED = 0, 1, 2
 
@@ -613,6 +614,8 @@ def _control(k, dt, G, A, ctl, ctl_angle, x, fstate, istate, arrivals, W):  # no
     psidot = (sphi * q + cphi * r) / cth
     meas[0], meas[1], meas[2], meas[3], meas[4] = u, pz, psi, phi, theta
     setp[0], setp[1], setp[2], setp[3], setp[4] = ref_speed, ref_depth, ref_heading, 0.0, 0.0
+    if ctl[5, 0] > 0.0:  # depth through pitch (model.control.depth_to_pitch, compiled)
+        setp[4] = _depth_to_pitch(pz, ref_depth, ctl[5, 0], ctl[5, 1])
     rate[1], rate[2], rate[3], rate[4] = zdot, psidot, phidot, thetadot
     for L_ in range(5):
         kd_ = ctl[L_, 0]
@@ -1072,7 +1075,11 @@ def unsupported_reason(thrusters: ThrusterSet, autopilot: Autopilot) -> str | No
 
 
 def _pack_autopilot(autopilot: Autopilot) -> tuple[np.ndarray, np.ndarray]:
-    ctl = np.zeros((5, 6))
+    """ctl rows: the five loops [kind, gains…], then [depth-to-pitch gain rad/m (0: off), max
+    pitch rad]."""
+    ctl = np.zeros((6, 6))
+    if autopilot.depth_pitch is not None:
+        ctl[5, 0], ctl[5, 1] = autopilot.depth_pitch
     ang = np.zeros(5, dtype=np.bool_)
     for i, name in enumerate(("speed", "depth", "heading", "roll", "pitch")):
         c = getattr(autopilot, name)

@@ -279,9 +279,9 @@ def fly_fleet(
         raise InputError(f"compiled closed loop: {why}")
     ctl0, ctl_angle = _pack_autopilot(base_ap)
     if gains is None:
-        ctl_all = np.array(np.broadcast_to(ctl0, (N, 5, 6)), order="C")
+        ctl_all = np.array(np.broadcast_to(ctl0, (N, *ctl0.shape)), order="C")
     else:
-        ctl_all = np.empty((N, 5, 6))
+        ctl_all = np.empty((N, *ctl0.shape))
         for i, g in enumerate(gains):
             mis_i = replace(mission, gains={kind: {lp: dict(v) for lp, v in g.items()}})
             ctl_all[i], ang = _pack_autopilot(mis_i.autopilot(kind))

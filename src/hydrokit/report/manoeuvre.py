@@ -1,0 +1,90 @@
+"""The HTML report of a standard manoeuvre (``hydrokit manoeuvre … --out DIR`` → ``DIR/report.html``).
+
+Sections: the run (vehicle, surface, settings, approach speed); the metrics with units and the
+definitions they follow (IMO MSC.137(76), ITTC 7.5-04-02-01); for surface craft the IMO criteria
+with pass/fail; the track and time figures; warnings. User text is escaped.
+"""
+
+from __future__ import annotations
+
+from typing import Any
+
+from hydrokit.report.html import esc, figure, fmt, page, table, warnings_block
+
+DEFINITIONS = (
+    "Every metric is measured from the execute point (the position and heading when the first order "
+    "was given), after a straight approach at steady speed. Advance: distance along the original course "
+    "to 90° of heading change; transfer: across it at 90°; tactical diameter: across it at 180° (IMO "
+    "MSC.137(76) 4.2.3–4.2.4); steady turning diameter, speed, yaw rate and drift angle over the last 360° "
+    "of a turn held to 540° (ITTC 7.5-04-02-01 2.2.1). Zigzag: initial turning time to the second execute, "
+    "overshoots past ±B after the second and third executes (IMO 4.2.7–4.2.8), period between the second "
+    "and fourth executes."
+)
+
+
+def _cell(v: Any) -> Any:
+    if isinstance(v, bool) or v is None:
+        return "–" if v is None else ("yes" if v else "no")
+    if isinstance(v, (list, tuple)):
+        return ", ".join(fmt(x) for x in v)
+    return v if isinstance(v, (int, float, str)) else str(v)
+
+
+def render(result: Any, figures: dict[str, bytes] | None = None) -> str:
+    """The whole report as one self-contained HTML string (``figures``: PNG bytes by name; None:
+    rendered here)."""
+    from hydrokit.simulate.manoeuvre_metrics import UNITS
+
+    if figures is None:
+        from hydrokit.plot._mpl import to_png
+        from hydrokit.plot.manoeuvre import figures as make
+
+        figures = {k: to_png(f) for k, f in make(result).items()}
+    doc = result.to_dict()
+    params = ", ".join(f"{k} = {fmt(v) if not isinstance(v, str) else v}" for k, v in doc["parameters"].items())
+    parts = [
+        f"<p>Vehicle <b>{esc(result.vehicle)}</b>, steered by <b>{esc(result.surface)}</b>; {esc(params)}. "
+        f"Approach speed {fmt(result.approach_speed)} m/s"
+        + (f", reference length L = {fmt(result.reference_length)} m" if result.reference_length else "")
+        + ".</p>",
+        f'<p class="note">{esc(DEFINITIONS)}</p>',
+    ]
+    if result.problem:
+        parts.append(warnings_block([result.problem]))
+    rows = [
+        [k, _cell(v), UNITS.get(k, "deg" if k.endswith("_deg") else "")]
+        for k, v in result.metrics.items()
+        if k not in ("points", "sides")
+    ]
+    parts.append("<h2>Metrics</h2>" + table(["metric", "value", "unit"], rows, left_cols=1))
+    for key in ("points", "sides"):
+        items = result.metrics.get(key)
+        if items:
+            head = list(items[0])
+            parts.append(table(head, [[_cell(p[h]) for h in head] for p in items], left_cols=0))
+    crit = doc.get("imo_criteria")
+    if crit is not None:
+        parts.append("<h2>IMO MSC.137(76) criteria (surface craft)</h2>")
+        if crit:
+            parts.append(
+                table(
+                    ["criterion", "value", "limit", "unit", "passed", "note"],
+                    [[c["criterion"], c["value"], c["limit"], c["unit"], _cell(c["passed"]), c["note"]] for c in crit],
+                )
+            )
+        else:
+            parts.append(
+                '<p class="note">No criterion applies to this run (they need the vehicle\'s '
+                "reference_length and a turning circle, a 10°/10° or a 20°/20° zigzag).</p>"
+            )
+    parts.append("<h2>Figures</h2>")
+    captions = {
+        "track.png": "Track from the execute point (m), metrics drawn on it; triangles: later executes",
+        "time.png": "Heading (or pitch and depth), rate and deflection against time from the execute",
+        "spiral.png": "Steady yaw rate against deflection, in the order flown",
+    }
+    for name, png in figures.items():
+        parts.append(figure(png, captions.get(name, name)))
+    if result.warnings:
+        parts.append("<h2>Warnings</h2>" + warnings_block(result.warnings))
+    return page(f"hydrokit manoeuvre — {result.vehicle}: {result.kind.replace('_', ' ')}", parts)

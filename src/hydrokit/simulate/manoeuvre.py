@@ -1,0 +1,1082 @@
+"""The standard manoeuvres of a free-running vehicle (SPEC §9.2; IMO MSC.137(76), ITTC 7.5-04-02-01).
+
+:func:`fly_manoeuvre` runs a vehicle straight until its velocities are steady (the approach),
+then gives the first order — the **execute** — and flies the manoeuvre with a logic that reads
+the state every step, as a helmsman or an autopilot would:
+
+- **turning circle** (IMO 4.2.2): the steering surface to δ and held until the heading has
+  changed 720° (the steady part is measured over the last 360°);
+- **zigzag A/B** (IMO 4.2.6): surface to A; when the heading has changed by B in the direction of
+  the turn, to −A; when it is B off the original course on the other side, to +A; … four
+  executes and the overshoot after the last;
+- **spiral** (ITTC 2.2.5): *direct* (Dieudonné): the deflection stepped from +δ_max down to
+  −δ_max and back, each held until the yaw rate is steady; *reverse* (Bech): a yaw-rate
+  autopilot holds a series of yaw rates and the mean deflection each needs is recorded; a
+  course-unstable vehicle shows a loop (direct) or an S-shaped curve (reverse);
+- **pull-out** (ITTC 2.2.6): a steady turn at ±δ, then the surface back to zero; the yaw rate of a
+  course-stable vehicle decays to zero, an unstable one keeps a residual rate;
+- **depth change** (AUVs): planes to A in the diving (or rising) sense until the depth has
+  changed by M, then to −A until the pitch is back to its original value, then to zero (with the
+  hold on: to holding the original pitch, as a pitch-unstable AUV cannot fly with its planes at
+  zero); the depth overshoot is read at the depth's peak;
+- **vertical zigzag A/B** (AUVs): the zigzag on the pitch angle with the stern planes.
+
+**The hold** (``hold``, default on for a 6-DOF vehicle with a second surface): AUV trials are
+flown at constant depth, so during a turn or zigzag the stern planes hold depth and pitch, and
+during a depth change or vertical zigzag the rudder holds the heading — PID loops of
+:mod:`hydrokit.model.control` (:class:`_Keeper`); during the approach the steering surface holds
+its own axis too (an AUV on autopilot), and the execute hands it to the manoeuvre.
+
+The sense of a turn is read from the vehicle's response (a positive rudder turns a REMUS to
+port: Prestero's N_uuδr < 0), never assumed. Commands reach the surfaces through the servo law
+:func:`hydrokit.model.surfaces.servo_step` (instant without rate limit or lag). Metrics are
+extracted by :mod:`hydrokit.simulate.manoeuvre_metrics`; the record's time is 0 at the execute
+and its positions are relative to the execute point.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable
+from dataclasses import dataclass, field
+from typing import Any
+
+import numpy as np
+
+from hydrokit._result import Result, jsonable
+from hydrokit.core.kinematics import wrap_angle as wrap
+from hydrokit.core.names import STATE_COLUMNS
+from hydrokit.errors import InputError, SimulationError
+from hydrokit.simulate import manoeuvre_metrics as mm
+
+KINDS = ("turning_circle", "zigzag", "spiral", "pull_out", "depth_change", "vertical_zigzag")
+VERTICAL = ("depth_change", "vertical_zigzag")
+#: heading change held in a turning circle, rad (the steady part is the last 360°)
+TURN_TARGET = mm.STEADY_START + mm.STEADY_WINDOW + math.radians(1.0)
+#: the turn is steady when yaw rate and speed vary by at most this fraction over the last 360°
+TURN_STEADY = 0.01
+#: the longest turn flown while waiting for it to become steady, rad (10 turns)
+TURN_MAX = 20.0 * math.pi
+#: spiral steps as fractions of the largest deflection (direct) or yaw rate (reverse)
+SPIRAL_FRACTIONS = (1.0, 0.75, 0.5, 0.3, 0.15, 0.08, 0.04, 0.0)
+#: non-dimensional yaw rates r L / U held by the reverse spiral (times SPIRAL_FRACTIONS)
+REVERSE_SPIRAL_RATE = 0.5
+#: largest pitch set-point of the depth hold, rad (20°)
+HOLD_MAX_PITCH = math.radians(20.0)
+#: time between the depth/heading hold's probes of the surfaces' effect, s
+HOLD_PERIOD = 0.5
+#: below this speed (m/s) the hold leaves its surfaces at zero (they have no grip)
+HOLD_MIN_SPEED = 0.05
+#: the approach is steady when the held depth (m) and heading (rad) are this close to their set-points
+HOLD_TOLERANCE = 1e-3
+
+Dynamics = Callable[..., np.ndarray]
+Servo = Callable[..., Any]
+
+
+@dataclass(frozen=True)
+class Manoeuvre:
+    """What to fly (build with the functions below; angles in rad, depth in m).
+
+    kind : one of :data:`KINDS`; deflection : A or δ, rad (signed: its sign picks the first
+    side; None for a spiral: the surface's limit); check_angle : B, rad (zigzags);
+    depth : M, m (depth change, + deeper); mode : "direct" or "reverse" (spiral)
+    """
+
+    kind: str
+    deflection: float | None = None
+    check_angle: float = 0.0
+    depth: float = 0.0
+    mode: str = "direct"
+
+    def __post_init__(self) -> None:
+        if self.kind not in KINDS:
+            raise InputError(f"manoeuvre {self.kind!r}: expected one of {', '.join(KINDS)}")
+        d = self.deflection
+        if d is not None and not (math.isfinite(d) and d != 0.0):
+            raise InputError(f"{self.kind}: deflection {d!r} rad: expected a finite non-zero angle")
+        if self.kind in ("zigzag", "vertical_zigzag") and not (0 < self.check_angle < math.pi / 2):
+            raise InputError(
+                f"{self.kind}: check angle {math.degrees(self.check_angle):.4g}°: expected between 0° and 90°"
+            )
+        if self.kind == "depth_change" and not (math.isfinite(self.depth) and self.depth != 0):
+            raise InputError(f"depth change {self.depth!r} m: expected a finite non-zero depth change")
+        if self.mode not in ("direct", "reverse"):
+            raise InputError(f"spiral {self.mode!r}: expected direct or reverse")
+
+    def parameters(self) -> dict[str, Any]:
+        """The manoeuvre's settings for JSON (degrees, m)."""
+        out: dict[str, Any] = {"kind": self.kind}
+        if self.deflection is not None:
+            out["deflection_deg"] = math.degrees(self.deflection)
+        if self.kind in ("zigzag", "vertical_zigzag"):
+            out["check_angle_deg"] = math.degrees(self.check_angle)
+        if self.kind == "depth_change":
+            out["depth_change"] = self.depth
+        if self.kind == "spiral":
+            out["mode"] = self.mode
+        return out
+
+
+def turning_circle(deflection: float) -> Manoeuvre:
+    """Turning circle at ``deflection`` (rad)."""
+    return Manoeuvre("turning_circle", deflection)
+
+
+def zigzag(deflection: float, check_angle: float) -> Manoeuvre:
+    """Zigzag A/B: ``deflection`` A and ``check_angle`` B, rad."""
+    return Manoeuvre("zigzag", deflection, check_angle=check_angle)
+
+
+def spiral(mode: str = "direct", deflection: float | None = None) -> Manoeuvre:
+    """Spiral, ``mode`` "direct" or "reverse", up to ``deflection`` (rad; None: the limit)."""
+    return Manoeuvre("spiral", deflection, mode=mode)
+
+
+def pull_out(deflection: float) -> Manoeuvre:
+    """Pull-out from steady turns at ±``deflection`` (rad)."""
+    return Manoeuvre("pull_out", deflection)
+
+
+def depth_change(depth: float, deflection: float) -> Manoeuvre:
+    """Depth change by ``depth`` (m, + deeper) with planes at ``deflection`` (rad)."""
+    return Manoeuvre("depth_change", deflection, depth=depth)
+
+
+def vertical_zigzag(deflection: float, check_angle: float) -> Manoeuvre:
+    """Vertical zigzag A/B on the pitch angle: A, B in rad."""
+    return Manoeuvre("vertical_zigzag", deflection, check_angle=check_angle)
+
+
+# --------------------------------------------------------------------------------------------
+# the result
+
+
+@dataclass
+class ManoeuvreResult(Result):
+    """A flown manoeuvre.
+
+    Attributes
+    ----------
+    manoeuvre : Manoeuvre
+    vehicle : str — the vehicle's name; surface : str — the surface that steered
+    time : (n,) — s, 0 at the execute (the approach's last seconds are negative)
+    eta : (n, 6) — x, y (m, from the execute point), z (m), φ, θ, ψ (rad)
+    nu : (n, 6) — u, v, w (m/s), p, q, r (rad/s)
+    deflection : (n, n_surfaces) — every surface's deflection, rad
+    surface_names : tuple of str
+    executes : tuple of float — s, every order given (the first is 0)
+    metrics : dict — the manoeuvre's results (SI; ``*_deg`` in degrees), None where not reached
+    approach_speed : float — m/s; reference_length : float or None — L, m
+    planar : bool — a surface-craft model (3 or 4 DOF): the IMO criteria apply
+    hold : dict — what was held and by which surface ({"depth": "sternplane", "heading":
+        "rudder (approach)"}; empty: nothing held)
+    problem : str or None — what the run did not reach (the metrics it needs are None)
+    warnings : list of str
+    """
+
+    manoeuvre: Manoeuvre
+    vehicle: str
+    surface: str
+    time: np.ndarray
+    eta: np.ndarray
+    nu: np.ndarray
+    deflection: np.ndarray
+    surface_names: tuple[str, ...]
+    executes: tuple[float, ...]
+    metrics: dict[str, Any]
+    approach_speed: float
+    reference_length: float | None = None
+    planar: bool = False
+    problem: str | None = None
+    warnings: list[str] = field(default_factory=list)
+    hold: dict[str, str] = field(default_factory=dict)
+
+    @property
+    def kind(self) -> str:
+        return self.manoeuvre.kind
+
+    @property
+    def columns(self) -> list[str]:
+        """Trajectory columns: simulate's thirteen, then one per surface (rad)."""
+        return [*STATE_COLUMNS, *self.surface_names]
+
+    def array(self) -> np.ndarray:
+        """(n, 13 + n_surfaces) in :attr:`columns` order (what trajectory.csv holds)."""
+        return np.column_stack([self.time, self.eta, self.nu, self.deflection])
+
+    def table(self) -> tuple[list[str], list[list[Any]]]:
+        return self.columns, self.array().tolist()
+
+    def imo(self) -> list[dict[str, Any]]:
+        """IMO MSC.137(76) §5.3 criteria that this run can check (empty when none apply)."""
+        if not self.planar:
+            return []
+        return mm.imo_criteria(
+            self.kind, self.manoeuvre.parameters(), self.metrics, self.reference_length, self.approach_speed
+        )
+
+    def to_dict(self) -> dict[str, Any]:
+        """manoeuvre.json: the settings, the metrics under the manoeuvre's name, IMO checks."""
+        doc: dict[str, Any] = {
+            "manoeuvre": self.kind,
+            "vehicle": self.vehicle,
+            "surface": self.surface,
+            "parameters": self.manoeuvre.parameters(),
+            "approach_speed": self.approach_speed,
+            "reference_length": self.reference_length,
+            self.kind: self.metrics,
+            "executes": list(self.executes),
+            "complete": self.problem is None,
+            "problem": self.problem,
+            "warnings": list(self.warnings),
+            "hold": dict(self.hold),
+            "units": mm.UNITS,
+        }
+        if self.planar:
+            doc["imo_criteria"] = self.imo()
+        return jsonable(doc)
+
+    def summary_rows(self) -> list[tuple[str, Any]]:
+        rows: list[tuple[str, Any]] = [("manoeuvre", self.kind), ("surface", self.surface)]
+        rows += [(k, v) for k, v in self.metrics.items() if not isinstance(v, (list, dict))]
+        return rows + [("problem", self.problem or "none")]
+
+    def plot(self, ax: Any = None) -> Any:
+        """The track with the metrics drawn on it, on ``ax`` (or new axes); returns the axes."""
+        from hydrokit.plot.manoeuvre import track_axes
+
+        return track_axes(self, ax)
+
+
+# --------------------------------------------------------------------------------------------
+# manoeuvre logics: read the state each step, return the surface command (rad)
+
+
+class _Logic:
+    """A manoeuvre's state machine. ``angle`` is the state index it measures (ψ 5, θ 4)."""
+
+    angle = 5
+
+    def __init__(self, m: Manoeuvre, limit: float, probe: float, time_scale: float) -> None:
+        self.m = m
+        self.limit = limit
+        self.probe = probe  # sign and size of d(angular acceleration)/dδ at the execute
+        self.scale = time_scale
+        self.a = m.deflection if m.deflection is not None else limit
+        self.done = False
+        self.executes: list[float] = [0.0]
+        self.x0: np.ndarray = np.zeros(12)
+        self.notes: list[str] = []
+
+    def start(self, x0: np.ndarray) -> None:
+        self.x0 = x0.copy()
+
+    def change(self, x: np.ndarray) -> float:
+        return float(x[self.angle] - self.x0[self.angle])
+
+    def command(self, t: float, x: np.ndarray) -> float:  # pragma: no cover - every logic defines it
+        raise NotImplementedError
+
+
+class _Turn(_Logic):
+    """The surface held until the heading has changed :data:`TURN_TARGET` and the yaw rate and
+    the speed over the last 360° are steady (spread within :data:`TURN_STEADY` of their mean, as
+    ITTC asks of the steady turn), or :data:`TURN_MAX` at most."""
+
+    def __init__(self, *args: Any) -> None:
+        super().__init__(*args)
+        self.turn: list[float] = []
+        self.rate: list[float] = []
+        self.speed: list[float] = []
+        self.next_check = TURN_TARGET
+
+    def command(self, t: float, x: np.ndarray) -> float:
+        a = abs(self.change(x))
+        self.turn.append(a)
+        self.rate.append(float(x[11]))
+        self.speed.append(math.hypot(float(x[6]), float(x[7])))
+        if a >= self.next_check:
+            k = int(np.argmax(np.asarray(self.turn) >= a - mm.STEADY_WINDOW))
+            r, u = np.asarray(self.rate[k:]), np.asarray(self.speed[k:])
+            steady = np.ptp(r) <= TURN_STEADY * abs(float(np.mean(r))) and np.ptp(u) <= TURN_STEADY * float(np.mean(u))
+            self.done = bool(steady) or a >= TURN_MAX
+            if self.done and not steady:
+                self.notes.append(
+                    f"turning circle: the yaw rate or speed still changed by more than {TURN_STEADY:.1%} over the "
+                    f"last 360° after {math.degrees(a):.0f}°; the steady values are those of the last 360°"
+                )
+            self.next_check = a + math.radians(10.0)
+        return self.a
+
+
+class _Zigzag(_Logic):
+    def __init__(self, *args: Any) -> None:
+        super().__init__(*args)
+        self.angle = 4 if self.m.kind == "vertical_zigzag" else 5
+        self.sign = 0.0
+        self.cmd = self.a
+        self.prev = 0.0
+        self.peak_at: float | None = None
+
+    def command(self, t: float, x: np.ndarray) -> float:
+        b = self.m.check_angle
+        a = self.change(x)
+        if self.sign == 0.0:
+            if abs(a) >= b:
+                self.sign = 1.0 if a > 0 else -1.0
+                self._execute(t)
+        elif len(self.executes) < 4:
+            s = self.sign * a
+            odd = len(self.executes) % 2 == 0  # after the 2nd execute the turn goes back
+            if (odd and s <= -b) or (not odd and s >= b):
+                self._execute(t)
+        else:
+            s = self.sign * a
+            # after the 4th execute: stop once the heading has peaked (the third overshoot)
+            if self.peak_at is None and s < self.sign * self.prev and t > self.executes[-1]:
+                self.peak_at = t
+            if self.peak_at is not None and t >= self.peak_at + 0.25 * (self.peak_at - self.executes[-1]) + 1e-9:
+                self.done = True
+        self.prev = a
+        return self.cmd
+
+    def _execute(self, t: float) -> None:
+        self.cmd = -self.cmd
+        self.executes.append(t)
+
+
+class _Hold(_Logic):
+    """Helper for logics that hold a setting until the yaw (or pitch) rate is steady."""
+
+    rate = 11
+
+    def __init__(self, *args: Any) -> None:
+        super().__init__(*args)
+        self.hist_t: list[float] = []
+        self.hist_r: list[float] = []
+        self.hist_u: list[float] = []
+        self.hist_d: list[float] = []
+        self.step_start = 0.0
+
+    def _record(self, t: float, x: np.ndarray, cmd: float) -> bool:
+        """Append the sample; True when the rate has been steady over the last window."""
+        self.hist_t.append(t)
+        self.hist_r.append(float(x[self.rate]))
+        self.hist_u.append(math.hypot(float(x[6]), float(x[7])))
+        self.hist_d.append(cmd)
+        held = t - self.step_start
+        window = 5.0 * self.scale
+        if held < 10.0 * self.scale:
+            return False
+        k = np.searchsorted(self.hist_t, t - window)
+        r = np.asarray(self.hist_r[k:])
+        tol = 1e-5 / self.scale + 2e-4 * float(np.max(np.abs(r)))
+        return mm.settled(r, tol) or held >= 200.0 * self.scale
+
+    def _means(self, t: float) -> tuple[float, float, float, bool]:
+        window = 5.0 * self.scale
+        k = int(np.searchsorted(self.hist_t, t - window))
+        r = np.asarray(self.hist_r[k:])
+        tol = 1e-5 / self.scale + 2e-4 * float(np.max(np.abs(r)))
+        ok = mm.settled(r, tol)
+        return float(np.mean(r)), float(np.mean(self.hist_u[k:])), float(np.mean(self.hist_d[k:])), ok
+
+    def _reset(self, t: float) -> None:
+        self.hist_t, self.hist_r, self.hist_u, self.hist_d = [], [], [], []
+        self.step_start = t
+
+
+class _Spiral(_Hold):
+    def __init__(self, *args: Any) -> None:
+        super().__init__(*args)
+        top = abs(self.a)
+        fr = [*SPIRAL_FRACTIONS, *(-f for f in reversed(SPIRAL_FRACTIONS[:-1]))]
+        levels = fr + fr[-2::-1]  # down from +1 to −1 and back up to +1
+        if self.m.mode == "direct":
+            self.targets = [top * f for f in levels]
+        else:
+            self.targets = [REVERSE_SPIRAL_RATE / self.scale * f for f in fr]  # one pass: δ(r) is single-valued
+        self.k = 0
+        self.points: list[dict[str, Any]] = []
+        self.integral = 0.0
+
+    def command(self, t: float, x: np.ndarray) -> float:
+        target = self.targets[self.k]
+        if self.m.mode == "direct":
+            cmd = target
+        else:
+            # yaw-rate autopilot: PI on r with natural frequency 1/scale, gains over |∂ṙ/∂δ|
+            w = 1.0 / self.scale
+            g = abs(self.probe) or 1.0
+            e = target - float(x[11])
+            s = 1.0 if self.probe >= 0 else -1.0
+            self.integral += e * self.dt
+            cmd = s * (2.0 * w * e + w * w * self.integral) / g
+            if abs(cmd) > self.limit:  # anti-windup: hold the integral where the surface saturates
+                cmd = math.copysign(self.limit, cmd)
+                self.integral -= e * self.dt
+        if self._record(t, x, cmd):
+            r, u, d, ok = self._means(t)
+            self.points.append({"deflection": d, "yaw_rate": r, "speed": u, "settled": ok, "target": target})
+            self.k += 1
+            self._reset(t)
+            self.done = self.k >= len(self.targets)
+        return cmd
+
+    dt = 0.0
+
+
+class _PullOut(_Hold):
+    def __init__(self, *args: Any) -> None:
+        super().__init__(*args)
+        self.phase = 0  # 0 turn +, 1 release, 2 turn −, 3 release
+        self.sides: list[dict[str, Any]] = []
+        self.release: dict[str, Any] = {}
+
+    def command(self, t: float, x: np.ndarray) -> float:
+        cmd = (self.a, 0.0, -self.a, 0.0)[self.phase]
+        if self._record(t, x, cmd):
+            r, _, _, ok = self._means(t)
+            if self.phase % 2 == 0:
+                self.release = {"deflection": cmd, "yaw_rate_before": r, "time": t, "turn_settled": ok}
+                self.executes.append(t)
+            else:
+                r_rel = self.release["yaw_rate_before"]
+                half = _half_time(np.asarray(self.hist_t), np.asarray(self.hist_r), r_rel)
+                self.sides.append({**self.release, "residual_yaw_rate": r, "decay_settled": ok, "time_to_half": half})
+                if self.phase == 1:
+                    self.executes.append(t)
+            self.phase += 1
+            self._reset(t)
+            self.done = self.phase >= 4
+        return cmd
+
+
+class _DepthChange(_Logic):
+    angle = 4
+
+    def __init__(self, *args: Any) -> None:
+        super().__init__(*args)
+        dive = self.m.depth > 0
+        # nose down (q̇ < 0) dives: choose the sign of A that pitches the nose the right way
+        s = -1.0 if self.probe > 0 else 1.0
+        self.cmd = abs(self.a) * (s if dive else -s)
+        self.phase = 0
+        self.sense = 1.0 if dive else -1.0
+        self.prev = 0.0
+        self.peak: float | None = None
+
+    def command(self, t: float, x: np.ndarray) -> float:
+        dz = self.sense * float(x[2] - self.x0[2])
+        if self.phase == 0 and dz >= abs(self.m.depth):
+            self.phase, self.cmd = 1, -self.cmd
+            self.executes.append(t)
+        elif self.phase == 1 and self.sense * self.change(x) >= 0.0:
+            # pitch back to its original value (diving pitched the nose down: θ − θ0 < 0 until now)
+            self.phase, self.cmd = 2, 0.0
+            self.executes.append(t)
+        elif self.phase == 2:
+            if self.peak is None and dz < self.prev:
+                self.peak = t
+            if self.peak is not None and t >= self.peak + 0.25 * (self.peak - self.executes[-1]) + 1e-9:
+                self.done = True
+        self.prev = dz
+        return self.cmd
+
+
+class _Keeper:
+    """Holds depth and pitch with a stern plane and the heading with a rudder, with the PID of
+    :mod:`hydrokit.model.control` (an AUV's autopilot during trials at constant depth).
+
+    Depth: an outer PID on z gives the pitch set-point θ_d (rad, within ±:data:`HOLD_MAX_PITCH`),
+    with the time constant 5 L/U (ż ≈ −U θ); pitch and heading: a PID on the angle (rate from the
+    Euler kinematics) with natural frequency U/L, critically damped, whose output is an angular
+    acceleration (rad/s²) turned into a deflection by dividing it by ∂q̇/∂δ (or ∂ṙ/∂δ), probed
+    on the vehicle's own right-hand side every :data:`HOLD_PERIOD` s (gain scheduling: fin
+    forces grow as U²). Set-points: the depth and heading at the start of the approach. The
+    surface that steers the manoeuvre holds only until the execute.
+    """
+
+    def __init__(
+        self,
+        f: Dynamics,
+        tau_of: Callable[[np.ndarray], np.ndarray],
+        n_s: int,
+        hold: tuple[int | None, int | None],
+        steering: int,
+        lim: np.ndarray,
+        length: float | None,
+        x0: np.ndarray,
+    ) -> None:
+        from hydrokit.model.control import PID
+
+        self.PID = PID
+        self.f, self.tau_of, self.n_s = f, tau_of, n_s
+        self.plane, self.rudder = hold
+        self.steering = steering
+        self.lim = lim
+        self.length = length
+        self.z0, self.psi0 = float(x0[2]), float(x0[5])
+        self.next_probe = -math.inf
+        self.g_q = self.g_r = 0.0
+        self.depth = self.pitch = self.heading = PID(kp=0.0)
+        self.s_depth = self.s_pitch = self.s_heading = PID(kp=0.0).initial_state()
+
+    def _tune(self, t: float, x: np.ndarray) -> None:
+        speed = math.sqrt(float(x[6] ** 2 + x[7] ** 2 + x[8] ** 2))
+        self.next_probe = t + HOLD_PERIOD
+        if speed < HOLD_MIN_SPEED:
+            self.g_q = self.g_r = 0.0
+            return
+        scale = self.length / speed if self.length else 1.0
+        w = 1.0 / scale
+        tau = self.tau_of(x)
+        PID = self.PID
+        if self.plane is not None:
+            self.g_q = _probe(self.f, x, tau, self.n_s, self.plane, float(self.lim[self.plane]), 10)
+            top = float(self.lim[self.plane]) * abs(self.g_q)
+            kz = 1.0 / (5.0 * scale * speed)  # rad per m: ż ≈ −U θ closes with time constant 5 L/U
+            self.depth = PID(kp=kz, ki=kz / (20.0 * scale), output_min=-HOLD_MAX_PITCH, output_max=HOLD_MAX_PITCH)
+            self.pitch = PID(kp=w * w, ki=0.1 * w**3, kd=2.0 * w, output_min=-top, output_max=top, angle=True)
+        if self.rudder is not None:
+            self.g_r = _probe(self.f, x, tau, self.n_s, self.rudder, float(self.lim[self.rudder]), 11)
+            top = float(self.lim[self.rudder]) * abs(self.g_r)
+            self.heading = PID(kp=w * w, ki=0.1 * w**3, kd=2.0 * w, output_min=-top, output_max=top, angle=True)
+
+    def settled(self, x: np.ndarray) -> bool:
+        """True when the held depth and heading are within :data:`HOLD_TOLERANCE` (m, rad) of their
+        set-points (the approach is steady only then)."""
+        depth_ok = self.plane is None or abs(float(x[2]) - self.z0) <= HOLD_TOLERANCE
+        heading_ok = self.rudder is None or abs(wrap(float(x[5]) - self.psi0)) <= HOLD_TOLERANCE
+        return depth_ok and heading_ok
+
+    def pitch_hold(self, x: np.ndarray, dt: float, theta: float) -> float:
+        """The plane command (rad) that holds the pitch ``theta`` (rad): a depth change's last
+        phase, where a pitch-unstable vehicle cannot fly with its planes at zero."""
+        from hydrokit.model.control import euler_rates
+
+        if self.plane is None or self.g_q == 0.0:
+            return 0.0
+        thetadot = euler_rates(x[:6], x[6:])[2]
+        qdot, self.s_pitch = self.pitch.update(self.s_pitch, float(x[4]), theta, dt, thetadot)
+        return qdot / self.g_q
+
+    def command(self, t: float, x: np.ndarray, dt: float, cmd: np.ndarray, approach: bool) -> None:
+        """Set the holding surfaces' commands in ``cmd`` (rad) for the state ``x`` at ``t`` (s)."""
+        from hydrokit.model.control import euler_rates
+
+        if t >= self.next_probe:
+            self._tune(t, x)
+        zdot, _, thetadot, psidot = euler_rates(x[:6], x[6:])
+        if self.plane is not None and (approach or self.plane != self.steering):
+            if self.g_q != 0.0:
+                theta_d, self.s_depth = self.depth.update(self.s_depth, -float(x[2]), -self.z0, dt, -zdot)
+                qdot, self.s_pitch = self.pitch.update(self.s_pitch, float(x[4]), theta_d, dt, thetadot)
+                cmd[self.plane] = qdot / self.g_q
+            else:
+                cmd[self.plane] = 0.0
+        if self.rudder is not None and (approach or self.rudder != self.steering):
+            if self.g_r != 0.0:
+                rdot, self.s_heading = self.heading.update(self.s_heading, float(x[5]), self.psi0, dt, psidot)
+                cmd[self.rudder] = rdot / self.g_r
+            else:
+                cmd[self.rudder] = 0.0
+
+
+def _half_time(t: np.ndarray, r: np.ndarray, r0: float) -> float | None:
+    """Time (s, from the record's start) for |r| to fall to half |r0|; None if it never does."""
+    if t.size == 0 or r0 == 0:
+        return None
+    c = mm.first_reach(-np.abs(r), -0.5 * abs(r0))
+    return None if c is None else float(c.at(t) - t[0])
+
+
+# --------------------------------------------------------------------------------------------
+# the runner
+
+
+def fly_manoeuvre(
+    f: Dynamics,
+    manoeuvre: Manoeuvre,
+    surface: int,
+    servo: tuple[np.ndarray, np.ndarray, np.ndarray],
+    *,
+    tau: Any = (0, 0, 0, 0, 0, 0),
+    x0: Any = None,
+    dt: float = 0.02,
+    duration: float = 1800.0,
+    approach: float = 600.0,
+    keep_approach: float = 10.0,
+    length: float | None = None,
+    servo_step: Servo | None = None,
+    hold: tuple[int | None, int | None] | None = None,
+    progress: Callable[[float], None] | None = None,
+) -> tuple[np.ndarray, np.ndarray, np.ndarray, _Logic, list[str]]:
+    """Approach, execute and fly ``manoeuvre`` with the dynamics ``f(t, x, τ, δ) → ẋ``.
+
+    Parameters
+    ----------
+    f : callable — 12-state Euler right-hand side (x = [x y z φ θ ψ u v w p q r], SI)
+    manoeuvre : Manoeuvre
+    surface : int — index of the steering surface
+    servo : (max deflection rad, rate limit rad/s, time constant s) arrays, one per surface
+    tau : 6 floats (N, N·m) or a callable ``tau(x) → 6 floats`` (propulsion from commands)
+    x0 : 12 floats — initial state (default rest at the origin)
+    dt : float — step, s; duration : float — longest manoeuvre after the execute, s
+    approach : float — longest straight run before the execute, s
+    keep_approach : float — seconds of the approach kept in the record, s
+    length : float or None — L, m: the windows that judge "steady" are multiples of L/U at the
+        execute (1 s without L)
+    servo_step : the servo law (default :func:`hydrokit.model.surfaces.servo_step`)
+    hold : None, or (plane, rudder): indices of the surfaces that hold depth and pitch, and
+        heading (either None), with :class:`_Keeper`; the steering surface holds only until the
+        execute
+    progress : callable(simulated seconds) or None
+
+    Returns
+    -------
+    (time, states (n, 12), deflections (n, n_surfaces), logic, warnings), time 0 at the execute.
+    """
+    from hydrokit.simulate.integrators import rk4_step
+
+    if servo_step is None:
+        from hydrokit.model.surfaces import servo_step as law
+
+        servo_step = law
+    lim, rate, tc = (np.asarray(a, float) for a in servo)
+    n_s = lim.size
+    if not (0 <= surface < n_s):
+        raise InputError(f"surface index {surface}: expected 0 … {n_s - 1}")
+    if not (math.isfinite(dt) and dt > 0 and math.isfinite(duration) and duration >= dt):
+        raise InputError(f"dt = {dt} s, duration = {duration} s: expected 0 < dt ≤ duration")
+    if manoeuvre.deflection is not None and abs(manoeuvre.deflection) > lim[surface] * (1 + 1e-9):
+        raise InputError(
+            f"{manoeuvre.kind}: deflection {math.degrees(manoeuvre.deflection):.4g}°: expected at most the "
+            f"surface's max_deflection_deg {math.degrees(lim[surface]):.4g}°"
+        )
+    tau_of: Callable[[np.ndarray], np.ndarray]
+    if callable(tau):
+        tau_of = lambda x: np.asarray(tau(x), float)  # noqa: E731
+    else:
+        tau_c = np.asarray(tau, float)
+        if tau_c.shape != (6,) or not np.all(np.isfinite(tau_c)):
+            raise InputError(f"force {tau_c.tolist()}: expected 6 finite numbers (N, N·m)")
+        tau_of = lambda x: tau_c  # noqa: E731
+    x = np.zeros(12) if x0 is None else np.asarray(x0, float).copy()
+    if x.shape != (12,) or not np.all(np.isfinite(x)):
+        raise InputError(f"initial state {x.tolist()}: expected 12 finite numbers")
+    warnings: list[str] = []
+    keeper = None
+    if hold is not None and (hold[0] is not None or hold[1] is not None):
+        for h in hold:
+            if h is not None and not (0 <= h < n_s):
+                raise InputError(f"hold surface index {h}: expected 0 … {n_s - 1}")
+        keeper = _Keeper(f, tau_of, n_s, hold, surface, lim, length, x)
+    delta = np.zeros(n_s)
+    cmd = np.zeros(n_s)
+    new = np.zeros(n_s)
+
+    def g(t: float, y: np.ndarray, u: np.ndarray) -> np.ndarray:
+        return f(t, y, u[:6], u[6:])
+
+    def step(t: float, y: np.ndarray) -> np.ndarray:
+        y = rk4_step(g, t, y, dt, u=np.concatenate([tau_of(y), delta]))
+        if not np.all(np.isfinite(y)):
+            raise SimulationError(f"the state became non-finite at t = {t + dt:.6g} s; check the coefficients and dt")
+        return y
+
+    # the approach: straight, surfaces at zero, until ν is steady over a window
+    window = max(int(round(2.0 / dt)), 10)
+    rows: list[np.ndarray] = [x.copy()]
+    used: list[np.ndarray] = []  # the deflections held over each approach step
+    n_app = max(int(approach / dt), window + 1)
+    steady = False
+    for k in range(n_app):
+        if keeper is not None:
+            keeper.command(k * dt, x, dt, cmd, True)
+        servo_step(delta, cmd, dt, lim, rate, tc, new)
+        delta[:] = new
+        used.append(delta.copy())
+        x = step(k * dt, x)
+        rows.append(x.copy())
+        if k >= window and k % window == 0:
+            span = np.ptp(np.asarray(rows[-window:])[:, 6:], axis=0)
+            speed = max(math.hypot(x[6], x[7]), 1e-3)
+            if np.all(span[:3] <= 1e-4 * speed) and np.all(span[3:] <= 1e-5):
+                if keeper is None or keeper.settled(x):
+                    steady = True
+                    break
+    if not steady:
+        warnings.append(
+            f"the approach was not steady after {approach:g} s (velocities still changing); the manoeuvre "
+            "starts from the state reached"
+        )
+    keep = min(len(rows) - 1, int(keep_approach / dt))
+    app = np.asarray(rows[len(rows) - 1 - keep :])
+    t_app = (np.arange(app.shape[0]) - keep) * dt
+    # the execute
+    u_exec = math.sqrt(float(x[6] ** 2 + x[7] ** 2 + x[8] ** 2))
+    time_scale = length / u_exec if length and u_exec > 1e-6 else 1.0
+    limit = float(lim[surface])
+    probe = _probe(f, x, tau_of(x), n_s, surface, limit, 10 if manoeuvre.kind in VERTICAL else 11)
+    logic = _make_logic(manoeuvre, limit, probe, time_scale)
+    if isinstance(logic, _Spiral):
+        logic.dt = dt
+    logic.start(x)
+    x_exec = x.copy()
+    t_start = len(rows) * dt  # the keeper's clock runs on from the approach
+    n_max = int(math.floor(duration / dt + 1e-9))
+    states = np.empty((n_max + 1, 12))
+    defl = np.empty((n_max + 1, n_s))
+    report = max(1, n_max // 100)
+    k = 0
+    for k in range(n_max + 1):
+        t = k * dt
+        cmd[surface] = logic.command(t, x)
+        if keeper is not None:
+            keeper.command(t_start + t, x, dt, cmd, False)
+            if isinstance(logic, _DepthChange) and logic.phase == 2 and keeper.plane == surface:
+                cmd[surface] = keeper.pitch_hold(x, dt, float(logic.x0[4]))
+        servo_step(delta, cmd, dt, lim, rate, tc, new)
+        delta[:] = new
+        states[k] = x
+        defl[k] = delta
+        if logic.done or k == n_max:
+            break
+        x = step(t, x)
+        if progress is not None and k % report == 0:
+            progress(t)
+    if progress is not None:
+        progress(duration)
+    n = k + 1
+    time = np.concatenate([t_app[:-1], np.arange(n) * dt])
+    all_states = np.concatenate([app[:-1], states[:n]])
+    all_states[:, :2] -= x_exec[:2]
+    app_defl = np.asarray(used[len(used) - keep :]).reshape(keep, n_s) if keep else np.zeros((0, n_s))
+    all_defl = np.concatenate([app_defl, defl[:n]])
+    return time, all_states, all_defl, logic, warnings
+
+
+def _probe(f: Dynamics, x: np.ndarray, tau: np.ndarray, n_s: int, surface: int, limit: float, index: int) -> float:
+    """∂(angular acceleration at ``index``)/∂δ of the surface at the execute state, 1/s² per rad."""
+    eps = 0.1 * limit
+    d = np.zeros(n_s)
+    d[surface] = eps
+    return float((f(0.0, x, tau, d)[index] - f(0.0, x, tau, np.zeros(n_s))[index]) / eps)
+
+
+def _make_logic(m: Manoeuvre, limit: float, probe: float, scale: float) -> _Logic:
+    cls: dict[str, type[_Logic]] = {
+        "turning_circle": _Turn,
+        "zigzag": _Zigzag,
+        "vertical_zigzag": _Zigzag,
+        "spiral": _Spiral,
+        "pull_out": _PullOut,
+        "depth_change": _DepthChange,
+    }
+    logic = cls[m.kind](m, limit, probe, scale)
+    if isinstance(logic, _Hold) and m.kind in VERTICAL:  # pragma: no cover - no vertical hold logic yet
+        logic.rate = 10
+    return logic
+
+
+# --------------------------------------------------------------------------------------------
+# the vehicle-level entry point
+
+
+def steering_surface(names: tuple[str, ...], kind: str, name: str | None = None) -> int:
+    """Index of the surface that steers ``kind``: ``name`` if given, else the one whose name says
+    rudder (horizontal manoeuvres) or stern plane / elevator / dive plane (vertical ones)."""
+    if not names:
+        raise InputError("the vehicle has no control_surfaces; a manoeuvre needs a surface to steer with")
+    if name is not None:
+        if name not in names:
+            raise InputError(f"--surface {name!r}: the vehicle has {', '.join(names)}; expected one of them")
+        return names.index(name)
+    words = ("stern", "plane", "elevator", "dive") if kind in VERTICAL else ("rudder",)
+    hits = [k for k, n in enumerate(names) if any(w in n.lower() for w in words)]
+    if len(hits) == 1 or (len(names) == 1 and not hits):
+        return hits[0] if hits else 0
+    what = "a stern plane" if kind in VERTICAL else "a rudder"
+    raise InputError(
+        f"cannot tell which surface is {what} among {', '.join(names)}; expected --surface NAME naming one"
+    )
+
+
+def holding_surfaces(
+    f: Dynamics, dofs: tuple[int, ...], n_s: int, kind: str, steering: int, hold: bool | None = None
+) -> tuple[int | None, int | None]:
+    """(plane, rudder): the surfaces that hold depth and pitch, and heading (None: not held).
+
+    A surface's axis is read from its effect at 1 m/s ahead: it pitches (a stern plane, a
+    horizontal hinge) when |∂q̇/∂δ| > |∂ṙ/∂δ|, else it yaws (a rudder). In a horizontal
+    manoeuvre the steering surface holds the heading during the approach and the strongest
+    pitching surface among the others holds depth and pitch throughout (a 6-DOF vehicle: heave
+    and pitch kept); in a vertical one the steering planes hold depth during the approach and
+    the strongest yawing surface holds the heading throughout. ``hold`` None: on when such a
+    second surface exists; False: off; True: on (the steering surface's approach hold at least).
+    """
+    if hold is False:
+        return None, None
+    x = np.zeros(12)
+    x[6] = 1.0
+    tau = np.zeros(6)
+    base = f(0.0, x, tau, np.zeros(n_s))
+    pitch: list[tuple[float, int]] = []
+    yaw: list[tuple[float, int]] = []
+    for k in range(n_s):
+        if k == steering:
+            continue
+        d = np.zeros(n_s)
+        d[k] = 0.01
+        dx = np.abs(f(0.0, x, tau, d) - base)
+        if dx[10] > dx[11] and 2 in dofs and 4 in dofs:
+            pitch.append((float(dx[10]), k))
+        elif dx[11] > dx[10] and 5 in dofs:
+            yaw.append((float(dx[11]), k))
+    if kind in VERTICAL:
+        other = max(yaw)[1] if yaw else None
+        return (steering, other) if (other is not None or hold) else (None, None)
+    other = max(pitch)[1] if pitch else None
+    return (other, steering) if (other is not None or hold) else (None, None)
+
+
+def run_manoeuvre(
+    vehicle: Any,
+    manoeuvre: Manoeuvre,
+    *,
+    surface: str | None = None,
+    tau: Any = (0, 0, 0, 0, 0, 0),
+    nu0: Any = None,
+    eta0: Any = None,
+    dt: float = 0.02,
+    duration: float = 1800.0,
+    approach: float = 600.0,
+    current_ned: Any = None,
+    loop: str = "compiled",
+    hold: bool | None = None,
+    progress: Callable[[float], None] | None = None,
+) -> ManoeuvreResult:
+    """Fly ``manoeuvre`` with ``vehicle`` (module docstring) and measure it.
+
+    Parameters
+    ----------
+    vehicle : Vehicle — with ``control_surfaces``
+    manoeuvre : Manoeuvre — :func:`turning_circle`, :func:`zigzag`, …
+    surface : str or None — the steering surface's name (None: the rudder, or the stern plane
+        for the vertical manoeuvres, found by name)
+    tau : 6 floats (N, N·m) — constant propulsion and other forces; or ``tau(x) → 6 floats``
+    nu0 : 6 floats — initial velocity u, v, w (m/s), p, q, r (rad/s) of the approach (default 0)
+    eta0 : 6 floats — initial pose x, y, z (m), φ, θ, ψ (rad); ψ is the original course
+    dt : float — step, s; duration : float — longest manoeuvre after the execute, s
+    approach : float — longest straight approach, s
+    current_ned : None or 3 floats — ocean current, m/s (NED)
+    loop : "compiled" (the numba right-hand side) or "python" (the numpy one)
+    hold : bool or None — hold depth and pitch with the stern planes in the horizontal
+        manoeuvres (heading with the rudder in the vertical ones), during the approach and the
+        manoeuvre, as AUV trials are run; the steering surface holds its axis during the
+        approach. None: on for a vehicle that has such a second surface (:func:`holding_surfaces`)
+    progress : callable(simulated seconds) or None
+
+    Returns
+    -------
+    ManoeuvreResult — ``problem`` says what was not reached (e.g. a heading of 90°), with the
+    metrics that need it set to None; the record is complete either way.
+    """
+    names = tuple(vehicle.surfaces.names)
+    idx = steering_surface(names, manoeuvre.kind, surface)
+    if loop == "compiled":
+        from hydrokit.simulate.compiled import make_dynamics
+
+        f = make_dynamics(vehicle, current_ned)
+    elif loop == "python":
+        from hydrokit.model.dynamics import vehicle_dynamics
+
+        f = vehicle_dynamics(vehicle, current_ned)
+    else:
+        raise InputError(f"loop = {loop!r}: expected compiled or python")
+    x0 = np.zeros(12)
+    for part, a in ((slice(0, 6), eta0), (slice(6, 12), nu0)):
+        if a is not None:
+            v = np.asarray(a, float)
+            if v.shape != (6,) or not np.all(np.isfinite(v)):
+                raise InputError(
+                    f"initial {'pose' if part.start == 0 else 'velocity'} {v.tolist()}: expected 6 finite numbers"
+                )
+            x0[part] = v
+    s = vehicle.surfaces
+    held = holding_surfaces(f, tuple(vehicle.dofs), len(names), manoeuvre.kind, idx, hold)
+    time, states, defl, logic, warnings = fly_manoeuvre(
+        f,
+        manoeuvre,
+        idx,
+        (s.max_deflection, s.rate_limit, s.time_constant),
+        tau=tau,
+        x0=x0,
+        dt=dt,
+        duration=duration,
+        approach=approach,
+        length=vehicle.reference_length,
+        hold=held,
+        progress=progress,
+    )
+    return measure(
+        manoeuvre,
+        time,
+        states,
+        defl,
+        logic,
+        vehicle=vehicle.name,
+        surface_names=names,
+        surface=names[idx],
+        reference_length=vehicle.reference_length,
+        planar=bool(vehicle.planar),
+        warnings=[*vehicle.warnings, *warnings],
+        duration=duration,
+        hold=_hold_names(held, idx, names),
+    )
+
+
+def _hold_names(held: tuple[int | None, int | None], steering: int, names: tuple[str, ...]) -> dict[str, str]:
+    out = {}
+    for what, k in zip(("depth", "heading"), held):
+        if k is not None:
+            out[what] = names[k] + (" (approach)" if k == steering else "")
+    return out
+
+
+def measure(
+    manoeuvre: Manoeuvre,
+    time: np.ndarray,
+    states: np.ndarray,
+    defl: np.ndarray,
+    logic: Any,
+    *,
+    vehicle: str,
+    surface_names: tuple[str, ...],
+    surface: str,
+    reference_length: float | None = None,
+    planar: bool = False,
+    warnings: list[str] | None = None,
+    duration: float = math.nan,
+    hold: dict[str, str] | None = None,
+) -> ManoeuvreResult:
+    """The :class:`ManoeuvreResult` of a record from :func:`fly_manoeuvre` (metrics extracted)."""
+    after = time >= -1e-12
+    t, x = time[after], states[after]
+    approach = float(np.linalg.norm(x[0, 6:9]))
+    kind = manoeuvre.kind
+    warnings = [*(warnings or []), *getattr(logic, "notes", [])]
+    problem: str | None = None
+    metrics: dict[str, Any]
+    if kind == "turning_circle":
+        tc = mm.turning_circle_metrics(t, x[:, :6], x[:, 6:])
+        metrics = _asdict(tc)
+        if not planar:
+            metrics["max_depth_change"] = float(np.max(np.abs(x[:, 2] - x[0, 2])))
+        if (miss := tc.missing()) is not None:
+            problem = (
+                f"turning circle: the heading changed by at most {tc.heading_change_deg:.1f}° in {t[-1]:.4g} s after "
+                f"the execute and never reached {miss}; expected a larger deflection or a longer --duration"
+            )
+    elif kind in ("zigzag", "vertical_zigzag"):
+        ang = 5 if kind == "zigzag" else 4
+        zz = mm.zigzag_metrics(t, x[:, ang], logic.executes, manoeuvre.check_angle, x[:, :2], approach)
+        metrics = _asdict(zz)
+        if kind == "vertical_zigzag" or not planar:
+            metrics["max_depth_change"] = float(np.max(np.abs(x[:, 2] - x[0, 2])))
+        if (miss := zz.missing()) is not None:
+            what = "heading" if kind == "zigzag" else "pitch"
+            change = math.degrees(float(np.max(np.abs(np.unwrap(x[:, ang]) - x[0, ang]))))
+            problem = (
+                f"{kind.replace('_', ' ')}: the {what} never reached {miss} in {t[-1]:.4g} s after the execute "
+                f"(largest change {change:.1f}°); expected a larger deflection, a smaller check angle or a longer --duration"
+            )
+    elif kind == "spiral":
+        metrics = mm.spiral_summary(logic.points, manoeuvre.mode, reference_length)
+        if len(logic.points) < len(logic.targets):
+            problem = (
+                f"spiral: only {len(logic.points)} of {len(logic.targets)} steps were completed in {t[-1]:.4g} s; "
+                "expected a longer --duration"
+            )
+        if any(not p["settled"] for p in logic.points):
+            warnings.append("spiral: some steps never reached a steady yaw rate; their rows say settled = false")
+    elif kind == "pull_out":
+        metrics = mm.pull_out_summary(logic.sides)
+        if len(logic.sides) < 2:
+            problem = (
+                f"pull-out: only {len(logic.sides)} of 2 sides completed in {t[-1]:.4g} s; expected a longer --duration"
+            )
+    else:  # depth_change
+        metrics = mm.depth_change_metrics(t, x, logic.executes, manoeuvre.depth)
+        if metrics["depth_overshoot"] is None:
+            reached = float(np.max(np.abs(x[:, 2] - x[0, 2])))
+            problem = (
+                f"depth change: the depth changed by at most {reached:.4g} m in {t[-1]:.4g} s and never "
+                f"{'reached ' + format(abs(manoeuvre.depth), 'g') + ' m' if len(logic.executes) < 2 else 'levelled off'}; "
+                "expected a larger plane angle or a longer --duration"
+            )
+    return ManoeuvreResult(
+        manoeuvre=manoeuvre,
+        vehicle=vehicle,
+        surface=surface,
+        time=time,
+        eta=states[:, :6],
+        nu=states[:, 6:],
+        deflection=defl,
+        surface_names=surface_names,
+        executes=tuple(logic.executes),
+        metrics=metrics,
+        approach_speed=approach,
+        reference_length=reference_length,
+        planar=planar,
+        problem=problem,
+        warnings=warnings,
+        hold=dict(hold or {}),
+    )
+
+
+def _asdict(obj: Any) -> dict[str, Any]:
+    from dataclasses import asdict
+
+    d = asdict(obj)
+    return {k: (list(v) if isinstance(v, tuple) else v) for k, v in d.items()}
+
+
+def from_options(options: dict[str, Any]) -> Manoeuvre:
+    """The one manoeuvre of the command-line options given (the others None), degrees at this
+    edge: ``turning_circle`` / ``pull_out`` a deflection (deg); ``zigzag`` / ``vertical_zigzag``
+    "A/B" (deg/deg); ``spiral`` "direct" or "reverse"; ``depth_change`` "M" or "M/A" (m/deg; A 15°).
+    """
+    given = {k: v for k, v in options.items() if v is not None}
+    if len(given) != 1:
+        names = ", ".join("--" + k.replace("_", "-") for k in options)
+        raise InputError(f"{len(given)} manoeuvres given: expected exactly one of {names}")
+    kind, v = next(iter(given.items()))
+    rad = math.radians
+    if kind == "turning_circle":
+        return turning_circle(rad(float(v)))
+    if kind in ("zigzag", "vertical_zigzag"):
+        a, b = _pair(v, "--" + kind.replace("_", "-"), "deg/deg")
+        return (zigzag if kind == "zigzag" else vertical_zigzag)(rad(a), rad(b))
+    if kind == "spiral":
+        return spiral(str(v))
+    if kind == "pull_out":
+        return pull_out(rad(float(v)))
+    if kind != "depth_change":
+        raise InputError(f"manoeuvre option {kind!r}: expected one of {', '.join(KINDS)}")
+    depth, a = _pair(v if "/" in str(v) else f"{v}/15", "--depth-change", "m/deg")
+    return depth_change(depth, rad(a))
+
+
+def _pair(text: Any, option: str, unit: str) -> tuple[float, float]:
+    """``A/B`` as two finite floats, or an InputError naming the option."""
+    parts = str(text).split("/")
+    try:
+        a, b = (float(p) for p in parts)
+    except ValueError:
+        a = b = math.nan
+    if len(parts) != 2 or not (math.isfinite(a) and math.isfinite(b)):
+        raise InputError(f"{option} {str(text)[:40]!r}: expected A/B, e.g. 20/20 ({unit})")
+    return a, b
