@@ -24,6 +24,7 @@ COMMANDS = [
     "run",
     "scale",
     "simulate",
+    "sysid",
     "transport",
     "tune",
 ]

@@ -44,6 +44,7 @@ _LAZY = {
     "load_assembly": "hydrokit.api",
     "transport": "hydrokit.api",
     "manoeuvre": "hydrokit.api",
+    "sysid": "hydrokit.api",
     "load_project": "hydrokit.io.project",
     "run_project": "hydrokit.pipeline",
     "RunResult": "hydrokit.pipeline.result",

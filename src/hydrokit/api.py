@@ -274,6 +274,50 @@ def manoeuvre(vehicle: Vehicle | PathLike, manoeuvre: Any, **options: Any) -> An
     return run_manoeuvre(_as_vehicle(vehicle), manoeuvre, **options)
 
 
+def sysid(
+    runs: Any,
+    vehicle: Vehicle | PathLike,
+    free: str | Any,
+    holdout: Any = (),
+    method: str = "output-error",
+    dt: float = 0.01,
+    samples: int = 40,
+    seed: int = 0,
+) -> Any:
+    """Identify a vehicle's free coefficients from its own free-running logs (issue #44).
+
+    Parameters
+    ----------
+    runs : run CSV paths (the frozen format of docs/sysid.md) or RunLog objects — training runs
+    vehicle : Vehicle or vehicle name/path — the base, with its ``thrusters:``; every coefficient
+        not free keeps its value
+    free : "added_mass.surge,linear_damping.yaw,…" or a list of such names (``terms.<term>`` too)
+    holdout : runs used only for validation (open-loop prediction, NRMSE)
+    method : "output-error" (default) or "equation-error"
+    dt : float — integration step, s
+    samples : int — Monte Carlo draws from the covariance for the prediction envelope
+    seed : int — seed of those draws
+
+    Returns
+    -------
+    SysidResult — values, σ, covariance, correlations, condition number, residuals, warnings;
+    ``to_dict()``, ``plot()``
+    """
+    from hydrokit.io.runlog import read_run
+    from hydrokit.simulate.sysid import identify
+
+    v = _as_vehicle(vehicle)
+    names = v.thrusters.names if v.thrusters is not None else []
+
+    def read(r: Any) -> Any:
+        return r if hasattr(r, "channels") else read_run(r, names)
+
+    listed = [n.strip() for n in free.split(",")] if isinstance(free, str) else list(free)
+    return identify(
+        v, [read(r) for r in runs], listed, [read(r) for r in holdout], method=method, dt=dt, samples=samples, seed=seed
+    )
+
+
 def simulate_batch(
     vehicles: Sequence[Vehicle | PathLike], duration: float, dt: float, tau: Any = (0, 0, 0, 0, 0, 0), **options: Any
 ) -> BatchTrajectory:

@@ -38,6 +38,7 @@ COMMANDS: dict[str, tuple[str, str]] = {
     "export": ("hydrokit.cli.export:export", "Export a vehicle to Gazebo, uuv_simulator or python-control."),
     "transport": ("hydrokit.cli.transport:transport", "Fly joined vehicles carrying a payload; joint loads."),
     "manoeuvre": ("hydrokit.cli.manoeuvre:manoeuvre", "Standard manoeuvres: turning circle, zigzag, spiral, pull-out."),
+    "sysid": ("hydrokit.cli.sysid:sysid", "Identify added mass and damping from free-running dives (run CSVs)."),
 }
 
 

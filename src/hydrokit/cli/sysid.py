@@ -1,0 +1,149 @@
+"""``hydrokit sysid``: a vehicle's added mass and damping from its own dives (issue #44).
+``hydrokit sysid RUN... --vehicle B --free L --out D`` fits (= ``sysid fit``); ``sysid generate``
+writes virtual dives of a vehicle with hidden coefficients."""
+
+from __future__ import annotations
+
+from pathlib import Path
+from typing import Any
+
+import click
+
+from hydrokit.cli._types import NON_NEGATIVE, SECONDS, SEED, Count, Number
+
+SUBCOMMANDS = ("fit", "generate")
+
+
+class _SysidGroup(click.Group):
+    """A group whose default subcommand is ``fit``: ``hydrokit sysid RUN...`` keeps working."""
+
+    def parse_args(self, ctx: click.Context, args: list[str]) -> list[str]:
+        if args and args[0] not in SUBCOMMANDS and args[0] not in ("-h", "--help"):
+            args = ["fit", *args]
+        return super().parse_args(ctx, args)
+
+
+@click.group(cls=_SysidGroup, context_settings={"help_option_names": ["-h", "--help"]})
+def sysid() -> None:
+    """System identification from free-running logs: hydrokit sysid RUN... --vehicle BASE.yaml
+    --free LIST --out DIR (same as 'sysid fit'), or 'sysid generate' for virtual dives."""
+
+
+def _names(values: tuple[str, ...]) -> list[str]:
+    return [n.strip() for v in values for n in v.split(",") if n.strip()]
+
+
+@sysid.command("fit")
+@click.argument("runs", nargs=-1, required=True, metavar="RUN...")
+@click.option("--vehicle", required=True, help="Base vehicle YAML (or bundled name) with its thrusters.")
+@click.option(
+    "--free",
+    required=True,
+    help="Comma-separated free parameters: added_mass.surge, linear_damping.yaw, "
+    "quadratic_damping.heave (SI: kg, N·s/m, N·s²/m²; rotations kg·m², N·m·s/rad, N·m·s²/rad²), terms.<term>.",
+)
+@click.option(
+    "--out",
+    "out_dir",
+    required=True,
+    type=click.Path(file_okay=False),
+    help="Folder for vehicle.yaml, sysid.json, predictions.csv, report.html.",
+)
+@click.option("--holdout", multiple=True, help="Run file(s) used only for validation (repeat or comma-separate).")
+@click.option(
+    "--method",
+    type=click.Choice(["output-error", "equation-error"]),
+    default="output-error",
+    show_default=True,
+    help="Output error (simulation vs measurement) or equation error (least squares on the smoothed states).",
+)
+@click.option("--dt", type=SECONDS, default=0.01, show_default=True, help="Integration step, s.")
+@click.option(
+    "--workers", type=Count(1), default=None, help="Threads for the batch simulations (count; default: all cores)."
+)
+@click.option(
+    "--samples", type=Count(0), default=40, show_default=True, help="Monte Carlo draws for the prediction band (count)."
+)
+@click.option("--seed", type=SEED, default=0, show_default=True, help="Seed of the Monte Carlo draws (integer).")
+def fit(runs: tuple[str, ...], vehicle: str, free: str, out_dir: str, holdout: tuple[str, ...], **opts: Any) -> None:
+    """Identify the --free coefficients of --vehicle from the run files RUN... (CSV: time s; x y z m,
+    phi theta psi rad, u v w m/s, p q r rad/s, empty = no sample; one command column per thruster)."""
+    from hydrokit.api import load_vehicle
+    from hydrokit.cli._common import check_out_dir, progress_bar, write_all
+    from hydrokit.io.runlog import read_run
+    from hydrokit.io.vehicle import resolve_vehicle
+    from hydrokit.io.yamlfile import read_yaml
+    from hydrokit.report.sysid import describe_runs, output_files
+    from hydrokit.simulate.sysid import identify
+
+    check_out_dir(out_dir)
+    base = load_vehicle(vehicle)
+    names = base.thrusters.names if base.thrusters is not None else []
+    train = [read_run(p, names) for p in runs]
+    held = [read_run(p, names) for p in _names(holdout)]
+    for line in describe_runs(train, held):
+        click.echo(line, err=True)
+    for r in (*train, *held):
+        for w in r.warnings:
+            click.echo(f"warning: {r.source}: {w}", err=True)
+    workers = opts.pop("workers")
+    if workers:
+        import numba
+
+        numba.set_num_threads(min(workers, numba.config.NUMBA_NUM_THREADS))  # type: ignore[attr-defined]
+    with progress_bar() as bar:
+        task = bar.add_task("output-error fit", total=None)
+        step = lambda it, cost: bar.update(task, advance=1, description=f"iteration {it}: cost {cost:.6g}")  # noqa: E731
+        result = identify(base, train, _names((free,)), held, progress=step, **opts)
+    files = output_files(result, read_yaml(resolve_vehicle(vehicle)), out_dir)
+    write_all(files)
+    for n, u, v, s in zip(result.parameters, result.units, result.values, result.sigma):
+        click.echo(f"{n} = {v:.5g} ± {s:.2g} {u}")
+    for m in (*result.messages, *result.warnings):
+        click.echo(f"note: {m}", err=True)
+    click.echo(f"wrote {', '.join(Path(f).name for f in files)} to {out_dir}", err=True)
+
+
+@sysid.command("generate")
+@click.option(
+    "--vehicle", default="bluerov2-sysid", show_default=True, help="Vehicle YAML or bundled name (with thrusters)."
+)
+@click.option(
+    "--out", "out_dir", required=True, type=click.Path(file_okay=False), help="Folder for diveN.csv and truth.json."
+)
+@click.option("--runs", "n_runs", type=Count(1), default=4, show_default=True, help="Number of dives (count).")
+@click.option(
+    "--duration", type=Number("s", at_least=1), default=90.0, show_default=True, help="Length of each dive, s."
+)
+@click.option(
+    "--seed", type=SEED, default=1, show_default=True, help="Seed of the hidden coefficients, commands and noise."
+)
+@click.option(
+    "--spread",
+    type=Number(at_least=0, at_most=0.9),
+    default=0.3,
+    show_default=True,
+    help="Hidden coefficients = base × uniform(1 − spread, 1 + spread) (fraction).",
+)
+@click.option(
+    "--amplitude",
+    type=Number(above=0, at_most=1),
+    default=0.6,
+    show_default=True,
+    help="Largest fraction of a thrust limit used (0–1).",
+)
+@click.option(
+    "--noise", type=NON_NEGATIVE, default=1.0, show_default=True, help="Multiplier of the sensor noise σ (0 = none)."
+)
+def generate(
+    vehicle: str, out_dir: str, n_runs: int, duration: float, seed: int, spread: float, amplitude: float, noise: float
+) -> None:
+    """Write virtual pool dives of VEHICLE with hidden added mass and damping (surge, sway, heave,
+    yaw): attitude and gyro at 50 Hz, depth at 10 Hz, DVL at 5 Hz, commands at 50 Hz."""
+    from hydrokit.api import load_vehicle
+    from hydrokit.cli._common import check_out_dir, write_all
+    from hydrokit.report.sysid import dive_files
+
+    check_out_dir(out_dir)
+    write_all(dive_files(load_vehicle(vehicle), out_dir, n_runs, duration, seed, spread, amplitude, noise))
+    click.echo(f"wrote {n_runs} dive(s) of {duration:g} s and truth.json to {out_dir}", err=True)

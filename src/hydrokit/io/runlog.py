@@ -1,0 +1,241 @@
+"""Run files: one free-running dive of a vehicle for ``hydrokit sysid`` (frozen contract, issue #44).
+
+A CSV with a header. ``time`` in s, strictly increasing. Measured motion, any subset of
+
+    x, y, z          m, NED position
+    phi, theta, psi  rad, Euler angles (``psi`` may wrap at ±π: unwrapped on reading)
+    u, v, w          m/s, body velocity
+    p, q, r          rad/s, body angular rate
+
+where **an empty cell means no sample at that time** (sensors at their own rates in one file).
+Inputs are given on every row and held until the next row (zero-order hold): one column per
+thruster of the vehicle, named as the thruster, holding its command in the unit of that
+thruster's curve (table command, rev/s for a propeller, N for an ideal thruster), or a column
+``thrust:NAME`` with the measured thrust of thruster NAME in N. Columns matching none of these
+are ignored with a warning naming them. ``#`` lines are comments.
+
+Bad input is one :class:`~hydrokit.errors.InputError` line naming the file, the column and the
+value: time not increasing, a thruster with no column, a ``thrust:`` column naming no thruster,
+no motion channel, text where a number belongs, an input cell left empty.
+"""
+
+from __future__ import annotations
+
+import csv
+import io
+import math
+import os
+from collections.abc import Mapping, Sequence
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+
+from hydrokit.core.names import POSE_SYMBOLS, VELOCITY_SYMBOLS
+from hydrokit.core.validate import cut
+from hydrokit.errors import InputError
+from hydrokit.io.yamlfile import read_text
+
+#: the motion channels a run file may hold, in state order (m, rad, m/s, rad/s)
+MOTION_CHANNELS: tuple[str, ...] = (*POSE_SYMBOLS, *VELOCITY_SYMBOLS)
+#: prefix of a measured-thrust column (N)
+THRUST_PREFIX = "thrust:"
+#: the largest run file read, characters (a 90 s log at 50 Hz is about 1 MB)
+MAX_RUN_CHARS = 200_000_000
+
+
+@dataclass(frozen=True)
+class RunLog:
+    """One run file in SI units.
+
+    Attributes
+    ----------
+    name : str — the file's stem (used in reports)
+    source : str — the file path
+    time : (n,) — row times, s, strictly increasing
+    channels : mapping channel → (t, y): sample times (s) and values (m, rad, m/s, rad/s) of
+        every measured motion channel (``psi`` unwrapped)
+    commands : mapping thruster → (n,) — command on each row (curve unit), held to the next row
+    thrusts : mapping thruster → (n,) — measured thrust on each row, N (``thrust:NAME`` columns)
+    warnings : tuple of str — ignored columns and other oddities
+    """
+
+    name: str
+    source: str
+    time: np.ndarray
+    channels: Mapping[str, tuple[np.ndarray, np.ndarray]]
+    commands: Mapping[str, np.ndarray] = field(default_factory=dict)
+    thrusts: Mapping[str, np.ndarray] = field(default_factory=dict)
+    warnings: tuple[str, ...] = ()
+
+    @property
+    def duration(self) -> float:
+        """Length of the run, s."""
+        return float(self.time[-1] - self.time[0])
+
+    def describe(self) -> str:
+        """One line: name, duration and the channels with their sample counts."""
+        chans = ", ".join(f"{c} ({t.size})" for c, (t, _) in self.channels.items())
+        inputs = f"{len(self.commands)} command(s)" + (f", {len(self.thrusts)} thrust(s)" if self.thrusts else "")
+        return f"{self.name}: {self.duration:.1f} s, {self.time.size} rows; {chans}; {inputs}"
+
+
+def _cell(text: str, row: int, column: str, src: str) -> float:
+    try:
+        v = float(text)
+    except ValueError:
+        raise InputError(f"row {row}, column '{cut(column)}' = {cut(repr(text))}: expected a number", src) from None
+    if not math.isfinite(v):
+        raise InputError(f"row {row}, column '{cut(column)}' = {cut(text)}: expected a finite number", src)
+    return v
+
+
+def read_run(path: str | os.PathLike[str], thrusters: Sequence[str]) -> RunLog:
+    """Read a run file for a vehicle whose thrusters are named ``thrusters`` (file order).
+
+    Parameters
+    ----------
+    path : str or path — the CSV (module docstring)
+    thrusters : sequence of str — the vehicle's thruster names; each needs a command column
+        or a ``thrust:NAME`` column
+
+    Returns
+    -------
+    RunLog — SI; ``psi`` unwrapped
+
+    Raises
+    ------
+    InputError
+        One line naming the file, column and value (see the module docstring).
+    """
+    p = Path(path)
+    src = str(p)
+    text = read_text(p, "a run CSV")
+    if len(text) > MAX_RUN_CHARS:
+        raise InputError(f"file of {len(text)} characters; expected a run file under {MAX_RUN_CHARS}", src)
+    lines = [ln for ln in text.splitlines() if ln.strip() and not ln.lstrip().startswith("#")]
+    if len(lines) < 3:
+        raise InputError(f"{max(len(lines) - 1, 0)} data row(s); expected a header with 'time' and ≥ 2 rows", src)
+    rows = list(csv.reader(io.StringIO("\n".join(lines))))
+    header = [h.strip() for h in rows[0]]
+    dup = next((h for h in header if header.count(h) > 1), None)
+    if dup is not None:
+        raise InputError(f"column '{cut(dup)}' appears twice in the header; expected each column once", src)
+    if "time" not in header:
+        raise InputError(f"no column 'time' (header: {cut(', '.join(header))}); expected time in s", src)
+    names = set(thrusters)
+    motion = [c for c in header if c in MOTION_CHANNELS]
+    cmd_cols = [c for c in header if c in names]
+    thr_cols = [c for c in header if c.startswith(THRUST_PREFIX)]
+    for c in thr_cols:
+        if c[len(THRUST_PREFIX) :] not in names:
+            raise InputError(
+                f"column '{cut(c)}' names no thruster of the vehicle (thrusters: {cut(', '.join(thrusters))}); "
+                "expected thrust:NAME with NAME a thruster",
+                src,
+            )
+    ignored = [c for c in header if c != "time" and c not in motion and c not in cmd_cols and c not in thr_cols]
+    for name in thrusters:
+        both = name in cmd_cols and THRUST_PREFIX + name in thr_cols
+        if both:
+            raise InputError(f"thruster '{name}' has both a command column and a thrust column; expected one", src)
+        if name not in cmd_cols and THRUST_PREFIX + name not in thr_cols:
+            hint = f" (ignored columns: {cut(', '.join(ignored))})" if ignored else ""
+            raise InputError(
+                f"no column for thruster '{name}'{hint}; expected a column '{name}' (its command) or "
+                f"'{THRUST_PREFIX}{name}' (thrust, N)",
+                src,
+            )
+    if not motion:
+        raise InputError(
+            f"no motion channel (header: {cut(', '.join(header))}); expected at least one of {', '.join(MOTION_CHANNELS)}",
+            src,
+        )
+    idx = {c: header.index(c) for c in header}
+    n = len(rows) - 1
+    time = np.empty(n)
+    inputs = {c: np.empty(n) for c in (*cmd_cols, *thr_cols)}
+    values = {c: np.full(n, np.nan) for c in motion}
+    width = len(header)
+    for k, row in enumerate(rows[1:]):
+        line = k + 2
+        if len(row) < width:
+            row = row + [""] * (width - len(row))
+        time[k] = _cell(row[idx["time"]].strip(), line, "time", src)
+        for c, arr in inputs.items():
+            cell = row[idx[c]].strip()
+            if not cell:
+                raise InputError(f"row {line}, column '{cut(c)}' is empty; expected the input on every row", src)
+            arr[k] = _cell(cell, line, c, src)
+        for c, arr in values.items():
+            cell = row[idx[c]].strip()
+            if cell:
+                arr[k] = _cell(cell, line, c, src)
+    bad = np.nonzero(np.diff(time) <= 0)[0]
+    if bad.size:
+        i = int(bad[0])
+        raise InputError(
+            f"column 'time' = {time[i + 1]:.9g} at row {i + 3} after {time[i]:.9g}; expected strictly increasing times (s)",
+            src,
+        )
+    channels: dict[str, tuple[np.ndarray, np.ndarray]] = {}
+    for c in MOTION_CHANNELS:
+        if c not in values:
+            continue
+        ok = np.isfinite(values[c])
+        t, y = time[ok], values[c][ok]
+        if t.size == 0:
+            continue
+        if c == "psi":
+            y = np.unwrap(y)
+        channels[c] = (t, y)
+    if not channels:
+        raise InputError(f"motion column(s) {', '.join(motion)} hold no sample; expected measured motion", src)
+    warnings = (f"ignored column(s) matching nothing: {cut(', '.join(ignored))}",) if ignored else ()
+    return RunLog(
+        p.stem,
+        src,
+        time,
+        channels,
+        {c: inputs[c] for c in cmd_cols},
+        {c[len(THRUST_PREFIX) :]: inputs[c] for c in thr_cols},
+        warnings,
+    )
+
+
+def _num(v: float) -> str:
+    return "" if not math.isfinite(v) else f"{v:.9g}"
+
+
+def run_csv(
+    time: np.ndarray,
+    channels: Mapping[str, np.ndarray],
+    commands: Mapping[str, np.ndarray],
+    thrusts: Mapping[str, np.ndarray] | None = None,
+    comment: str = "",
+) -> str:
+    """CSV text of a run file.
+
+    Parameters
+    ----------
+    time : (n,) — s, strictly increasing
+    channels : channel → (n,) values on the rows, NaN where there is no sample (SI)
+    commands : thruster → (n,) commands (curve unit), held to the next row
+    thrusts : thruster → (n,) measured thrusts, N (written as ``thrust:NAME``)
+    comment : str — written as ``#`` lines at the top
+    """
+    unknown = [c for c in channels if c not in MOTION_CHANNELS]
+    if unknown:
+        raise InputError(f"channel(s) {', '.join(unknown)}: expected some of {', '.join(MOTION_CHANNELS)}")
+    cols = [c for c in MOTION_CHANNELS if c in channels]
+    data = [np.asarray(channels[c], float) for c in cols]
+    heads = ["time", *cols, *commands, *(THRUST_PREFIX + k for k in (thrusts or {}))]
+    data += [np.asarray(v, float) for v in commands.values()]
+    data += [np.asarray(v, float) for v in (thrusts or {}).values()]
+    out = io.StringIO()
+    for line in comment.splitlines():
+        out.write(f"# {line}\n")
+    out.write(",".join(heads) + "\n")
+    for k, t in enumerate(np.asarray(time, float)):
+        out.write(f"{t:.9g}," + ",".join(_num(float(a[k])) for a in data) + "\n")
+    return out.getvalue()

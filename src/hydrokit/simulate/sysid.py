@@ -1,0 +1,599 @@
+"""System identification from free-running logs (issue #44): a vehicle's added mass and
+damping from its own dives.
+
+1. **States** — every measured channel is smoothed (:mod:`hydrokit.simulate.sysid_smooth`: a
+   smoothing spline = RTS smoother of the kinematics, multi-rate) for the accelerations, the
+   initial states and the first noise levels.
+2. **Equation error** — weighted least squares on the equations of motion (affine in the
+   coefficients): the start of step 3 and an independent estimate.
+3. **Output error** — Levenberg–Marquardt on the open-loop simulation of every training run
+   from the recorded thruster commands (rotor lag and thrust curves of the vehicle file), each
+   channel weighted by its noise σ (re-estimated from the residuals until stable), with the
+   initial state of every run estimated alongside. Jacobians by forward differences, all
+   perturbed vehicles of a run integrated at once on the compiled batch RK4.
+4. **Covariance** — the Fisher information A = JᵀJ, made robust to coloured residuals by the
+   sandwich of :mod:`hydrokit.simulate.sysid_stats`; σ, correlations, the condition number,
+   pairs that move together, parameters with σ > |value|, values past a physical bound.
+5. **Validation** — held-out runs predicted open loop from their smoothed initial state;
+   NRMSE = RMS(measured − predicted) / standard deviation of the measured channel.
+
+The integrator check re-linearises at the estimate with half the step: the Gauss–Newton step
+it implies, in units of σ, is ``step_check`` (issue: must stay below 0.1).
+"""
+
+from __future__ import annotations
+
+import math
+import time as _time
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass, field
+from typing import Any
+
+import numpy as np
+
+from hydrokit._result import Result, jsonable
+from hydrokit.errors import InputError
+from hydrokit.model.vehicle import Vehicle
+from hydrokit.simulate.sysid_model import (
+    CHANNELS,
+    Parameter,
+    PreparedRun,
+    RunData,
+    free_parameters,
+    prepare_run,
+    simulate_run,
+    stack_packs,
+    take,
+    values_of,
+    with_values,
+)
+from hydrokit.simulate.sysid_stats import condition_number, correlation, sandwich, whiteness
+
+METHODS = ("output-error", "equation-error")
+#: |ρ| above which two parameters are said to move together
+CORRELATION_LIMIT = 0.95
+#: a parameter this many (scaled) units from its start has run away: the fit diverged
+RUNAWAY = 1e3
+
+
+@dataclass(frozen=True)
+class SysidResult(Result):
+    """An identified vehicle with its uncertainty and the evidence for it.
+
+    Attributes
+    ----------
+    vehicle : Vehicle — the base vehicle with the identified values
+    parameters : tuple of str — free names; units : tuple of str — their SI units
+    values, sigma, start, base : (p,) — estimate, standard error (coloured-residual sandwich),
+        start of the output-error fit (equation error), base-file value; SI
+    fisher_sigma : (p,) — σ from the Fisher information alone (white residuals), SI
+    covariance : (p, p) — SI²; correlation : (p, p); condition : float — of the Fisher
+        information scaled to unit diagonal
+    equation_error : dict — ``values`` and ``sigma`` of the equation-error fit (SI)
+    runs : list of dict — per run: name, holdout, duration (s), per channel residual RMS (SI),
+        whiteness (lag-1 ρ, fraction of lags outside the 95 % band), NRMSE (held-out runs)
+    noise : dict — channel → σ used as weight (SI)
+    predictions : list of dict — per run and channel: time (s), measured, simulated, low, high
+        (2.5/97.5 % of the Monte Carlo over the covariance)
+    messages : tuple of str — identifiability in plain words; warnings : tuple of str
+    method : str; iterations : int; step_check : float — max |Δθ|/σ on halving the step
+    timing : dict — seconds: total, simulation
+    """
+
+    vehicle: Vehicle
+    parameters: tuple[str, ...]
+    units: tuple[str, ...]
+    values: np.ndarray
+    sigma: np.ndarray
+    start: np.ndarray
+    base: np.ndarray
+    fisher_sigma: np.ndarray
+    covariance: np.ndarray
+    correlation: np.ndarray
+    condition: float
+    equation_error: dict[str, Any]
+    runs: list[dict[str, Any]]
+    noise: dict[str, float]
+    predictions: list[dict[str, Any]] = field(repr=False)
+    messages: tuple[str, ...] = ()
+    warnings: tuple[str, ...] = ()
+    method: str = "output-error"
+    iterations: int = 0
+    step_check: float = float("nan")
+    timing: dict[str, float] = field(default_factory=dict)
+
+    def interval(self, level: float = 0.95) -> np.ndarray:
+        """(p, 2) two-sided normal interval of each parameter (SI)."""
+        from scipy.stats import norm
+
+        z = float(norm.ppf(0.5 + level / 2))
+        return np.column_stack([self.values - z * self.sigma, self.values + z * self.sigma])
+
+    def to_dict(self) -> dict[str, Any]:
+        """sysid.json: parameters (value, σ, start, base, unit), correlation, condition number,
+        runs, noise, messages, warnings (SI)."""
+        params = [
+            {
+                "name": n,
+                "unit": u,
+                "value": v,
+                "sigma": s,
+                "fisher_sigma": fs,
+                "start": st,
+                "base": b,
+                "equation_error": {"value": ev, "sigma": es},
+                "identifiable": bool(math.isfinite(s) and s < abs(v)),
+            }
+            for n, u, v, s, fs, st, b, ev, es in zip(
+                self.parameters,
+                self.units,
+                self.values,
+                self.sigma,
+                self.fisher_sigma,
+                self.start,
+                self.base,
+                self.equation_error["values"],
+                self.equation_error["sigma"],
+            )
+        ]
+        return jsonable(
+            {
+                "method": self.method,
+                "parameters": params,
+                "covariance": self.covariance,
+                "correlation": self.correlation,
+                "condition_number": self.condition,
+                "runs": self.runs,
+                "noise": self.noise,
+                "iterations": self.iterations,
+                "step_check_sigma": self.step_check,
+                "messages": list(self.messages),
+                "warnings": list(self.warnings),
+                "timing_s": self.timing,
+            }
+        )
+
+    def table(self) -> tuple[list[str], list[list[Any]]]:
+        cols = ["parameter", "unit", "value", "sigma", "start", "base"]
+        rows = [
+            [n, u, float(v), float(s), float(st), float(b)]
+            for n, u, v, s, st, b in zip(self.parameters, self.units, self.values, self.sigma, self.start, self.base)
+        ]
+        return cols, rows
+
+    def summary_rows(self) -> list[tuple[str, Any]]:
+        rows: list[tuple[str, Any]] = [
+            (f"{n} ({u})", f"{v:.4g} ± {s:.2g}")
+            for n, u, v, s in zip(self.parameters, self.units, self.values, self.sigma)
+        ]
+        rows += [("condition number", self.condition), ("runs", len(self.runs))]
+        return rows + [("note", m) for m in self.messages]
+
+    def plot(self, ax: Any = None) -> Any:
+        """Measured vs simulated channels of the first run (or on ``ax``); returns the axes."""
+        from hydrokit.plot.sysid import prediction_axes
+
+        return prediction_axes(self.predictions[0], ax)
+
+
+# ------------------------------------------------------------------------------ the fit
+@dataclass
+class _Problem:
+    vehicle: Vehicle
+    params: list[Parameter]
+    preps: list[PreparedRun]
+    x0: list[np.ndarray]  # per run, 12 states
+    est: list[np.ndarray]  # per run, indices of the estimated initial states
+    sigma: dict[str, float]
+    sim_seconds: float = 0.0
+
+    @property
+    def n_nuisance(self) -> int:
+        return int(sum(e.size for e in self.est))
+
+    def weights(self, prep: PreparedRun) -> np.ndarray:
+        return np.concatenate([np.full(t.size, 1.0 / self.sigma[c]) for c, t in zip(prep.channels, prep.times)])
+
+    def unpack(self, z: np.ndarray) -> tuple[np.ndarray, list[np.ndarray]]:
+        p = len(self.params)
+        theta = z[:p]
+        x0s, k = [], p
+        for x, e in zip(self.x0, self.est):
+            xx = x.copy()
+            xx[e] = z[k : k + e.size]
+            x0s.append(xx)
+            k += e.size
+        return theta, x0s
+
+    def evaluate(self, z: np.ndarray, scale: np.ndarray, jac: bool) -> tuple[np.ndarray, np.ndarray | None, bool]:
+        """Weighted residuals (and Jacobian w.r.t. z/scale) of every run."""
+        p = len(self.params)
+        theta, x0s = self.unpack(z)
+        vehicles = [with_values(self.vehicle, self.params, theta)]
+        if jac:
+            for k in range(p):
+                th = theta.copy()
+                th[k] += 1e-6 * scale[k]
+                vehicles.append(with_values(self.vehicle, self.params, th))
+        packs = stack_packs(vehicles)
+        res, blocks = [], []
+        n_cols = p + self.n_nuisance
+        col = p
+        for prep, x0, e in zip(self.preps, x0s, self.est):
+            w = self.weights(prep)
+            index = list(range(p + 1)) + [0] * e.size if jac else [0]
+            X0 = np.repeat(x0[None], len(index), axis=0)
+            if jac:
+                for j, i in enumerate(e):
+                    X0[p + 1 + j, i] += 1e-6 * scale[col + j]
+            t = _time.perf_counter()
+            pred, done = simulate_run(prep, take(packs, index), X0)
+            self.sim_seconds += _time.perf_counter() - t
+            if done[0] < math.ceil(prep.duration / prep.dt - 1e-9) or not np.all(np.isfinite(pred[0])):
+                return np.empty(0), None, False
+            r = (prep.measured - pred[0]) * w
+            res.append(r)
+            if jac:
+                J = np.zeros((r.size, n_cols))
+                d = -(pred[1:] - pred[0]) * w / 1e-6  # per unit of the scaled variable
+                J[:, :p] = d[:p].T
+                J[:, col : col + e.size] = d[p:].T
+                blocks.append(J)
+            col += e.size
+        return np.concatenate(res), (np.concatenate(blocks) if jac else None), True
+
+
+def _series(problem: _Problem) -> list[tuple[int, int]]:
+    out, k = [], 0
+    for prep in problem.preps:
+        for t in prep.times:
+            out.append((k, k + t.size))
+            k += t.size
+    return out
+
+
+def _lm(
+    problem: _Problem,
+    z0: np.ndarray,
+    scale: np.ndarray,
+    max_iter: int,
+    progress: Callable[[int, float], None] | None,
+) -> tuple[np.ndarray, np.ndarray, np.ndarray, int]:
+    """Levenberg–Marquardt in the scaled variables z/scale; returns z, residuals, J, iterations."""
+    z = z0.copy()
+    r, J0, ok = problem.evaluate(z, scale, True)
+    if not ok or J0 is None:
+        raise _Diverged(z)
+    J: np.ndarray = J0
+    cost = float(r @ r)
+    lam = 1e-3
+    it = 0
+    for it in range(1, max_iter + 1):
+        g = J.T @ r
+        A = J.T @ J
+        d = np.sqrt(np.clip(np.diag(A), 1e-300, None))
+        accepted = False
+        while lam < 1e10:
+            step = -np.linalg.solve(A + lam * np.diag(d**2), g)
+            z_new = z + step * scale
+            r_new, J_new, ok = problem.evaluate(z_new, scale, True)
+            if ok and J_new is not None and float(r_new @ r_new) < cost:
+                accepted = True
+                break
+            lam *= 10.0
+        if not accepted or J_new is None:
+            break
+        lam = max(lam / 10.0, 1e-9)
+        rel = (cost - float(r_new @ r_new)) / cost
+        z, r, J, cost = z_new, r_new, J_new, float(r_new @ r_new)
+        p = len(problem.params)
+        if np.any(np.abs(z[:p] - z0[:p]) / scale[:p] > RUNAWAY):
+            raise _Diverged(z)
+        if progress:
+            progress(it, cost)
+        # converged: the step is far below the statistical resolution, or the cost is flat
+        with np.errstate(divide="ignore", invalid="ignore"):
+            res_sd = np.sqrt(np.clip(np.diag(np.linalg.pinv(A)), 0, None))
+        if rel < 1e-9 or np.all(np.abs(step) <= 1e-3 * np.maximum(res_sd, 1e-300)):
+            break
+    return z, r, J, it
+
+
+class _Diverged(Exception):
+    def __init__(self, z: np.ndarray):
+        self.z = z
+
+
+def _runaway_message(problem: _Problem, z: np.ndarray, z0: np.ndarray, scale: np.ndarray) -> str:
+    p = len(problem.params)
+    far = np.abs(z[:p] - z0[:p]) / scale[:p]
+    k = int(np.argmax(far))
+    return (
+        f"the output-error fit diverged: {problem.params[k].name} ran away to {z[k]:.4g} (start {z0[k]:.4g} "
+        f"{problem.params[k].unit}); expected runs that excite it, or fix it (leave it out of --free)"
+    )
+
+
+def _messages(
+    names: Sequence[str],
+    params: Sequence[Parameter],
+    values: np.ndarray,
+    sigma: np.ndarray,
+    corr: np.ndarray,
+    smoothed: Sequence[Any],
+) -> list[str]:
+    from hydrokit.core.names import DOF_NAMES, VELOCITY_SYMBOLS
+
+    out = []
+    p = len(names)
+    for i in range(p):
+        for j in range(i + 1, p):
+            if abs(corr[i, j]) <= CORRELATION_LIMIT:
+                continue
+            a, b = params[i], params[j]
+            head = f"{a.name} and {b.name} move together (ρ = {corr[i, j]:+.3f}): "
+            if a.dof == b.dof and "added_mass" in (a.kind, b.kind):
+                acc = np.concatenate([s.nu_dot[:, a.dof] for s in smoothed]) if smoothed else np.zeros(1)
+                out.append(
+                    head
+                    + f"these runs hold little {DOF_NAMES[a.dof]} acceleration (RMS {np.sqrt(np.mean(acc**2)):.3g}); "
+                    f"add sharp {DOF_NAMES[a.dof]} steps or a multi-sine above 0.3 Hz"
+                )
+            elif a.dof == b.dof:
+                vel = np.concatenate([s.states[:, 6 + a.dof] for s in smoothed]) if smoothed else np.zeros(1)
+                out.append(
+                    head + f"these runs reach only |{VELOCITY_SYMBOLS[a.dof]}| ≤ {np.max(np.abs(vel)):.3g}; "
+                    f"fly {DOF_NAMES[a.dof]} over a wider speed range"
+                )
+            elif a.kind == b.kind == "added_mass" and a.dof < 3 and b.dof < 3 and corr[i, j] > 0:
+                # the Munk moment (e.g. N = (Y_vdot − X_udot) u v) in the well-measured rotation
+                # fixes their difference; their sum rests on the translational accelerations
+                out.append(
+                    head + f"the rotation fixes their difference (Munk moment), not each; more {DOF_NAMES[a.dof]} "
+                    f"and {DOF_NAMES[b.dof]} acceleration (sharper steps, a faster DVL) separates them"
+                )
+            else:
+                out.append(
+                    head + f"excite {DOF_NAMES[a.dof]} and {DOF_NAMES[b.dof]} separately "
+                    "(other runs, or independent phases)"
+                )
+    for n, v, s in zip(names, values, sigma):
+        if not (s < abs(v)):
+            out.append(f"{n} = {v:.4g} with σ = {s:.3g} > |value|: not identifiable from these runs")
+    for prm, v in zip(params, values):
+        if prm.kind in ("added_mass", "linear_damping", "quadratic_damping") and v < 0:
+            out.append(
+                f"{prm.name} = {v:.4g} {prm.unit} is below its physical bound 0 (reported as fitted, not clipped)"
+            )
+    return out
+
+
+def _predict(
+    problem: _Problem,
+    theta: np.ndarray,
+    cov: np.ndarray,
+    x0s: Sequence[np.ndarray],
+    preps: Sequence[PreparedRun],
+    samples: int,
+    seed: int,
+) -> list[tuple[np.ndarray, np.ndarray, np.ndarray]]:
+    """Nominal prediction and 2.5/97.5 % Monte Carlo band per run (samples at the sample times)."""
+    rng = np.random.default_rng(seed)
+    draws = rng.multivariate_normal(theta, cov, size=samples, method="eigh") if samples else np.zeros((0, theta.size))
+    vehicles = [with_values(problem.vehicle, problem.params, th) for th in (theta, *draws)]
+    packs = stack_packs(vehicles)
+    out = []
+    for prep, x0 in zip(preps, x0s):
+        pred, _ = simulate_run(prep, packs, np.repeat(x0[None], len(vehicles), axis=0))
+        mc = pred[1:]
+        lo, hi = np.percentile(mc, [2.5, 97.5], axis=0) if samples else (pred[0], pred[0])
+        out.append((pred[0], lo, hi))
+    return out
+
+
+def identify(
+    vehicle: Vehicle,
+    runs: Sequence[RunData],
+    free: Sequence[str],
+    holdout: Sequence[RunData] = (),
+    method: str = "output-error",
+    dt: float = 0.01,
+    max_iter: int = 30,
+    check_step: bool = True,
+    samples: int = 40,
+    seed: int = 0,
+    progress: Callable[[int, float], None] | None = None,
+) -> SysidResult:
+    """Identify the ``free`` coefficients of ``vehicle`` from ``runs`` (module docstring).
+
+    Parameters
+    ----------
+    vehicle : Vehicle with thrusters — the base (every coefficient not free keeps its value)
+    runs : training runs (:class:`hydrokit.io.runlog.RunLog` or generated)
+    free : names (``added_mass.surge``, ``linear_damping.yaw``, ``terms.N_r|r|`` …)
+    holdout : runs used only for validation
+    method : "output-error" (default) or "equation-error"
+    dt : float — integration step, s
+    max_iter : int — Levenberg–Marquardt iterations per noise re-weighting
+    check_step : bool — re-linearise with dt/2 and report the implied change in σ units
+    samples : int — Monte Carlo draws from the covariance for the prediction band
+    seed : int — seed of those draws
+    progress : callable(iteration, cost) — called after every accepted iteration
+
+    Raises
+    ------
+    InputError
+        No thrusters, a free name that does not exist, fewer samples than parameters, a fit
+        that diverged (naming the parameter that ran away).
+    """
+    from hydrokit.simulate.sysid_smooth import equation_error, initial_noise, smooth_run, tau_on_grid
+
+    t_start = _time.perf_counter()
+    if method not in METHODS:
+        raise InputError(f"method {method!r}: expected one of {', '.join(METHODS)}")
+    if not runs:
+        raise InputError("no training run; expected at least one run file")
+    if vehicle.thrusters is None:
+        raise InputError(f"vehicle {vehicle.name!r} has no thrusters: the runs' commands cannot be turned into forces")
+    if not (math.isfinite(dt) and 0 < dt <= 0.1):
+        raise InputError(f"dt = {dt}: expected an integration step 0 < dt ≤ 0.1 s")
+    veh, params = free_parameters(vehicle, list(free))
+    p = len(params)
+    base = values_of(veh, params)
+    th = veh.thrusters
+    smoothed = [smooth_run(r) for r in runs]
+    n_samples = sum(sum(t.size for t, _ in r.channels.values()) for r in runs)
+    n_x0 = sum(int(np.sum(s.known[2:])) for s in smoothed)
+    if n_samples <= p + n_x0:
+        raise InputError(
+            f"{n_samples} samples for {p} parameters and {n_x0} initial states; expected more samples than parameters"
+        )
+    preps = [prepare_run(r, th, dt) for r in runs]
+    taus = [tau_on_grid(_abs_table(pr), s.time) for pr, s in zip(preps, smoothed)]
+    ee = equation_error(veh, params, smoothed, taus)
+    warnings: list[str] = []
+    for run in runs:
+        warnings += [f"{run.name}: {w}" for w in getattr(run, "warnings", ())]
+    # the initial state of every measured channel is estimated (x and y only matter when measured);
+    # an unmeasured velocity starts at 0 (said in the warnings)
+    est = [np.array([i for i in range(2, 12) if s.known[i]], dtype=int) for s in smoothed]
+    for run, s in zip(runs, smoothed):
+        unmeasured = [CHANNELS[i] for i in range(6, 12) if not s.known[i]]
+        if unmeasured:
+            warnings.append(f"{run.name}: {', '.join(unmeasured)} not measured: taken as 0 at the start")
+    problem = _Problem(veh, params, preps, [s.at(s.time[0]) for s in smoothed], est, dict(initial_noise(smoothed)))
+    for c in list(problem.sigma):
+        problem.sigma[c] = max(problem.sigma[c], 1e-9)
+    start = ee.values.copy()
+    bad = ~np.isfinite(start)
+    start[bad] = base[bad]
+    z0 = np.concatenate([start, *[x[e] for x, e in zip(problem.x0, est)]])
+    scale = np.concatenate([np.maximum(np.abs(start), np.maximum(np.abs(base), 1e-3)), np.full(z0.size - p, 0.01)])
+    iterations = 0
+    J: np.ndarray | None = None
+    if method == "output-error":
+        try:
+            problem.evaluate(z0, scale, False)[2] or _raise_diverged(z0)
+        except _Diverged:
+            start = base.copy()
+            z0[:p] = start
+        z = z0
+        try:
+            for _ in range(3):  # re-weight: σ of each channel from its residuals
+                z, r, _, its = _lm(problem, z, scale, max_iter, progress)
+                iterations += its
+                sig = _channel_rms(problem, r)
+                if all(abs(sig[c] / problem.sigma[c] - 1) < 0.02 for c in sig):
+                    break
+                problem.sigma.update(sig)
+            r, J, _ok = problem.evaluate(z, scale, True)
+        except _Diverged as exc:
+            raise InputError(_runaway_message(problem, exc.z, z0, scale)) from None
+    else:
+        z = z0.copy()
+        z[:p] = ee.values
+        r, J, _ok = problem.evaluate(z, scale, True)
+        if not _ok:
+            raise InputError(_runaway_message(problem, z, z0, scale))
+    assert J is not None
+    blocks = _series(problem)
+    cov_s = sandwich(J, r, blocks, first=p)
+    info = J.T @ J
+    fisher = np.linalg.pinv(info)[:p, :p]
+    S = np.diag(scale[:p])
+    theta = z[:p]
+    cov = S @ cov_s @ S if method == "output-error" else ee.covariance
+    sigma = np.sqrt(np.clip(np.diag(cov), 0, None))
+    fisher_sigma = scale[:p] * np.sqrt(np.clip(np.diag(fisher), 0, None))
+    if method == "equation-error":
+        theta = ee.values
+    corr = correlation(cov)
+    step_check = float("nan")
+    if check_step and method == "output-error":
+        half = _Problem(veh, params, [prepare_run(rr, th, dt / 2) for rr in runs], problem.x0, est, problem.sigma)
+        r2, J2, ok2 = half.evaluate(z, scale, True)
+        if ok2 and J2 is not None:
+            dz = -np.linalg.lstsq(J2, r2, rcond=None)[0][:p] * scale[:p]
+            step_check = float(np.max(np.abs(dz) / np.maximum(sigma, 1e-300)))
+        problem.sim_seconds += half.sim_seconds
+    _, x0s = problem.unpack(z)
+    fitted = _predict(problem, theta, cov, x0s, preps, samples, seed)
+    hold_preps = [prepare_run(r, th, dt) for r in holdout]
+    hold_x0 = [smooth_run(r).at(float(r.time[0])) for r in holdout]
+    held = _predict(problem, theta, cov, hold_x0, hold_preps, samples, seed + 1)
+    run_rows, predictions = [], []
+    for prep, (nom, lo, hi), is_hold in [(a, b, False) for a, b in zip(preps, fitted)] + [
+        (a, b, True) for a, b in zip(hold_preps, held)
+    ]:
+        row: dict[str, Any] = {"name": prep.name, "holdout": is_hold, "duration_s": prep.duration, "channels": {}}
+        k = 0
+        chans = {}
+        for c, t, y in zip(prep.channels, prep.times, prep.values):
+            e = y - nom[k : k + t.size]
+            entry = {"samples": int(t.size), "residual_rms": float(np.sqrt(np.mean(e**2))), "whiteness": whiteness(e)}
+            sd = float(np.std(y))
+            if is_hold:
+                entry["nrmse"] = float(np.sqrt(np.mean(e**2)) / sd) if sd > 0 else float("nan")
+            row["channels"][c] = entry
+            chans[c] = {
+                "time": t + prep.t0,
+                "measured": y,
+                "simulated": nom[k : k + t.size],
+                "low": lo[k : k + t.size],
+                "high": hi[k : k + t.size],
+            }
+            k += t.size
+        run_rows.append(row)
+        predictions.append({"name": prep.name, "holdout": is_hold, "channels": chans})
+    msgs = _messages([q.name for q in params], params, theta, sigma, corr, smoothed)
+    if math.isfinite(step_check) and step_check > 0.1:
+        warnings.append(
+            f"halving the integration step moves an estimate by {step_check:.2f} σ (> 0.1): use a smaller dt"
+        )
+    return SysidResult(
+        vehicle=with_values(veh, params, theta),
+        parameters=tuple(q.name for q in params),
+        units=tuple(q.unit for q in params),
+        values=theta,
+        sigma=sigma,
+        start=start,
+        base=base,
+        fisher_sigma=fisher_sigma,
+        covariance=cov,
+        correlation=corr,
+        condition=condition_number(info[:p, :p]),
+        equation_error={"values": ee.values, "sigma": ee.std},
+        runs=run_rows,
+        noise=dict(problem.sigma),
+        predictions=predictions,
+        messages=tuple(msgs),
+        warnings=tuple(warnings),
+        method=method,
+        iterations=iterations,
+        step_check=step_check,
+        timing={"total": _time.perf_counter() - t_start, "simulation": problem.sim_seconds},
+    )
+
+
+def _raise_diverged(z: np.ndarray) -> bool:
+    raise _Diverged(z)
+
+
+def _abs_table(prep: PreparedRun) -> np.ndarray:
+    tab = prep.table.copy()
+    tab[:, 0] += prep.t0
+    return tab
+
+
+def _channel_rms(problem: _Problem, r: np.ndarray) -> dict[str, float]:
+    """Unweighted residual RMS per channel over all runs (SI)."""
+    acc: dict[str, list[np.ndarray]] = {}
+    k = 0
+    for prep in problem.preps:
+        for c, t in zip(prep.channels, prep.times):
+            acc.setdefault(c, []).append(r[k : k + t.size] * problem.sigma[c])
+            k += t.size
+    return {c: max(float(np.sqrt(np.mean(np.concatenate(v) ** 2))), 1e-9) for c, v in acc.items()}
+
+
+__all__ = ["CHANNELS", "METHODS", "SysidResult", "identify"]

@@ -1,0 +1,350 @@
+"""The pieces of system identification that touch the vehicle model (issue #44).
+
+- free parameters named as the ``uncertainty:`` block names them (``added_mass.surge``,
+  ``linear_damping.yaw``, ``quadratic_damping.heave``) or ``terms.<term>`` for a derivative term
+  of the grammar (:mod:`hydrokit.model.terms`; added to the vehicle with value 0 when absent),
+  read from and written into a :class:`~hydrokit.model.vehicle.Vehicle`;
+- the generalised force of a run: thruster commands → rotor lag → thrust curve → τ = T f,
+  tabulated for the compiled integrator with the zero-order hold of the commands kept exact;
+- many vehicles over one run on the compiled batch RK4, read at each channel's sample times.
+
+Assumption: thrust curves are evaluated at zero advance speed (bollard pull). Table and ideal
+curves do not depend on it; for a propeller curve this is exact only at low speed, which is
+where pool dives are flown, and it keeps the thrust history independent of the parameters, so
+it is computed once per run.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Mapping, Sequence
+from dataclasses import dataclass, replace
+from typing import Any, Protocol
+
+import numpy as np
+
+from hydrokit.core.names import DOF_NAMES, POSE_SYMBOLS, VELOCITY_SYMBOLS
+from hydrokit.errors import InputError
+from hydrokit.model.dynamics import pack, stack_scal
+from hydrokit.model.terms import TermSet, parse_term
+from hydrokit.model.uncertainty import COEFFICIENTS, with_coefficients
+from hydrokit.model.vehicle import Vehicle
+
+#: state / channel order (m, rad, m/s, rad/s)
+CHANNELS: tuple[str, ...] = (*POSE_SYMBOLS, *VELOCITY_SYMBOLS)
+#: SI unit of each diagonal coefficient, translational and rotational DOF
+UNITS = {
+    "added_mass": ("kg", "kg·m²"),
+    "linear_damping": ("N·s/m", "N·m·s/rad"),
+    "quadratic_damping": ("N·s²/m²", "N·m·s²/rad²"),
+}
+
+
+class RunData(Protocol):
+    """What identification needs of a run (:class:`hydrokit.io.runlog.RunLog` has it)."""
+
+    @property
+    def name(self) -> str: ...
+    @property
+    def time(self) -> np.ndarray: ...
+    @property
+    def channels(self) -> Mapping[str, tuple[np.ndarray, np.ndarray]]: ...
+    @property
+    def commands(self) -> Mapping[str, np.ndarray]: ...
+    @property
+    def thrusts(self) -> Mapping[str, np.ndarray]: ...
+
+
+@dataclass(frozen=True)
+class Parameter:
+    """One free parameter.
+
+    name : str — ``added_mass.surge`` … or ``terms.N_r|r|``; kind : coefficient name or
+    ``"term"`` / ``"accel"``; dof : DOF index of the force it enters (0–5); index : term
+    position in the TermSet, or the acceleration's velocity index (accel); unit : SI unit
+    """
+
+    name: str
+    kind: str
+    dof: int
+    index: int
+    unit: str
+
+
+def _term_unit(term: Any) -> str:
+    force = "N" if term.dof < 3 else "N·m"
+    if term.acceleration is not None:
+        return f"{force}·s²/{'m' if term.acceleration < 3 else 'rad'}"
+    return f"{force} per product of velocities (SI)"
+
+
+def free_parameters(vehicle: Vehicle, names: Sequence[str], source: str = "--free") -> tuple[Vehicle, list[Parameter]]:
+    """Check free names and return the vehicle (with absent velocity terms added at 0) and the
+    parameters, in the order given.
+
+    Raises
+    ------
+    InputError
+        A name that is neither ``<coefficient>.<dof>`` nor ``terms.<term>``, or given twice.
+    """
+    from hydrokit.model.terms import MAX_FACTORS
+
+    out: list[Parameter] = []
+    terms = vehicle.terms
+    if not names:
+        raise InputError("no free parameter; expected names like added_mass.surge,linear_damping.yaw", source)
+    for raw in names:
+        name = str(raw).strip()
+        if any(p.name == name for p in out):
+            raise InputError(f"free parameter {name!r} is named twice; expected each once", source)
+        head, _, rest = name.partition(".")
+        if head in COEFFICIENTS and rest in DOF_NAMES:
+            i = DOF_NAMES.index(rest)
+            out.append(Parameter(name, head, i, i, UNITS[head][i >= 3]))
+            continue
+        if head != "terms" or not rest:
+            raise InputError(
+                f"free parameter {name[:80]!r} does not exist; expected '<coefficient>.<dof>' with coefficient one "
+                f"of {', '.join(COEFFICIENTS)} and dof one of {', '.join(DOF_NAMES)}, or 'terms.<term>' (e.g. terms.N_r|r|)",
+                source,
+            )
+        term = parse_term(rest, f"{source} {name}")
+        if term.acceleration is not None:
+            out.append(Parameter(name, "accel", term.dof, term.acceleration, _term_unit(term)))
+            continue
+        if term.name not in terms.names:
+            k = len(terms.names)
+            kinds = np.zeros((1, MAX_FACTORS), np.int64)
+            idx = -np.ones((1, MAX_FACTORS, 3), np.int64)
+            built = TermSet.build([(term, 0.0)])
+            kinds[:], idx[:] = built.kinds, built.idx
+            terms = TermSet(
+                (*terms.names, term.name),
+                np.concatenate([terms.dof, built.dof]),
+                np.concatenate([terms.coef, [0.0]]),
+                np.concatenate([terms.kinds, kinds]),
+                np.concatenate([terms.idx, idx]),
+            )
+        else:
+            k = terms.names.index(term.name)
+        out.append(Parameter(name, "term", term.dof, k, _term_unit(term)))
+    return replace(vehicle, terms=terms), out
+
+
+def values_of(vehicle: Vehicle, params: Sequence[Parameter]) -> np.ndarray:
+    """The vehicle's current value of each parameter (SI)."""
+    out = np.empty(len(params))
+    for k, p in enumerate(params):
+        if p.kind == "added_mass":
+            out[k] = vehicle.M_A[p.dof, p.dof]
+        elif p.kind == "linear_damping":
+            out[k] = vehicle.D_L[p.dof, p.dof]
+        elif p.kind == "quadratic_damping":
+            out[k] = vehicle.D_Q[p.dof]
+        elif p.kind == "accel":
+            out[k] = -vehicle.M_A[p.dof, p.index]  # SNAME: X_udot = −M_A[0, 0]
+        else:
+            out[k] = vehicle.terms.coef[p.index]
+    return out
+
+
+def with_values(vehicle: Vehicle, params: Sequence[Parameter], values: Any) -> Vehicle:
+    """``vehicle`` with each parameter set to ``values`` (SI); nothing else changes."""
+    vals = np.asarray(values, float)
+    diag = {p.name: float(v) for p, v in zip(params, vals) if p.kind in COEFFICIENTS}
+    v = with_coefficients(vehicle, diag) if diag else vehicle
+    accel = [(p, float(x)) for p, x in zip(params, vals) if p.kind == "accel"]
+    if accel:
+        M_A = v.M_A.copy()
+        for p, x in accel:
+            M_A[p.dof, p.index] = -x
+        v = replace(v, M_A=M_A)
+    terms = [(p, float(x)) for p, x in zip(params, vals) if p.kind == "term"]
+    if terms:
+        coef = v.terms.coef.copy()
+        for p, x in terms:
+            coef[p.index] = x
+        v = replace(v, terms=replace(v.terms, coef=coef))
+    return v
+
+
+# ------------------------------------------------------------------------------ inputs
+def force_table(run: RunData, thrusters: Any, dt: float) -> np.ndarray:
+    """The generalised thruster force of a run as rows [t, X, Y, Z, K, M, N] (s, N, N·m).
+
+    Each command row is held until the next row (zero-order hold); the rotor follows it with
+    its first-order lag τ ċ = c_target − c (:meth:`~hydrokit.model.thrusters.ThrusterSet.rotor_step`,
+    exact over each interval), starting settled at the first command; the thrust is the curve
+    at the lagged command, within the thrust limits; τ = T f with T the configuration matrix.
+    Measured thrust columns (``thrust:NAME``) are held as given. Nodes lie every ``dt/2`` from
+    the first row (the RK4 stages of step ``dt``, where the table is then exact) and at every
+    row where an input changes, doubled there (t and t + 1e-6·dt) so that the linear
+    interpolation of the compiled integrator reproduces a jump exactly.
+    """
+    t = np.asarray(run.time, float)
+    names = thrusters.names
+    m = len(names)
+    cmd = np.zeros((t.size, m))
+    measured = np.zeros(m, bool)
+    for i, n in enumerate(names):
+        if n in run.commands:
+            cmd[:, i] = run.commands[n]
+        elif n in run.thrusts:
+            cmd[:, i] = run.thrusts[n]
+            measured[i] = True
+        else:
+            raise InputError(f"run {run.name}: no input for thruster '{n}'")
+    change = np.nonzero(np.any(np.diff(cmd, axis=0) != 0, axis=1))[0] + 1
+    eps = 1e-6 * dt
+    # nodes every dt/2 from the first row: RK4 evaluates the force only there, where linear
+    # interpolation between nodes returns the exact node value
+    grid = t[0] + 0.5 * dt * np.arange(int(np.floor((t[-1] - t[0]) / (0.5 * dt) + 1e-9)) + 1)
+    nodes = np.unique(np.concatenate([grid, t[change], t[change] + eps, t[-1:]]))
+    seg = np.clip(np.searchsorted(t, nodes, side="right") - 1, 0, t.size - 1)
+    # the rotor state at each row (exact over each held interval), then at every node from the
+    # row before it
+    c_row = np.empty((t.size, m))
+    c_row[0] = np.clip(cmd[0], thrusters.command_min, thrusters.command_max)
+    for k in range(1, t.size):
+        c_row[k] = thrusters.rotor_step(c_row[k - 1], cmd[k - 1], float(t[k] - t[k - 1]))
+    # a node exactly at a row takes the rotor state arriving there (held target of the row before)
+    at_row = np.isin(nodes, t)
+    c = thrusters.rotor_step(c_row[seg], cmd[seg], (nodes - t[seg])[:, None])
+    c[at_row] = c_row[seg[at_row]]
+    f = np.empty_like(c)
+    zero = np.zeros(nodes.size)
+    for i, cv in enumerate(thrusters.curves):
+        if measured[i]:
+            f[:, i] = cmd[seg, i]
+            # the held thrust changes at the row itself: node t_k keeps the old value
+            jump = np.isin(nodes, t[change])
+            f[jump, i] = cmd[np.maximum(seg[jump] - 1, 0), i]
+            continue
+        ci = np.clip(c[:, i], thrusters.command_min[i], thrusters.command_max[i])
+        f[:, i] = np.clip(type(cv).thrust_batch([cv] * nodes.size, ci, zero), thrusters.f_min[i], thrusters.f_max[i])
+    tau = f @ thrusters.configuration_matrix().T
+    return np.column_stack([nodes, tau])
+
+
+# ------------------------------------------------------------------------------ simulation
+@dataclass(frozen=True)
+class PreparedRun:
+    """A run ready for the batch integrator.
+
+    name : str; t0 : float — s; duration : float — s; table : (k, 7) force rows, time from t0;
+    channels : tuple of channel names; times : per channel sample times from t0 (s);
+    values : per channel measured values (SI); dt : float — integration step, s
+    """
+
+    name: str
+    t0: float
+    duration: float
+    table: np.ndarray
+    channels: tuple[str, ...]
+    times: tuple[np.ndarray, ...]
+    values: tuple[np.ndarray, ...]
+    dt: float
+
+    @property
+    def n_samples(self) -> int:
+        return int(sum(t.size for t in self.times))
+
+    @property
+    def measured(self) -> np.ndarray:
+        """All measured values, channel after channel (SI)."""
+        return np.concatenate(self.values)
+
+
+def prepare_run(
+    run: RunData, thrusters: Any, dt: float, t_start: float | None = None, t_end: float | None = None
+) -> PreparedRun:
+    """Force table and samples of ``run`` (optionally its window [t_start, t_end], s)."""
+    t = np.asarray(run.time, float)
+    a = float(t[0] if t_start is None else t_start)
+    b = float(t[-1] if t_end is None else t_end)
+    table = force_table(run, thrusters, dt)
+    table = table[(table[:, 0] >= a - dt) & (table[:, 0] <= b + dt)].copy()
+    table[:, 0] -= a
+    chans, times, values = [], [], []
+    for c in CHANNELS:
+        if c not in run.channels:
+            continue
+        ts, ys = run.channels[c]
+        keep = (ts >= a) & (ts <= b)
+        if np.any(keep):
+            chans.append(c)
+            times.append(np.asarray(ts[keep], float) - a)
+            values.append(np.asarray(ys[keep], float))
+    return PreparedRun(run.name, a, b - a, table, tuple(chans), tuple(times), tuple(values), dt)
+
+
+def stack_packs(vehicles: Sequence[Vehicle]) -> dict[str, Any]:
+    """The compiled integrator's per-vehicle arrays for ``vehicles`` (one term structure)."""
+    packs = [pack(v) for v in vehicles]
+
+    def stack(name: str) -> np.ndarray:
+        return np.ascontiguousarray(np.stack([getattr(p, name) for p in packs]))
+
+    return {
+        "Minv": stack("Minv"),
+        "Mc": stack("Mc"),
+        "DL": stack("DL"),
+        "DQ": stack("DQ"),
+        "scal": stack_scal([p.scal for p in packs]),
+        "t_dof": packs[0].t_dof,
+        "t_coef": stack("t_coef"),
+        "t_kind": packs[0].t_kind,
+        "t_idx": packs[0].t_idx,
+    }
+
+
+def take(packs: Mapping[str, Any], index: Sequence[int]) -> dict[str, Any]:
+    """The stacked arrays of the vehicles ``index`` (repeats allowed)."""
+    ix = np.asarray(index, int)
+    shared = ("t_dof", "t_kind", "t_idx")
+    return {k: (v if k in shared else np.ascontiguousarray(v[ix])) for k, v in packs.items()}
+
+
+def simulate_run(prep: PreparedRun, packs: Mapping[str, Any], x0: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Every vehicle of ``packs`` over ``prep`` from its initial state ``x0`` (nv, 12).
+
+    Returns the predictions (nv, n_samples) at the sample times, channel after channel, linearly
+    interpolated between integration steps, and the steps each vehicle took (fewer: it diverged).
+    """
+    from hydrokit.simulate.compiled import rk4_batch
+
+    x0 = np.ascontiguousarray(x0, dtype=float)
+    nv = x0.shape[0]
+    dt = prep.dt
+    n_steps = max(1, int(math.ceil(prep.duration / dt - 1e-9)))
+    out = np.full((nv, n_steps + 1, 12), np.nan)
+    done = np.empty(nv, dtype=np.int64)
+    tab = np.ascontiguousarray(np.broadcast_to(prep.table, (nv, *prep.table.shape)))
+    rk4_batch(
+        x0,
+        float(dt),
+        n_steps,
+        1,
+        False,
+        tab,
+        np.zeros((1, 4)),
+        packs["Minv"],
+        packs["Mc"],
+        packs["DL"],
+        packs["DQ"],
+        packs["scal"],
+        packs["t_dof"],
+        packs["t_coef"],
+        packs["t_kind"],
+        packs["t_idx"],
+        out,
+        done,
+    )
+    pred = []
+    for c, ts in zip(prep.channels, prep.times):
+        pos = ts / dt
+        i0 = np.clip(np.floor(pos).astype(int), 0, n_steps - 1)
+        w = pos - i0
+        col = out[:, :, CHANNELS.index(c)]
+        pred.append(col[:, i0] * (1 - w) + col[:, i0 + 1] * w)
+    return np.concatenate(pred, axis=1), done

@@ -1,0 +1,353 @@
+"""State reconstruction and the equation-error fit of system identification (issue #44).
+
+**Smoother.** Each measured channel is smoothed by a Kalman filter and Rauch–Tung–Striebel
+smoother of the kinematic model "white jerk" (state: value, rate, acceleration; Bar-Shalom et
+al. 2001 §6.2) over the union of its own sample times and a uniform grid, so multi-rate
+channels need no common grid and give their derivative (the accelerations ν̇ the
+equation-error fit needs). The jerk intensity and the measurement noise are chosen by maximum
+likelihood on a grid; that noise σ is each channel's first weight.
+
+**Equation error.** (M_RB + M_A) ν̇ = τ − C(ν) ν − D(ν) ν + τ_terms − g(η) is affine in every
+free coefficient (added mass enters M and the Coriolis matrix linearly), so the equation
+residual e(θ) = M(θ) ν̇ − τ − f(x; θ) has exact regressor columns e(θ + δ e_k) − e(θ), computed
+with the compiled right-hand side itself (no second copy of the model): f = M ν̇₀ with ν̇₀ the
+compiled :func:`~hydrokit.simulate.compiled.deriv` at τ = 0. Weighted least squares per DOF
+equation (weights from the residual RMS of a first pass) gives the start of the output-error
+fit and an independent estimate.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Mapping, Sequence
+from dataclasses import dataclass
+
+import numba
+import numpy as np
+
+from hydrokit.errors import InputError
+from hydrokit.model.vehicle import Vehicle
+from hydrokit.simulate import compiled as _compiled
+from hydrokit.simulate.compiled import deriv
+from hydrokit.simulate.sysid_model import CHANNELS, Parameter, RunData, stack_packs, values_of, with_values
+
+
+@dataclass(frozen=True)
+class Smoothed:
+    """A run's reconstructed states on a uniform grid.
+
+    time : (n,) — s; states : (n, 12) — η, ν (m, rad, m/s, rad/s; 0 where never measured);
+    nu_dot : (n, 6) — body accelerations, m/s², rad/s²; known : (12,) bool — state measured
+    (directly or through the Euler-angle kinematics); noise : channel → residual RMS (SI)
+    """
+
+    time: np.ndarray
+    states: np.ndarray
+    nu_dot: np.ndarray
+    known: np.ndarray
+    noise: dict[str, float]
+
+    def at(self, t: float) -> np.ndarray:
+        """The 12 states at time ``t`` (linear between grid points)."""
+        return np.array([np.interp(t, self.time, self.states[:, k]) for k in range(12)])
+
+
+@numba.njit(cache=True)
+def _rts(times, values, measured, q, r, smooth, out):  # noqa: ANN001, ANN202
+    """Kalman filter (and RTS smoother if ``smooth``) of the white-jerk kinematic model
+    s = [y, ẏ, ÿ] over ``times`` (values used where ``measured``); returns the log-likelihood,
+    writes the smoothed [y, ẏ, ÿ] rows into ``out``."""
+    n = times.shape[0]
+    m_f = np.zeros((n, 3))
+    P_f = np.zeros((n, 3, 3))
+    m_p = np.zeros((n, 3))
+    P_p = np.zeros((n, 3, 3))
+    F_all = np.zeros((n, 3, 3))
+    first = 0
+    while first < n and not measured[first]:
+        first += 1
+    m = np.zeros(3)
+    m[0] = values[first] if first < n else 0.0
+    P = np.zeros((3, 3))
+    P[0, 0] = 10.0 * r
+    P[1, 1] = 1e2
+    P[2, 2] = 1e4
+    ll = 0.0
+    for i in range(n):
+        if i > 0:
+            h = times[i] - times[i - 1]
+            F = np.eye(3)
+            F[0, 1] = h
+            F[0, 2] = 0.5 * h * h
+            F[1, 2] = h
+            Q = np.empty((3, 3))
+            Q[0, 0] = h**5 / 20.0
+            Q[0, 1] = Q[1, 0] = h**4 / 8.0
+            Q[0, 2] = Q[2, 0] = h**3 / 6.0
+            Q[1, 1] = h**3 / 3.0
+            Q[1, 2] = Q[2, 1] = h**2 / 2.0
+            Q[2, 2] = h
+            m = F @ m
+            P = F @ P @ F.T + q * Q
+            F_all[i] = F
+        m_p[i] = m
+        P_p[i] = P
+        if measured[i]:
+            S = P[0, 0] + r
+            v = values[i] - m[0]
+            K = P[:, 0] / S
+            m = m + K * v
+            P = P - np.outer(K, P[0, :])
+            ll += -0.5 * (math.log(2 * math.pi * S) + v * v / S)
+        m_f[i] = m
+        P_f[i] = P
+    if smooth:
+        ms = m_f[n - 1].copy()
+        Ps = P_f[n - 1].copy()
+        out[n - 1] = ms
+        for i in range(n - 2, -1, -1):
+            F = F_all[i + 1]
+            C = P_f[i] @ F.T @ np.linalg.inv(P_p[i + 1])
+            ms = m_f[i] + C @ (ms - m_p[i + 1])
+            Ps = P_f[i] + C @ (Ps - P_p[i + 1]) @ C.T
+            out[i] = ms
+    return ll
+
+
+#: rows on which a channel's noise and jerk intensity are estimated
+ML_SAMPLES = 1500
+
+
+class _Channel:
+    """Smoothed channel: value and derivative at the grid, noise σ (ML)."""
+
+    def __init__(self, ts: np.ndarray, ys: np.ndarray, grid: np.ndarray):
+        times = np.union1d(ts, grid)
+        measured = np.isin(times, ts)
+        values = np.zeros(times.size)
+        values[measured] = ys
+        d3 = np.diff(ys, 3) if ys.size > 3 else np.diff(ys)
+        r0 = max(float(np.var(d3)) / 20.0, 1e-16)
+        span = max(float(np.var(ys)), r0)
+        # the noise and jerk intensity by maximum likelihood on a middle stretch (at most
+        # ML_SAMPLES rows): a coarse grid in q, then a finer one about the best
+        a = int(max(0, (times.size - ML_SAMPLES) // 2))
+        part = slice(a, a + ML_SAMPLES)
+        tp, vp, mp = times[part], values[part], measured[part]
+        scratch = np.zeros((tp.size, 3))
+        best = (-np.inf, r0, span)
+        for rf in (0.25, 1.0, 4.0):
+            for lq in (-6.0, -3.0, 0.0, 3.0, 6.0):
+                ll = _rts(tp, vp, mp, span * 10.0**lq, rf * r0, False, scratch)
+                if ll > best[0]:
+                    best = (ll, rf * r0, span * 10.0**lq)
+        for rf in (0.5, 0.7, 1.0, 1.4, 2.0):
+            for lf in (-1.0, -0.5, 0.0, 0.5, 1.0):
+                ll = _rts(tp, vp, mp, best[2] * 10.0**lf, rf * best[1], False, scratch)
+                if ll > best[0]:
+                    best = (ll, rf * best[1], best[2] * 10.0**lf)
+        out = np.zeros((times.size, 3))
+        _rts(times, values, measured, best[2], best[1], True, out)
+        at = np.searchsorted(times, grid)
+        self.value = out[at, 0]
+        self.rate = out[at, 1]
+        self.sigma = math.sqrt(best[1])
+
+
+def smooth_run(run: RunData, dt: float = 0.02) -> Smoothed:
+    """Smooth every channel of ``run`` onto a grid of step ``dt`` (s); see module docstring.
+
+    Angular rates missing from the file are rebuilt from the smoothed Euler angles
+    (ν₂ = T(Θ)⁻¹ Θ̇, Fossen eq. 2.29); a linear velocity missing stays unknown (0).
+    """
+    from hydrokit.core.kinematics import euler_rate_matrix
+
+    t0, t1 = float(run.time[0]), float(run.time[-1])
+    grid = np.arange(t0, t1 + 0.5 * dt, dt)
+    grid = grid[grid <= t1 + 1e-9]
+    states = np.zeros((grid.size, 12))
+    deriv = np.zeros((grid.size, 12))
+    known = np.zeros(12, bool)
+    noise: dict[str, float] = {}
+    for k, c in enumerate(CHANNELS):
+        if c not in run.channels:
+            continue
+        ts, ys = run.channels[c]
+        if ts.size < 2:
+            continue
+        ch = _Channel(np.asarray(ts, float), np.asarray(ys, float), grid)
+        noise[c] = ch.sigma
+        states[:, k] = ch.value
+        deriv[:, k] = ch.rate
+        known[k] = True
+    if known[3:6].all() and not known[9:12].all():
+        for i in range(grid.size):
+            rates = np.linalg.solve(euler_rate_matrix(states[i, 3], states[i, 4]), deriv[i, 3:6])
+            for j in range(3):
+                if not known[9 + j]:
+                    states[i, 9 + j] = rates[j]
+        missing = ~known[9:12]
+        for jj in np.nonzero(missing)[0]:
+            deriv[:, 9 + jj] = np.gradient(states[:, 9 + jj], grid)
+        known[9:12] = True
+    return Smoothed(grid, states, deriv[:, 6:12], known, noise)
+
+
+#: scratch length of the compiled right-hand side
+_BUF = _compiled.BUF_SIZE
+
+
+@numba.njit(cache=True)
+def _accelerations(X, Minv, Mc, DL, DQ, scal, t_dof, t_coef, t_kind, t_idx, out):  # noqa: ANN001, ANN202
+    """ν̇ at τ = 0 for every vehicle k and state row i (the compiled right-hand side)."""
+    tau = np.zeros((1, 7))
+    cur = np.zeros((1, 4))
+    buf = np.empty(_BUF)
+    xd = np.empty(12)
+    for k in range(Minv.shape[0]):
+        for i in range(X.shape[0]):
+            deriv(
+                0.0,
+                X[i],
+                False,
+                tau,
+                cur,
+                Minv[k],
+                Mc[k],
+                DL[k],
+                DQ[k],
+                scal[k],
+                t_dof,
+                t_coef[k],
+                t_kind,
+                t_idx,
+                buf,
+                xd,
+            )
+            for j in range(6):
+                out[k, i, j] = xd[6 + j]
+
+
+def model_force(vehicles: Sequence[Vehicle], states: np.ndarray) -> np.ndarray:
+    """f(x) = τ-free right-hand side force (N, N·m) of each vehicle at each state row: (nv, n, 6)."""
+    p = stack_packs(vehicles)
+    out = np.empty((len(vehicles), states.shape[0], 6))
+    _accelerations(
+        np.ascontiguousarray(states, float),
+        p["Minv"],
+        p["Mc"],
+        p["DL"],
+        p["DQ"],
+        p["scal"],
+        p["t_dof"],
+        p["t_coef"],
+        p["t_kind"],
+        p["t_idx"],
+        out,
+    )
+    return np.einsum("kij,knj->kni", np.stack([v.M for v in vehicles]), out)
+
+
+@dataclass(frozen=True)
+class EquationError:
+    """Equation-error estimate.
+
+    values : (p,) — SI; covariance : (p, p) — SI², inflated for coloured residuals;
+    dofs : tuple of int — the equations used; rms : (6,) — equation residual RMS, N or N·m
+    """
+
+    values: np.ndarray
+    covariance: np.ndarray
+    dofs: tuple[int, ...]
+    rms: np.ndarray
+
+    @property
+    def std(self) -> np.ndarray:
+        return np.sqrt(np.clip(np.diag(self.covariance), 0, None))
+
+
+def equation_error(
+    vehicle: Vehicle,
+    params: Sequence[Parameter],
+    smoothed: Sequence[Smoothed],
+    taus: Sequence[np.ndarray],
+    trim: float = 1.0,
+) -> EquationError:
+    """Weighted least squares on the equations of motion (module docstring).
+
+    Parameters
+    ----------
+    vehicle : Vehicle — the base (values of every parameter not free)
+    params : the free parameters
+    smoothed : per run, its :class:`Smoothed` states
+    taus : per run, (n, 6) thruster force on the smoothed grid, N and N·m
+    trim : float — s cut from each end of a run (at most a tenth of it; smoother ends are the
+        least certain)
+    """
+    from hydrokit.simulate.sysid_stats import sandwich
+
+    p = len(params)
+    theta0 = values_of(vehicle, params)
+    step = np.maximum(np.abs(theta0), 1.0)
+    vehicles = [with_values(vehicle, params, theta0)]
+    for k in range(p):
+        th = theta0.copy()
+        th[k] += step[k]
+        vehicles.append(with_values(vehicle, params, th))
+    Ms = np.stack([v.M for v in vehicles])
+    rows_e: list[np.ndarray] = []
+    rows_phi: list[np.ndarray] = []
+    for sm, tau in zip(smoothed, taus):
+        cut = min(trim, 0.1 * float(sm.time[-1] - sm.time[0]))
+        keep = (sm.time >= sm.time[0] + cut) & (sm.time <= sm.time[-1] - cut)
+        if not np.any(keep):
+            keep[:] = True
+        f = model_force(vehicles, sm.states[keep])  # (p+1, n, 6)
+        e = np.einsum("kij,nj->kni", Ms, sm.nu_dot[keep]) - tau[keep][None] - f
+        rows_e.append(e[0])
+        rows_phi.append(np.moveaxis((e[1:] - e[0]) / step[:, None, None], 0, -1))  # (n, 6, p)
+    E = np.concatenate(rows_e)  # (N, 6)
+    Phi = np.concatenate(rows_phi)  # (N, 6, p)
+    dofs = tuple(int(d) for d in range(6) if np.any(Phi[:, d, :] != 0))
+    if not dofs:
+        raise InputError("no free parameter enters the equations of motion")
+    n_rows = E.shape[0] * len(dofs)
+    if n_rows <= p:
+        raise InputError(f"{n_rows} equation samples for {p} free parameters; expected more samples than parameters")
+    weights = np.array([1.0 / max(np.sqrt(np.mean(E[:, d] ** 2)), 1e-12) for d in range(6)])
+    for _ in range(2):
+        A = np.concatenate([Phi[:, d, :] * weights[d] for d in dofs])
+        b = -np.concatenate([E[:, d] * weights[d] for d in dofs])
+        delta, *_ = np.linalg.lstsq(A, b, rcond=None)
+        res = np.stack([E[:, d] + Phi[:, d, :] @ delta for d in range(6)], axis=1)
+        rms = np.sqrt(np.mean(res**2, axis=0))
+        weights = 1.0 / np.maximum(rms, 1e-12)
+    A = np.concatenate([Phi[:, d, :] * weights[d] for d in dofs])
+    r = np.concatenate([res[:, d] * weights[d] for d in dofs])
+    lengths = [len(sm_e) for sm_e in rows_e]
+    # residual series: one per DOF and run, in the stacking order of A
+    blocks = []
+    offset = 0
+    for _d in dofs:
+        start = 0
+        for n in lengths:
+            blocks.append((offset + start, offset + start + n))
+            start += n
+        offset += E.shape[0]
+    cov = sandwich(A, r, blocks)
+    return EquationError(theta0 + delta, cov, dofs, rms)
+
+
+def tau_on_grid(table: np.ndarray, time: np.ndarray) -> np.ndarray:
+    """The force table (rows [t, X..N]) interpolated at ``time`` (s): (n, 6)."""
+    return np.stack([np.interp(time, table[:, 0], table[:, 1 + j]) for j in range(6)], axis=1)
+
+
+def initial_noise(smoothed: Sequence[Smoothed]) -> Mapping[str, float]:
+    """Per channel, the RMS smoother residual over all runs (SI): the first weights."""
+    out: dict[str, list[float]] = {}
+    for sm in smoothed:
+        for c, v in sm.noise.items():
+            if np.isfinite(v):
+                out.setdefault(c, []).append(v)
+    return {c: float(np.sqrt(np.mean(np.square(v)))) for c, v in out.items()}

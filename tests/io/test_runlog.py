@@ -1,0 +1,76 @@
+"""Run files of ``hydrokit sysid`` (issue #44): the frozen CSV contract and its bad inputs."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from hydrokit.errors import InputError
+from hydrokit.io.runlog import read_run, run_csv
+
+THRUSTERS = ("A", "B")
+
+
+def _write(tmp_path: Path, text: str, name: str = "run.csv") -> Path:
+    p = tmp_path / name
+    p.write_text(text)
+    return p
+
+
+def test_round_trip_keeps_gaps_rates_and_unwraps_psi(tmp_path: Path) -> None:
+    # a yaw angle turning through +π: the file holds it wrapped, the reader gives the continuous
+    # angle back (independent: the series the file was made from)
+    t = np.arange(0.0, 2.0, 0.02)
+    psi_true = 3.0 + 0.8 * t
+    z = np.full(t.size, np.nan)
+    z[::5] = 1.0 + 0.1 * t[::5]  # depth at 10 Hz: empty cells between
+    text = run_csv(t, {"psi": np.angle(np.exp(1j * psi_true)), "z": z}, {"A": np.sin(t), "B": np.cos(t)})
+    run = read_run(_write(tmp_path, text), THRUSTERS)
+    ts, ys = run.channels["psi"]
+    np.testing.assert_allclose(ys, psi_true, atol=1e-8)  # 9 significant digits in the file
+    tz, yz = run.channels["z"]
+    assert tz.size == t[::5].size  # only the sampled rows: an empty cell is no sample
+    np.testing.assert_allclose(yz, z[::5], atol=1e-8)
+    np.testing.assert_allclose(run.commands["A"], np.sin(t), atol=1e-8)
+    assert run.duration == pytest.approx(t[-1] - t[0])
+    assert "psi (100)" in run.describe()
+
+
+def test_measured_thrust_column_and_ignored_column_warned(tmp_path: Path) -> None:
+    text = "time,u,A,thrust:B,battery\n0,0.1,0.2,3.0,16\n0.1,,0.2,3.5,16\n0.2,0.12,0.3,4,15.9\n"
+    run = read_run(_write(tmp_path, text), THRUSTERS)
+    np.testing.assert_allclose(run.thrusts["B"], [3.0, 3.5, 4.0])
+    assert run.channels["u"][0].tolist() == [0.0, 0.2]
+    assert run.warnings == ("ignored column(s) matching nothing: battery",)
+
+
+@pytest.mark.parametrize(
+    ("text", "match"),
+    [
+        ("time,u,A,B\n0,0,0,0\n0.1,0,0,0\n0.1,0,0,0\n", r"column 'time' = 0\.1 at row 4 after 0\.1; expected strictly"),
+        ("time,u,A\n0,0,0\n0.1,0,0\n0.2,0,0\n", r"no column for thruster 'B'"),
+        ("time,u,A,Bx\n0,0,0,0\n0.1,0,0,0\n0.2,0,0,0\n", r"no column for thruster 'B' \(ignored columns: Bx\)"),
+        ("time,u,A,B,thrust:C\n0,0,0,0,0\n0.1,0,0,0,0\n0.2,0,0,0,0\n", r"column 'thrust:C' names no thruster"),
+        ("time,A,B\n0,0,0\n0.1,0,0\n0.2,0,0\n", r"no motion channel"),
+        ("time,u,A,B\n0,fast,0,0\n0.1,0,0,0\n0.2,0,0,0\n", r"row 2, column 'u' = 'fast': expected a number"),
+        ("time,u,A,B\n0,0,,0\n0.1,0,0,0\n0.2,0,0,0\n", r"row 2, column 'A' is empty; expected the input on every row"),
+        ("time,u,A,B,u\n0,0,0,0,0\n0.1,0,0,0,0\n0.2,0,0,0,0\n", r"column 'u' appears twice"),
+        ("time,u,A,B\n0,nan,0,0\n0.1,0,0,0\n0.2,0,0,0\n", r"row 2, column 'u' = nan: expected a finite number"),
+        ("time,u,A,B\n0,,0,0\n0.1,,0,0\n0.2,,0,0\n", r"hold no sample"),
+        ("u,A,B\n0,0,0\n0.1,0,0\n0.2,0,0\n", r"no column 'time'"),
+        ("time,u,A,B\n0,0,0,0\n", r"1 data row\(s\); expected a header"),
+        ("time,u,A,B,thrust:A\n0,0,0,0,0\n0.1,0,0,0,0\n0.2,0,0,0,0\n", r"thruster 'A' has both"),
+    ],
+)
+def test_bad_run_files_name_file_column_and_value(tmp_path: Path, text: str, match: str) -> None:
+    p = _write(tmp_path, text)
+    with pytest.raises(InputError, match=match) as info:
+        read_run(p, THRUSTERS)
+    assert str(p) in str(info.value) and "\n" not in str(info.value)
+
+
+def test_writer_refuses_unknown_channel() -> None:
+    with pytest.raises(InputError, match=r"channel\(s\) speed: expected some of x, y, z"):
+        run_csv(np.zeros(2), {"speed": np.zeros(2)}, {})
