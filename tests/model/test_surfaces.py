@@ -319,3 +319,19 @@ def test_pack_holds_mask_and_fins():
     assert p.scal[9:15].tolist() == [1, 1, 0, 0, 0, 1] and p.scal[15] == 1
     np.testing.assert_array_equal(p.scal[16 : 16 + FIN_WIDTH], v.surfaces.pack_fins(v.density)[0])
     assert np.all(p.Minv[[2, 3, 4]] == 0) and np.all(p.Minv[:, [2, 3, 4]] == 0)
+
+
+def test_batch_and_samples_fly_the_same_deflections():
+    # the compiled batch (fleets, --samples) carries the deflection columns like the single run
+    from hydrokit.simulate.batch import simulate_batch
+    from hydrokit.simulate.driver import simulate
+
+    v = parse_vehicle(dict(VEHICLE), "v.yaml")
+    one = simulate(v, 4.0, 0.01, tau=(4, 0, 0, 0, 0, 0), nu0=(1.5, 0, 0, 0, 0, 0), deflection=[0.1, -0.05])
+    both = simulate_batch([v, v], 4.0, 0.01, (4, 0, 0, 0, 0, 0), nu0=(1.5, 0, 0, 0, 0, 0), deflection=[0.1, -0.05])
+    np.testing.assert_allclose(
+        both.states[:, -1, :], np.stack([np.concatenate([one.eta[-1], one.nu[-1]])] * 2), atol=1e-12
+    )
+    assert abs(one.eta[-1, 5]) > 0.01  # the deflection did something
+    with pytest.raises(InputError, match=r"one constant deflection per control surface"):
+        simulate_batch([v], 1.0, 0.01, deflection=[[0, 0.1, 0], [1, 0.2, 0]])
