@@ -262,7 +262,9 @@ def manoeuvre(vehicle: Vehicle | PathLike, manoeuvre: Any, **options: Any) -> An
     **options : surface, tau (N, N·m), nu0 (m/s, rad/s), eta0, dt (s), duration (s), approach (s),
         current_ned (m/s), loop ("compiled" or "python"), hold (bool or None: hold depth and
         pitch with the stern planes in horizontal manoeuvres, heading with the rudder in vertical
-        ones; None = on for a 6-DOF vehicle with such a second surface) — see
+        ones; None = on for a 6-DOF vehicle with such a second surface), commands ({thruster
+        name: command} — rev/s for a propeller, the table's unit, N for an ideal thruster; held
+        from rest through the rotor lag; ``tau`` adds to their thrust) — see
         :func:`hydrokit.simulate.manoeuvre.run_manoeuvre`
 
     Returns

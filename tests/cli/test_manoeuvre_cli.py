@@ -146,3 +146,62 @@ def test_auv_bad_input(run_torpedo, tmp_path):
     code, _, err = run_torpedo("--out", tmp_path / "bad", "--depth-change", "2/30")
     assert code == 2 and "deflection 30°: expected at most the surface's max_deflection_deg 25°" in err
     assert not (tmp_path / "bad").exists() or not any((tmp_path / "bad").iterdir())
+
+
+# the boat with a propeller astern (K_T(J) = 0.4 − 0.4 J, D = 0.2 m, no wake) and an ideal bow thruster
+PROP_BOAT = (
+    BOAT.replace("reference_length: 2.0\n", "reference_length: 2.0\nfluid: {density: 1025.0}\n")
+    + """thrusters:
+  - {name: prop, position: [-1.0, 0, 0], direction: [1, 0, 0], max_thrust: 500, diameter: 0.2,
+     kt_forward: [-0.4, 0.4], max_rpm: 1800, time_constant: 0.3}
+  - {name: bow, position: [0.8, 0, 0], direction: [0, 1, 0], max_thrust: 50}
+"""
+)
+
+
+@pytest.fixture
+def run_prop(run_cli, tmp_path):
+    boat = tmp_path / "prop.yaml"
+    boat.write_text(PROP_BOAT)
+    return lambda *a: run_cli("manoeuvre", boat, "--dt", "0.1", *a)
+
+
+def test_turning_circle_on_propeller_commands(run_prop, tmp_path):
+    """--command prop=20 (rev/s): the approach settles where K_T(J) ρ D⁴ n² = 20 u², J = u/(n D)
+    (closed form: the positive root of 20 u² + 0.4 ρ D³ n u − 0.4 ρ D⁴ n² = 0); rtol 2e-5 as the
+    approach stops once u varies by ≤ 1e-4 of itself over 2 s (tests/simulate/test_manoeuvre_propulsion.py)."""
+    out = tmp_path / "tc"
+    code, stdout, err = run_prop("--out", out, "--turning-circle", "35", "--command", "prop=20", "--no-plots")
+    assert code == 0, err
+    doc = json.loads((out / "manoeuvre.json").read_text())
+    rho, d, n = 1025.0, 0.2, 20.0
+    b, c = 0.4 * rho * d**3 * n, 0.4 * rho * d**4 * n**2
+    u = (-b + math.sqrt(b * b + 80 * c)) / 40
+    assert doc["approach_speed"] == pytest.approx(u, rel=2e-5)
+    p = doc["propulsion"]
+    assert p["commands"] == {"prop": 20.0, "bow": 0.0} and p["command_units"] == {"prop": "rev/s", "bow": "N"}
+    assert p["thrust_at_execute"]["prop"] == pytest.approx(20 * u * u, rel=4e-5)
+    assert p["thrust_at_end"]["prop"] > p["thrust_at_execute"]["prop"]  # slower in the turn: lower J, more K_T
+    assert "thrust: prop" in err and "turning_circle: advance" in stdout
+
+
+@pytest.mark.parametrize(
+    ("args", "match"),
+    [
+        (("--command", "stern=3"), "command 'stern': the vehicle has thrusters prop, bow; expected one of them"),
+        (("--command", "prop=31"), "command prop=31 rev/s: expected within thruster 'prop''s command limits [-30, 30]"),
+        (("--command", "bow=60"), "command bow=60 N: expected within thruster 'bow''s command limits [-50, 50] N"),
+        (("--command", "prop:20"), "--command 'prop:20': expected NAME=VALUE"),
+    ],
+)
+def test_bad_commands(run_prop, tmp_path, args, match):
+    code, _, err = run_prop("--out", tmp_path / "bad", "--turning-circle", "20", *args)
+    assert code == 2 and match in err, err
+    assert not (tmp_path / "bad").exists() or not any((tmp_path / "bad").iterdir())
+
+
+def test_command_on_a_vehicle_without_thrusters(run, tmp_path):
+    code, _, err = run("--out", tmp_path / "bad", "--turning-circle", "20", "--command", "prop=20")
+    assert code == 2 and "vehicle 'boat' has no thrusters; expected a vehicle file with a 'thrusters:' block" in err
+    assert "Traceback" not in err and len(err.strip().splitlines()) == 1
+    assert not (tmp_path / "bad").exists() or not any((tmp_path / "bad").iterdir())

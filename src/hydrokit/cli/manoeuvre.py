@@ -8,53 +8,12 @@ from typing import Any
 
 import click
 
-from hydrokit.cli._types import SECONDS, Number, Numbers
-
-DEG = Number("deg", at_least=-90, at_most=90)
+from hydrokit.cli._manoeuvre_options import manoeuvre_options
 
 
 @click.command()
 @click.argument("vehicle", metavar="VEHICLE")
-@click.option("--out", "out_dir", required=True, metavar="DIR", help="Output folder (created if missing).")
-@click.option("--turning-circle", type=DEG, help="Turning circle at this deflection, deg.")
-@click.option("--zigzag", metavar="A/B", help="Zigzag: deflection A, check heading B, deg/deg (e.g. 20/20).")
-@click.option(
-    "--spiral", type=click.Choice(["direct", "reverse"]), help="Spiral: direct (Dieudonné) or reverse (Bech)."
-)
-@click.option("--pull-out", type=DEG, help="Pull-out from steady turns at ±this deflection, deg.")
-@click.option("--depth-change", metavar="M[/A]", help="Depth change by M m (+ deeper) with planes at A deg (15).")
-@click.option("--vertical-zigzag", metavar="A/B", help="Vertical zigzag on the stern planes: A, B in deg/deg.")
-@click.option("--surface", help="The surface that steers (default: the rudder, or the stern plane; by name).")
-@click.option(
-    "--force",
-    type=Numbers(6, "N, N·m"),
-    default="0,0,0,0,0,0",
-    show_default=True,
-    help="Constant force X,Y,Z,K,M,N (body): N, N·m (the propulsion).",
-)
-@click.option("--initial-velocity", type=Numbers(6, "m/s, rad/s"), help="Approach start u,v,w,p,q,r: m/s, rad/s.")
-@click.option("--dt", type=SECONDS, default=0.02, show_default=True, help="Integration step, s.")
-@click.option(
-    "--duration",
-    type=SECONDS,
-    default=1800.0,
-    show_default=True,
-    help="Longest manoeuvre after the execute, s (it ends sooner once measured).",
-)
-@click.option(
-    "--loop",
-    type=click.Choice(["compiled", "python"]),
-    default="compiled",
-    show_default=True,
-    help="Right-hand side (no unit): compiled (numba) or python (numpy).",
-)
-@click.option(
-    "--hold/--no-hold",
-    default=None,
-    help="Hold depth and pitch with the stern planes during a turn or zigzag, heading with the rudder during a "
-    "depth change (PID; no unit). Default: on for a 6-DOF vehicle with such a second surface.",
-)
-@click.option("--no-plots", is_flag=True, help="Skip the PNG figures and the report (no unit).")
+@manoeuvre_options
 def manoeuvre(
     vehicle: str,
     out_dir: str,
@@ -66,6 +25,7 @@ def manoeuvre(
     vertical_zigzag: str | None,
     surface: str | None,
     force: list[float],
+    command_text: str | None,
     initial_velocity: list[float] | None,
     dt: float,
     duration: float,
@@ -80,14 +40,16 @@ def manoeuvre(
     Writes DIR/manoeuvre.json (metrics under the manoeuvre's name; SI, *_deg in degrees),
     DIR/trajectory.csv (time,x,y,z,phi,theta,psi,u,v,w,p,q,r then one column per surface, rad;
     positions from the execute point, time 0 at the execute), track.png, time.png and report.html.
+    Propulsion: --force (constant) and/or --command (the vehicle's thrusters; their thrust at the
+    execute and at the end goes into manoeuvre.json's "propulsion").
     A manoeuvre that never reaches the heading it measures at is an error (exit 2); the track is
     still written.
     """
+    from hydrokit.api import load_vehicle
     from hydrokit.cli._common import check_out_dir, json_text, progress_bar, write_all
     from hydrokit.errors import InputError
     from hydrokit.io.trajectory import table_csv
-    from hydrokit.io.vehicle import load_vehicle
-    from hydrokit.simulate.manoeuvre import from_options, run_manoeuvre
+    from hydrokit.simulate.manoeuvre import commands_from_text, from_options, run_manoeuvre
 
     out = check_out_dir(out_dir)
     m = from_options(
@@ -100,6 +62,7 @@ def manoeuvre(
             "vertical_zigzag": vertical_zigzag,
         }
     )
+    commands = None if command_text is None else commands_from_text(command_text)
     v = load_vehicle(vehicle)
     with progress_bar(time_based=True) as bar:
         task = bar.add_task(m.kind.replace("_", " "), total=duration)
@@ -113,6 +76,7 @@ def manoeuvre(
             duration=duration,
             loop=loop,
             hold=hold,
+            commands=commands,
             progress=lambda t: bar.update(task, completed=t),
         )
     files: dict[Any, Any] = {out / "trajectory.csv": table_csv(*_columns(res))}
@@ -131,6 +95,11 @@ def manoeuvre(
     write_all(files)
     for w in res.warnings:
         click.echo(f"warning: {w}", err=True)
+    if res.propulsion:
+        a, b = res.propulsion["thrust_at_execute"], res.propulsion["thrust_at_end"]
+        click.echo(
+            "thrust: " + ", ".join(f"{k} {a[k]:.4g} N at the execute, {b[k]:.4g} N at the end" for k in a), err=True
+        )
     if res.hold:
         click.echo("held: " + ", ".join(f"{k} by {n}" for k, n in res.hold.items()), err=True)
     shown = {k: val for k, val in res.metrics.items() if isinstance(val, (int, float)) and not isinstance(val, bool)}

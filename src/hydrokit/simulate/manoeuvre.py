@@ -27,6 +27,13 @@ during a depth change or vertical zigzag the rudder holds the heading — PID lo
 :mod:`hydrokit.model.control` (:class:`_Keeper`); during the approach the steering surface holds
 its own axis too (an AUV on autopilot), and the execute hands it to the manoeuvre.
 
+**Propulsion** is a constant force, or the vehicle's thrusters at held commands
+(:class:`ThrusterDrive`, ``run_manoeuvre(commands=…)``): every step each thruster's thrust comes
+from its own curve (:meth:`hydrokit.model.thrusters.ThrusterSet.thrust`) at its advance speed, so a
+propeller at constant revolutions gives more thrust as the vehicle slows in a turn (K_T rises as J
+falls) — the speed loss in a turn comes out of the propeller's K_T(J), as in a real trial. The
+rotors spin up from rest with their lag during the approach; the commands are held throughout.
+
 The sense of a turn is read from the vehicle's response (a positive rudder turns a REMUS to
 port: Prestero's N_uuδr < 0), never assumed. Commands reach the surfaces through the servo law
 :func:`hydrokit.model.surfaces.servo_step` (instant without rate limit or lag). Metrics are
@@ -44,6 +51,7 @@ from typing import Any
 import numpy as np
 
 from hydrokit._result import Result, jsonable
+from hydrokit.core.kinematics import rotation_zyx
 from hydrokit.core.kinematics import wrap_angle as wrap
 from hydrokit.core.names import STATE_COLUMNS
 from hydrokit.errors import InputError, SimulationError
@@ -171,6 +179,9 @@ class ManoeuvreResult(Result):
     planar : bool — a surface-craft model (3 or 4 DOF): the IMO criteria apply
     hold : dict — what was held and by which surface ({"depth": "sternplane", "heading":
         "rudder (approach)"}; empty: nothing held)
+    propulsion : dict or None — with thruster commands: ``commands`` and ``command_units`` per
+        thruster, ``force`` (N, N·m), ``thrust_at_execute`` and ``thrust_at_end`` per thruster (N);
+        None with a constant force only
     problem : str or None — what the run did not reach (the metrics it needs are None)
     warnings : list of str
     """
@@ -191,6 +202,7 @@ class ManoeuvreResult(Result):
     problem: str | None = None
     warnings: list[str] = field(default_factory=list)
     hold: dict[str, str] = field(default_factory=dict)
+    propulsion: dict[str, Any] | None = None
 
     @property
     def kind(self) -> str:
@@ -233,6 +245,8 @@ class ManoeuvreResult(Result):
             "hold": dict(self.hold),
             "units": mm.UNITS,
         }
+        if self.propulsion is not None:
+            doc["propulsion"] = self.propulsion
         if self.planar:
             doc["imo_criteria"] = self.imo()
         return jsonable(doc)
@@ -593,6 +607,131 @@ def _half_time(t: np.ndarray, r: np.ndarray, r0: float) -> float | None:
 
 
 # --------------------------------------------------------------------------------------------
+# propulsion from thruster commands
+
+
+class ThrusterDrive:
+    """The vehicle's thrusters at held commands, as the force ``τ(x)`` of :func:`fly_manoeuvre`.
+
+    ``τ(x) = force + T f(c, V_a(ν_r))``: T the thrusters' configuration matrix, f each thruster's
+    thrust from its own curve (:meth:`ThrusterSet.thrust`: a propeller's K_T(J) ρ D⁴ |n| n, a
+    table, or the command itself for an ideal thruster) at the advance speed of the velocity
+    relative to the water (:meth:`ThrusterSet.advance_speed`), c the rotor state. The rotors start
+    from rest and follow the commands with their first-order lag (:meth:`ThrusterSet.rotor_step`,
+    exact for a held command); over each step the thrust is taken at the rotor state of the step's
+    midpoint and held with the step's start state (the zero-order hold of the closed loop). The
+    surge force τ_X that the fin law reads for a rudder in the propeller race is this τ's X — the
+    thrusters' X-force plus ``force``'s X.
+
+    Parameters
+    ----------
+    thrusters : ThrusterSet
+    command : m floats — held commands, file order: rev/s (propeller), the table's unit (table),
+        N (ideal); within the thrusters' command limits
+    force : 6 floats — constant force added to the thrust, N, N·m (body axes)
+    current_ned : None, 3 floats (m/s, NED) or rows [t (s), v_N, v_E, v_D (m/s)]
+    """
+
+    def __init__(self, thrusters: Any, command: Any, force: Any = (0, 0, 0, 0, 0, 0), current_ned: Any = None) -> None:
+        from hydrokit.model.dynamics import current_table
+
+        self.thrusters = thrusters
+        self.target = np.asarray(command, float)
+        self.force = np.asarray(force, float)
+        self.T = thrusters.configuration_matrix()
+        self.c = np.zeros(len(thrusters))  # rotor state: from rest
+        self.c_step = self.c.copy()
+        self.current = current_table(current_ned)
+        self.vc = self.current[0, 1:].copy()
+
+    def begin_step(self, t: float, dt: float) -> None:
+        """Advance the rotors over the step [t, t + dt] (s); the step's thrust uses their midpoint."""
+        from hydrokit.model.dynamics import interp_table
+
+        ts = self.thrusters
+        self.c_step = ts.rotor_step(self.c, self.target, 0.5 * dt)
+        self.c = ts.rotor_step(self.c, self.target, dt)
+        self.vc = interp_table(self.current, t + 0.5 * dt)[0]
+
+    def thrust(self, x: np.ndarray) -> np.ndarray:
+        """Each thruster's thrust (N) in the 12-state ``x`` (Euler angles) at the step's rotor state."""
+        nu_r = np.asarray(x[6:12], float)
+        if np.any(self.vc):
+            nu_r = nu_r.copy()
+            nu_r[:3] -= rotation_zyx(float(x[3]), float(x[4]), float(x[5])).T @ self.vc
+        ts = self.thrusters
+        return ts.thrust(self.c_step, ts.advance_speed(nu_r))
+
+    def __call__(self, x: np.ndarray) -> np.ndarray:
+        """τ (N, N·m) in the state ``x``."""
+        return self.force + self.T @ self.thrust(x)
+
+
+def thruster_commands(vehicle: Any, commands: Any) -> np.ndarray:
+    """The command vector (file order; thrusters not named 0) of ``commands`` {name: value}, the
+    value in each thruster's unit (rev/s, the table's unit or N), checked against the vehicle's
+    thrusters and their command limits (InputError: one line naming the thruster)."""
+    from hydrokit.simulate.mission import COMMAND_UNITS
+
+    ts = getattr(vehicle, "thrusters", None)
+    if ts is None or len(ts) == 0:
+        raise InputError(
+            f"commands {_shown(commands)}: vehicle {vehicle.name!r} has no thrusters; expected a vehicle file "
+            "with a 'thrusters:' block (or a constant force only)"
+        )
+    if not hasattr(commands, "items"):
+        raise InputError(f"commands {_shown(commands)}: expected a mapping of thruster name to command")
+    names = ts.names
+    out = np.zeros(len(names))
+    for name, value in commands.items():
+        if name not in names:
+            raise InputError(
+                f"command {str(name)[:40]!r}: the vehicle has thrusters {', '.join(names)}; expected one of them"
+            )
+        k = names.index(name)
+        unit = COMMAND_UNITS[ts.thrusters[k].model]
+        try:
+            c = float(value)
+        except (TypeError, ValueError):
+            c = math.nan
+        lo, hi = float(ts.command_min[k]), float(ts.command_max[k])
+        if not math.isfinite(c):
+            raise InputError(f"command {name}={str(value)[:40]}: expected a finite number ({unit})")
+        if not lo - 1e-12 * abs(lo) <= c <= hi + 1e-12 * abs(hi):
+            raise InputError(
+                f"command {name}={c:g} {unit}: expected within thruster {name!r}'s command limits [{lo:.6g}, {hi:.6g}] {unit}"
+            )
+        out[k] = c
+    return out
+
+
+def commands_from_text(text: str) -> dict[str, float]:
+    """``NAME=VALUE[,NAME=VALUE]`` (the command line's ``--command``) as {name: value}; the names
+    and limits are checked against the vehicle by :func:`thruster_commands`."""
+    out: dict[str, float] = {}
+    for part in str(text).split(","):
+        name, sep, value = part.partition("=")
+        name = name.strip()
+        try:
+            c = float(value)
+        except ValueError:
+            c = math.nan
+        if not sep or not name or not math.isfinite(c):
+            raise InputError(
+                f"--command {part.strip()[:60]!r}: expected NAME=VALUE with a finite VALUE (the thruster's unit)"
+            )
+        if name in out:
+            raise InputError(f"--command: thruster {name!r} named twice; expected each thruster once")
+        out[name] = c
+    return out
+
+
+def _shown(x: Any) -> str:
+    r = repr(x)
+    return r if len(r) <= 60 else r[:57] + "…"
+
+
+# --------------------------------------------------------------------------------------------
 # the runner
 
 
@@ -621,7 +760,9 @@ def fly_manoeuvre(
     manoeuvre : Manoeuvre
     surface : int — index of the steering surface
     servo : (max deflection rad, rate limit rad/s, time constant s) arrays, one per surface
-    tau : 6 floats (N, N·m) or a callable ``tau(x) → 6 floats`` (propulsion from commands)
+    tau : 6 floats (N, N·m) or a callable ``tau(x) → 6 floats`` (N, N·m); one with a
+        ``begin_step(t, dt)`` method (a :class:`ThrusterDrive`) is told of every step before it
+        is taken (t, dt in s)
     x0 : 12 floats — initial state (default rest at the origin)
     dt : float — step, s; duration : float — longest manoeuvre after the execute, s
     approach : float — longest straight run before the execute, s
@@ -680,7 +821,11 @@ def fly_manoeuvre(
     def g(t: float, y: np.ndarray, u: np.ndarray) -> np.ndarray:
         return f(t, y, u[:6], u[6:])
 
+    begin_step = getattr(tau, "begin_step", None)  # a ThrusterDrive: rotor lag, step by step
+
     def step(t: float, y: np.ndarray) -> np.ndarray:
+        if begin_step is not None:
+            begin_step(t, dt)
         y = rk4_step(g, t, y, dt, u=np.concatenate([tau_of(y), delta]))
         if not np.all(np.isfinite(y)):
             raise SimulationError(f"the state became non-finite at t = {t + dt:.6g} s; check the coefficients and dt")
@@ -856,6 +1001,7 @@ def run_manoeuvre(
     current_ned: Any = None,
     loop: str = "compiled",
     hold: bool | None = None,
+    commands: Any = None,
     progress: Callable[[float], None] | None = None,
 ) -> ManoeuvreResult:
     """Fly ``manoeuvre`` with ``vehicle`` (module docstring) and measure it.
@@ -866,7 +1012,9 @@ def run_manoeuvre(
     manoeuvre : Manoeuvre — :func:`turning_circle`, :func:`zigzag`, …
     surface : str or None — the steering surface's name (None: the rudder, or the stern plane
         for the vertical manoeuvres, found by name)
-    tau : 6 floats (N, N·m) — constant propulsion and other forces; or ``tau(x) → 6 floats``
+    tau : 6 floats (N, N·m) — constant propulsion and other forces (body axes); or
+        ``tau(x) → 6 floats``; with ``commands`` it is added to the thrusters' force (e.g. the
+        propeller's torque K)
     nu0 : 6 floats — initial velocity u, v, w (m/s), p, q, r (rad/s) of the approach (default 0)
     eta0 : 6 floats — initial pose x, y, z (m), φ, θ, ψ (rad); ψ is the original course
     dt : float — step, s; duration : float — longest manoeuvre after the execute, s
@@ -877,6 +1025,11 @@ def run_manoeuvre(
         manoeuvres (heading with the rudder in the vertical ones), during the approach and the
         manoeuvre, as AUV trials are run; the steering surface holds its axis during the
         approach. None: on for a vehicle that has such a second surface (:func:`holding_surfaces`)
+    commands : None or {thruster name: command} — propulsion by the vehicle's ``thrusters:``
+        (:class:`ThrusterDrive`): each command in its thruster's unit, rev/s for a propeller, the
+        table's unit for a table curve, N for an ideal thruster; thrusters not named get 0. The
+        rotors spin up from rest with their lag during the approach and the commands are held
+        through the manoeuvre; the thrust follows each thruster's advance speed step by step
     progress : callable(simulated seconds) or None
 
     Returns
@@ -905,6 +1058,15 @@ def run_manoeuvre(
                     f"initial {'pose' if part.start == 0 else 'velocity'} {v.tolist()}: expected 6 finite numbers"
                 )
             x0[part] = v
+    drive: ThrusterDrive | None = None
+    notes: list[str] = []
+    if commands is not None:
+        command = thruster_commands(vehicle, commands)
+        force = np.asarray(tau, float) if not callable(tau) else None
+        if force is None or force.shape != (6,) or not np.all(np.isfinite(force)):
+            raise InputError(f"force {_shown(tau)} with commands: expected 6 finite numbers (N, N·m)")
+        drive = ThrusterDrive(vehicle.thrusters, command, force, current_ned)
+        notes = list(vehicle.thrusters.notes)
     s = vehicle.surfaces
     held = holding_surfaces(f, tuple(vehicle.dofs), len(names), manoeuvre.kind, idx, hold)
     time, states, defl, logic, warnings = fly_manoeuvre(
@@ -912,7 +1074,7 @@ def run_manoeuvre(
         manoeuvre,
         idx,
         (s.max_deflection, s.rate_limit, s.time_constant),
-        tau=tau,
+        tau=tau if drive is None else drive,
         x0=x0,
         dt=dt,
         duration=duration,
@@ -921,7 +1083,7 @@ def run_manoeuvre(
         hold=held,
         progress=progress,
     )
-    return measure(
+    res = measure(
         manoeuvre,
         time,
         states,
@@ -932,10 +1094,31 @@ def run_manoeuvre(
         surface=names[idx],
         reference_length=vehicle.reference_length,
         planar=bool(vehicle.planar),
-        warnings=[*vehicle.warnings, *warnings],
+        warnings=[*vehicle.warnings, *notes, *warnings],
         duration=duration,
         hold=_hold_names(held, idx, names),
     )
+    if drive is not None:
+        res.propulsion = _propulsion(drive, time, states)
+    return res
+
+
+def _propulsion(drive: ThrusterDrive, time: np.ndarray, states: np.ndarray) -> dict[str, Any]:
+    """manoeuvre.json's ``propulsion``: the commands and each thruster's thrust (N) at the execute
+    and at the end, at the rotor state reached (the commands, once the rotors have spun up)."""
+    from hydrokit.simulate.mission import COMMAND_UNITS
+
+    ts = drive.thrusters
+    drive.c_step = drive.c
+    k0 = int(np.searchsorted(time, 0.0))
+    names = ts.names
+    return {
+        "commands": dict(zip(names, drive.target.tolist())),
+        "command_units": {n: COMMAND_UNITS[t.model] for n, t in zip(names, ts.thrusters)},
+        "force": drive.force.tolist(),
+        "thrust_at_execute": dict(zip(names, drive.thrust(states[k0]).tolist())),
+        "thrust_at_end": dict(zip(names, drive.thrust(states[-1]).tolist())),
+    }
 
 
 def _hold_names(held: tuple[int | None, int | None], steering: int, names: tuple[str, ...]) -> dict[str, str]:

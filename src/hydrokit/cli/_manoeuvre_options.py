@@ -1,0 +1,81 @@
+"""The options of ``hydrokit manoeuvre`` (kept apart so the command module stays short)."""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from typing import Any
+
+import click
+
+from hydrokit.cli._types import SECONDS, Number, Numbers
+
+DEG = Number("deg", at_least=-90, at_most=90)
+
+_OPTIONS: tuple[tuple[tuple[str, ...], dict[str, Any]], ...] = (
+    (("--out", "out_dir"), {"required": True, "metavar": "DIR", "help": "Output folder (created if missing)."}),
+    (("--turning-circle",), {"type": DEG, "help": "Turning circle at this deflection, deg."}),
+    (("--zigzag",), {"metavar": "A/B", "help": "Zigzag: deflection A, check heading B, deg/deg (e.g. 20/20)."}),
+    (
+        ("--spiral",),
+        {"type": click.Choice(["direct", "reverse"]), "help": "Spiral: direct (Dieudonné) or reverse (Bech)."},
+    ),
+    (("--pull-out",), {"type": DEG, "help": "Pull-out from steady turns at ±this deflection, deg."}),
+    (("--depth-change",), {"metavar": "M[/A]", "help": "Depth change by M m (+ deeper) with planes at A deg (15)."}),
+    (("--vertical-zigzag",), {"metavar": "A/B", "help": "Vertical zigzag on the stern planes: A, B in deg/deg."}),
+    (("--surface",), {"help": "The surface that steers (default: the rudder, or the stern plane; by name)."}),
+    (
+        ("--force",),
+        {
+            "type": Numbers(6, "N, N·m"),
+            "default": "0,0,0,0,0,0",
+            "show_default": True,
+            "help": "Constant force X,Y,Z,K,M,N (body): N, N·m — the propulsion, or added to --command's thrust "
+            "(e.g. the propeller's torque K).",
+        },
+    ),
+    (
+        ("--command", "command_text"),
+        {
+            "metavar": "NAME=VALUE[,NAME=VALUE]",
+            "help": "Propulsion by the vehicle's thrusters, held from rest: each thruster's command in its unit "
+            "(rev/s for a propeller, the table's unit for a table curve, N for an ideal thruster); others 0. "
+            "The thrust follows each propeller's advance ratio.",
+        },
+    ),
+    (("--initial-velocity",), {"type": Numbers(6, "m/s, rad/s"), "help": "Approach start u,v,w,p,q,r: m/s, rad/s."}),
+    (("--dt",), {"type": SECONDS, "default": 0.02, "show_default": True, "help": "Integration step, s."}),
+    (
+        ("--duration",),
+        {
+            "type": SECONDS,
+            "default": 1800.0,
+            "show_default": True,
+            "help": "Longest manoeuvre after the execute, s (it ends sooner once measured).",
+        },
+    ),
+    (
+        ("--loop",),
+        {
+            "type": click.Choice(["compiled", "python"]),
+            "default": "compiled",
+            "show_default": True,
+            "help": "Right-hand side (no unit): compiled (numba) or python (numpy).",
+        },
+    ),
+    (
+        ("--hold/--no-hold",),
+        {
+            "default": None,
+            "help": "Hold depth and pitch with the stern planes during a turn or zigzag, heading with the rudder "
+            "during a depth change (PID; no unit). Default: on for a 6-DOF vehicle with such a second surface.",
+        },
+    ),
+    (("--no-plots",), {"is_flag": True, "help": "Skip the PNG figures and the report (no unit)."}),
+)
+
+
+def manoeuvre_options(f: Callable[..., Any]) -> Callable[..., Any]:
+    """Add every option of ``hydrokit manoeuvre`` to ``f`` (in the order of --help)."""
+    for decls, kw in reversed(_OPTIONS):
+        f = click.option(*decls, **kw)(f)
+    return f
