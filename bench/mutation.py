@@ -241,13 +241,9 @@ EQUIVALENT: dict[tuple[str, str, str], str] = {
         "q0/v0 > 0 iff q0 and v0 have one sign, as q0·v0 > 0; at v0 = 0 exactly (numpy floats: ±inf or "
         "nan) the branch may run, but its shift atan(0)/ω_d is zero"
     ),
-    ("core/drag.py", "vp = nu[:3] + np.cross(nu[3:6], r)", "6 -> 7"): (
-        "ν_r is the 6-vector [u, v, w, p, q, r] (make_dynamics passes exactly 6): the slice 3:7 is 3:6"
-    ),
     **_alike(
         "core/drag.py",
         "P is reshaped to (-1, PACKED_WIDTH) = 9 columns a few lines above: the slice 6:10 is 6:9",
-        ("f = -P[:, 3:6] * vp - P[:, 6:9] * np.abs(vp) * vp", "9 -> 10"),
         ("P[:, 6:9] = P[:, 6:9] @ absR.T", "9 -> 10 [1]"),
         ("P[:, 6:9] = P[:, 6:9] @ absR.T", "9 -> 10 [2]"),
     ),
@@ -591,10 +587,6 @@ EQUIVALENT: dict[tuple[str, str, str], str] = {
         "row lies at or near 1e8, where < and ≤ (or the bound 1e8 + 1) would part",
         ("finite = [(a, b) for a, b in table if a < 1e8]", "< -> <="),
         ("finite = [(a, b) for a, b in table if a < 1e8]", "100000000.0 -> 100000001.0"),
-    ),
-    ("core/drag.py", "if P.shape[0] == 0:", "0 -> 1 [1]"): (
-        "a shortcut: P.shape[1] is always 9, so the mutant never returns early, and the general code "
-        "on a (0, 9) array sums empty forces and moments to the same zero wrench (checked by hand)"
     ),
     (
         "identify/split.py",
@@ -956,10 +948,6 @@ EQUIVALENT: dict[tuple[str, str, str], str] = {
     ),
     ("identify/preprocess.py", "k = start + int(np.argmax(z[start:i] * state))", "* -> /"): (
         "state is +1 or −1 here (a half cycle is only closed from a nonzero state), and z / ±1 is z · ±1 exactly"
-    ),
-    ("model/terms.py", "VEL, ABS, SIGN, NORM = 1, 2, 3, 4", "4 -> 5"): (
-        "NORM is the one kind both evaluators (TermSet.force and the compiled loop) reach by 'else', "
-        "after 0 ends a term and 1–3 are matched: 4 and 5 take the same branch"
     ),
     ("model/terms.py", "-np.ones((0, MAX_FACTORS, 3), np.int64),", "drop unary -"): (
         "the empty term set's index array has no elements (0 rows), so −1 or +1 fills nothing"

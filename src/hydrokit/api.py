@@ -312,7 +312,7 @@ def sysid(
     names = v.thrusters.names if v.thrusters is not None else []
 
     def read(r: Any) -> Any:
-        return r if hasattr(r, "channels") else read_run(r, names)
+        return r if hasattr(r, "channels") else read_run(r, names, v.surfaces.names, v.surfaces.max_deflection)
 
     listed = [n.strip() for n in free.split(",")] if isinstance(free, str) else list(free)
     return identify(

@@ -170,6 +170,26 @@ CALLS: dict[str, tuple[dict[str, Source], Callable[[Files], list[object]]]] = {
             "1",
         ],
     ),
+    "sysid plan": (
+        {"vehicle.yaml": DATA_DIR / "vehicles" / "bluerov2-sysid.yaml"},
+        lambda f: [
+            "sysid",
+            "plan",
+            f["vehicle.yaml"],
+            "--free",
+            "added_mass.yaw",
+            "--duration",
+            "2",
+            "--channels",
+            "r",
+            "--evaluations",
+            "2",
+            "--dt",
+            "0.05",
+            "--out",
+            "p",
+        ],  # fmt: skip
+    ),
     "tune": (
         {"vehicle.yaml": VEHICLE, "mission.yaml": _mission},
         lambda f: [

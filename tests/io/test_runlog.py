@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 import pytest
@@ -74,3 +75,80 @@ def test_bad_run_files_name_file_column_and_value(tmp_path: Path, text: str, mat
 def test_writer_refuses_unknown_channel() -> None:
     with pytest.raises(InputError, match=r"channel\(s\) speed: expected some of x, y, z"):
         run_csv(np.zeros(2), {"speed": np.zeros(2)}, {})
+
+
+# --------------------------------------------------------------- control surfaces (issue #45)
+SURFACES = ("rudder", "bowplane")
+
+
+def test_deflection_columns_read_in_vehicle_order_and_round_trip(tmp_path: Path) -> None:
+    # the writer puts the surfaces in the order given; the reader returns them in the vehicle's
+    # order (the compiled kernels' δ columns), whatever the file's column order (independent: the
+    # series the file was made from)
+    t = np.arange(0.0, 1.0, 0.1)
+    rudder = np.radians(20.0) * np.sign(np.sin(3 * t))
+    plane = np.full(t.size, -0.05)
+    text = run_csv(t, {"r": 0.1 * t}, {"A": t, "B": t}, deflections={"bowplane": plane, "rudder": rudder})
+    assert text.splitlines()[0] == "time,r,A,B,bowplane,rudder"
+    run = read_run(_write(tmp_path, text), THRUSTERS, SURFACES, np.radians([35.0, 25.0]))
+    assert list(run.deflections) == list(SURFACES)
+    np.testing.assert_allclose(run.deflections["rudder"], rudder, atol=1e-9)
+    np.testing.assert_allclose(run.deflections["bowplane"], plane, atol=1e-9)
+    assert run.warnings == () and "2 deflection(s)" in run.describe()
+    # without the vehicle's surfaces the columns match nothing: ignored and named in the warning
+    plain = read_run(_write(tmp_path, text), THRUSTERS)
+    assert plain.deflections == {} and plain.warnings == ("ignored column(s) matching nothing: bowplane, rudder",)
+
+
+def test_deflection_at_its_limit_is_accepted(tmp_path: Path) -> None:
+    # a file holding the limit to its 9 significant digits is within it
+    lim = np.radians(35.0)
+    text = f"time,r,A,B,rudder,bowplane\n0,0,0,0,{lim:.9g},0\n0.1,0,0,0,{-lim:.9g},0\n0.2,0,0,0,0,0\n"
+    run = read_run(_write(tmp_path, text), THRUSTERS, SURFACES, [lim, lim])
+    assert run.deflections["rudder"][0] == pytest.approx(lim)
+
+
+@pytest.mark.parametrize(
+    ("text", "limits", "match"),
+    [
+        (
+            "time,r,A,B,rudder\n0,0,0,0,0\n0.1,0,0,0,0\n0.2,0,0,0,0\n",
+            None,
+            r"no column for control surface 'bowplane'; expected a column 'bowplane' with its deflection in rad",
+        ),
+        (
+            "time,r,A,B,rudder,plane\n0,0,0,0,0,0\n0.1,0,0,0,0,0\n0.2,0,0,0,0,0\n",
+            None,
+            r"no column for control surface 'bowplane' \(ignored columns: plane\)",
+        ),
+        (
+            "time,r,A,B,rudder,bowplane\n0,0,0,0,0,0\n0.1,0,0,0,0.7,0\n0.2,0,0,0,0,0\n",
+            [np.radians(35.0), 0.5],
+            r"row 3, column 'rudder' = 0\.7 rad \(40\.11°\) is beyond the surface's limit; "
+            r"expected \|deflection\| ≤ 0\.610865 rad \(35°, max_deflection_deg\)",
+        ),
+        (
+            "time,r,A,B,rudder,bowplane\n0,0,0,0,0,0\n0.1,0,0,0,0,-0.6\n0.2,0,0,0,0,0\n",
+            [1.0, 0.5],
+            r"row 3, column 'bowplane' = -0\.6 rad",
+        ),
+        (
+            "time,r,A,B,rudder,bowplane\n0,0,0,0,,0\n0.1,0,0,0,0,0\n0.2,0,0,0,0,0\n",
+            None,
+            r"row 2, column 'rudder' is empty; expected the input on every row",
+        ),
+        ("time,r,A,B,rudder,bowplane\n0,0,0,0,0,0\n0.1,0,0,0,0,0\n", [1.0], r"1 deflection limit\(s\) for 2"),
+    ],
+)
+def test_bad_deflection_columns(tmp_path: Path, text: str, limits: Any, match: str) -> None:
+    p = _write(tmp_path, text)
+    with pytest.raises(InputError, match=match) as info:
+        read_run(p, THRUSTERS, SURFACES, limits)
+    assert str(p) in str(info.value) and "\n" not in str(info.value)
+
+
+def test_surface_named_as_a_thruster_or_channel_is_refused(tmp_path: Path) -> None:
+    p = _write(tmp_path, "time,r,A,B\n0,0,0,0\n0.1,0,0,0\n0.2,0,0,0\n")
+    for clash in ("A", "r"):
+        with pytest.raises(InputError, match=rf"control surface '{clash}' has the name of a thruster or channel"):
+            read_run(p, THRUSTERS, (clash,))

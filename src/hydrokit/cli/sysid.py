@@ -1,6 +1,5 @@
-"""``hydrokit sysid``: a vehicle's added mass and damping from its own dives (issue #44).
-``hydrokit sysid RUN... --vehicle B --free L --out D`` fits (= ``sysid fit``); ``sysid generate``
-writes virtual dives of a vehicle with hidden coefficients."""
+"""``hydrokit sysid``: a vehicle's added mass and damping from its own dives (issue #44): ``sysid
+RUN...`` fits (= ``sysid fit``); ``sysid generate`` writes virtual dives; ``sysid plan`` designs one."""
 
 from __future__ import annotations
 
@@ -9,9 +8,10 @@ from typing import Any
 
 import click
 
+from hydrokit.cli._sysid_plan import _names, plan
 from hydrokit.cli._types import NON_NEGATIVE, SECONDS, SEED, Count, Number
 
-SUBCOMMANDS = ("fit", "generate")
+SUBCOMMANDS = ("fit", "generate", "plan")
 
 
 class _SysidGroup(click.Group):
@@ -26,11 +26,10 @@ class _SysidGroup(click.Group):
 @click.group(cls=_SysidGroup, context_settings={"help_option_names": ["-h", "--help"]})
 def sysid() -> None:
     """System identification from free-running logs: hydrokit sysid RUN... --vehicle BASE.yaml
-    --free LIST --out DIR (same as 'sysid fit'), or 'sysid generate' for virtual dives."""
+    --free LIST --out DIR (same as 'sysid fit'); 'sysid generate' (virtual dives); 'sysid plan'."""
 
 
-def _names(values: tuple[str, ...]) -> list[str]:
-    return [n.strip() for v in values for n in v.split(",") if n.strip()]
+sysid.add_command(plan)
 
 
 @sysid.command("fit")
@@ -79,8 +78,9 @@ def fit(runs: tuple[str, ...], vehicle: str, free: str, out_dir: str, holdout: t
     check_out_dir(out_dir)
     base = load_vehicle(vehicle)
     names = base.thrusters.names if base.thrusters is not None else []
-    train = [read_run(p, names) for p in runs]
-    held = [read_run(p, names) for p in _names(holdout)]
+    surf = (base.surfaces.names, base.surfaces.max_deflection)
+    train = [read_run(p, names, *surf) for p in runs]
+    held = [read_run(p, names, *surf) for p in _names(holdout)]
     for line in describe_runs(train, held):
         click.echo(line, err=True)
     for r in (*train, *held):

@@ -11,12 +11,19 @@ where **an empty cell means no sample at that time** (sensors at their own rates
 Inputs are given on every row and held until the next row (zero-order hold): one column per
 thruster of the vehicle, named as the thruster, holding its command in the unit of that
 thruster's curve (table command, rev/s for a propeller, N for an ideal thruster), or a column
-``thrust:NAME`` with the measured thrust of thruster NAME in N. Columns matching none of these
-are ignored with a warning naming them. ``#`` lines are comments.
+``thrust:NAME`` with the measured thrust of thruster NAME in N. A vehicle with control surfaces
+(issue #45) has one more input column per surface, named as the surface, holding its deflection
+in rad (right-handed about its hinge axis, as ``delta(NAME)`` in the terms), held like the
+commands; it is the surface's actual angle (what a rudder-angle sensor logs), so the servo lag
+and rate limit of the vehicle file do not act on it again. Columns matching none of these are
+ignored with a warning naming them. ``#`` lines are comments.
 
 Bad input is one :class:`~hydrokit.errors.InputError` line naming the file, the column and the
 value: time not increasing, a thruster with no column, a ``thrust:`` column naming no thruster,
-no motion channel, text where a number belongs, an input cell left empty.
+a control surface with no column (a surface that did not move needs a column of zeros: flying
+a log whose rudder moved as if it had not would bias every estimate silently), a deflection
+beyond the surface's ``max_deflection_deg`` (naming the row), no motion channel, text where a
+number belongs, an input cell left empty.
 """
 
 from __future__ import annotations
@@ -40,6 +47,8 @@ from hydrokit.io.yamlfile import read_text
 MOTION_CHANNELS: tuple[str, ...] = (*POSE_SYMBOLS, *VELOCITY_SYMBOLS)
 #: prefix of a measured-thrust column (N)
 THRUST_PREFIX = "thrust:"
+#: a deflection this far past a surface's limit (rad; 9 significant digits of a file) is still within it
+DEFLECTION_TOLERANCE = 1e-9
 #: the largest run file read, characters (a 90 s log at 50 Hz is about 1 MB)
 MAX_RUN_CHARS = 200_000_000
 
@@ -57,6 +66,8 @@ class RunLog:
         every measured motion channel (``psi`` unwrapped)
     commands : mapping thruster → (n,) — command on each row (curve unit), held to the next row
     thrusts : mapping thruster → (n,) — measured thrust on each row, N (``thrust:NAME`` columns)
+    deflections : mapping surface → (n,) — deflection on each row, rad, held to the next row; in
+        the order of the surface names given to :func:`read_run` (the vehicle's file order)
     warnings : tuple of str — ignored columns and other oddities
     """
 
@@ -67,6 +78,7 @@ class RunLog:
     commands: Mapping[str, np.ndarray] = field(default_factory=dict)
     thrusts: Mapping[str, np.ndarray] = field(default_factory=dict)
     warnings: tuple[str, ...] = ()
+    deflections: Mapping[str, np.ndarray] = field(default_factory=dict)
 
     @property
     def duration(self) -> float:
@@ -77,6 +89,7 @@ class RunLog:
         """One line: name, duration and the channels with their sample counts."""
         chans = ", ".join(f"{c} ({t.size})" for c, (t, _) in self.channels.items())
         inputs = f"{len(self.commands)} command(s)" + (f", {len(self.thrusts)} thrust(s)" if self.thrusts else "")
+        inputs += f", {len(self.deflections)} deflection(s)" if self.deflections else ""
         return f"{self.name}: {self.duration:.1f} s, {self.time.size} rows; {chans}; {inputs}"
 
 
@@ -90,7 +103,12 @@ def _cell(text: str, row: int, column: str, src: str) -> float:
     return v
 
 
-def read_run(path: str | os.PathLike[str], thrusters: Sequence[str]) -> RunLog:
+def read_run(
+    path: str | os.PathLike[str],
+    thrusters: Sequence[str],
+    surfaces: Sequence[str] = (),
+    max_deflection: Sequence[float] | np.ndarray | None = None,
+) -> RunLog:
     """Read a run file for a vehicle whose thrusters are named ``thrusters`` (file order).
 
     Parameters
@@ -98,6 +116,10 @@ def read_run(path: str | os.PathLike[str], thrusters: Sequence[str]) -> RunLog:
     path : str or path — the CSV (module docstring)
     thrusters : sequence of str — the vehicle's thruster names; each needs a command column
         or a ``thrust:NAME`` column
+    surfaces : sequence of str — the vehicle's control-surface names (file order); each needs
+        a column of deflections, rad
+    max_deflection : sequence of float or None — each surface's limit, rad (``max_deflection_deg``
+        of the vehicle file); a deflection beyond it is an error. None: not checked
 
     Returns
     -------
@@ -124,8 +146,21 @@ def read_run(path: str | os.PathLike[str], thrusters: Sequence[str]) -> RunLog:
     if "time" not in header:
         raise InputError(f"no column 'time' (header: {cut(', '.join(header))}); expected time in s", src)
     names = set(thrusters)
+    surf = list(surfaces)
+    clash = next((n for n in surf if n in names or n in MOTION_CHANNELS or n == "time"), None)
+    if clash is not None:
+        raise InputError(
+            f"control surface '{cut(clash)}' has the name of a thruster or channel; expected distinct column names",
+            src,
+        )
+    limits = None if max_deflection is None else np.asarray(max_deflection, float)
+    if limits is not None and limits.shape != (len(surf),):
+        raise InputError(
+            f"{limits.size} deflection limit(s) for {len(surf)} control surface(s); expected one each", src
+        )
     motion = [c for c in header if c in MOTION_CHANNELS]
     cmd_cols = [c for c in header if c in names]
+    def_cols = [c for c in surf if c in header]
     thr_cols = [c for c in header if c.startswith(THRUST_PREFIX)]
     for c in thr_cols:
         if c[len(THRUST_PREFIX) :] not in names:
@@ -134,7 +169,8 @@ def read_run(path: str | os.PathLike[str], thrusters: Sequence[str]) -> RunLog:
                 "expected thrust:NAME with NAME a thruster",
                 src,
             )
-    ignored = [c for c in header if c != "time" and c not in motion and c not in cmd_cols and c not in thr_cols]
+    used = {"time", *motion, *cmd_cols, *thr_cols, *def_cols}
+    ignored = [c for c in header if c not in used]
     for name in thrusters:
         both = name in cmd_cols and THRUST_PREFIX + name in thr_cols
         if both:
@@ -146,6 +182,14 @@ def read_run(path: str | os.PathLike[str], thrusters: Sequence[str]) -> RunLog:
                 f"'{THRUST_PREFIX}{name}' (thrust, N)",
                 src,
             )
+    for name in surf:
+        if name not in def_cols:
+            hint = f" (ignored columns: {cut(', '.join(ignored))})" if ignored else ""
+            raise InputError(
+                f"no column for control surface '{cut(name)}'{hint}; expected a column '{cut(name)}' with its "
+                "deflection in rad (a column of zeros if it did not move)",
+                src,
+            )
     if not motion:
         raise InputError(
             f"no motion channel (header: {cut(', '.join(header))}); expected at least one of {', '.join(MOTION_CHANNELS)}",
@@ -154,7 +198,7 @@ def read_run(path: str | os.PathLike[str], thrusters: Sequence[str]) -> RunLog:
     idx = {c: header.index(c) for c in header}
     n = len(rows) - 1
     time = np.empty(n)
-    inputs = {c: np.empty(n) for c in (*cmd_cols, *thr_cols)}
+    inputs = {c: np.empty(n) for c in (*cmd_cols, *thr_cols, *def_cols)}
     values = {c: np.full(n, np.nan) for c in motion}
     width = len(header)
     for k, row in enumerate(rows[1:]):
@@ -171,6 +215,17 @@ def read_run(path: str | os.PathLike[str], thrusters: Sequence[str]) -> RunLog:
             cell = row[idx[c]].strip()
             if cell:
                 arr[k] = _cell(cell, line, c, src)
+    if limits is not None:
+        for c, lim in zip(surf, limits):
+            over = np.nonzero(np.abs(inputs[c]) > lim + DEFLECTION_TOLERANCE)[0]
+            if over.size:
+                k = int(over[0])
+                raise InputError(
+                    f"row {k + 2}, column '{cut(c)}' = {inputs[c][k]:.6g} rad ({math.degrees(inputs[c][k]):.4g}°) is "
+                    f"beyond the surface's limit; expected |deflection| ≤ {lim:.6g} rad "
+                    f"({math.degrees(lim):.4g}°, max_deflection_deg)",
+                    src,
+                )
     bad = np.nonzero(np.diff(time) <= 0)[0]
     if bad.size:
         i = int(bad[0])
@@ -200,6 +255,7 @@ def read_run(path: str | os.PathLike[str], thrusters: Sequence[str]) -> RunLog:
         {c: inputs[c] for c in cmd_cols},
         {c[len(THRUST_PREFIX) :]: inputs[c] for c in thr_cols},
         warnings,
+        {c: inputs[c] for c in surf},
     )
 
 
@@ -213,6 +269,7 @@ def run_csv(
     commands: Mapping[str, np.ndarray],
     thrusts: Mapping[str, np.ndarray] | None = None,
     comment: str = "",
+    deflections: Mapping[str, np.ndarray] | None = None,
 ) -> str:
     """CSV text of a run file.
 
@@ -223,15 +280,17 @@ def run_csv(
     commands : thruster → (n,) commands (curve unit), held to the next row
     thrusts : thruster → (n,) measured thrusts, N (written as ``thrust:NAME``)
     comment : str — written as ``#`` lines at the top
+    deflections : surface → (n,) deflections, rad, held to the next row (written as NAME)
     """
     unknown = [c for c in channels if c not in MOTION_CHANNELS]
     if unknown:
         raise InputError(f"channel(s) {', '.join(unknown)}: expected some of {', '.join(MOTION_CHANNELS)}")
     cols = [c for c in MOTION_CHANNELS if c in channels]
     data = [np.asarray(channels[c], float) for c in cols]
-    heads = ["time", *cols, *commands, *(THRUST_PREFIX + k for k in (thrusts or {}))]
+    heads = ["time", *cols, *commands, *(THRUST_PREFIX + k for k in (thrusts or {})), *(deflections or {})]
     data += [np.asarray(v, float) for v in commands.values()]
     data += [np.asarray(v, float) for v in (thrusts or {}).values()]
+    data += [np.asarray(v, float) for v in (deflections or {}).values()]
     out = io.StringIO()
     for line in comment.splitlines():
         out.write(f"# {line}\n")

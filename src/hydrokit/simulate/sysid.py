@@ -54,6 +54,11 @@ METHODS = ("output-error", "equation-error")
 CORRELATION_LIMIT = 0.95
 #: a parameter this many (scaled) units from its start has run away: the fit diverged
 RUNAWAY = 1e3
+#: feedback is said detected when a DOF's command correlates with the sensor noise of that
+#: DOF's channels beyond this many times the 1/√n band (open-loop generated dives: below 3)
+FEEDBACK_Z = 5.0
+#: the position and rate channels of each DOF (what a hold would act on)
+_HOLD_CHANNELS = (("x", "u"), ("y", "v"), ("z", "w"), ("phi", "p"), ("theta", "q"), ("psi", "r"))
 
 
 @dataclass(frozen=True)
@@ -368,6 +373,67 @@ def _messages(
     return out
 
 
+def _feedback(runs: Sequence[RunData], smoothed: Sequence[Any], thrusters: Any) -> list[str]:
+    """Warnings for runs whose commands follow the measured state (flown under feedback).
+
+    The plant makes the state follow the commands, so a command–state correlation alone says
+    nothing; but the plant cannot make a command follow the *sensor noise*. Each channel's
+    noise is estimated as measured − smoothed, and correlated with the commanded generalised
+    force of its DOF (τ = T f(command) on the rows, no rotor lag) at the row of the sample and
+    the two after it (an autopilot acts on its latest sample); |ρ| √n > :data:`FEEDBACK_Z`
+    says that an autopilot closed the loop on that channel (Ljung 1999, System
+    Identification §13.4 and §16.6: feedback shows as input correlated with past output noise).
+    """
+    from hydrokit.core.names import DOF_NAMES
+
+    T = thrusters.configuration_matrix()
+    out = []
+    for run, sm in zip(runs, smoothed):
+        t = np.asarray(run.time, float)
+        f = np.empty((t.size, len(thrusters)))
+        for i, (n, cv) in enumerate(zip(thrusters.names, thrusters.curves)):
+            if n in run.thrusts:
+                f[:, i] = run.thrusts[n]
+                continue
+            c = np.clip(np.asarray(run.commands[n], float), thrusters.command_min[i], thrusters.command_max[i])
+            f[:, i] = np.clip(
+                type(cv).thrust_batch([cv] * t.size, c, np.zeros(t.size)), thrusters.f_min[i], thrusters.f_max[i]
+            )
+        tau = f @ T.T
+        for d, chans in enumerate(_HOLD_CHANNELS):
+            if not np.std(tau[:, d]) > 1e-9 * (1 + np.max(np.abs(tau[:, d]))):
+                continue
+            best = (0.0, 0.0, "", 0)
+            for c in chans:
+                if c not in run.channels or not sm.known[CHANNELS.index(c)]:
+                    continue
+                ts, ys = (np.asarray(a, float) for a in run.channels[c])
+                noise = ys - np.interp(ts, sm.time, sm.states[:, CHANNELS.index(c)])
+                if c == "psi":
+                    noise = np.angle(np.exp(1j * noise))
+                k = np.searchsorted(t, ts - 1e-9)
+                for lag in range(3):
+                    ok = k + lag < t.size
+                    x, y = noise[ok], tau[k[ok] + lag, d]
+                    if ok.sum() < 10 or np.std(x) == 0 or np.std(y) == 0:
+                        continue
+                    rho = float(np.corrcoef(x, y)[0, 1])
+                    z = rho * math.sqrt(int(ok.sum()))
+                    if abs(z) > abs(best[0]):
+                        best = (z, rho, c, lag)
+            z, rho, c, lag = best
+            if abs(z) > FEEDBACK_Z:
+                out.append(
+                    f"{run.name}: the {DOF_NAMES[d]} command follows the measured {c} (its sensor noise reaches the "
+                    f"command {lag} row(s) later: ρ = {rho:+.2f}, {abs(z):.0f}× the 1/√n band; it explains "
+                    f"{100 * rho * rho:.0f} % of the command's variance): feedback detected — flown under a hold "
+                    "(depth/heading hold, stabilise). Commands that follow the state carry little excitation of their "
+                    f"own, so {DOF_NAMES[d]} coefficients lose precision and an equation-error fit is biased; add a "
+                    "dither (a multi-sine on the setpoint or on the command) or fly open-loop segments (manual mode)"
+                )
+    return out
+
+
 def _predict(
     problem: _Problem,
     theta: np.ndarray,
@@ -448,17 +514,18 @@ def identify(
         raise InputError(
             f"{n_samples} samples for {p} parameters and {n_x0} initial states; expected more samples than parameters"
         )
-    preps = [prepare_run(r, th, dt) for r in runs]
+    preps = [prepare_run(r, th, dt, surfaces=veh.surfaces.names) for r in runs]
     taus = [tau_on_grid(_abs_table(pr), s.time) for pr, s in zip(preps, smoothed)]
     ee = equation_error(veh, params, smoothed, taus)
     warnings: list[str] = []
     for run in runs:
         warnings += [f"{run.name}: {w}" for w in getattr(run, "warnings", ())]
+    warnings += _feedback(runs, smoothed, th)
     # the initial state of every measured channel is estimated (x and y only matter when measured);
     # an unmeasured velocity starts at 0 (said in the warnings)
     est = [np.array([i for i in range(2, 12) if s.known[i]], dtype=int) for s in smoothed]
     for run, s in zip(runs, smoothed):
-        unmeasured = [CHANNELS[i] for i in range(6, 12) if not s.known[i]]
+        unmeasured = [CHANNELS[i] for i in range(6, 12) if not s.known[i] and (i - 6) in veh.dofs]
         if unmeasured:
             warnings.append(f"{run.name}: {', '.join(unmeasured)} not measured: taken as 0 at the start")
     problem = _Problem(veh, params, preps, [s.at(s.time[0]) for s in smoothed], est, dict(initial_noise(smoothed)))
@@ -510,7 +577,14 @@ def identify(
     corr = correlation(cov)
     step_check = float("nan")
     if check_step and method == "output-error":
-        half = _Problem(veh, params, [prepare_run(rr, th, dt / 2) for rr in runs], problem.x0, est, problem.sigma)
+        half = _Problem(
+            veh,
+            params,
+            [prepare_run(rr, th, dt / 2, surfaces=veh.surfaces.names) for rr in runs],
+            problem.x0,
+            est,
+            problem.sigma,
+        )
         r2, J2, ok2 = half.evaluate(z, scale, True)
         if ok2 and J2 is not None:
             dz = -np.linalg.lstsq(J2, r2, rcond=None)[0][:p] * scale[:p]
@@ -518,7 +592,7 @@ def identify(
         problem.sim_seconds += half.sim_seconds
     _, x0s = problem.unpack(z)
     fitted = _predict(problem, theta, cov, x0s, preps, samples, seed)
-    hold_preps = [prepare_run(r, th, dt) for r in holdout]
+    hold_preps = [prepare_run(r, th, dt, surfaces=veh.surfaces.names) for r in holdout]
     hold_x0 = [smooth_run(r).at(float(r.time[0])) for r in holdout]
     held = _predict(problem, theta, cov, hold_x0, hold_preps, samples, seed + 1)
     run_rows, predictions = [], []

@@ -5,13 +5,19 @@
   of the grammar (:mod:`hydrokit.model.terms`; added to the vehicle with value 0 when absent),
   read from and written into a :class:`~hydrokit.model.vehicle.Vehicle`;
 - the generalised force of a run: thruster commands → rotor lag → thrust curve → τ = T f,
-  tabulated for the compiled integrator with the zero-order hold of the commands kept exact;
+  tabulated for the compiled integrator with the zero-order hold of the commands kept exact,
+  followed by the deflections of the vehicle's control surfaces (rad, held like the commands;
+  the compiled kernels' rows [t, X, Y, Z, K, M, N, δ_1 … δ_n], issue #45);
 - many vehicles over one run on the compiled batch RK4, read at each channel's sample times.
 
-Assumption: thrust curves are evaluated at zero advance speed (bollard pull). Table and ideal
-curves do not depend on it; for a propeller curve this is exact only at low speed, which is
-where pool dives are flown, and it keeps the thrust history independent of the parameters, so
-it is computed once per run.
+Advance speed: a propeller curve (K_T(J)) is evaluated at the advance speed of the run's
+*measured* body velocity, V_a = (1 − w) e·(v + ω × r) (:meth:`ThrusterSet.advance_speed`, the
+velocity channels linearly interpolated, an unmeasured one taken as 0), and at zero advance
+speed (bollard pull) when the run measures no velocity. Table and ideal curves do not depend
+on it. Using the measured rather than the simulated velocity keeps the thrust history
+independent of the parameters (computed once per run) — the thrust is then an input derived
+from measurements, as a ship's propeller thrust at its measured speed is in a captive test;
+velocity noise enters the thrust through J only.
 """
 
 from __future__ import annotations
@@ -41,7 +47,11 @@ UNITS = {
 
 
 class RunData(Protocol):
-    """What identification needs of a run (:class:`hydrokit.io.runlog.RunLog` has it)."""
+    """What identification needs of a run (:class:`hydrokit.io.runlog.RunLog` has it).
+
+    A run of a vehicle with control surfaces also has ``deflections`` (surface → (n,) rad on
+    every row), read with ``getattr`` so that runs without surfaces need not have it.
+    """
 
     @property
     def name(self) -> str: ...
@@ -108,7 +118,7 @@ def free_parameters(vehicle: Vehicle, names: Sequence[str], source: str = "--fre
                 f"of {', '.join(COEFFICIENTS)} and dof one of {', '.join(DOF_NAMES)}, or 'terms.<term>' (e.g. terms.N_r|r|)",
                 source,
             )
-        term = parse_term(rest, f"{source} {name}")
+        term = parse_term(rest, f"{source} {name}", vehicle.surfaces.names)
         if term.acceleration is not None:
             out.append(Parameter(name, "accel", term.dof, term.acceleration, _term_unit(term)))
             continue
@@ -169,8 +179,22 @@ def with_values(vehicle: Vehicle, params: Sequence[Parameter], values: Any) -> V
 
 
 # ------------------------------------------------------------------------------ inputs
-def force_table(run: RunData, thrusters: Any, dt: float) -> np.ndarray:
-    """The generalised thruster force of a run as rows [t, X, Y, Z, K, M, N] (s, N, N·m).
+def force_table(
+    run: RunData, thrusters: Any, dt: float, surfaces: Sequence[str] | None = None, advance: bool = True
+) -> np.ndarray:
+    """The generalised thruster force of a run and its deflections as rows
+    [t, X, Y, Z, K, M, N, δ_1 … δ_n] (s, N, N·m, rad).
+
+    Parameters
+    ----------
+    run : the run (commands on every row; ``deflections`` surface → rad on every row, if any)
+    thrusters : ThrusterSet — the vehicle's thrusters
+    dt : float — integration step, s
+    surfaces : sequence of str or None — the vehicle's control-surface names, file order: the δ
+        columns in that order, each required in ``run.deflections``. None: the run's
+        deflections in their own order (as :func:`hydrokit.io.runlog.read_run` gives them)
+    advance : bool — evaluate propeller curves at the measured advance speed (module
+        docstring); False: at zero advance speed (bollard pull)
 
     Each command row is held until the next row (zero-order hold); the rotor follows it with
     its first-order lag τ ċ = c_target − c (:meth:`~hydrokit.model.thrusters.ThrusterSet.rotor_step`,
@@ -179,9 +203,21 @@ def force_table(run: RunData, thrusters: Any, dt: float) -> np.ndarray:
     Measured thrust columns (``thrust:NAME``) are held as given. Nodes lie every ``dt/2`` from
     the first row (the RK4 stages of step ``dt``, where the table is then exact) and at every
     row where an input changes, doubled there (t and t + 1e-6·dt) so that the linear
-    interpolation of the compiled integrator reproduces a jump exactly.
+    interpolation of the compiled integrator reproduces a jump exactly. Deflections are held
+    (zero-order) the same way, without a servo: they are the surfaces' logged angles.
     """
     t = np.asarray(run.time, float)
+    deflections: Mapping[str, np.ndarray] = getattr(run, "deflections", None) or {}
+    if surfaces is None:
+        surfaces = list(deflections)
+    for s_name in surfaces:
+        if s_name not in deflections:
+            raise InputError(
+                f"run {run.name}: no deflection for control surface '{s_name}'; expected a column '{s_name}' (rad)"
+            )
+    defl = np.zeros((t.size, len(surfaces)))
+    for j, s_name in enumerate(surfaces):
+        defl[:, j] = deflections[s_name]
     names = thrusters.names
     m = len(names)
     cmd = np.zeros((t.size, m))
@@ -194,7 +230,7 @@ def force_table(run: RunData, thrusters: Any, dt: float) -> np.ndarray:
             measured[i] = True
         else:
             raise InputError(f"run {run.name}: no input for thruster '{n}'")
-    change = np.nonzero(np.any(np.diff(cmd, axis=0) != 0, axis=1))[0] + 1
+    change = np.nonzero(np.any(np.diff(np.hstack([cmd, defl]), axis=0) != 0, axis=1))[0] + 1
     eps = 1e-6 * dt
     # nodes every dt/2 from the first row: RK4 evaluates the force only there, where linear
     # interpolation between nodes returns the exact node value
@@ -212,18 +248,35 @@ def force_table(run: RunData, thrusters: Any, dt: float) -> np.ndarray:
     c = thrusters.rotor_step(c_row[seg], cmd[seg], (nodes - t[seg])[:, None])
     c[at_row] = c_row[seg[at_row]]
     f = np.empty_like(c)
-    zero = np.zeros(nodes.size)
+    va = _advance_speeds(run, thrusters, nodes) if advance else np.zeros((nodes.size, m))
+    jump = np.isin(nodes, t[change])
     for i, cv in enumerate(thrusters.curves):
         if measured[i]:
             f[:, i] = cmd[seg, i]
             # the held thrust changes at the row itself: node t_k keeps the old value
-            jump = np.isin(nodes, t[change])
             f[jump, i] = cmd[np.maximum(seg[jump] - 1, 0), i]
             continue
         ci = np.clip(c[:, i], thrusters.command_min[i], thrusters.command_max[i])
-        f[:, i] = np.clip(type(cv).thrust_batch([cv] * nodes.size, ci, zero), thrusters.f_min[i], thrusters.f_max[i])
+        thrust = type(cv).thrust_batch([cv] * nodes.size, ci, np.ascontiguousarray(va[:, i]))
+        f[:, i] = np.clip(thrust, thrusters.f_min[i], thrusters.f_max[i])
     tau = f @ thrusters.configuration_matrix().T
-    return np.column_stack([nodes, tau])
+    d = defl[seg]
+    d[jump] = defl[np.maximum(seg[jump] - 1, 0)]  # held: node t_k keeps the old deflection
+    return np.column_stack([nodes, tau, d])
+
+
+def _advance_speeds(run: RunData, thrusters: Any, nodes: np.ndarray) -> np.ndarray:
+    """(k, m) advance speed of every thruster at ``nodes`` from the run's measured body velocity
+    (linear between samples, held beyond; unmeasured components 0), m/s."""
+    nu = np.zeros((nodes.size, 6))
+    for j, c in enumerate(VELOCITY_SYMBOLS):
+        if c in run.channels:
+            ts, ys = run.channels[c]
+            if np.size(ts):
+                nu[:, j] = np.interp(nodes, ts, ys)
+    # V_a is linear in ν: its matrix from the unit velocities
+    A = np.column_stack([thrusters.advance_speed(e) for e in np.eye(6)])
+    return nu @ A.T
 
 
 # ------------------------------------------------------------------------------ simulation
@@ -231,7 +284,8 @@ def force_table(run: RunData, thrusters: Any, dt: float) -> np.ndarray:
 class PreparedRun:
     """A run ready for the batch integrator.
 
-    name : str; t0 : float — s; duration : float — s; table : (k, 7) force rows, time from t0;
+    name : str; t0 : float — s; duration : float — s; table : (k, 7 + n_surfaces) force and
+    deflection rows (s, N, N·m, rad), time from t0;
     channels : tuple of channel names; times : per channel sample times from t0 (s);
     values : per channel measured values (SI); dt : float — integration step, s
     """
@@ -256,13 +310,19 @@ class PreparedRun:
 
 
 def prepare_run(
-    run: RunData, thrusters: Any, dt: float, t_start: float | None = None, t_end: float | None = None
+    run: RunData,
+    thrusters: Any,
+    dt: float,
+    t_start: float | None = None,
+    t_end: float | None = None,
+    surfaces: Sequence[str] | None = None,
 ) -> PreparedRun:
-    """Force table and samples of ``run`` (optionally its window [t_start, t_end], s)."""
+    """Force table and samples of ``run`` (optionally its window [t_start, t_end], s);
+    ``surfaces``: the vehicle's control-surface names (:func:`force_table`)."""
     t = np.asarray(run.time, float)
     a = float(t[0] if t_start is None else t_start)
     b = float(t[-1] if t_end is None else t_end)
-    table = force_table(run, thrusters, dt)
+    table = force_table(run, thrusters, dt, surfaces)
     table = table[(table[:, 0] >= a - dt) & (table[:, 0] <= b + dt)].copy()
     table[:, 0] -= a
     chans, times, values = [], [], []

@@ -8,12 +8,15 @@ equation-error fit needs). The jerk intensity and the measurement noise are chos
 likelihood on a grid; that noise σ is each channel's first weight.
 
 **Equation error.** (M_RB + M_A) ν̇ = τ − C(ν) ν − D(ν) ν + τ_terms − g(η) is affine in every
-free coefficient (added mass enters M and the Coriolis matrix linearly), so the equation
-residual e(θ) = M(θ) ν̇ − τ − f(x; θ) has exact regressor columns e(θ + δ e_k) − e(θ), computed
-with the compiled right-hand side itself (no second copy of the model): f = M ν̇₀ with ν̇₀ the
-compiled :func:`~hydrokit.simulate.compiled.deriv` at τ = 0. Weighted least squares per DOF
-equation (weights from the residual RMS of a first pass) gives the start of the output-error
-fit and an independent estimate.
+free coefficient (added mass enters M and the Coriolis matrix linearly; a derivative term,
+``delta()`` terms included, enters linearly), so the equation residual
+e(θ) = M(θ) ν̇ − F(x, τ, δ; θ) has exact regressor columns e(θ + δ e_k) − e(θ), computed with the
+compiled right-hand side itself (no second copy of the model): F = M ν̇₀ with ν̇₀ the compiled
+:func:`~hydrokit.simulate.compiled.deriv` at the run's thruster force τ and deflections δ (so
+physical fins, whose force depends on both, and ``delta()`` terms are in it). Only the
+vehicle's kept DOF (``dofs``) give equations. Weighted least squares per DOF equation (weights
+from the residual RMS of a first pass) gives the start of the output-error fit and an
+independent estimate.
 """
 
 from __future__ import annotations
@@ -198,14 +201,17 @@ _BUF = _compiled.BUF_SIZE
 
 
 @numba.njit(cache=True)
-def _accelerations(X, Minv, Mc, DL, DQ, scal, t_dof, t_coef, t_kind, t_idx, out):  # noqa: ANN001, ANN202
-    """ν̇ at τ = 0 for every vehicle k and state row i (the compiled right-hand side)."""
-    tau = np.zeros((1, 7))
+def _accelerations(X, U, Minv, Mc, DL, DQ, scal, t_dof, t_coef, t_kind, t_idx, out):  # noqa: ANN001, ANN202
+    """ν̇ for every vehicle k and state row i at input row U[i] = [X..N, δ_1 … δ_n] (the compiled
+    right-hand side)."""
+    tau = np.zeros((1, 1 + U.shape[1]))
     cur = np.zeros((1, 4))
     buf = np.empty(_BUF)
     xd = np.empty(12)
     for k in range(Minv.shape[0]):
         for i in range(X.shape[0]):
+            for j in range(U.shape[1]):
+                tau[0, 1 + j] = U[i, j]
             deriv(
                 0.0,
                 X[i],
@@ -228,12 +234,23 @@ def _accelerations(X, Minv, Mc, DL, DQ, scal, t_dof, t_coef, t_kind, t_idx, out)
                 out[k, i, j] = xd[6 + j]
 
 
-def model_force(vehicles: Sequence[Vehicle], states: np.ndarray) -> np.ndarray:
-    """f(x) = τ-free right-hand side force (N, N·m) of each vehicle at each state row: (nv, n, 6)."""
+def model_force(vehicles: Sequence[Vehicle], states: np.ndarray, inputs: np.ndarray | None = None) -> np.ndarray:
+    """F(x, τ, δ) = M ν̇, the whole right-hand side force (N, N·m) of each vehicle at each state
+    row: (nv, n, 6).
+
+    Parameters
+    ----------
+    vehicles : Vehicles sharing one term structure
+    states : (n, 12) — η, ν (m, rad, m/s, rad/s)
+    inputs : (n, 6 + n_surfaces) or None — per row the thruster force X..N (N, N·m) and the
+        deflections (rad, the vehicle's surface order); None: no force, no deflection
+    """
     p = stack_packs(vehicles)
     out = np.empty((len(vehicles), states.shape[0], 6))
+    U = np.zeros((states.shape[0], 6)) if inputs is None else np.asarray(inputs, float)
     _accelerations(
         np.ascontiguousarray(states, float),
+        np.ascontiguousarray(U),
         p["Minv"],
         p["Mc"],
         p["DL"],
@@ -272,17 +289,25 @@ def equation_error(
     smoothed: Sequence[Smoothed],
     taus: Sequence[np.ndarray],
     trim: float = 1.0,
+    window: float = 2.0,
 ) -> EquationError:
-    """Weighted least squares on the equations of motion (module docstring).
+    """Weighted least squares on the equations of motion (module docstring), integrated over
+    windows.
 
     Parameters
     ----------
     vehicle : Vehicle — the base (values of every parameter not free)
     params : the free parameters
     smoothed : per run, its :class:`Smoothed` states
-    taus : per run, (n, 6) thruster force on the smoothed grid, N and N·m
+    taus : per run, (n, 6 + n_surfaces) thruster force on the smoothed grid, N and N·m, then the
+        control surfaces' deflections, rad (:func:`tau_on_grid` of the force table)
     trim : float — s cut from each end of a run (at most a tenth of it; smoother ends are the
         least certain)
+    window : float — s; the equations are integrated over consecutive windows of this length,
+        M (ν(b) − ν(a)) = ∫_a^b F dt, divided by b − a (a mean force, N or N·m): held inputs
+        jump (a rudder's deflection, a measured thrust) while the smoother, which assumes a
+        continuous acceleration, smears ν̇ over a few samples — the integral needs ν only, and
+        takes the jump exactly. 0: the equations at every grid point, with the smoothed ν̇
     """
     from hydrokit.simulate.sysid_stats import sandwich
 
@@ -302,13 +327,31 @@ def equation_error(
         keep = (sm.time >= sm.time[0] + cut) & (sm.time <= sm.time[-1] - cut)
         if not np.any(keep):
             keep[:] = True
-        f = model_force(vehicles, sm.states[keep])  # (p+1, n, 6)
-        e = np.einsum("kij,nj->kni", Ms, sm.nu_dot[keep]) - tau[keep][None] - f
+        f = model_force(vehicles, sm.states[keep], tau[keep])  # (p+1, n, 6), thrust and fins included
+        t = sm.time[keep]
+        w = int(round(window / float(sm.time[1] - sm.time[0]))) if window > 0 and sm.time.size > 1 else 0
+        if w >= 1 and t.size > w:
+            # ∫F dt by the trapezoidal rule between window bounds, and Δν over each window
+            cum = np.concatenate(
+                [
+                    np.zeros((f.shape[0], 1, 6)),
+                    np.cumsum(0.5 * (f[:, 1:] + f[:, :-1]) * np.diff(t)[None, :, None], axis=1),
+                ],
+                axis=1,
+            )
+            b = np.arange(0, t.size, w)
+            if t.size - 1 - b[-1] >= w // 2:  # the rest of the run: a last, shorter window
+                b = np.append(b, t.size - 1)
+            span = np.diff(t[b])[:, None]
+            dv = np.diff(sm.states[keep][b, 6:12], axis=0)
+            e = (np.einsum("kij,nj->kni", Ms, dv) - np.diff(cum[:, b], axis=1)) / span[None]
+        else:
+            e = np.einsum("kij,nj->kni", Ms, sm.nu_dot[keep]) - f
         rows_e.append(e[0])
         rows_phi.append(np.moveaxis((e[1:] - e[0]) / step[:, None, None], 0, -1))  # (n, 6, p)
     E = np.concatenate(rows_e)  # (N, 6)
     Phi = np.concatenate(rows_phi)  # (N, 6, p)
-    dofs = tuple(int(d) for d in range(6) if np.any(Phi[:, d, :] != 0))
+    dofs = tuple(int(d) for d in vehicle.dofs if np.any(Phi[:, d, :] != 0))
     if not dofs:
         raise InputError("no free parameter enters the equations of motion")
     n_rows = E.shape[0] * len(dofs)
@@ -339,8 +382,9 @@ def equation_error(
 
 
 def tau_on_grid(table: np.ndarray, time: np.ndarray) -> np.ndarray:
-    """The force table (rows [t, X..N]) interpolated at ``time`` (s): (n, 6)."""
-    return np.stack([np.interp(time, table[:, 0], table[:, 1 + j]) for j in range(6)], axis=1)
+    """The force table (rows [t, X..N, δ_1 … δ_n]) interpolated at ``time`` (s): (n, 6 + n)
+    — forces in N, N·m, deflections in rad."""
+    return np.stack([np.interp(time, table[:, 0], table[:, 1 + j]) for j in range(table.shape[1] - 1)], axis=1)
 
 
 def initial_noise(smoothed: Sequence[Smoothed]) -> Mapping[str, float]:
