@@ -271,7 +271,7 @@ def test_equation_error_method_and_terms(base: Any, short: Any) -> None:
     assert doc["terms"]["N_r|r|"]["value"] == pytest.approx(res.values[0])
     # Z_wdot: M_A[2, 2] = file added mass − term, and the identified entry is −value
     assert doc["terms"]["Z_wdot"]["value"] == pytest.approx(3 + res.values[1])
-    assert doc["uncertainty"]["parameters"] == []
+    assert doc["uncertainty"]["parameters"] == ["terms.N_r|r|", "terms.Z_wdot"]
 
 
 def test_identifiability_messages_name_pairs_and_what_separates_them(base: Any) -> None:

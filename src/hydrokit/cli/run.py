@@ -99,12 +99,18 @@ def _print_summary(result) -> None:  # noqa: ANN001
     from hydrokit.report.html import fmt
 
     tab = Table(title=f"{result.document['project']['name']}: chosen full-scale coefficients (SI)")
-    for c in ("DOF", "coefficient", "tank [95 % CI]", "chosen", "source"):
+    rows = result.document["comparison"]
+    has_tank = any(r["tank"] is not None for r in rows)
+    has_sysid = bool(result.document.get("sysid"))
+    cols = ("DOF", "coefficient") + ("tank [95 % CI]",) * has_tank + ("sysid ± σ",) * has_sysid + ("chosen", "source")
+    for c in cols:
         tab.add_column(c)
-    for r in result.document["comparison"]:
+    for r in rows:
         ci = r["tank_ci"] or [None, None]
-        tank = f"{fmt(r['tank'])} [{fmt(ci[0])}, {fmt(ci[1])}]" if r["tank"] is not None else "–"
-        tab.add_row(r["dof"], r["coefficient"], tank, fmt(r["chosen"]), r["chosen_source"])
+        tank = [f"{fmt(r['tank'])} [{fmt(ci[0])}, {fmt(ci[1])}]" if r["tank"] is not None else "–"] * has_tank
+        sid = r.get("sysid")
+        sysid = [f"{fmt(sid)} ± {fmt(r.get('sysid_sigma'), 2)}" if sid is not None else "–"] * has_sysid
+        tab.add_row(r["dof"], r["coefficient"], *tank, *sysid, fmt(r["chosen"]), r["chosen_source"])
     console = Console(stderr=True)
     console.print(tab)
     steps = ", ".join(

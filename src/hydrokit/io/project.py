@@ -10,7 +10,9 @@ campaigns:                    # one entry per identified DOF
 geometry: geometry.yaml       # optional: estimate (and --bem) for comparison and for DOFs not tested
 forces: {surge: cfd_x.csv}    # optional CFD/tow force curves per DOF (speed m/s, force N), full scale
 cfd: {speeds: [0.5, 1, 1.5], dofs: [heave]}   # optional: compute the CFD column with OpenFOAM (docs/cfd.md)
-choose: tank                  # rule when sources disagree: tank | geometry | bem | cfd (or per DOF)
+sysid: {runs: [dive1.csv, dive2.csv], holdout: [dive3.csv], free: [added_mass.surge, linear_damping.surge]}
+                              # optional: identified from the vehicle's own free-running logs (docs/sysid.md)
+choose: tank                  # rule when sources disagree: tank | geometry | bem | cfd | sysid (or per DOF)
 mission: mission.yaml         # optional: flown with PID and S-plane on the identified vehicle
 uncertainty: {samples: 200, seed: 1}   # Monte Carlo over the coefficient covariance
 ```
@@ -22,7 +24,13 @@ convert γ to K_Q as ENG2009 does, γ·m·r, instead of the default ``physics`` 
 of virtual data, shown as identified vs true), ``forces`` entries as
 ``{file, area (m²), density (kg/m³)}``, ``published`` (per DOF, full-scale values printed by a
 source with a ``source`` text, shown in the comparison), ``choose`` as a mapping
-``{surge: cfd, default: tank}``, ``virtual: true`` and ``description``.
+``{surge: cfd, default: tank}``, ``virtual: true`` and ``description``. ``sysid`` takes
+``runs`` and ``holdout`` (a glob or a list of run files, docs/sysid.md), ``free`` (a list or
+comma-separated text of ``<coefficient>.<dof>`` / ``terms.<term>`` names), ``method``
+(output-error or equation-error), ``dt`` (integration step, s) and ``truth`` (the
+``truth.json`` of ``hydrokit sysid generate``: the hidden values of virtual dives, shown as
+true). A project needs at least one campaign or a ``sysid`` section; ``scale_ratio`` only
+when a campaign lacks its own.
 
 Paths are relative to the project file. Every problem is one line naming the field.
 """
@@ -44,7 +52,7 @@ from hydrokit.identify.types import METHODS
 from hydrokit.io.yamlfile import pydantic_error_line, read_yaml
 
 #: sources a coefficient can be chosen from
-SOURCES = ("tank", "geometry", "bem", "cfd")
+SOURCES = ("tank", "geometry", "bem", "cfd", "sysid")
 COEFFICIENTS = ("added_mass", "linear_damping", "quadratic_damping")
 PROJECTS_DIR = Path(__file__).resolve().parents[1] / "data" / "projects"
 
@@ -99,14 +107,25 @@ class _Uncertainty(BaseModel):
     seed: int = 1
 
 
+class _Sysid(BaseModel):
+    model_config = ConfigDict(extra="forbid")
+    runs: Any = Field(description="a glob or a list of run files")
+    holdout: Any = Field(None, description="a glob or a list of run files, validation only")
+    free: Any = Field(description="a list or comma-separated text of parameter names")
+    method: str = "output-error"
+    dt: float = Field(0.01, gt=0, le=0.1, description="integration step, s")
+    truth: str | None = Field(None, description="truth.json of hydrokit sysid generate")
+
+
 class ProjectFile(BaseModel):
     """The project file schema (see module docstring)."""
 
     model_config = ConfigDict(extra="forbid")
     name: str = Field(min_length=1)
     vehicle: str
-    scale_ratio: float = Field(gt=0, le=1000)
-    campaigns: list[_Campaign] = Field(min_length=1)
+    scale_ratio: float | None = Field(None, gt=0, le=1000)
+    campaigns: list[_Campaign] = Field(default_factory=list)
+    sysid: _Sysid | None = None
     geometry: str | None = None
     forces: dict[str, str | _Force] = Field(default_factory=dict)
     cfd: _Cfd | None = None
@@ -146,6 +165,24 @@ class ForceSpec:
     density: float | None
 
 
+@dataclass(frozen=True)
+class SysidSpec:
+    """The ``sysid:`` section: identification from the vehicle's own free-running runs
+    (``hydrokit sysid``, docs/sysid.md). runs, holdout : run files (sorted per glob);
+    free : parameter names (``<coefficient>.<dof>`` or ``terms.<term>``); method : output-error
+    or equation-error; dt : integration step, s; truth : name → hidden value (SI) of virtual
+    dives (``truth.json`` of ``hydrokit sysid generate``), or None; truth_file : its path."""
+
+    runs: tuple[Path, ...]
+    holdout: tuple[Path, ...]
+    free: tuple[str, ...]
+    method: str
+    dt: float
+    pattern: str
+    truth: dict[str, float] | None = None
+    truth_file: Path | None = None
+
+
 #: DOFs a CFD speed sweep can give (a pure motion along a body axis) and their axes
 CFD_AXES = {"surge": "x", "sway": "y", "heave": "z"}
 
@@ -175,7 +212,7 @@ class Project:
     name: str
     source: Path
     vehicle: Path
-    scale_ratio: float
+    scale_ratio: float | None
     campaigns: tuple[CampaignSpec, ...]
     geometry: Path | None
     forces: dict[str, ForceSpec]
@@ -187,6 +224,7 @@ class Project:
     virtual: bool = False
     description: str = ""
     cfd: CfdSpec | None = None
+    sysid: SysidSpec | None = None
 
     @property
     def root(self) -> Path:
@@ -202,7 +240,10 @@ class Project:
         files += [p for p in (self.geometry, self.mission) if p is not None]
         if self.cfd is not None and self.cfd.body not in files:
             files.append(self.cfd.body)
-        return files
+        if self.sysid is not None:
+            files += [*self.sysid.runs, *self.sysid.holdout]
+            files += [self.sysid.truth_file] if self.sysid.truth_file is not None else []
+        return list(dict.fromkeys(files))
 
 
 def resolve_project(name_or_path: str | os.PathLike[str]) -> Path:
@@ -234,10 +275,12 @@ def _file(root: Path, value: str, field_name: str, source: str) -> Path:
     return p
 
 
-def _launches(root: Path, value: str | list[str], field_name: str, source: str) -> tuple[Path, ...]:
+def _launches(
+    root: Path, value: str | list[str], field_name: str, source: str, what: str = "launch files"
+) -> tuple[Path, ...]:
     patterns = [value] if isinstance(value, str) else list(value)
     if not patterns:
-        raise InputError(f"field '{field_name}' is empty: expected a glob or a list of launch files", source)
+        raise InputError(f"field '{field_name}' is empty: expected a glob or a list of {what}", source)
     found: list[Path] = []
     for pat in patterns:
         full = pat if Path(pat).is_absolute() else str(root / pat)
@@ -273,6 +316,12 @@ def parse_project(data: dict[str, Any], path: Path) -> Project:
     except ValidationError as exc:
         raise pydantic_error_line(exc, source, ProjectFile) from None
     root = path.parent
+    if not f.campaigns and f.sysid is None:
+        raise InputError(
+            "field 'campaigns' is empty and there is no 'sysid': expected at least one tank campaign or a "
+            "'sysid:' section (runs of the vehicle itself)",
+            source,
+        )
     campaigns = []
     seen: dict[str, int] = {}
     for i, c in enumerate(f.campaigns):
@@ -287,6 +336,13 @@ def parse_project(data: dict[str, Any], path: Path) -> Project:
         seen[c.dof] = i
         if c.method not in METHODS:
             raise InputError(f"field '{where}.method' = {c.method!r}: expected one of {', '.join(METHODS)}", source)
+        scale = c.scale_ratio if c.scale_ratio is not None else f.scale_ratio
+        if scale is None:
+            raise InputError(
+                f"field 'scale_ratio' is missing: expected the model/full length ratio (> 0) of {where} "
+                "(or the campaign's own scale_ratio)",
+                source,
+            )
         tare, convention = (c.tare.launches, c.tare.convention) if isinstance(c.tare, _Tare) else (c.tare, "physics")
         if convention not in TARE_CONVENTIONS:
             raise InputError(
@@ -299,7 +355,7 @@ def parse_project(data: dict[str, Any], path: Path) -> Project:
                 rig=_file(root, c.rig, f"{where}.rig", source),
                 launches=_launches(root, c.launches, f"{where}.launches", source),
                 method=c.method,
-                scale_ratio=c.scale_ratio if c.scale_ratio is not None else f.scale_ratio,
+                scale_ratio=scale,
                 pattern=c.launches if isinstance(c.launches, str) else ", ".join(c.launches),
                 truth=c.truth.model_dump() if c.truth is not None else None,
                 tare=_launches(root, tare, f"{where}.tare", source) if tare is not None else (),
@@ -332,7 +388,89 @@ def parse_project(data: dict[str, Any], path: Path) -> Project:
         virtual=f.virtual,
         description=f.description,
         cfd=cfd,
+        sysid=_sysid(f.sysid, root, source),
     )
+
+
+def _file_list(root: Path, value: Any, field_name: str, source: str) -> tuple[Path, ...]:
+    """Run files from a glob or a list of paths and globs (each text)."""
+    if isinstance(value, str):
+        return _launches(root, value, field_name, source, "run files")
+    if not isinstance(value, list) or not all(isinstance(v, str) for v in value):
+        raise InputError(
+            f"field '{field_name}' = {str(value)[:60]!r}: expected a glob or a list of run files (text)", source
+        )
+    return _launches(root, value, field_name, source, "run files")
+
+
+def _free_names(value: Any, source: str) -> tuple[str, ...]:
+    """The free names of ``sysid.free`` (a list or comma-separated text), each checked."""
+    from hydrokit.model.uncertainty import check_parameter, location
+
+    if isinstance(value, str):
+        names = [n.strip() for n in value.split(",")]
+    elif isinstance(value, list) and all(isinstance(v, str) for v in value):
+        names = [n.strip() for n in value]
+    else:
+        raise InputError(
+            f"field 'sysid.free' = {str(value)[:60]!r}: expected a list or comma-separated text of names "
+            "like added_mass.surge, linear_damping.yaw, terms.N_r|r|",
+            source,
+        )
+    if not any(names):
+        raise InputError(
+            "field 'sysid.free' is empty: expected names like added_mass.surge, linear_damping.yaw", source
+        )
+    seen: dict[Any, str] = {}
+    for k, name in enumerate(names):
+        where = location(check_parameter(name, f"field 'sysid.free[{k}]' =", source))
+        if where in seen:
+            also = "" if seen[where] == name else f" (as {seen[where]!r}: the same coefficient)"
+            raise InputError(
+                f"field 'sysid.free[{k}]' = {name!r}: named twice{also}; expected each parameter once", source
+            )
+        seen[where] = name
+    return tuple(names)
+
+
+def _sysid(s: _Sysid | None, root: Path, source: str) -> SysidSpec | None:
+    if s is None:
+        return None
+    runs = _file_list(root, s.runs, "sysid.runs", source)
+    holdout = _file_list(root, s.holdout, "sysid.holdout", source) if s.holdout not in (None, []) else ()
+    both = sorted(set(runs) & set(holdout))
+    if both:
+        raise InputError(
+            f"field 'sysid.holdout' = {both[0].name!r}: also a training run in 'sysid.runs'; expected validation "
+            "runs the fit does not see",
+            source,
+        )
+    truth = None
+    truth_file = _file(root, s.truth, "sysid.truth", source) if s.truth is not None else None
+    if truth_file is not None:
+        truth = _sysid_truth(truth_file, source)
+    pattern = s.runs if isinstance(s.runs, str) else ", ".join(map(str, s.runs))
+    return SysidSpec(runs, holdout, _free_names(s.free, source), s.method, float(s.dt), pattern, truth, truth_file)
+
+
+def _sysid_truth(path: Path, source: str) -> dict[str, float]:
+    """``hidden`` of a ``truth.json`` written by ``hydrokit sysid generate`` (name → SI value)."""
+    import json
+    import math
+
+    try:
+        doc = json.loads(path.read_text(encoding="utf-8"))
+        hidden = doc["hidden"]
+        out = {str(k): float(v) for k, v in hidden.items()}
+    except (OSError, ValueError, KeyError, TypeError, AttributeError):
+        raise InputError(
+            f"field 'sysid.truth' = {path.name!r}: expected the truth.json of 'hydrokit sysid generate' "
+            "(a JSON object with 'hidden': name → value)",
+            source,
+        ) from None
+    if not all(math.isfinite(v) for v in out.values()):
+        raise InputError(f"field 'sysid.truth' = {path.name!r}: a hidden value is not finite", source)
+    return out
 
 
 def _cfd(f: ProjectFile, root: Path, forces: dict[str, ForceSpec], source: str) -> CfdSpec | None:
@@ -388,6 +526,27 @@ def check_inputs(project: Project) -> None:
     for spec in project.forces.values():
         read_forces(spec.file)
     _ = load_mission(project.mission) if project.mission else None
+    if project.sysid is not None:
+        check_sysid_runs(project)
+
+
+def check_sysid_runs(project: Project) -> None:
+    """Read the base vehicle and every run of ``sysid:`` once: a vehicle without thrusters, or a
+    bad run file (one line naming its file and column), is refused before any step runs."""
+    from hydrokit.io.runlog import read_run
+    from hydrokit.io.thrusters import parse_thrusters
+
+    assert project.sysid is not None
+    data = read_yaml(project.vehicle)
+    thrusters = parse_thrusters(data, str(project.vehicle)) if data.get("thrusters") else None
+    if thrusters is None or len(thrusters) == 0:
+        raise InputError(
+            f"field 'sysid': the vehicle {project.vehicle.name} has no 'thrusters:' block; expected the thrusters "
+            "whose commands the runs hold",
+            str(project.source),
+        )
+    for run in (*project.sysid.runs, *project.sysid.holdout):
+        read_run(run, thrusters.names)
 
 
 def load_project(name_or_path: str | os.PathLike[str]) -> Project:

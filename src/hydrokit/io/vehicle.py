@@ -42,7 +42,8 @@ drag strips and viscous lift of a body of revolution from its profile) is read b
 
 ``uncertainty:`` (written by ``hydrokit run``, docs/run.md) is read into
 ``Vehicle.uncertainty`` (:mod:`hydrokit.model.uncertainty`): standard errors per coefficient
-(6 numbers ≥ 0 each, SI), ``parameters`` and their ``covariance``; ``--samples`` of
+(6 numbers ≥ 0 each, SI), ``parameters`` (``<coefficient>.<dof>`` or ``terms.<term>``) and their
+``covariance``; ``--samples`` of
 ``hydrokit simulate`` and ``hydrokit mission`` draws vehicles from it.
 """
 
@@ -172,8 +173,10 @@ def _drag_elements(value: Any, source: str) -> list[DragElement]:
     return out
 
 
-def _uncertainty(value: Any, source: str) -> Any:
-    """The ``uncertainty`` block as an :class:`~hydrokit.model.uncertainty.Uncertainty` (or None)."""
+def _uncertainty(value: Any, source: str, terms: TermSet | None = None, surfaces: tuple[str, ...] = ()) -> Any:
+    """The ``uncertainty`` block as an :class:`~hydrokit.model.uncertainty.Uncertainty` (or None);
+    a ``terms.<term>`` parameter must name one of the vehicle's ``terms`` (or an acceleration
+    term), with ``delta(NAME)`` among its control ``surfaces``."""
     from hydrokit.model.uncertainty import make_uncertainty
 
     if value is None:
@@ -196,7 +199,7 @@ def _uncertainty(value: Any, source: str) -> Any:
     names = value.get("parameters") or []
     if not isinstance(names, list):
         raise InputError(f"field 'uncertainty.parameters' = {cut_repr(names)}: expected a list of names", source)
-    return make_uncertainty(names, value.get("covariance"), sigma, source)
+    return make_uncertainty(names, value.get("covariance"), sigma, source, terms, surfaces)
 
 
 def _provenance(data: dict[str, Any]) -> tuple[str, ...]:
@@ -365,7 +368,7 @@ def parse_vehicle(data: dict[str, Any], source: str) -> Vehicle:
     if not isinstance(allow, bool):
         raise InputError(f"field 'allow_negative_damping' = {cut_repr(allow)}: expected true or false", source)
     warnings.extend(_sign_warnings(M_A, D_L, D_Q, allow, source, _feeding_terms(velocity_terms)))
-    uncertainty = _uncertainty(data.get("uncertainty"), source)
+    uncertainty = _uncertainty(data.get("uncertainty"), source, TermSet.build(velocity_terms), surfaces.names)
     return make_vehicle(
         name,
         mass,

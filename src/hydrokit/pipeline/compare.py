@@ -6,11 +6,13 @@ Sources of a full-scale coefficient (SI, the vehicle file's units):
 - ``geometry`` — the semi-empirical estimate of the geometry file (added mass and damping);
 - ``bem`` — the boundary-element added mass (``--bem``; damping stays semi-empirical);
 - ``cfd`` — the Chin fit K_L, K_Q of a CFD or tow-tank force curve (damping only);
+- ``sysid`` — identified from the vehicle's own free-running runs (value ± σ of every free
+  diagonal coefficient, :mod:`hydrokit.pipeline.sysid`);
 - ``published`` — values printed by a source (shown, never chosen).
 
 The rule of a DOF names the preferred source; a coefficient that source lacks (no value, or an
-estimate of 0: the shape tables give none) falls back along tank → cfd → bem → geometry, and
-finally keeps the base vehicle's value. The report states
+estimate of 0: the shape tables give none) falls back along tank → sysid → cfd → bem →
+geometry, and finally keeps the base vehicle's value. The report states
 which source every chosen number came from (CELY2019 §5 compares tank with CFD the same way).
 """
 
@@ -24,7 +26,11 @@ import numpy as np
 from hydrokit.core.names import DOF_NAMES
 from hydrokit.io.project import COEFFICIENTS, Project
 
-FALLBACK = ("tank", "cfd", "bem", "geometry")
+FALLBACK = ("tank", "sysid", "cfd", "bem", "geometry")
+#: sources that measure a coefficient (any finite value counts; the estimates' 0 means "none")
+MEASURED = ("tank", "cfd", "sysid")
+#: two-sided 95 % normal quantile (the sysid interval: σ from the Fisher information)
+Z95 = 1.959963984540054
 #: coefficients whose negative values are not chosen (energy would be fed in)
 DAMPING = ("linear_damping", "quadratic_damping")
 #: the coefficient keys of a published entry
@@ -146,7 +152,7 @@ def _given(source: str, value: float | None) -> bool:
     entry, e.g. a block's rotational added mass or any linear damping, gives 0)."""
     if value is None or not math.isfinite(value):
         return False
-    return source in ("tank", "cfd") or value > 0
+    return source in MEASURED or value > 0
 
 
 def _tank_value(step: dict[str, Any], coef: str) -> float | None:
@@ -161,15 +167,21 @@ def comparison(
     Parameters
     ----------
     tank : DOF → identification step document
-    others : {"geometry": …, "bem": …, "cfd": …} (any may be None)
+    others : {"geometry": …, "bem": …, "cfd": …, "sysid": …} (any may be None)
     base : the base Vehicle (its diagonal values are the last fallback)
 
     Returns
     -------
-    rows : one per DOF and coefficient with every source's value and its relative difference
-        from the tank value (%); chosen : DOF → coefficient → {value, source, se}
+    rows : one per DOF and coefficient with every source's value, its relative difference
+        from the tank value (%) and from the sysid value (%); the sysid value's σ and 95 %
+        interval; chosen : DOF → coefficient → {value, source, se}
     """
-    dofs = [d for d in DOF_NAMES if d in tank or any(d in (others.get(k) or {}) for k in ("cfd",))]
+    from hydrokit.pipeline.sysid import diagonal_values
+
+    sysid = diagonal_values(others.get("sysid"))
+    spec = getattr(project, "sysid", None)
+    sysid_truth = (spec.truth if spec is not None else None) or {}
+    dofs = [d for d in DOF_NAMES if d in tank or d in sysid or any(d in (others.get(k) or {}) for k in ("cfd",))]
     dofs += [d for d in project.published if d not in dofs]
     base_diag = {
         "added_mass": np.diag(base.M_A),
@@ -186,6 +198,7 @@ def comparison(
                 "geometry": ((others.get("geometry") or {}).get(dof) or {}).get(coef),
                 "bem": ((others.get("bem") or {}).get(dof) or {}).get(coef),
                 "cfd": ((others.get("cfd") or {}).get(dof) or {}).get(coef),
+                "sysid": (sysid.get(dof, {}).get(coef) or {}).get("value"),
             }
             rule = project.choose[dof]
             order = [rule] + [s for s in FALLBACK if s != rule]
@@ -198,6 +211,8 @@ def comparison(
                 se = tank[dof]["full_scale"][coef]["se"]
             elif source == "cfd":
                 se = others["cfd"][dof]["se"].get(coef)
+            elif source == "sysid":
+                se = sysid[dof][coef]["sigma"]
             chosen.setdefault(dof, {})[coef] = {"value": value, "source": source, "se": se}
             if negative:
                 chosen[dof][coef]["negative"] = negative
@@ -206,13 +221,19 @@ def comparison(
             pub = project.published.get(dof, {})
             published = pub.get(coef) if isinstance(pub.get(coef), (int, float)) else None
             ref = vals["tank"]
-            row = {
+            truth = ((tank.get(dof) or {}).get("truth") or {}).get(coef, {}).get("full")
+            sigma = (sysid.get(dof, {}).get(coef) or {}).get("sigma")
+            s_val = vals["sysid"]
+            row: dict[str, Any] = {
                 "dof": dof,
                 "coefficient": coef,
                 "tank": ref,
                 "tank_ci": tank[dof]["full_scale"][coef]["ci"] if dof in tank else None,
-                "truth": ((tank.get(dof) or {}).get("truth") or {}).get(coef, {}).get("full"),
-                **{k: vals[k] if _given(k, vals[k]) else None for k in ("geometry", "bem", "cfd")},
+                "truth": truth if truth is not None else sysid_truth.get(f"{coef}.{dof}"),
+                "truth_source": "tank" if truth is not None else ("sysid" if f"{coef}.{dof}" in sysid_truth else None),
+                **{k: vals[k] if _given(k, vals[k]) else None for k in ("geometry", "bem", "cfd", "sysid")},
+                "sysid_sigma": sigma,
+                "sysid_ci": _interval(s_val, sigma),
                 "published": published,
                 "published_source": pub.get("source"),
                 "base": float(base_diag[coef][i]),
@@ -222,14 +243,53 @@ def comparison(
             }
             row["relative_to_tank_percent"] = {
                 k: (100.0 * (row[k] - ref) / ref if ref and row[k] is not None else None)
-                for k in ("geometry", "bem", "cfd", "published", "truth")
+                for k in ("geometry", "bem", "cfd", "sysid", "published", "truth")
+            }
+            row["relative_to_sysid_percent"] = {
+                k: (100.0 * (row[k] - s_val) / s_val if s_val and row[k] is not None else None)
+                for k in ("tank", "geometry", "bem", "cfd", "published", "truth")
             }
             rows.append(row)
     return rows, chosen
 
 
+def _interval(value: float | None, sigma: float | None) -> list[float] | None:
+    if value is None or sigma is None or not (math.isfinite(value) and math.isfinite(sigma)):
+        return None
+    return [value - Z95 * sigma, value + Z95 * sigma]
+
+
+def sysid_terms(project: Project, sysid: dict[str, Any] | None) -> list[dict[str, Any]]:
+    """The free ``terms.*`` of the sysid step: name, DOF, value, σ, unit, and whether it is
+    written into the vehicle (its force's DOF chooses sysid; the comparison has no other
+    source for a term)."""
+    from hydrokit.pipeline.sysid import term_dof
+
+    out = []
+    for name, p in ((sysid or {}).get("parameters") or {}).items():
+        if not name.startswith("terms."):
+            continue
+        dof = term_dof(name)
+        out.append(
+            {
+                "name": name,
+                "dof": dof,
+                "value": p["value"],
+                "sigma": p["sigma"],
+                "unit": p["unit"],
+                "truth": p.get("truth"),
+                "written": project.choose[dof] == "sysid",
+            }
+        )
+    return out
+
+
 def vehicle_document(
-    base_data: dict[str, Any], chosen: dict[str, Any], tank: dict[str, Any], project: Project
+    base_data: dict[str, Any],
+    chosen: dict[str, Any],
+    tank: dict[str, Any],
+    project: Project,
+    sysid: dict[str, Any] | None = None,
 ) -> dict[str, Any]:
     """The base vehicle file's fields with the chosen diagonals and an ``uncertainty:`` block.
 
@@ -237,7 +297,12 @@ def vehicle_document(
     identified uncertainty) of the ``added_mass``, ``linear_damping`` and ``quadratic_damping``
     diagonals, and the covariance over the listed ``parameters``: every chosen coefficient with
     a σ > 0, whatever its source (block-diagonal: campaigns and sources are independent; within
-    a campaign the means of one launch set co-vary).
+    a campaign the means of one launch set co-vary; the coefficients chosen from sysid, and
+    the free terms it writes, keep their joint covariance from the fit).
+
+    ``sysid`` is the sysid step document: its free ``terms.*`` are written into ``terms`` (as
+    :func:`hydrokit.pipeline.sysid.write_terms`) when their DOF's rule is sysid
+    (:func:`sysid_terms`), with their σ under ``uncertainty.parameters``.
     """
     doc = {k: v for k, v in base_data.items()}
     doc["name"] = f"{project.name}-identified"
@@ -268,9 +333,28 @@ def vehicle_document(
         # a σ from another source (a CFD fit's standard errors) is sampled too, independent of
         # the tank's (another experiment); the fit's K_L–K_Q correlation is not kept
         for c in COEFFICIENTS:
-            if chosen[dof][c]["source"] != "tank" and se[c][i] > 0:
+            if chosen[dof][c]["source"] not in ("tank", "sysid") and se[c][i] > 0:
                 blocks.append(np.array([[se[c][i] ** 2]]))
                 params.append(f"{c}.{dof}")
+    # the sysid parameters chosen (and terms written) keep their joint covariance from the fit
+    if sysid:
+        from hydrokit.pipeline.sysid import write_terms
+
+        terms = [t for t in sysid_terms(project, sysid) if t["written"]]
+        write_terms(doc, [(t["name"], t["value"]) for t in terms])
+        names = list(sysid["names"])
+        taken = [f"{c}.{dof}" for dof in DOF_NAMES for c in COEFFICIENTS if chosen[dof][c]["source"] == "sysid"] + [
+            t["name"] for t in terms
+        ]
+        idx = [names.index(n) for n in names if n in taken]
+        if idx:
+            cov = np.asarray(sysid["covariance"], float)[np.ix_(idx, idx)]
+            blocks.append(0.5 * (cov + cov.T))
+            params += [names[k] for k in idx]
+            for k in idx:  # the σ lists say what the covariance says (the file reader checks it)
+                coef, _, dof = names[k].partition(".")
+                if coef in COEFFICIENTS:
+                    se[coef][DOF_NAMES.index(dof)] = math.sqrt(max(float(np.asarray(sysid["covariance"])[k][k]), 0.0))
     n = len(params)
     cov_all = np.zeros((n, n))
     k = 0

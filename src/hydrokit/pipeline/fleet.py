@@ -41,8 +41,8 @@ def task_count(samples: int, controllers: Sequence[str]) -> int:
 
 
 def with_coefficients(vehicle: Any, values: dict[str, float]) -> Any:
-    """``vehicle`` with diagonal entries replaced; keys ``"<coefficient>.<dof>"``, SI
-    (:func:`hydrokit.model.uncertainty.with_coefficients`)."""
+    """``vehicle`` with parameters replaced; keys ``"<coefficient>.<dof>"`` or ``"terms.<term>"``,
+    SI (:func:`hydrokit.model.uncertainty.with_coefficients`)."""
     from hydrokit.model.uncertainty import with_coefficients as _with
 
     return _with(vehicle, values)
@@ -158,10 +158,12 @@ def monte_carlo(
     reader parses it: every coefficient with a σ) and fly every sample with every controller.
     Returns per controller the summary, plus the samples' parameter names."""
     from hydrokit.api import load_mission, vehicle_from_dict
+    from hydrokit.model.uncertainty import parameter_value
 
-    unc = vehicle_from_dict(vehicle_doc, "vehicle.yaml").uncertainty
+    vehicle = vehicle_from_dict(vehicle_doc, "vehicle.yaml")
+    unc = vehicle.uncertainty
     names = list(unc.parameters) if unc is not None else []
-    mean = np.array([_nominal(vehicle_doc, p) for p in names], float)
+    mean = np.array([parameter_value(vehicle, p) for p in names], float)
     values, clipped = unc.draw(mean, samples, seed) if unc is not None else (np.zeros((samples, 0)), 0)
     grid = grid_for(load_mission(mission_file))
     tasks = []
@@ -190,6 +192,9 @@ def monte_carlo(
 
 
 def _nominal(doc: dict[str, Any], name: str) -> float:
+    """The document's entry of a diagonal coefficient ``"<coefficient>.<dof>"`` (SI). The Monte
+    Carlo reads the vehicle's values instead (:func:`hydrokit.model.uncertainty.parameter_value`:
+    acceleration terms included, ``terms.*`` too)."""
     coef, dof = name.split(".")
     i = DOF_NAMES.index(dof)
     v = doc[coef]

@@ -36,15 +36,31 @@ class RunResult(Result):
         return self.document["chosen"]
 
     def table(self) -> tuple[list[str], list[list[Any]]]:
-        """The comparison: one row per DOF and coefficient, tank vs the other sources."""
-        cols = ["dof", "coefficient", "tank", "geometry", "bem", "cfd", "published", "chosen", "chosen_source"]
+        """The comparison: one row per DOF and coefficient, tank vs the other sources (SI, full
+        scale; ``sysid_sigma`` the standard error of the sysid value)."""
+        cols = [
+            "dof",
+            "coefficient",
+            "tank",
+            "geometry",
+            "bem",
+            "cfd",
+            "sysid",
+            "sysid_sigma",
+            "published",
+            "chosen",
+            "chosen_source",
+        ]
         return cols, [[r.get(c) for c in cols] for r in self.document["comparison"]]
 
     def summary_rows(self) -> list[tuple[str, Any]]:
         d = self.document
         rows: list[tuple[str, Any]] = [("project", d["project"]["name"]), ("campaigns", len(d["campaigns"]))]
+        if d.get("sysid"):
+            rows.append(("sysid runs", f"{len(d['sysid']['runs'])} + {len(d['sysid']['holdout'])} held out"))
+        shown = {r["dof"] for r in d["comparison"] if r.get("sysid") is not None}
         for dof, coefs in d["chosen"].items():
-            if dof in d["campaigns"]:
+            if dof in d["campaigns"] or dof in shown:
                 rows.append((dof, ", ".join(f"{c} {v['value']:.4g} ({v['source']})" for c, v in coefs.items())))
         for c, m in (d.get("monte_carlo") or {}).get("controllers", {}).items():
             x = m["metrics"]["cross_track_rms"]

@@ -58,7 +58,24 @@ class Runner:
 
             self.cfd_cases = cfd_sweep_inputs(project, self.base.density)[3]
             find_openfoam()
+        if project.sysid is not None:
+            self._check_sysid()
         self.digests = {str(p): file_digest(p) for p in project.input_files()}
+
+    def _check_sysid(self) -> None:
+        """The method and the free names against the base vehicle, before any step runs."""
+        from hydrokit.simulate.sysid import METHODS
+        from hydrokit.simulate.sysid_model import free_parameters
+
+        spec = self.p.sysid
+        assert spec is not None
+        src = str(self.p.source)
+        if spec.method not in METHODS:
+            raise InputError(f"field 'sysid.method' = {spec.method!r}: expected one of {', '.join(METHODS)}", src)
+        try:
+            free_parameters(self.base, list(spec.free), "")
+        except InputError as exc:
+            raise InputError(f"field 'sysid.free': {exc.detail}", src) from None
 
     def rel(self, path: Any) -> str:
         """A path as the report shows it: relative to the project folder when inside it."""
@@ -107,6 +124,38 @@ class Runner:
 
             tank[spec.dof] = self._timed(f"identify {spec.dof}", self._cached, f"identify-{spec.dof}", key, compute)
         return tank
+
+    def sysid(self, tank: dict[str, Any]) -> dict[str, Any] | None:
+        """The sysid source: identified from the project's runs, starting from the base vehicle
+        with the tank's diagonals (:func:`hydrokit.pipeline.sysid.start_vehicle`)."""
+        spec = self.p.sysid
+        if spec is None:
+            return None
+        from hydrokit.pipeline.sysid import start_vehicle, sysid_step
+
+        vehicle, from_tank = start_vehicle(self.base, tank)
+        key = digest(
+            "sysid",
+            self.digests[str(self.p.vehicle)],
+            from_tank,
+            [(p.name, self.digests[str(p)]) for p in spec.runs],
+            [(p.name, self.digests[str(p)]) for p in spec.holdout],
+            list(spec.free),
+            spec.method,
+            spec.dt,
+            spec.truth,
+            self.p.seed,
+        )
+
+        def compute() -> dict[str, Any]:
+            advance = self.progress(
+                f"sysid: {len(spec.free)} parameters from {len(spec.runs)} run(s), {len(spec.holdout)} held out "
+                "(iterations)",
+                30,
+            )
+            return sysid_step(spec, vehicle, self.p.seed, advance, self.rel, from_tank)
+
+        return self._timed("sysid", self._cached, "sysid", key, compute)  # type: ignore[no-any-return]
 
     def others(self, tank: dict[str, Any]) -> dict[str, Any]:
         from hydrokit.pipeline.compare import cfd_sources, geometry_sources
@@ -179,9 +228,11 @@ class Runner:
         from hydrokit.pipeline.compare import comparison, vehicle_document
 
         tank = self.identify()
+        sysid = self.sysid(tank)
         others = self.others(tank)
+        others["sysid"] = sysid
         rows, chosen = comparison(self.p, tank, others, self.base)
-        vdoc = jsonable(vehicle_document(self.base_data, chosen, tank, self.p))
+        vdoc = jsonable(vehicle_document(self.base_data, chosen, tank, self.p, sysid))
         truth_doc = None
         if self.p.campaigns and all(c.truth for c in self.p.campaigns):
             truth_doc = json.loads(json.dumps(vdoc))
@@ -206,6 +257,9 @@ class Runner:
         warnings: list[str] = []
         for t in tank.values():
             warnings += t["warnings"]
+        sysid = others.get("sysid")
+        if sysid is not None:
+            warnings += sysid["warnings"]
         warnings += [f"{self.rel(self.p.vehicle)}: {w}" for w in self.base.warnings]
         warnings += negative_damping_warnings(chosen)
         if mc is not None and mc.get("clipped_at_zero"):
@@ -236,7 +290,8 @@ class Runner:
                 "time": "s",
             },
             "campaigns": campaigns,
-            "sources": {k: v for k, v in others.items() if v is not None},
+            "sources": {k: v for k, v in others.items() if v is not None and k != "sysid"},
+            "sysid": None if sysid is None else _sysid_summary(self.p, sysid),
             "comparison": rows,
             "chosen": chosen,
             "vehicle": vdoc,
@@ -249,6 +304,8 @@ class Runner:
         for dof, t in tank.items():
             figures[f"summary:{dof}"] = t["summary_figures"]
             figures[f"launches:{dof}"] = t["launch_figures"]
+        if sysid is not None:
+            figures["sysid"] = sysid["figures"]
         if flights is not None:
             figures["missions"] = flights["figures"]
         if mc is not None:
@@ -267,6 +324,16 @@ class Runner:
             metrics = {"missions": doc["missions"], "monte_carlo": _without_paths(doc["monte_carlo"])}
             files["mission/metrics.json"] = json.dumps(jsonable(metrics), indent=2, allow_nan=False) + "\n"
         return RunResult(jsonable(doc), figures, files, self.timings)
+
+
+def _sysid_summary(project: Project, step: dict[str, Any]) -> dict[str, Any]:
+    """results.json's ``sysid``: the step without its figures, with the free terms and whether
+    each is written into the vehicle."""
+    from hydrokit.pipeline.compare import sysid_terms
+
+    out = {k: v for k, v in step.items() if k != "figures"}
+    out["terms"] = sysid_terms(project, step)
+    return out
 
 
 def negative_damping_warnings(chosen: dict[str, Any]) -> list[str]:

@@ -1,10 +1,11 @@
 """The report of the whole chain (``hydrokit run``) and the run folder's files.
 
-First screen: the full-scale coefficients with their 95 % CI next to geometry, BEM, CFD and
-published values, the chosen values with their source, the mission with its uncertainty
+First screen: the full-scale coefficients with their 95 % CI next to geometry, BEM, CFD, the
+vehicle's own dives (sysid, value ± σ) and published values, the chosen values with their source, the mission with its uncertainty
 envelope and the de-duplicated warnings. Then the details: per campaign, the launches' fits and
 residuals (collapsible), per-launch standard errors with units, C_D against Re with rejected
-launches marked, and the amplitude-group tests. Self-contained (inline CSS, base64 PNG).
+launches marked, and the amplitude-group tests; the system identification (parameters, identifiability,
+residuals and held-out NRMSE, measured against simulated). Self-contained (inline CSS, base64 PNG).
 """
 
 from __future__ import annotations
@@ -68,30 +69,54 @@ def first_screen(doc: dict[str, Any], figures: dict[str, list[dict[str, str]]]) 
         )
     if proj.get("description"):
         parts.append(f"<p>{esc(proj['description'])}</p>")
-    parts.append("<h2>Full-scale coefficients: tank against the other sources</h2>")
+    has_tank = bool(doc["campaigns"])
+    sysid = doc.get("sysid")
+    parts.append(
+        "<h2>Full-scale coefficients: tank against the other sources</h2>"
+        if has_tank
+        else "<h2>Coefficients: the vehicle's own dives (sysid) against the other sources</h2>"
+    )
     rules = sorted(set(proj["choose"].values()))
     parts.append(
         f"<p>Choice rule: <b>{esc(', '.join(f'{d}: {r}' for d, r in proj['choose'].items()))}</b>"
         if len(rules) > 1
         else f"<p>Choice rule: <b>{esc(rules[0])}</b> for every DOF"
     )
-    parts.append(
-        "; a coefficient the preferred source lacks falls back along tank → CFD → BEM → geometry → base vehicle. "
-        "Tank values: mean over launches scaled with λ, [95 % interval of the stated uncertainty: launch scatter, "
-        "amplitude-group spread and the air tare's error]. In parentheses: difference from the tank value.</p>"
+    said = (
+        "; a coefficient the preferred source lacks falls back along tank → sysid → CFD → BEM → geometry → "
+        "base vehicle. "
     )
+    if has_tank:
+        said += (
+            "Tank values: mean over launches scaled with λ, [95 % interval of the stated uncertainty: launch "
+            "scatter, amplitude-group spread and the air tare's error]. "
+        )
+    if sysid:
+        said += (
+            f"sysid: value ± σ identified from the vehicle's own runs ({len(sysid['runs'])} fitted, "
+            f"{len(sysid['holdout'])} held out; σ from the Fisher information, widened for coloured residuals) "
+            "[95 % interval]. "
+        )
+    said += f"In parentheses: difference from the {'tank' if has_tank else 'sysid'} value.</p>"
+    parts.append(said)
+    ref = "relative_to_tank_percent" if has_tank else "relative_to_sysid_percent"
     has_truth = any(r.get("truth") is not None for r in doc["comparison"])
-    header = ["DOF", "coefficient", "unit", "tank [95 % CI]"] + (["true"] if has_truth else [])
-    header += ["geometry", "BEM", "CFD", "published", "chosen", "source"]
+    header = ["DOF", "coefficient", "unit"] + (["tank [95 % CI]"] if has_tank else [])
+    header += (["true"] if has_truth else []) + ["geometry", "BEM", "CFD"]
+    header += (["sysid ± σ [95 %]"] if sysid else []) + ["published", "chosen", "source"]
     rows = []
     for r in doc["comparison"]:
-        rel = r["relative_to_tank_percent"]
+        rel = r.get(ref) or {}
         row = [r["dof"], SYMBOL[r["coefficient"]], UNIT[r["dof"] in ROTATIONAL][r["coefficient"]]]
-        row.append(fmt(r["tank"]) + _ci(r["tank_ci"]))
+        if has_tank:
+            row.append(fmt(r["tank"]) + _ci(r["tank_ci"]))
         if has_truth:
-            row.append(fmt(r["truth"]) + _rel(rel["truth"]))
-        for k in ("geometry", "bem", "cfd", "published"):
-            row.append(fmt(r[k]) + _rel(rel[k]) if r[k] is not None else "–")
+            row.append(fmt(r["truth"]) + _rel(rel.get("truth")))
+        for k in ("geometry", "bem", "cfd"):
+            row.append(fmt(r[k]) + _rel(rel.get(k)) if r[k] is not None else "–")
+        if sysid:
+            row.append(_sysid_cell(r, rel.get("sysid") if has_tank else None))
+        row.append(fmt(r["published"]) + _rel(rel.get("published")) if r["published"] is not None else "–")
         row += [fmt(r["chosen"]), r["chosen_source"]]
         rows.append(row)
     parts.append(table(header, rows, left_cols=3))
@@ -106,6 +131,100 @@ def first_screen(doc: dict[str, Any], figures: dict[str, list[dict[str, str]]]) 
             parts.append(
                 "<details><summary>all warnings</summary>" + warnings_block(doc["warnings"][15:]) + "</details>"
             )
+    return parts
+
+
+def _sysid_cell(r: dict[str, Any], relative: float | None) -> str:
+    v, s = r.get("sysid"), r.get("sysid_sigma")
+    if v is None:
+        return "–"
+    return f"{fmt(v)} ± {fmt(s, 2)}" + _ci(r.get("sysid_ci")) + _rel(relative)
+
+
+def sysid_section(s: dict[str, Any], figures: dict[str, list[dict[str, str]]]) -> list[str]:
+    """The system identification's details: runs, parameters with σ (beside start, base,
+    equation error and truth), identifiability, residuals and held-out NRMSE, figures."""
+    res = s["result"]
+    parts = [f"<h2>System identification from the vehicle's own runs ({esc(s['method'])})</h2>"]
+    held = f"; held out for validation: <code>{esc(', '.join(s['holdout']))}</code>" if s["holdout"] else ""
+    tank = s["start_vehicle"]["from_tank"]
+    start = (
+        f"the base vehicle with the tank's {', '.join(sorted(tank))} written in"
+        if tank
+        else "the base vehicle (no tank value to write in)"
+    )
+    parts.append(
+        f"<p>Runs <code>{esc(', '.join(s['runs']))}</code>{held}. Start: {esc(start)}; every coefficient not free "
+        f"keeps that value. Integration step {fmt(s['dt'])} s; {res['iterations']} iteration(s); condition number "
+        f"of the scaled Fisher information {fmt(res['condition_number'], 3)}; halving the step moves the estimates "
+        f"by at most {fmt(res['step_check_sigma'], 2)} σ.</p>"
+    )
+    has_truth = any(p.get("truth") is not None for p in s["parameters"].values())
+    rows = []
+    for name, p in s["parameters"].items():
+        ee = p["equation_error"]
+        row = [
+            name,
+            p["unit"],
+            f"{fmt(p['value'])} ± {fmt(p['sigma'], 2)}",
+            f"{fmt(ee['value'])} ± {fmt(ee['sigma'], 2)}",
+            fmt(p["start"]),
+            fmt(p["base"]),
+        ]
+        if has_truth:
+            t = p.get("truth")
+            z = (p["value"] - t) / p["sigma"] if t is not None and p["sigma"] else None
+            row.append(fmt(t) + (f" ({z:+.1f} σ)" if z is not None else ""))
+        row.append("yes" if p["identifiable"] else "no: σ ≥ |value|")
+        rows.append(row)
+    header = ["parameter", "unit (SI)", "identified ± σ", "equation error ± σ", "start", "start vehicle"]
+    header += (["true (generated)"] if has_truth else []) + ["identifiable"]
+    parts.append(table(header, rows, left_cols=2))
+    terms = s.get("terms") or []
+    if terms:
+        parts.append(
+            "<p>Free terms: "
+            + esc(
+                "; ".join(
+                    f"{t['name']} {t['value']:.4g} ± {t['sigma']:.2g} "
+                    + (
+                        "(written into the vehicle)"
+                        if t["written"]
+                        else f"(not written: {t['dof']} does not choose sysid)"
+                    )
+                    for t in terms
+                )
+            )
+            + ".</p>"
+        )
+    msgs = res.get("messages") or []
+    parts.append(
+        "<h3>Identifiability</h3>"
+        + (warnings_block(msgs) if msgs else "<p>No pair with |ρ| > 0.95; every σ below its value.</p>")
+    )
+    run_rows = []
+    for r in res["runs"]:
+        for c, d in r["channels"].items():
+            run_rows.append(
+                [
+                    r["name"],
+                    "held out" if r["holdout"] else "fitted",
+                    c,
+                    d["samples"],
+                    fmt(d["residual_rms"], 3),
+                    fmt(d["whiteness"]["lag1"], 2),
+                    fmt(d.get("nrmse"), 3),
+                ]
+            )
+    parts.append(
+        "<details><summary>Residuals per run and channel (RMS in SI; NRMSE of held-out runs)</summary>"
+        + table(["run", "use", "channel", "samples", "residual RMS", "lag-1 ρ", "NRMSE"], run_rows, left_cols=3)
+        + "</details>"
+    )
+    figs = figures.get("sysid", [])
+    if figs:
+        parts.append(f"<details><summary>Measured against simulated ({len(figs)} figures)</summary>")
+        parts.append("".join(_img(f) for f in figs) + "</details>")
     return parts
 
 
@@ -293,6 +412,8 @@ def run_report(result: RunResult) -> str:
     parts.append("<h2>Details</h2>")
     for dof, c in doc["campaigns"].items():
         parts += campaign_section(dof, c, figures)
+    if doc.get("sysid"):
+        parts += sysid_section(doc["sysid"], figures)
     if figures.get("missions"):
         parts.append("<h2>Mission details</h2>")
         parts += [_img(f) for f in figures["missions"]]

@@ -22,10 +22,13 @@ def vehicle_document(result: SysidResult, base_data: Mapping[str, Any]) -> dict[
 
     Diagonal coefficients are written into ``added_mass`` / ``linear_damping`` /
     ``quadratic_damping`` (6 numbers or a 6×6 matrix, as the base has them); ``terms.<term>``
-    into ``terms`` as dimensional values. The ``uncertainty`` block holds the σ of the diagonal
-    coefficients and their covariance (SI²), which ``simulate --samples`` reads; the vehicle
-    file's uncertainty naming has no ``terms.*``, so a free term's σ is only in sysid.json.
+    into ``terms`` as dimensional values (:func:`hydrokit.pipeline.sysid.write_terms`). The
+    ``uncertainty`` block holds the σ of the diagonal coefficients and the full covariance
+    (SI²) over every free parameter, ``terms.*`` included, which ``simulate --samples`` and
+    ``mission --samples`` read.
     """
+    from hydrokit.pipeline.sysid import write_terms
+
     doc = {k: v for k, v in base_data.items() if k != "uncertainty"}
     names = list(result.parameters)
     for coef in COEFFICIENTS:
@@ -41,37 +44,18 @@ def vehicle_document(result: SysidResult, base_data: Mapping[str, Any]) -> dict[
                 else:
                     vals[i] = v
         doc[coef] = vals
-    terms = dict(doc.get("terms") or {})
-    for name, v in zip(names, result.values):
-        if name.startswith("terms."):
-            term = name[len("terms.") :]
-            if term.endswith("dot"):
-                # M_A[dof, acc] = file added mass − term; the identified entry is −value
-                from hydrokit.model.terms import parse_term
-
-                t = parse_term(term)
-                am = base_data.get("added_mass")
-                a = 0.0
-                if isinstance(am, list) and am and isinstance(am[0], list):
-                    a = float(am[t.dof][t.acceleration])  # type: ignore[index]
-                elif isinstance(am, list) and t.dof == t.acceleration:
-                    a = float(am[t.dof])
-                terms[term] = {"value": a + float(v), "nondimensional": False}
-            else:
-                terms[term] = {"value": float(v), "nondimensional": False}
-    if terms:
-        doc["terms"] = terms
-    diag = [k for k, n in enumerate(names) if n.split(".")[0] in COEFFICIENTS]
+    write_terms(doc, [(n, float(v)) for n, v in zip(names, result.values) if n.startswith("terms.")])
+    cov = np.asarray(result.covariance, float)
     se = {c: [0.0] * 6 for c in COEFFICIENTS}
-    for k in diag:
-        coef, dof = names[k].split(".")
-        se[coef][DOF_NAMES.index(dof)] = float(result.sigma[k])
-    cov = result.covariance[np.ix_(diag, diag)]
+    for k, name in enumerate(names):
+        coef, _, dof = name.partition(".")
+        if coef in COEFFICIENTS:
+            se[coef][DOF_NAMES.index(dof)] = math.sqrt(max(float(cov[k, k]), 0.0))
     doc["uncertainty"] = {
         "description": f"hydrokit sysid ({result.method}): standard errors (SI) and covariance (SI²) of the "
-        "identified coefficients, inflated for coloured residuals",
+        "identified parameters, inflated for coloured residuals",
         **se,
-        "parameters": [names[k] for k in diag],
+        "parameters": names,
         "covariance": (0.5 * (cov + cov.T)).tolist(),
     }
     runs = ", ".join(r["name"] for r in result.runs if not r["holdout"])

@@ -33,7 +33,7 @@ from hydrokit.core.names import DOF_NAMES, POSE_SYMBOLS, VELOCITY_SYMBOLS
 from hydrokit.errors import InputError
 from hydrokit.model.dynamics import pack, stack_scal
 from hydrokit.model.terms import TermSet, parse_term
-from hydrokit.model.uncertainty import COEFFICIENTS, with_coefficients
+from hydrokit.model.uncertainty import COEFFICIENTS, parameter_value, with_coefficients
 from hydrokit.model.vehicle import Vehicle
 
 #: state / channel order (m, rad, m/s, rad/s)
@@ -142,40 +142,16 @@ def free_parameters(vehicle: Vehicle, names: Sequence[str], source: str = "--fre
 
 
 def values_of(vehicle: Vehicle, params: Sequence[Parameter]) -> np.ndarray:
-    """The vehicle's current value of each parameter (SI)."""
-    out = np.empty(len(params))
-    for k, p in enumerate(params):
-        if p.kind == "added_mass":
-            out[k] = vehicle.M_A[p.dof, p.dof]
-        elif p.kind == "linear_damping":
-            out[k] = vehicle.D_L[p.dof, p.dof]
-        elif p.kind == "quadratic_damping":
-            out[k] = vehicle.D_Q[p.dof]
-        elif p.kind == "accel":
-            out[k] = -vehicle.M_A[p.dof, p.index]  # SNAME: X_udot = −M_A[0, 0]
-        else:
-            out[k] = vehicle.terms.coef[p.index]
-    return out
+    """The vehicle's current value of each parameter (SI;
+    :func:`hydrokit.model.uncertainty.parameter_value`, the one reader of the names)."""
+    return np.array([parameter_value(vehicle, p.name) for p in params], dtype=float)
 
 
 def with_values(vehicle: Vehicle, params: Sequence[Parameter], values: Any) -> Vehicle:
-    """``vehicle`` with each parameter set to ``values`` (SI); nothing else changes."""
+    """``vehicle`` with each parameter set to ``values`` (SI); nothing else changes
+    (:func:`hydrokit.model.uncertainty.with_coefficients`)."""
     vals = np.asarray(values, float)
-    diag = {p.name: float(v) for p, v in zip(params, vals) if p.kind in COEFFICIENTS}
-    v = with_coefficients(vehicle, diag) if diag else vehicle
-    accel = [(p, float(x)) for p, x in zip(params, vals) if p.kind == "accel"]
-    if accel:
-        M_A = v.M_A.copy()
-        for p, x in accel:
-            M_A[p.dof, p.index] = -x
-        v = replace(v, M_A=M_A)
-    terms = [(p, float(x)) for p, x in zip(params, vals) if p.kind == "term"]
-    if terms:
-        coef = v.terms.coef.copy()
-        for p, x in terms:
-            coef[p.index] = x
-        v = replace(v, terms=replace(v.terms, coef=coef))
-    return v
+    return with_coefficients(vehicle, {p.name: float(v) for p, v in zip(params, vals)})
 
 
 # ------------------------------------------------------------------------------ inputs
