@@ -285,6 +285,8 @@ def sysid(
     dt: float = 0.01,
     samples: int = 40,
     seed: int = 0,
+    workers: int | None = None,
+    scheduler: str | None = None,
 ) -> Any:
     """Identify a vehicle's free coefficients from its own free-running logs (issue #44).
 
@@ -299,6 +301,8 @@ def sysid(
     dt : float — integration step, s
     samples : int — Monte Carlo draws from the covariance for the prediction envelope
     seed : int — seed of those draws
+    workers : int or None — threads of the compiled batch simulations (None: all cores)
+    scheduler : str or None — a running Dask scheduler's address: the runs are simulated on its workers
 
     Returns
     -------
@@ -316,7 +320,16 @@ def sysid(
 
     listed = [n.strip() for n in free.split(",")] if isinstance(free, str) else list(free)
     return identify(
-        v, [read(r) for r in runs], listed, [read(r) for r in holdout], method=method, dt=dt, samples=samples, seed=seed
+        v,
+        [read(r) for r in runs],
+        listed,
+        [read(r) for r in holdout],
+        method=method,
+        dt=dt,
+        samples=samples,
+        seed=seed,
+        workers=workers,
+        scheduler=scheduler,
     )
 
 

@@ -61,6 +61,9 @@ sysid.add_command(plan)
     "--workers", type=Count(1), default=None, help="Threads for the batch simulations (count; default: all cores)."
 )
 @click.option(
+    "--scheduler", default=None, help="Dask scheduler address (e.g. tcp://127.0.0.1:8786): runs on its workers."
+)
+@click.option(
     "--samples", type=Count(0), default=40, show_default=True, help="Monte Carlo draws for the prediction band (count)."
 )
 @click.option("--seed", type=SEED, default=0, show_default=True, help="Seed of the Monte Carlo draws (integer).")
@@ -86,11 +89,6 @@ def fit(runs: tuple[str, ...], vehicle: str, free: str, out_dir: str, holdout: t
     for r in (*train, *held):
         for w in r.warnings:
             click.echo(f"warning: {r.source}: {w}", err=True)
-    workers = opts.pop("workers")
-    if workers:
-        import numba
-
-        numba.set_num_threads(min(workers, numba.config.NUMBA_NUM_THREADS))  # type: ignore[attr-defined]
     with progress_bar() as bar:
         task = bar.add_task("output-error fit", total=None)
         step = lambda it, cost: bar.update(task, advance=1, description=f"iteration {it}: cost {cost:.6g}")  # noqa: E731

@@ -191,6 +191,7 @@ class _Problem:
     est: list[np.ndarray]  # per run, indices of the estimated initial states
     sigma: dict[str, float]
     sim_seconds: float = 0.0
+    executor: Any = None  # hydrokit._parallel.Executor: the runs' simulations on Dask (None: here)
 
     @property
     def n_nuisance(self) -> int:
@@ -224,16 +225,21 @@ class _Problem:
         res, blocks = [], []
         n_cols = p + self.n_nuisance
         col = p
+        tasks = []
         for prep, x0, e in zip(self.preps, x0s, self.est):
-            w = self.weights(prep)
             index = list(range(p + 1)) + [0] * e.size if jac else [0]
             X0 = np.repeat(x0[None], len(index), axis=0)
             if jac:
                 for j, i in enumerate(e):
                     X0[p + 1 + j, i] += 1e-6 * scale[col + j]
-            t = _time.perf_counter()
-            pred, done = simulate_run(prep, take(packs, index), X0)
-            self.sim_seconds += _time.perf_counter() - t
+            tasks.append((prep, take(packs, index), X0))
+            col += e.size
+        # the runs (each with its perturbed vehicles and initial states) are independent tasks
+        sims = [_simulate_task(t) for t in tasks] if self.executor is None else self.executor.map(_simulate_task, tasks)
+        col = p
+        for prep, e, (pred, done, seconds) in zip(self.preps, self.est, sims):
+            w = self.weights(prep)
+            self.sim_seconds += seconds
             if done[0] < math.ceil(prep.duration / prep.dt - 1e-9) or not np.all(np.isfinite(pred[0])):
                 return np.empty(0), None, False
             r = (prep.measured - pred[0]) * w
@@ -246,6 +252,15 @@ class _Problem:
                 blocks.append(J)
             col += e.size
         return np.concatenate(res), (np.concatenate(blocks) if jac else None), True
+
+
+def _simulate_task(task: tuple[PreparedRun, Any, np.ndarray]) -> tuple[np.ndarray, np.ndarray, float]:
+    """One run's batch of perturbed vehicles (a task for the Dask executor): predictions,
+    steps done, seconds spent."""
+    prep, packs, X0 = task
+    t = _time.perf_counter()
+    pred, done = simulate_run(prep, packs, X0)
+    return pred, done, _time.perf_counter() - t
 
 
 def _series(problem: _Problem) -> list[tuple[int, int]]:
@@ -469,6 +484,8 @@ def identify(
     samples: int = 40,
     seed: int = 0,
     progress: Callable[[int, float], None] | None = None,
+    workers: int | None = None,
+    scheduler: str | None = None,
 ) -> SysidResult:
     """Identify the ``free`` coefficients of ``vehicle`` from ``runs`` (module docstring).
 
@@ -485,6 +502,9 @@ def identify(
     samples : int — Monte Carlo draws from the covariance for the prediction band
     seed : int — seed of those draws
     progress : callable(iteration, cost) — called after every accepted iteration
+    workers : int or None — threads of the compiled batch simulations (None: all cores)
+    scheduler : str or None — address of a running Dask scheduler: each iteration's runs (with
+        all their perturbed vehicles) are simulated on its workers as independent tasks
 
     Raises
     ------
@@ -492,6 +512,34 @@ def identify(
         No thrusters, a free name that does not exist, fewer samples than parameters, a fit
         that diverged (naming the parameter that ran away).
     """
+    if workers:
+        import numba
+
+        numba.set_num_threads(min(int(workers), numba.config.NUMBA_NUM_THREADS))  # type: ignore[attr-defined]
+    args = (vehicle, runs, free, holdout, method, dt, max_iter, check_step, samples, seed, progress)
+    if scheduler is None:
+        return _identify(*args, None)
+    from hydrokit._parallel import Executor
+
+    with Executor(scheduler=scheduler) as executor:
+        return _identify(*args, executor)
+
+
+def _identify(
+    vehicle: Vehicle,
+    runs: Sequence[RunData],
+    free: Sequence[str],
+    holdout: Sequence[RunData],
+    method: str,
+    dt: float,
+    max_iter: int,
+    check_step: bool,
+    samples: int,
+    seed: int,
+    progress: Callable[[int, float], None] | None,
+    executor: Any,
+) -> SysidResult:
+    """:func:`identify` with the runs' simulations on ``executor`` (None: in this process)."""
     from hydrokit.simulate.sysid_smooth import equation_error, initial_noise, smooth_run, tau_on_grid
 
     t_start = _time.perf_counter()
@@ -528,7 +576,9 @@ def identify(
         unmeasured = [CHANNELS[i] for i in range(6, 12) if not s.known[i] and (i - 6) in veh.dofs]
         if unmeasured:
             warnings.append(f"{run.name}: {', '.join(unmeasured)} not measured: taken as 0 at the start")
-    problem = _Problem(veh, params, preps, [s.at(s.time[0]) for s in smoothed], est, dict(initial_noise(smoothed)))
+    problem = _Problem(
+        veh, params, preps, [s.at(s.time[0]) for s in smoothed], est, dict(initial_noise(smoothed)), executor=executor
+    )
     for c in list(problem.sigma):
         problem.sigma[c] = max(problem.sigma[c], 1e-9)
     start = ee.values.copy()
