@@ -94,17 +94,18 @@ def term_index(terms: TermSet, term: Term) -> int | None:
     return None
 
 
-def _ref(vehicle: Any, name: str) -> tuple[ParameterRef, int]:
-    """The reference of ``name`` in ``vehicle`` and, for a velocity term, its position."""
+def _ref(vehicle: Any, name: str, what: str = "parameter") -> tuple[ParameterRef, int]:
+    """The reference of ``name`` in ``vehicle`` and, for a velocity term, its position; errors
+    start with ``what``."""
     surfaces = tuple(vehicle.surfaces.names) if getattr(vehicle, "surfaces", None) is not None else ()
-    ref = check_parameter(name, "parameter", "", surfaces)
+    ref = check_parameter(name, what, "", surfaces)
     k = -1
     if ref.kind == "term":
         assert ref.term is not None
         found = term_index(vehicle.terms, ref.term)
         if found is None:
             raise InputError(
-                f"parameter {name[:80]!r}: the vehicle {vehicle.name!r} has no such term; expected one of its "
+                f"{what} {name[:80]!r}: the vehicle {vehicle.name!r} has no such term; expected one of its "
                 "'terms:' or an acceleration term"
             )
         k = found
@@ -128,7 +129,7 @@ def parameter_value(vehicle: Any, name: str) -> float:
 def with_coefficients(vehicle: Any, values: Any) -> Any:
     """``vehicle`` with parameters replaced; ``values`` maps ``"<coefficient>.<dof>"`` or
     ``"terms.<term>"`` to the new value (SI, see the module docstring). Everything else is kept."""
-    refs = [_ref(vehicle, key) for key in values]
+    refs = [_ref(vehicle, key, "variation") for key in values]
     return _with(vehicle, refs, list(values.values()))
 
 
