@@ -43,8 +43,8 @@ drag strips and viscous lift of a body of revolution from its profile) is read b
 ``uncertainty:`` (written by ``hydrokit run``, docs/run.md) is read into
 ``Vehicle.uncertainty`` (:mod:`hydrokit.model.uncertainty`): standard errors per coefficient
 (6 numbers ≥ 0 each, SI), ``parameters`` (``<coefficient>.<dof>`` or ``terms.<term>``) and their
-``covariance``; ``--samples`` of
-``hydrokit simulate`` and ``hydrokit mission`` draws vehicles from it.
+``covariance``; the ``--samples`` option of the simulate and mission commands draws
+vehicles from it.
 """
 
 from __future__ import annotations
