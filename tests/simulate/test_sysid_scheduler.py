@@ -16,6 +16,7 @@ def _runs():
     return base, generate_runs(hidden_vehicle(base, 4), 2, 1.5, seed=4, dt=0.01)
 
 
+@pytest.mark.needs_jit(reason="two fits, one of them through a Dask worker (64 s as interpreted Python)")
 def test_fit_on_a_dask_scheduler_equals_the_local_fit():
     distributed = pytest.importorskip("dask.distributed")
     base, runs = _runs()
