@@ -53,7 +53,7 @@ import numpy as np
 from hydrokit._result import Result, jsonable
 from hydrokit.core.kinematics import rotation_zyx
 from hydrokit.core.kinematics import wrap_angle as wrap
-from hydrokit.core.names import STATE_COLUMNS
+from hydrokit.core.names import DOF_NAMES, STATE_COLUMNS
 from hydrokit.errors import InputError, SimulationError
 from hydrokit.simulate import manoeuvre_metrics as mm
 
@@ -949,6 +949,32 @@ def steering_surface(names: tuple[str, ...], kind: str, name: str | None = None)
     )
 
 
+def check_vehicle(vehicle: Any, manoeuvre: Manoeuvre) -> None:
+    """Refuse, before anything is flown, a manoeuvre the vehicle's model cannot fly: a depth change
+    or vertical zigzag of a planar model (``dofs`` without heave and pitch) — InputError."""
+    dofs = tuple(vehicle.dofs)
+    if manoeuvre.kind in VERTICAL and not (2 in dofs and 4 in dofs):
+        kept = ", ".join(DOF_NAMES[k] for k in dofs)
+        raise InputError(
+            f"{manoeuvre.kind.replace('_', ' ')}: vehicle {vehicle.name!r} is planar (dofs: {kept}); "
+            "expected a vehicle with heave and pitch in its dofs"
+        )
+
+
+def check_settings(manoeuvre: Manoeuvre, limit: float, dt: float, duration: float | None) -> None:
+    """Refuse, before anything is flown, a step ``dt`` (s), a ``duration`` (s; None: automatic) or
+    a deflection beyond the steering surface's ``limit`` (rad) that cannot work — InputError."""
+    if not (math.isfinite(dt) and dt > 0):
+        raise InputError(f"dt = {dt} s: expected a finite step > 0 s")
+    if duration is not None and not (math.isfinite(duration) and duration >= dt):
+        raise InputError(f"duration = {duration} s: expected at least the step dt = {dt:g} s")
+    if manoeuvre.deflection is not None and abs(manoeuvre.deflection) > limit * (1 + 1e-9):
+        raise InputError(
+            f"{manoeuvre.kind}: deflection {math.degrees(manoeuvre.deflection):.4g}°: expected at most the "
+            f"surface's max_deflection_deg {math.degrees(limit):.4g}°"
+        )
+
+
 def holding_surfaces(
     f: Dynamics, dofs: tuple[int, ...], n_s: int, kind: str, steering: int, hold: bool | None = None
 ) -> tuple[int | None, int | None]:
@@ -1038,7 +1064,9 @@ def run_manoeuvre(
     metrics that need it set to None; the record is complete either way.
     """
     names = tuple(vehicle.surfaces.names)
+    check_vehicle(vehicle, manoeuvre)
     idx = steering_surface(names, manoeuvre.kind, surface)
+    check_settings(manoeuvre, float(vehicle.surfaces.max_deflection[idx]), dt, duration)
     if loop == "compiled":
         from hydrokit.simulate.compiled import make_dynamics
 
