@@ -182,7 +182,7 @@ def test_turning_circle_on_propeller_commands(run_prop, tmp_path):
     assert p["commands"] == {"prop": 20.0, "bow": 0.0} and p["command_units"] == {"prop": "rev/s", "bow": "N"}
     assert p["thrust_at_execute"]["prop"] == pytest.approx(20 * u * u, rel=4e-5)
     assert p["thrust_at_end"]["prop"] > p["thrust_at_execute"]["prop"]  # slower in the turn: lower J, more K_T
-    assert "thrust: prop" in err and "turning_circle: advance" in stdout
+    assert "thrust: prop" in err and "\n  advance: " in stdout
 
 
 @pytest.mark.parametrize(

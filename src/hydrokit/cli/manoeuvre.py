@@ -50,6 +50,7 @@ def manoeuvre(
     from hydrokit.errors import InputError
     from hydrokit.io.trajectory import table_csv
     from hydrokit.simulate.manoeuvre import commands_from_text, from_options, run_manoeuvre
+    from hydrokit.simulate.manoeuvre_metrics import describe
 
     out = check_out_dir(out_dir)
     m = from_options(
@@ -102,12 +103,26 @@ def manoeuvre(
         )
     if res.hold:
         click.echo("held: " + ", ".join(f"{k} by {n}" for k, n in res.hold.items()), err=True)
-    shown = {k: val for k, val in res.metrics.items() if isinstance(val, (int, float)) and not isinstance(val, bool)}
-    click.echo(f"{m.kind}: " + ", ".join(f"{k} = {val:.4g}" for k, val in shown.items()))
+    click.echo(f"{m.kind.replace('_', ' ')}, {res.surface} {_setting(res)}:")
+    for line in describe(m.kind, res.metrics):
+        click.echo("  " + line)
     for c in res.imo():
         verdict = "–" if c["passed"] is None else "pass" if c["passed"] else "FAIL"
         click.echo(f"IMO {c['criterion']}: {verdict}")
     click.echo(f"wrote {len(files)} files to {out}", err=True)
+
+
+def _setting(res: Any) -> str:
+    """The manoeuvre's settings as a person reads them: "at 35°", "10°/10°", "5 m at 15°"."""
+    p = res.manoeuvre.parameters()
+    a = p.get("deflection_deg")
+    if "check_angle_deg" in p:
+        return f"{a:.4g}°/{p['check_angle_deg']:.4g}°"
+    if "depth_change" in p:
+        return f"{p['depth_change']:+.4g} m at {abs(a):.4g}°"
+    if "mode" in p:
+        return p["mode"] + ("" if a is None else f" up to {a:.4g}°")
+    return f"at ±{abs(a):.4g}°" if res.kind == "pull_out" else f"at {a:.4g}°"
 
 
 def _columns(res: Any) -> tuple[list[str], Any]:

@@ -78,6 +78,9 @@ HOLD_MIN_SPEED = 0.05
 #: the approach is steady when the held depth (m) and heading (rad) are this close to their set-points
 HOLD_TOLERANCE = 1e-3
 
+#: significant digits of the floats in manoeuvre.json (the trajectory CSV keeps 9 too)
+JSON_DIGITS = 9
+
 Dynamics = Callable[..., np.ndarray]
 Servo = Callable[..., Any]
 
@@ -249,7 +252,7 @@ class ManoeuvreResult(Result):
             doc["propulsion"] = self.propulsion
         if self.planar:
             doc["imo_criteria"] = self.imo()
-        return jsonable(doc)
+        return rounded(jsonable(doc))
 
     def summary_rows(self) -> list[tuple[str, Any]]:
         rows: list[tuple[str, Any]] = [("manoeuvre", self.kind), ("surface", self.surface)]
@@ -261,6 +264,18 @@ class ManoeuvreResult(Result):
         from hydrokit.plot.manoeuvre import track_axes
 
         return track_axes(self, ax)
+
+
+def rounded(obj: Any, digits: int = JSON_DIGITS) -> Any:
+    """``obj`` (JSON-ready: dicts, lists, floats …) with every float rounded to ``digits``
+    significant digits, so that 15° written from radians reads 15.0, not 14.999999999999998."""
+    if isinstance(obj, dict):
+        return {k: rounded(v, digits) for k, v in obj.items()}
+    if isinstance(obj, list):
+        return [rounded(v, digits) for v in obj]
+    if isinstance(obj, float) and math.isfinite(obj):
+        return float(f"{obj:.{digits}g}")
+    return obj
 
 
 # --------------------------------------------------------------------------------------------

@@ -491,4 +491,53 @@ UNITS = {
     "time_to_target": "s",
     "time_to_level": "s",
     "reference_length": "m",
+    "target_depth_change": "m",
+    "yaw_rate_before": "rad/s",
+    "time_to_settle": "s",
+    "speed": "m/s",
+    "speed_ratio": "–",
+    "yaw_rate_nondimensional": "–",
+    "max_depth_rise": "m",
+    "max_depth_fall": "m",
+    "final_depth_change": "m",
 }
+
+
+def unit_of(key: str) -> str:
+    """The unit of a metric ``key`` as printed ("m", "s", "°", "rad/s", "–"; "" for a word or a
+    yes/no): :data:`UNITS`, else degrees for a name ending in ``_deg``."""
+    if key in UNITS:
+        return UNITS[key]
+    return "°" if key.endswith("_deg") else ""
+
+
+def shown(key: str, value: Any) -> str:
+    """``value`` of the metric ``key`` with its unit, for a person ("631.2 m", "not reached")."""
+    if value is None:
+        return "not reached"
+    if isinstance(value, bool):
+        return "yes" if value else "no"
+    if isinstance(value, (int, float)):
+        unit = unit_of(key)
+        text = f"{value:.4g}"
+        return text + ("°" if unit == "°" else f" {unit}" if unit and unit != "–" else "")
+    if isinstance(value, (list, tuple)):
+        return ", ".join(shown(key, v) for v in value)
+    return str(value)
+
+
+def describe(kind: str, metrics: dict[str, Any]) -> list[str]:
+    """The metrics of a ``kind`` manoeuvre as lines ``name: value unit`` (the steps of a spiral and
+    the sides of a pull-out one line each), what ``hydrokit manoeuvre`` prints."""
+    lines: list[str] = []
+    for key, value in metrics.items():
+        if key in ("points", "sides"):
+            continue
+        lines.append(f"{key.replace('_', ' ')}: {shown(key, value)}")
+    for p in metrics.get("sides", []):
+        parts = [f"{k.replace('_', ' ')} {shown(k, v)}" for k, v in p.items() if k != "deflection_deg"]
+        lines.append(f"side {p['deflection_deg']:+.4g}°: " + ", ".join(parts))
+    for p in metrics.get("points", []):
+        parts = [f"{k.replace('_', ' ')} {shown(k, v)}" for k, v in p.items() if k != "deflection_deg"]
+        lines.append(f"step at {p['deflection_deg']:+.4g}°: " + ", ".join(parts))
+    return lines
