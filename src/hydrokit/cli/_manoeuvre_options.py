@@ -22,6 +22,16 @@ _OPTIONS: tuple[tuple[tuple[str, ...], dict[str, Any]], ...] = (
     (("--pull-out",), {"type": DEG, "help": "Pull-out from steady turns at ±this deflection, deg."}),
     (("--depth-change",), {"metavar": "M[/A]", "help": "Depth change by M m (+ deeper) with planes at A deg (15)."}),
     (("--vertical-zigzag",), {"metavar": "A/B", "help": "Vertical zigzag on the stern planes: A, B in deg/deg."}),
+    (
+        ("--replay",),
+        {
+            "type": click.Path(dir_okay=False),
+            "metavar": "TRIAL.csv",
+            "help": "Replay a trial instead: a run file (time s, x y psi … in m, rad, m/s, rad/s, thruster commands, "
+            "deflections in rad); the model flies its inputs from its first state, the turning circle or zigzag is "
+            "detected from the rudder and measured on both tracks.",
+        },
+    ),
     (("--surface",), {"help": "The surface that steers (default: the rudder, or the stern plane; by name)."}),
     (
         ("--force",),

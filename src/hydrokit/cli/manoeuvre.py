@@ -9,6 +9,7 @@ from typing import Any
 import click
 
 from hydrokit.cli._manoeuvre_options import manoeuvre_options
+from hydrokit.cli._replay import run_replay
 
 
 @click.command()
@@ -23,6 +24,7 @@ def manoeuvre(
     pull_out: float | None,
     depth_change: str | None,
     vertical_zigzag: str | None,
+    replay: str | None,
     surface: str | None,
     force: list[float],
     command_text: str | None,
@@ -44,7 +46,13 @@ def manoeuvre(
     execute and at the end goes into manoeuvre.json's "propulsion").
     A manoeuvre that never reaches the heading it measures at is an error (exit 2); the track is
     still written.
+
+    --replay TRIAL.csv flies a recorded trial's inputs instead and writes manoeuvre.json with the
+    "measured", "predicted" and "difference" metrics, trajectory.csv (measured_* and predicted_*
+    states) and track.png, time.png with both tracks (docs/manoeuvre.md, "Replaying a trial").
     """
+    if replay is not None:  # the manoeuvre and its inputs come from the trial
+        return run_replay(**locals())
     from hydrokit.api import load_vehicle
     from hydrokit.cli._common import check_out_dir, json_text, progress_bar, write_all
     from hydrokit.errors import InputError

@@ -7,6 +7,7 @@ from typing import Any
 
 import click
 
+from hydrokit.cli._command import command_force, command_options
 from hydrokit.cli._deflection import deflection_input, deflection_options
 from hydrokit.cli._samples import check_samples, sampled_files, samples_options
 from hydrokit.cli._types import SECONDS, Count, Numbers
@@ -62,6 +63,7 @@ from hydrokit.cli._types import SECONDS, Count, Numbers
     "--plots", "plots_dir", type=click.Path(file_okay=False), help="Write states.png, path.png here (folder)."
 )
 @deflection_options
+@command_options
 @samples_options("OUT_envelope.csv (5/50/95 %, min, max per state and time; SI), OUT_samples.csv, envelope.png")
 def simulate(
     vehicle: str,
@@ -81,9 +83,12 @@ def simulate(
     seed: int,
     deflection: str | None,
     deflection_csv: str | None,
+    command_text: str | None,
+    command_csv: str | None,
 ) -> None:
     """Simulate VEHICLE (a vehicle YAML file or a bundled name: bluerov2-heavy, minerva,
-    lingyun, udrobot) under a constant or tabulated force, from rest unless told otherwise."""
+    lingyun, udrobot) under a constant or tabulated force and/or its thrusters' commands
+    (--command, --command-csv), from rest unless told otherwise."""
     from hydrokit.cli._common import check_out_dir, check_out_file, progress_bar, write_all
     from hydrokit.io.vehicle import load_vehicle
 
@@ -99,6 +104,7 @@ def simulate(
     nu0, eta0, cur = initial_velocity or [0.0] * 6, initial_pose or [0.0] * 6, current_ned
     delta = deflection_input(v, deflection, deflection_csv)
     check_samples(v, samples, force_csv or deflection_csv, integrator, attitude)  # before the run, like every input
+    tau = command_force(v, command_text, command_csv, tau, cur, samples)
     from hydrokit.io.trajectory import trajectory_csv
     from hydrokit.simulate.driver import simulate as run
 

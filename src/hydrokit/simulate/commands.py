@@ -1,0 +1,148 @@
+"""Thruster commands over time as the force of an open-loop run (``simulate --command``, the
+trial replay of ``manoeuvre --replay``).
+
+:class:`CommandForce` is a callable ``τ(t, η, ν)`` (N, N·m) for
+:func:`hydrokit.simulate.driver.simulate` and :func:`hydrokit.simulate.replay.replay`: each
+thruster either follows a schedule of commands, held from row to row (zero-order hold, as in a
+run file), through its first-order rotor lag, or gives a measured thrust held the same way. The
+rotor state at any time is exact: :meth:`~hydrokit.model.thrusters.ThrusterSet.rotor_step` from
+the state reached at the row before (the one rotor law). The thrust is the thruster's own curve
+(:meth:`~hydrokit.model.thrusters.ThrusterSet.thrust`) at that rotor state and at the advance
+speed of the state's velocity relative to the water, so a propeller at constant revolutions
+pushes harder as the vehicle slows — the same law as :class:`hydrokit.simulate.manoeuvre.ThrusterDrive`,
+evaluated at every stage of the integrator instead of once per step.
+"""
+
+from __future__ import annotations
+
+import math
+from typing import Any
+
+import numpy as np
+
+from hydrokit.core.kinematics import rotation_zyx
+from hydrokit.errors import InputError
+
+
+class CommandForce:
+    """τ(t, η, ν) = force(t) + T f(c(t), V_a(ν_r)) of the vehicle's thrusters (module docstring).
+
+    Parameters
+    ----------
+    thrusters : ThrusterSet — the vehicle's thrusters (m of them)
+    table : (k, 1 + m) rows [t, u_1 … u_m] — s, then per thruster its command (rev/s for a
+        propeller, the table's unit for a table curve, N for an ideal thruster) or, where
+        ``measured`` says so, its measured thrust (N); each row held until the next, the first
+        also before it and the last after it
+    measured : m bools or None — which columns are measured thrusts (None: none)
+    force : 6 floats (N, N·m, body axes) added to the thrust, or rows [t, X, Y, Z, K, M, N] (s, N,
+        N·m) interpolated linearly and held beyond their ends
+    start : "rest" (rotors at 0 at the first row: a vehicle starting from rest) or "settled"
+        (at the first row's command: a log that starts under way)
+    current_ned : None, 3 floats (m/s, NED) or rows [t (s), v_N, v_E, v_D (m/s)]
+    """
+
+    def __init__(
+        self,
+        thrusters: Any,
+        table: Any,
+        measured: Any = None,
+        force: Any = (0, 0, 0, 0, 0, 0),
+        start: str = "rest",
+        current_ned: Any = None,
+    ) -> None:
+        from hydrokit.model.dynamics import current_table
+
+        m = len(thrusters)
+        tab = np.asarray(table, float)
+        if tab.ndim != 2 or tab.shape[1] != m + 1 or tab.shape[0] < 1:
+            raise InputError(
+                f"command table of shape {tab.shape}: expected rows [t, {', '.join(thrusters.names)}] "
+                "(s, each thruster's unit)"
+            )
+        if not np.all(np.isfinite(tab)):
+            raise InputError("command table: expected finite numbers (s, each thruster's unit)")
+        if np.any(np.diff(tab[:, 0]) <= 0):
+            raise InputError("command table: times must increase strictly (s)")
+        if start not in ("rest", "settled"):
+            raise InputError(f"start = {start!r}: expected rest or settled")
+        self.thrusters = thrusters
+        self.time = np.ascontiguousarray(tab[:, 0])
+        self.values = np.ascontiguousarray(tab[:, 1:])
+        self.measured = np.zeros(m, bool) if measured is None else np.asarray(measured, bool)
+        if self.measured.shape != (m,):
+            raise InputError(f"measured flags of shape {self.measured.shape}: expected one per thruster ({m})")
+        f = np.asarray(force, float)
+        f = np.concatenate([[0.0], f])[None, :] if f.shape == (6,) else f
+        if f.ndim != 2 or f.shape[1] != 7 or f.shape[0] < 1 or not np.all(np.isfinite(f)):
+            raise InputError(f"force of shape {np.shape(force)}: expected 6 finite numbers (N, N·m) or rows [t, X … N]")
+        self.force_table = np.ascontiguousarray(f)
+        self.T = thrusters.configuration_matrix()
+        self.current = current_table(current_ned)
+        # the rotor state reached at every row (exact: the target is held over each interval)
+        c = np.empty_like(self.values)
+        lo, hi = thrusters.command_min, thrusters.command_max
+        c[0] = np.clip(self.values[0], lo, hi) if start == "settled" else np.zeros(m)
+        for k in range(1, self.time.size):
+            c[k] = thrusters.rotor_step(c[k - 1], self.values[k - 1], float(self.time[k] - self.time[k - 1]))
+        self.c_rows = c
+
+    def rotor(self, t: float) -> np.ndarray:
+        """The rotor state (command vector, each thruster's unit) at ``t`` (s)."""
+        k = int(np.searchsorted(self.time, t, side="right")) - 1
+        if k < 0:
+            return self.c_rows[0].copy()
+        return self.thrusters.rotor_step(self.c_rows[k], self.values[k], float(t - self.time[k]))
+
+    def thrust(self, t: float, eta: Any, nu: Any) -> np.ndarray:
+        """Each thruster's thrust, N, at ``t`` (s) in the pose ``eta`` (m, rad) and velocity ``nu``
+        (m/s, rad/s): from its curve at the rotor state and the advance speed, or measured."""
+        nu_r = np.asarray(nu, float)[:6]
+        if np.any(self.current[:, 1:]):
+            from hydrokit.model.dynamics import interp_table
+
+            vc = interp_table(self.current, t)[0]
+            nu_r = nu_r.copy()
+            nu_r[:3] -= rotation_zyx(float(eta[3]), float(eta[4]), float(eta[5])).T @ vc
+        ts = self.thrusters
+        f = ts.thrust(self.rotor(t), ts.advance_speed(nu_r))
+        if np.any(self.measured):
+            k = min(max(int(np.searchsorted(self.time, t, side="right")) - 1, 0), self.time.size - 1)
+            f = np.where(self.measured, np.clip(self.values[k], ts.f_min, ts.f_max), f)
+        return np.asarray(f, float)
+
+    def __call__(self, t: float, eta: Any, nu: Any) -> np.ndarray:
+        """τ, N and N·m (body axes)."""
+        from hydrokit.model.dynamics import interp_table
+
+        return interp_table(self.force_table, t)[0] + self.T @ self.thrust(t, eta, nu)
+
+
+def command_table(vehicle: Any, commands: Any) -> np.ndarray:
+    """``commands`` as rows [t, u_1 … u_m] (s, each thruster's unit) in the vehicle's thruster
+    order: a mapping {name: value} held from t = 0 (thrusters not named 0; checked by
+    :func:`hydrokit.simulate.manoeuvre.thruster_commands`), or rows already in that form, each
+    command within its thruster's command limits (InputError naming the thruster and the row)."""
+    from hydrokit.simulate.manoeuvre import thruster_commands
+    from hydrokit.simulate.mission import COMMAND_UNITS
+
+    if hasattr(commands, "items"):
+        return np.concatenate([[0.0], thruster_commands(vehicle, commands)])[None, :]
+    ts = vehicle.thrusters
+    tab = np.asarray(commands, float)
+    if tab.ndim != 2 or tab.shape[1] != len(ts) + 1 or tab.shape[0] < 1:
+        raise InputError(
+            f"command table of shape {tab.shape}: expected rows [t, {', '.join(ts.names)}] (s, each thruster's unit)"
+        )
+    for k, name in enumerate(ts.names):
+        lo, hi = float(ts.command_min[k]), float(ts.command_max[k])
+        bad = np.flatnonzero((tab[:, k + 1] < lo - 1e-12 * abs(lo)) | (tab[:, k + 1] > hi + 1e-12 * abs(hi)))
+        if bad.size:
+            unit = COMMAND_UNITS[ts.thrusters[k].model]
+            raise InputError(
+                f"row {int(bad[0]) + 2}, column '{name}' = {tab[bad[0], k + 1]:g} {unit}: expected within thruster "
+                f"{name!r}'s command limits [{lo:.6g}, {hi:.6g}] {unit}"
+            )
+    if not math.isfinite(float(np.sum(tab))):
+        raise InputError("command table: expected finite numbers (s, each thruster's unit)")
+    return tab
