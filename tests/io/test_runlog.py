@@ -50,15 +50,18 @@ def test_measured_thrust_column_and_ignored_column_warned(tmp_path: Path) -> Non
 @pytest.mark.parametrize(
     ("text", "match"),
     [
-        ("time,u,A,B\n0,0,0,0\n0.1,0,0,0\n0.1,0,0,0\n", r"column 'time' = 0\.1 at row 4 after 0\.1; expected strictly"),
+        (
+            "time,u,A,B\n0,0,0,0\n0.1,0,0,0\n0.1,0,0,0\n",
+            r"column 'time' = 0\.1 at line 4 after 0\.1; expected strictly",
+        ),
         ("time,u,A\n0,0,0\n0.1,0,0\n0.2,0,0\n", r"no column for thruster 'B'"),
         ("time,u,A,Bx\n0,0,0,0\n0.1,0,0,0\n0.2,0,0,0\n", r"no column for thruster 'B' \(ignored columns: Bx\)"),
         ("time,u,A,B,thrust:C\n0,0,0,0,0\n0.1,0,0,0,0\n0.2,0,0,0,0\n", r"column 'thrust:C' names no thruster"),
         ("time,A,B\n0,0,0\n0.1,0,0\n0.2,0,0\n", r"no motion channel"),
-        ("time,u,A,B\n0,fast,0,0\n0.1,0,0,0\n0.2,0,0,0\n", r"row 2, column 'u' = 'fast': expected a number"),
-        ("time,u,A,B\n0,0,,0\n0.1,0,0,0\n0.2,0,0,0\n", r"row 2, column 'A' is empty; expected the input on every row"),
+        ("time,u,A,B\n0,fast,0,0\n0.1,0,0,0\n0.2,0,0,0\n", r"line 2, column 'u' = 'fast': expected a number"),
+        ("time,u,A,B\n0,0,,0\n0.1,0,0,0\n0.2,0,0,0\n", r"line 2, column 'A' is empty; expected the input on every row"),
         ("time,u,A,B,u\n0,0,0,0,0\n0.1,0,0,0,0\n0.2,0,0,0,0\n", r"column 'u' appears twice"),
-        ("time,u,A,B\n0,nan,0,0\n0.1,0,0,0\n0.2,0,0,0\n", r"row 2, column 'u' = nan: expected a finite number"),
+        ("time,u,A,B\n0,nan,0,0\n0.1,0,0,0\n0.2,0,0,0\n", r"line 2, column 'u' = nan: expected a finite number"),
         ("time,u,A,B\n0,,0,0\n0.1,,0,0\n0.2,,0,0\n", r"hold no sample"),
         ("u,A,B\n0,0,0\n0.1,0,0\n0.2,0,0\n", r"no column 'time'"),
         ("time,u,A,B\n0,0,0,0\n", r"1 data row\(s\); expected a header"),
@@ -70,6 +73,29 @@ def test_bad_run_files_name_file_column_and_value(tmp_path: Path, text: str, mat
     with pytest.raises(InputError, match=match) as info:
         read_run(p, THRUSTERS)
     assert str(p) in str(info.value) and "\n" not in str(info.value)
+
+
+@pytest.mark.parametrize(
+    ("body", "limits", "needle", "says"),
+    [
+        ("0,0,0,0,0\n0.1,fast,0,0,0\n0.2,0,0,0,0\n", None, "fast", "column 'u' = 'fast'"),
+        ("0,0,0,0,0\n0.1,0,0,,0\n0.2,0,0,0,0\n", None, ",,", "column 'B' is empty"),
+        ("0,0,0,0,0\n0.1,0,0,0,0\n0.1,0,0,0,1e-3\n", None, "1e-3", "column 'time' = 0.1 at"),
+        ("0,0,0,0,0\n0.1,0,0,0,0\n0.2,0,0,0,0.9\n", [0.5], "0.9", "column 'rudder' = 0.9 rad"),
+    ],
+)
+def test_errors_give_the_files_own_line_number_past_comments_and_blank_lines(
+    tmp_path: Path, body: str, limits: Any, needle: str, says: str
+) -> None:
+    # two comment lines, the header, blank lines between data rows: the error names the line
+    # an editor shows, found here independently as the line of the text holding the bad cell
+    first, *rest = body.splitlines()
+    text = "# a dive\n# logged by hand\ntime,u,A,B,rudder\n\n" + first + "\n\n" + "\n".join(rest) + "\n"
+    line = next(k + 1 for k, ln in enumerate(text.splitlines()) if needle in ln)
+    assert line >= 7  # past the comments and blank lines: a data-row count would say less
+    with pytest.raises(InputError, match=rf"line {line}\b") as info:
+        read_run(_write(tmp_path, text), THRUSTERS, ["rudder"], limits)
+    assert says in str(info.value)
 
 
 def test_writer_refuses_unknown_channel() -> None:
@@ -124,18 +150,18 @@ def test_deflection_at_its_limit_is_accepted(tmp_path: Path) -> None:
         (
             "time,r,A,B,rudder,bowplane\n0,0,0,0,0,0\n0.1,0,0,0,0.7,0\n0.2,0,0,0,0,0\n",
             [np.radians(35.0), 0.5],
-            r"row 3, column 'rudder' = 0\.7 rad \(40\.11°\) is beyond the surface's limit; "
+            r"line 3, column 'rudder' = 0\.7 rad \(40\.11°\) is beyond the surface's limit; "
             r"expected \|deflection\| ≤ 0\.610865 rad \(35°, max_deflection_deg\)",
         ),
         (
             "time,r,A,B,rudder,bowplane\n0,0,0,0,0,0\n0.1,0,0,0,0,-0.6\n0.2,0,0,0,0,0\n",
             [1.0, 0.5],
-            r"row 3, column 'bowplane' = -0\.6 rad",
+            r"line 3, column 'bowplane' = -0\.6 rad",
         ),
         (
             "time,r,A,B,rudder,bowplane\n0,0,0,0,,0\n0.1,0,0,0,0,0\n0.2,0,0,0,0,0\n",
             None,
-            r"row 2, column 'rudder' is empty; expected the input on every row",
+            r"line 2, column 'rudder' is empty; expected the input on every row",
         ),
         ("time,r,A,B,rudder,bowplane\n0,0,0,0,0,0\n0.1,0,0,0,0,0\n", [1.0], r"1 deflection limit\(s\) for 2"),
     ],

@@ -35,6 +35,7 @@ import os
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 
@@ -93,13 +94,13 @@ class RunLog:
         return f"{self.name}: {self.duration:.1f} s, {self.time.size} rows; {chans}; {inputs}"
 
 
-def _cell(text: str, row: int, column: str, src: str) -> float:
+def _cell(text: str, line: int, column: str, src: str) -> float:
     try:
         v = float(text)
     except ValueError:
-        raise InputError(f"row {row}, column '{cut(column)}' = {cut(repr(text))}: expected a number", src) from None
+        raise InputError(f"line {line}, column '{cut(column)}' = {cut(repr(text))}: expected a number", src) from None
     if not math.isfinite(v):
-        raise InputError(f"row {row}, column '{cut(column)}' = {cut(text)}: expected a finite number", src)
+        raise InputError(f"line {line}, column '{cut(column)}' = {cut(text)}: expected a finite number", src)
     return v
 
 
@@ -135,10 +136,12 @@ def read_run(
     text = read_text(p, "a run CSV")
     if len(text) > MAX_RUN_CHARS:
         raise InputError(f"file of {len(text)} characters; expected a run file under {MAX_RUN_CHARS}", src)
-    lines = [ln for ln in text.splitlines() if ln.strip() and not ln.lstrip().startswith("#")]
-    if len(lines) < 3:
-        raise InputError(f"{max(len(lines) - 1, 0)} data row(s); expected a header with 'time' and ≥ 2 rows", src)
-    rows = list(csv.reader(io.StringIO("\n".join(lines))))
+    # the file's own line numbers (1-based, comments and blank lines counted) for the errors
+    numbered = [(k + 1, ln) for k, ln in enumerate(text.splitlines()) if ln.strip() and not ln.lstrip().startswith("#")]
+    if len(numbered) < 3:
+        raise InputError(f"{max(len(numbered) - 1, 0)} data row(s); expected a header with 'time' and ≥ 2 rows", src)
+    rows = list(csv.reader([ln for _, ln in numbered]))
+    line_of = [k for k, _ in numbered]  # line_of[j]: the file line of rows[j] (rows[0] the header)
     header = [h.strip() for h in rows[0]]
     dup = next((h for h in header if header.count(h) > 1), None)
     if dup is not None:
@@ -202,14 +205,14 @@ def read_run(
     values = {c: np.full(n, np.nan) for c in motion}
     width = len(header)
     for k, row in enumerate(rows[1:]):
-        line = k + 2
+        line = line_of[k + 1]
         if len(row) < width:
             row = row + [""] * (width - len(row))
         time[k] = _cell(row[idx["time"]].strip(), line, "time", src)
         for c, arr in inputs.items():
             cell = row[idx[c]].strip()
             if not cell:
-                raise InputError(f"row {line}, column '{cut(c)}' is empty; expected the input on every row", src)
+                raise InputError(f"line {line}, column '{cut(c)}' is empty; expected the input on every row", src)
             arr[k] = _cell(cell, line, c, src)
         for c, arr in values.items():
             cell = row[idx[c]].strip()
@@ -221,7 +224,7 @@ def read_run(
             if over.size:
                 k = int(over[0])
                 raise InputError(
-                    f"row {k + 2}, column '{cut(c)}' = {inputs[c][k]:.6g} rad ({math.degrees(inputs[c][k]):.4g}°) is "
+                    f"line {line_of[k + 1]}, column '{cut(c)}' = {inputs[c][k]:.6g} rad ({math.degrees(inputs[c][k]):.4g}°) is "
                     f"beyond the surface's limit; expected |deflection| ≤ {lim:.6g} rad "
                     f"({math.degrees(lim):.4g}°, max_deflection_deg)",
                     src,
@@ -230,7 +233,8 @@ def read_run(
     if bad.size:
         i = int(bad[0])
         raise InputError(
-            f"column 'time' = {time[i + 1]:.9g} at row {i + 3} after {time[i]:.9g}; expected strictly increasing times (s)",
+            f"column 'time' = {time[i + 1]:.9g} at line {line_of[i + 2]} after {time[i]:.9g}; expected strictly increasing "
+            "times (s)",
             src,
         )
     channels: dict[str, tuple[np.ndarray, np.ndarray]] = {}
@@ -257,6 +261,27 @@ def read_run(
         warnings,
         {c: inputs[c] for c in surf},
     )
+
+
+def read_runs(runs: Sequence[Any], vehicle: Any) -> list[Any]:
+    """The runs of ``vehicle`` as :class:`RunLog` s: every path read with the vehicle's thruster
+    names, control-surface names and deflection limits (one reader for the API, the CLI and
+    the main job, so no caller forgets the surfaces); a run already read (anything with
+    ``channels``) is passed through.
+
+    Parameters
+    ----------
+    runs : sequence of path or RunLog — run CSVs (module docstring) or runs already read
+    vehicle : Vehicle — with ``thrusters`` (None: no command column expected) and ``surfaces``
+
+    Raises
+    ------
+    InputError
+        As :func:`read_run`, naming the file.
+    """
+    names = vehicle.thrusters.names if vehicle.thrusters is not None else []
+    surf = vehicle.surfaces
+    return [r if hasattr(r, "channels") else read_run(r, names, surf.names, surf.max_deflection) for r in runs]
 
 
 def _num(v: float) -> str:
