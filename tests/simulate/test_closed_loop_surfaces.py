@@ -122,16 +122,17 @@ def _steer(vehicle, tau_d, nr, delta=None, dt=10.0):
 
 
 def test_surface_allocation_inverts_the_delta_terms():
-    # remus100: N = N_uuδr u² δr and M = M_uuδs u² δs (Prestero: −6.15 each), no servo lag:
-    # the deflection giving the demand is δ = τ / (−6.15 u²) — the closed form
+    # remus100: N = N_uuδr u² δr and M = M_uuδs u² δs (ρ c_Lα S_fin x_fin = −13.6 each from
+    # Prestero's fin data), no servo lag: the deflection giving the demand is δ = τ / (−13.6 u²)
+    # — the closed form
     v = hydrokit.load_vehicle("remus100")
     u = 1.5
     d = _steer(v, [0, 0, 0, 0, 2.0, -3.0], [u, 0, 0, 0, 0, 0])
-    np.testing.assert_allclose(d, [-3.0 / (-6.15 * u * u), 2.0 / (-6.15 * u * u)], rtol=1e-6)
+    np.testing.assert_allclose(d, [-3.0 / (-13.6 * u * u), 2.0 / (-13.6 * u * u)], rtol=1e-6)
     # at rest a surface has no effect: it is held at 0, not driven to its stop
     assert np.all(_steer(v, [0, 0, 0, 0, 2.0, -3.0], [0, 0, 0, 0, 0, 0]) == 0)
     # beyond the limit: the mechanical stop
-    assert _steer(v, [0, 0, 0, 0, 0, -300.0], [u, 0, 0, 0, 0, 0])[0] == pytest.approx(np.radians(15))
+    assert _steer(v, [0, 0, 0, 0, 0, -300.0], [u, 0, 0, 0, 0, 0])[0] == pytest.approx(np.radians(20))  # remus100: 20°
 
 
 def test_two_surfaces_on_one_moment_share_it():
