@@ -89,8 +89,8 @@ def simulate(
     """Simulate VEHICLE (a vehicle YAML file or a bundled name: bluerov2-heavy, minerva,
     lingyun, udrobot) under a constant or tabulated force and/or its thrusters' commands
     (--command, --command-csv), from rest unless told otherwise."""
+    from hydrokit.api import load_vehicle  # with its thrusters: --command drives them
     from hydrokit.cli._common import check_out_dir, check_out_file, progress_bar, write_all
-    from hydrokit.io.vehicle import load_vehicle
 
     check_out_file(out_file, "--out")  # before the run: it must not be lost to a bad path
     if plots_dir:

@@ -15,7 +15,7 @@ deflections, held from row to row) and
    a velocity not measured from the pose's rate, a position not measured by dead reckoning of u
    and v; what was neither is 0 and said in the warnings);
 3. **flies the model** from the trial's first state (every channel's value at the first row from
-   a quadratic least-squares fit through its first samples — two seconds of them, three at
+   a quadratic least-squares fit through its first samples — half a second of them, three at
    least: a sparse or noisy channel does not set the start by one sample) with the recorded
    inputs: each step holds the deflections logged at its midpoint (the surfaces' measured
    angles: no servo acts on them again); thrusters follow their commands through their rotor lag,
@@ -50,7 +50,7 @@ SIDE_FRACTION = 0.5
 #: of the largest deflection (the walk back from the side to the execute)
 MOVING_FRACTION = 0.01
 #: seconds of samples fitted for the initial state (at least INITIAL_MIN_SAMPLES samples)
-INITIAL_WINDOW = 2.0
+INITIAL_WINDOW = 0.5
 INITIAL_MIN_SAMPLES = 3
 CHANNELS = (*POSE_SYMBOLS, *VELOCITY_SYMBOLS)
 
@@ -371,9 +371,13 @@ def replay(
         raise InputError("no heading: the trial has no 'psi' samples; expected the heading ψ (rad)")
     ts_psi, ys_psi = (np.asarray(a, float) for a in run.channels["psi"])
     det = detect_manoeuvre(t_rows, defl[:, idx], lambda t: np.interp(t, ts_psi, ys_psi), names[idx])
-    t0 = float(t_rows[0])
-    n = int(math.floor((det.end - t0) / dt + 1e-9))
-    grid = t0 + dt * np.arange(n + 1)
+    t_ex = det.executes[0]
+    # the grid passes through the execute, from the first row (or just after it) to the end
+    k_ex = int(math.floor((t_ex - float(t_rows[0])) / dt + 1e-9))
+    n = k_ex + int(math.floor((det.end - t_ex) / dt + 1e-9))
+    time = dt * (np.arange(n + 1) - k_ex)  # s from the execute
+    grid = t_ex + time
+    t0 = float(grid[0])
     meas, x0, notes = measured_track(grid, run.channels)
     force = _force(vehicle, run, tau, current_ned)
     if loop == "compiled":
@@ -409,10 +413,6 @@ def replay(
             )
         if progress is not None and k % report == 0:
             progress(float(grid[k] - t0))
-    t_ex = det.executes[0]
-    time = grid - t_ex
-    k_ex = int(np.argmin(np.abs(time)))
-    time[k_ex] = 0.0  # the execute on the grid (within dt/2 of the logged one)
     origin = np.interp(t_ex, grid, meas[:, 0]), np.interp(t_ex, grid, meas[:, 1])
     for a in (meas, pred):
         a[:, 0] -= origin[0]
