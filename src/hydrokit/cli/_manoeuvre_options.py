@@ -58,9 +58,10 @@ _OPTIONS: tuple[tuple[tuple[str, ...], dict[str, Any]], ...] = (
         ("--duration",),
         {
             "type": SECONDS,
-            "default": 1800.0,
-            "show_default": True,
-            "help": "Longest manoeuvre after the execute, s (it ends sooner once measured).",
+            "default": None,
+            "help": "Longest manoeuvre after the execute, s (it ends sooner once measured). Default: scaled by the "
+            "vehicle's L/U at the execute — 2000 L/U for a turning circle, 500 L/U for a zigzag or depth change, "
+            "up to 1000 L/U per spiral step or pull-out phase.",
         },
     ),
     (

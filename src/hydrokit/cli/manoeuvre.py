@@ -30,7 +30,7 @@ def manoeuvre(
     command_text: str | None,
     initial_velocity: list[float] | None,
     dt: float,
-    duration: float,
+    duration: float | None,
     loop: str,
     hold: bool | None,
     no_plots: bool,
@@ -86,7 +86,7 @@ def manoeuvre(
             loop=loop,
             hold=hold,
             commands=commands,
-            progress=lambda t: bar.update(task, completed=t),
+            progress=lambda t, total: bar.update(task, completed=t, total=total),
         )
     files: dict[Any, Any] = {out / "trajectory.csv": table_csv(*_columns(res))}
     if res.problem:

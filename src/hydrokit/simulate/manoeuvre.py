@@ -69,6 +69,17 @@ TURN_MAX = 20.0 * math.pi
 SPIRAL_FRACTIONS = (1.0, 0.75, 0.5, 0.3, 0.15, 0.08, 0.04, 0.0)
 #: non-dimensional yaw rates r L / U held by the reverse spiral (times SPIRAL_FRACTIONS)
 REVERSE_SPIRAL_RATE = 0.5
+#: a spiral or pull-out step is judged steady over windows of this many L/U (U the speed now)
+STEADY_WINDOW = 5.0
+#: … steady when the rate's means over the last two windows differ by at most this many U/L (rad/s)
+STEADY_DRIFT_ABS = 1e-5
+#: … plus this fraction of the rate
+STEADY_DRIFT_REL = 1e-3
+#: a step not steady after this many L/U ends unsettled (its row says settled = false)
+STEADY_MAX_HOLD = 100.0
+#: the longest turning circle, zigzag, depth change or vertical zigzag, in L/U at the approach speed
+#: (each ends as soon as it is measured; the spiral and pull-out budget their steps instead)
+BUDGET = {"turning_circle": 2000.0, "zigzag": 500.0, "depth_change": 500.0, "vertical_zigzag": 500.0}
 #: largest pitch set-point of the depth hold, rad (20°)
 HOLD_MAX_PITCH = math.radians(20.0)
 #: time between the depth/heading hold's probes of the surfaces' effect, s
@@ -307,6 +318,10 @@ class _Logic:
     def command(self, t: float, x: np.ndarray) -> float:  # pragma: no cover - every logic defines it
         raise NotImplementedError
 
+    def budget(self) -> float:
+        """The longest the manoeuvre may take, s (:data:`BUDGET` L/U at the approach speed)."""
+        return BUDGET[self.m.kind] * self.scale
+
 
 class _Turn(_Logic):
     """The surface held until the heading has changed :data:`TURN_TARGET` and the yaw rate and
@@ -376,7 +391,15 @@ class _Zigzag(_Logic):
 
 
 class _Hold(_Logic):
-    """Helper for logics that hold a setting until the yaw (or pitch) rate is steady."""
+    """Helper for logics that hold a setting until the yaw (or pitch) rate is steady.
+
+    A step is steady when the means of the rate over the last two windows of :data:`STEADY_WINDOW`
+    L/U differ by at most :data:`STEADY_DRIFT_ABS` U/L + :data:`STEADY_DRIFT_REL` of the rate
+    (U the speed now: a vehicle slowed in a tight turn answers more slowly), after at least two
+    windows; a step not steady after :data:`STEADY_MAX_HOLD` L/U ends unsettled. The means of two
+    windows, not the spread, so that a rate that ripples (a hold's corrections, roll coupling)
+    but no longer drifts counts as steady; its value is the last window's mean.
+    """
 
     rate = 11
 
@@ -387,33 +410,74 @@ class _Hold(_Logic):
         self.hist_u: list[float] = []
         self.hist_d: list[float] = []
         self.step_start = 0.0
+        self.next_check = 0.0
+        self.u0 = 0.0
+        self.integral = 0.0
+        self.dt = 0.0
+        self.last: tuple[float, float, float, bool] = (0.0, 0.0, 0.0, False)
+
+    def start(self, x0: np.ndarray) -> None:
+        super().start(x0)
+        self.u0 = math.hypot(float(x0[6]), float(x0[7]))
+
+    def scale_now(self, x: np.ndarray) -> float:
+        """L/U at the speed now, s (the speed floored at a tenth of the approach speed)."""
+        u = math.hypot(float(x[6]), float(x[7]))
+        return self.scale * self.u0 / max(u, 0.1 * self.u0) if self.u0 > 0 else self.scale
 
     def _record(self, t: float, x: np.ndarray, cmd: float) -> bool:
-        """Append the sample; True when the rate has been steady over the last window."""
+        """Append the sample; True when the step is over (steady, or held for the longest time).
+        :attr:`last` holds the last window's (rate, speed, deflection) means and whether steady."""
         self.hist_t.append(t)
         self.hist_r.append(float(x[self.rate]))
         self.hist_u.append(math.hypot(float(x[6]), float(x[7])))
         self.hist_d.append(cmd)
         held = t - self.step_start
-        window = 5.0 * self.scale
-        if held < 10.0 * self.scale:
+        scale = self.scale_now(x)
+        window = STEADY_WINDOW * scale
+        if held < 2.0 * window or t < self.next_check:
             return False
-        k = np.searchsorted(self.hist_t, t - window)
-        r = np.asarray(self.hist_r[k:])
-        tol = 1e-5 / self.scale + 2e-4 * float(np.max(np.abs(r)))
-        return mm.settled(r, tol) or held >= 200.0 * self.scale
-
-    def _means(self, t: float) -> tuple[float, float, float, bool]:
-        window = 5.0 * self.scale
-        k = int(np.searchsorted(self.hist_t, t - window))
-        r = np.asarray(self.hist_r[k:])
-        tol = 1e-5 / self.scale + 2e-4 * float(np.max(np.abs(r)))
-        ok = mm.settled(r, tol)
-        return float(np.mean(r)), float(np.mean(self.hist_u[k:])), float(np.mean(self.hist_d[k:])), ok
+        self.next_check = t + 0.1 * window  # judged ten times a window, not every step
+        ts = np.asarray(self.hist_t)
+        rs = np.asarray(self.hist_r)
+        k1 = int(np.searchsorted(ts, t - window))
+        k0 = int(np.searchsorted(ts, t - 2.0 * window))
+        r1 = float(np.mean(rs[k1:]))
+        r0 = float(np.mean(rs[k0:k1])) if k1 > k0 else math.inf
+        steady = abs(r1 - r0) <= STEADY_DRIFT_ABS / scale + STEADY_DRIFT_REL * abs(r1)
+        self.last = (r1, float(np.mean(self.hist_u[k1:])), float(np.mean(self.hist_d[k1:])), steady)
+        return steady or held >= STEADY_MAX_HOLD * scale
 
     def _reset(self, t: float) -> None:
         self.hist_t, self.hist_r, self.hist_u, self.hist_d = [], [], [], []
         self.step_start = t
+        self.next_check = t
+        self.integral = 0.0
+
+    def _rate_pilot(self, target: float, x: np.ndarray) -> float:
+        """The surface command (rad) of a yaw-rate autopilot holding ``target`` (rad/s): PI on r
+        with natural frequency U/L, its gains over |∂ṙ/∂δ| (probed at the execute, scaled by
+        (U/U₀)² as fin forces go), the integral held while the surface is at its limit."""
+        scale = self.scale_now(x)
+        w = 1.0 / scale
+        u = math.hypot(float(x[6]), float(x[7]))
+        g = (abs(self.probe) or 1.0) * (max(u, 0.1 * self.u0) / self.u0) ** 2 if self.u0 > 0 else 1.0
+        e = target - float(x[self.rate])
+        s = 1.0 if self.probe >= 0 else -1.0
+        self.integral += e * self.dt
+        cmd = s * (2.0 * w * e + w * w * self.integral) / g
+        if abs(cmd) > self.limit:  # anti-windup: hold the integral where the surface saturates
+            cmd = math.copysign(self.limit, cmd)
+            self.integral -= e * self.dt
+        return cmd
+
+    def budget(self) -> float:
+        """The longest the logic may take, s: every step held to :data:`STEADY_MAX_HOLD` L/U at a
+        tenth of the approach speed (it ends as soon as every step is steady)."""
+        return self.steps() * STEADY_MAX_HOLD * 10.0 * self.scale
+
+    def steps(self) -> int:  # pragma: no cover - every holding logic defines it
+        raise NotImplementedError
 
 
 class _Spiral(_Hold):
@@ -428,57 +492,84 @@ class _Spiral(_Hold):
             self.targets = [REVERSE_SPIRAL_RATE / self.scale * f for f in fr]  # one pass: δ(r) is single-valued
         self.k = 0
         self.points: list[dict[str, Any]] = []
-        self.integral = 0.0
+
+    def steps(self) -> int:
+        return len(self.targets)
 
     def command(self, t: float, x: np.ndarray) -> float:
         target = self.targets[self.k]
-        if self.m.mode == "direct":
-            cmd = target
-        else:
-            # yaw-rate autopilot: PI on r with natural frequency 1/scale, gains over |∂ṙ/∂δ|
-            w = 1.0 / self.scale
-            g = abs(self.probe) or 1.0
-            e = target - float(x[11])
-            s = 1.0 if self.probe >= 0 else -1.0
-            self.integral += e * self.dt
-            cmd = s * (2.0 * w * e + w * w * self.integral) / g
-            if abs(cmd) > self.limit:  # anti-windup: hold the integral where the surface saturates
-                cmd = math.copysign(self.limit, cmd)
-                self.integral -= e * self.dt
+        cmd = target if self.m.mode == "direct" else self._rate_pilot(target, x)
         if self._record(t, x, cmd):
-            r, u, d, ok = self._means(t)
-            self.points.append({"deflection": d, "yaw_rate": r, "speed": u, "settled": ok, "target": target})
+            r, u, d, ok = self.last
+            self.points.append(
+                {
+                    "deflection": d,
+                    "yaw_rate": r,
+                    "speed": u,
+                    "settled": ok,
+                    "target": target,
+                    "held": t - self.step_start,
+                }
+            )
             self.k += 1
             self._reset(t)
             self.done = self.k >= len(self.targets)
         return cmd
 
-    dt = 0.0
-
 
 class _PullOut(_Hold):
+    """ITTC 2.2.6: a steady turn at +δ, the surface to zero until the yaw rate is steady (the
+    residual rate), then back to a straight course (a yaw-rate autopilot to r = 0, skipped when the
+    residual is already within the steady tolerance), a steady turn at −δ and its release. Each side
+    thus starts from a straight course, as in a trial, and its turn is the vehicle's answer to the
+    deflection's sign, whatever the other side left behind."""
+
+    PHASES = ("turn", "release", "straighten", "turn", "release")
+
     def __init__(self, *args: Any) -> None:
         super().__init__(*args)
-        self.phase = 0  # 0 turn +, 1 release, 2 turn −, 3 release
+        self.phase = 0
         self.sides: list[dict[str, Any]] = []
         self.release: dict[str, Any] = {}
+        self.straight: bool | None = None
+
+    def steps(self) -> int:
+        return len(self.PHASES)
 
     def command(self, t: float, x: np.ndarray) -> float:
-        cmd = (self.a, 0.0, -self.a, 0.0)[self.phase]
-        if self._record(t, x, cmd):
-            r, _, _, ok = self._means(t)
-            if self.phase % 2 == 0:
-                self.release = {"deflection": cmd, "yaw_rate_before": r, "time": t, "turn_settled": ok}
-                self.executes.append(t)
-            else:
-                r_rel = self.release["yaw_rate_before"]
-                half = _half_time(np.asarray(self.hist_t), np.asarray(self.hist_r), r_rel)
-                self.sides.append({**self.release, "residual_yaw_rate": r, "decay_settled": ok, "time_to_half": half})
-                if self.phase == 1:
-                    self.executes.append(t)
-            self.phase += 1
-            self._reset(t)
-            self.done = self.phase >= 4
+        what = self.PHASES[self.phase]
+        if what == "turn":
+            cmd = self.a if self.phase == 0 else -self.a
+        elif what == "straighten":
+            cmd = self._rate_pilot(0.0, x)
+        else:
+            cmd = 0.0
+        if not self._record(t, x, cmd):
+            return cmd
+        r, _, _, ok = self.last
+        if what == "turn":
+            self.release = {"deflection": cmd, "yaw_rate_before": r, "time": t, "turn_settled": ok}
+        elif what == "release":
+            hist_t, hist_r = np.asarray(self.hist_t), np.asarray(self.hist_r)
+            r_rel = self.release["yaw_rate_before"]
+            self.sides.append(
+                {
+                    **self.release,
+                    "residual_yaw_rate": r,
+                    "decay_settled": ok,
+                    "time_to_half": _half_time(hist_t, hist_r, r_rel),
+                    "time_to_settle": _settle_time(hist_t, hist_r, r_rel, r) if ok else None,
+                }
+            )
+        else:
+            self.straight = ok and abs(r) <= STEADY_DRIFT_ABS / self.scale_now(x)
+        self.phase += 1
+        if self.phase == 2 and abs(r) <= STEADY_DRIFT_ABS / self.scale_now(x) and ok:
+            self.phase, self.straight = 3, True  # already straight: no autopilot needed
+        self.done = self.phase >= len(self.PHASES)
+        if not self.done:
+            self.executes.append(t)
+        self._reset(t)
         return cmd
 
 
@@ -611,6 +702,19 @@ class _Keeper:
                 cmd[self.rudder] = rdot / self.g_r
             else:
                 cmd[self.rudder] = 0.0
+
+
+def _settle_time(t: np.ndarray, r: np.ndarray, r0: float, r_end: float) -> float | None:
+    """Time (s, from the record's start) after which the rate ``r`` stays within 5 % of its change
+    ``r0 − r_end`` (rad/s) of its final value ``r_end`` (the 5 % settling time); None: never."""
+    if t.size == 0:
+        return None
+    band = 0.05 * abs(r0 - r_end)
+    out = np.flatnonzero(np.abs(r - r_end) > band)
+    if out.size == 0:
+        return 0.0
+    k = int(out[-1]) + 1
+    return None if k >= t.size else float(t[k] - t[0])
 
 
 def _half_time(t: np.ndarray, r: np.ndarray, r0: float) -> float | None:
@@ -759,13 +863,13 @@ def fly_manoeuvre(
     tau: Any = (0, 0, 0, 0, 0, 0),
     x0: Any = None,
     dt: float = 0.02,
-    duration: float = 1800.0,
+    duration: float | None = None,
     approach: float = 600.0,
     keep_approach: float = 10.0,
     length: float | None = None,
     servo_step: Servo | None = None,
     hold: tuple[int | None, int | None] | None = None,
-    progress: Callable[[float], None] | None = None,
+    progress: Callable[[float, float], None] | None = None,
 ) -> tuple[np.ndarray, np.ndarray, np.ndarray, _Logic, list[str]]:
     """Approach, execute and fly ``manoeuvre`` with the dynamics ``f(t, x, τ, δ) → ẋ``.
 
@@ -779,7 +883,9 @@ def fly_manoeuvre(
         ``begin_step(t, dt)`` method (a :class:`ThrusterDrive`) is told of every step before it
         is taken (t, dt in s)
     x0 : 12 floats — initial state (default rest at the origin)
-    dt : float — step, s; duration : float — longest manoeuvre after the execute, s
+    dt : float — step, s; duration : float or None — longest manoeuvre after the execute, s
+        (None: the manoeuvre's own budget in L/U, :data:`BUDGET`, or every spiral or pull-out step
+        held to :data:`STEADY_MAX_HOLD` L/U at a tenth of the approach speed)
     approach : float — longest straight run before the execute, s
     keep_approach : float — seconds of the approach kept in the record, s
     length : float or None — L, m: the windows that judge "steady" are multiples of L/U at the
@@ -788,7 +894,7 @@ def fly_manoeuvre(
     hold : None, or (plane, rudder): indices of the surfaces that hold depth and pitch, and
         heading (either None), with :class:`_Keeper`; the steering surface holds only until the
         execute
-    progress : callable(simulated seconds) or None
+    progress : callable(simulated seconds, longest seconds) or None
 
     Returns
     -------
@@ -804,7 +910,7 @@ def fly_manoeuvre(
     n_s = lim.size
     if not (0 <= surface < n_s):
         raise InputError(f"surface index {surface}: expected 0 … {n_s - 1}")
-    if not (math.isfinite(dt) and dt > 0 and math.isfinite(duration) and duration >= dt):
+    if not (math.isfinite(dt) and dt > 0 and (duration is None or (math.isfinite(duration) and duration >= dt))):
         raise InputError(f"dt = {dt} s, duration = {duration} s: expected 0 < dt ≤ duration")
     if manoeuvre.deflection is not None and abs(manoeuvre.deflection) > lim[surface] * (1 + 1e-9):
         raise InputError(
@@ -881,17 +987,24 @@ def fly_manoeuvre(
     limit = float(lim[surface])
     probe = _probe(f, x, tau_of(x), n_s, surface, limit, 10 if manoeuvre.kind in VERTICAL else 11)
     logic = _make_logic(manoeuvre, limit, probe, time_scale)
-    if isinstance(logic, _Spiral):
+    if isinstance(logic, _Hold):
         logic.dt = dt
     logic.start(x)
     x_exec = x.copy()
     t_start = len(rows) * dt  # the keeper's clock runs on from the approach
+    if duration is None:  # the logic's own budget, scaled by the vehicle's L/U
+        duration = max(logic.budget(), dt)
     n_max = int(math.floor(duration / dt + 1e-9))
-    states = np.empty((n_max + 1, 12))
-    defl = np.empty((n_max + 1, n_s))
+    size = min(n_max + 1, 65536)  # grown by doubling: an automatic budget may be long
+    states = np.empty((size, 12))
+    defl = np.empty((size, n_s))
     report = max(1, n_max // 100)
     k = 0
     for k in range(n_max + 1):
+        if k == states.shape[0]:
+            size = min(2 * size, n_max + 1)
+            states = np.concatenate([states, np.empty((size - k, 12))])
+            defl = np.concatenate([defl, np.empty((size - k, n_s))])
         t = k * dt
         cmd[surface] = logic.command(t, x)
         if keeper is not None:
@@ -906,9 +1019,9 @@ def fly_manoeuvre(
             break
         x = step(t, x)
         if progress is not None and k % report == 0:
-            progress(t)
+            progress(t, duration)
     if progress is not None:
-        progress(duration)
+        progress(k * dt, k * dt)
     n = k + 1
     time = np.concatenate([t_app[:-1], np.arange(n) * dt])
     all_states = np.concatenate([app[:-1], states[:n]])
@@ -1037,13 +1150,13 @@ def run_manoeuvre(
     nu0: Any = None,
     eta0: Any = None,
     dt: float = 0.02,
-    duration: float = 1800.0,
+    duration: float | None = None,
     approach: float = 600.0,
     current_ned: Any = None,
     loop: str = "compiled",
     hold: bool | None = None,
     commands: Any = None,
-    progress: Callable[[float], None] | None = None,
+    progress: Callable[[float, float], None] | None = None,
 ) -> ManoeuvreResult:
     """Fly ``manoeuvre`` with ``vehicle`` (module docstring) and measure it.
 
@@ -1058,7 +1171,8 @@ def run_manoeuvre(
         propeller's torque K)
     nu0 : 6 floats — initial velocity u, v, w (m/s), p, q, r (rad/s) of the approach (default 0)
     eta0 : 6 floats — initial pose x, y, z (m), φ, θ, ψ (rad); ψ is the original course
-    dt : float — step, s; duration : float — longest manoeuvre after the execute, s
+    dt : float — step, s; duration : float or None — longest manoeuvre after the execute, s
+        (None: scaled by the vehicle's L/U, :func:`fly_manoeuvre`; it ends as soon as measured)
     approach : float — longest straight approach, s
     current_ned : None or 3 floats — ocean current, m/s (NED)
     loop : "compiled" (the numba right-hand side) or "python" (the numpy one)
@@ -1071,7 +1185,7 @@ def run_manoeuvre(
         table's unit for a table curve, N for an ideal thruster; thrusters not named get 0. The
         rotors spin up from rest with their lag during the approach and the commands are held
         through the manoeuvre; the thrust follows each thruster's advance speed step by step
-    progress : callable(simulated seconds) or None
+    progress : callable(simulated seconds, longest seconds) or None
 
     Returns
     -------
@@ -1185,7 +1299,7 @@ def measure(
     reference_length: float | None = None,
     planar: bool = False,
     warnings: list[str] | None = None,
-    duration: float = math.nan,
+    duration: float | None = None,
     hold: dict[str, str] | None = None,
 ) -> ManoeuvreResult:
     """The :class:`ManoeuvreResult` of a record from :func:`fly_manoeuvre` (metrics extracted)."""
@@ -1221,19 +1335,10 @@ def measure(
             )
     elif kind == "spiral":
         metrics = mm.spiral_summary(logic.points, manoeuvre.mode, reference_length)
-        if len(logic.points) < len(logic.targets):
-            problem = (
-                f"spiral: only {len(logic.points)} of {len(logic.targets)} steps were completed in {t[-1]:.4g} s; "
-                "expected a longer --duration"
-            )
-        if any(not p["settled"] for p in logic.points):
-            warnings.append("spiral: some steps never reached a steady yaw rate; their rows say settled = false")
+        problem = _spiral_problem(logic, t[-1])
     elif kind == "pull_out":
         metrics = mm.pull_out_summary(logic.sides)
-        if len(logic.sides) < 2:
-            problem = (
-                f"pull-out: only {len(logic.sides)} of 2 sides completed in {t[-1]:.4g} s; expected a longer --duration"
-            )
+        problem = _pull_out_problem(logic, t[-1])
     else:  # depth_change
         metrics = mm.depth_change_metrics(t, x, logic.executes, manoeuvre.depth)
         if metrics["depth_overshoot"] is None:
@@ -1261,6 +1366,63 @@ def measure(
         warnings=warnings,
         hold=dict(hold or {}),
     )
+
+
+def _spiral_problem(logic: Any, t_end: float) -> str | None:
+    """What keeps a spiral from being measured (None: every step steady, the verdict drawn)."""
+    pts, n = logic.points, len(logic.targets)
+    if len(pts) < n:
+        return (
+            f"spiral: only {len(pts)} of {n} steps were completed in {t_end:.4g} s after the execute; "
+            "expected a longer --duration (or none: the default scales with the vehicle's L/U)"
+        )
+    loose = [p for p in pts if not p["settled"]]
+    if loose:
+        worst = max(loose, key=lambda p: p["held"])
+        return (
+            f"spiral: {len(loose)} of {n} steps never reached a steady yaw rate (the step at "
+            f"{math.degrees(worst['target']) if logic.m.mode == 'direct' else worst['target']:.4g}"
+            f"{'°' if logic.m.mode == 'direct' else ' rad/s'} still drifted after {worst['held']:.4g} s); "
+            "their rows say settled = false"
+        )
+    if logic.m.mode == "direct":
+        rates = [p["yaw_rate"] for p in pts]
+        floor = STEADY_DRIFT_ABS / logic.scale
+        if all(r > floor for r in rates) or all(r < -floor for r in rates):
+            side = "starboard (r > 0)" if rates[0] > 0 else "port (r < 0)"
+            top = math.degrees(abs(logic.a))
+            return (
+                f"spiral: the vehicle kept turning to {side} at every deflection from +{top:.4g}° to "
+                f"−{top:.4g}° and back (slowest |r| {min(abs(r) for r in rates):.3g} rad/s): the surface "
+                "cannot reverse its turn, so no loop or stability verdict can be drawn"
+            )
+    return None
+
+
+def _pull_out_problem(logic: Any, t_end: float) -> str | None:
+    """What keeps a pull-out from being measured (None: two opposite sides, each turn and release
+    steady)."""
+    sides = logic.sides
+    if len(sides) < 2:
+        return (
+            f"pull-out: only {len(sides)} of 2 sides completed in {t_end:.4g} s after the execute; expected a "
+            "longer --duration (or none: the default scales with the vehicle's L/U)"
+        )
+    for s in sides:
+        d = math.degrees(s["deflection"])
+        if not s["turn_settled"]:
+            return f"pull-out: the turn at {d:+.4g}° never reached a steady yaw rate (it was released anyway)"
+        if not s["decay_settled"]:
+            return f"pull-out: after the release from {d:+.4g}° the yaw rate never settled (residual not measured)"
+    a, b = (s["yaw_rate_before"] for s in sides)
+    if a * b >= 0:
+        return (
+            f"pull-out: the {math.degrees(sides[1]['deflection']):+.4g}° side turned the same way as the "
+            f"{math.degrees(sides[0]['deflection']):+.4g}° side (yaw rates {a:.3g} and {b:.3g} rad/s): the two "
+            "sides are not opposite"
+            + ("" if logic.straight else "; the vehicle was not brought back to a straight course between them")
+        )
+    return None
 
 
 def _asdict(obj: Any) -> dict[str, Any]:

@@ -367,23 +367,33 @@ def spiral_summary(points: list[dict[str, Any]], mode: str, length: float | None
 
 
 def pull_out_summary(sides: list[dict[str, Any]]) -> dict[str, Any]:
-    """Pull-out verdict: per side the yaw rate before the release and the residual after (rad/s);
-    course-stable when every residual is within 5 % of the rate it started from."""
+    """Pull-out (ITTC 2.2.6) per side and verdict.
+
+    ``sides``: one per side, in the order flown, with ``deflection`` (rad), ``yaw_rate_before``
+    (the steady turn's rate, rad/s), ``residual_yaw_rate`` (steady after the release, rad/s),
+    ``time_to_half`` (s to half the rate, None: never), ``time_to_settle`` (s until the rate stays
+    within 5 % of its change from its residual, None: never), ``turn_settled`` and
+    ``decay_settled``. Course-stable when every residual is within 5 % of the rate it started
+    from; ``opposite`` when the two sides turned opposite ways.
+    """
     rows = [
         {
             "deflection_deg": math.degrees(s["deflection"]),
             "yaw_rate_before": s["yaw_rate_before"],
             "residual_yaw_rate": s["residual_yaw_rate"],
             "time_to_half": s["time_to_half"],
+            "time_to_settle": s.get("time_to_settle"),
             "settled": bool(s["turn_settled"] and s["decay_settled"]),
         }
         for s in sides
     ]
     stable = [abs(s["residual_yaw_rate"]) <= 0.05 * abs(s["yaw_rate_before"]) for s in sides]
+    two = len(sides) == 2
     return {
         "sides": rows,
         "residual_yaw_rate": [s["residual_yaw_rate"] for s in sides],
-        "course_stable": all(stable) if len(sides) == 2 else None,
+        "opposite": bool(sides[0]["yaw_rate_before"] * sides[1]["yaw_rate_before"] < 0) if two else None,
+        "course_stable": all(stable) if two else None,
     }
 
 
