@@ -2,7 +2,8 @@
 
 Each function returns a matplotlib Figure (Agg); the caller
 renders it to PNG bytes with :func:`hydrokit.plot._mpl.to_png`.
-Depth is drawn positive downwards (NED z), as in LI2021 Figs. 16–17.
+Plan views are drawn as charts: east (NED y) across, north (NED x) up, equal scales; depth is
+drawn positive downwards (NED z), as in LI2021 Figs. 16–17.
 """
 
 from __future__ import annotations
@@ -17,9 +18,15 @@ from hydrokit.model.guidance import path_distance
 from hydrokit.plot._mpl import axes_or_new, new_figure
 from hydrokit.simulate.closed_loop import ClosedLoopResult
 
+#: axis labels of every mission figure: plan views as charts (east across, north up), depth down
+EAST = "east y (m)"
+NORTH = "north x (m)"
+DEPTH = "depth z (m)"
+
 
 def path_figure(runs: Mapping[str, ClosedLoopResult], title: str = "") -> Any:
-    """3-D path and its x–y, x–z, y–z projections; planned path dashed, one line per run.
+    """3-D path and its plan (east across, north up, as a chart), north–depth and east–depth
+    views; planned path dashed, one line per run (m).
 
     ``runs`` maps a label (e.g. "PID", "S-plane") to a result; all share the planned path.
     """
@@ -27,19 +34,20 @@ def path_figure(runs: Mapping[str, ClosedLoopResult], title: str = "") -> Any:
     wp = first.path.points
     fig = new_figure((11, 8.5))
     ax3 = fig.add_subplot(2, 2, 1, projection="3d")
-    ax3.plot(wp[:, 0], wp[:, 1], wp[:, 2], "k--", lw=1.2, label="planned")
-    ax3.scatter(wp[:, 0], wp[:, 1], wp[:, 2], c="k", s=14)
+    ax3.plot(wp[:, 1], wp[:, 0], wp[:, 2], "k--", lw=1.2, label="planned")
+    ax3.scatter(wp[:, 1], wp[:, 0], wp[:, 2], c="k", s=14)
     for label, res in runs.items():
-        ax3.plot(res.eta[:, 0], res.eta[:, 1], res.eta[:, 2], lw=1.3, label=label)
-    ax3.set_xlabel("x north [m]")
-    ax3.set_ylabel("y east [m]")
-    ax3.set_zlabel("z depth [m]")
+        ax3.plot(res.eta[:, 1], res.eta[:, 0], res.eta[:, 2], lw=1.3, label=label)
+    ax3.set_xlabel(EAST)
+    ax3.set_ylabel(NORTH)
+    ax3.set_zlabel(DEPTH)
     ax3.invert_zaxis()
     ax3.legend(fontsize=8)
+    # (horizontal, vertical) NED indices of each view: the plan as a chart, then side views
     panels = [
-        ((0, 1), "x north [m]", "y east [m]", False),
-        ((0, 2), "x north [m]", "z depth [m]", True),
-        ((1, 2), "y east [m]", "z depth [m]", True),
+        ((1, 0), EAST, NORTH, False),
+        ((0, 2), NORTH, DEPTH, True),
+        ((1, 2), EAST, DEPTH, True),
     ]
     for k, ((i, j), xl, yl, invert) in enumerate(panels, start=2):
         ax = fig.add_subplot(2, 2, k)
@@ -52,7 +60,7 @@ def path_figure(runs: Mapping[str, ClosedLoopResult], title: str = "") -> Any:
         if invert:
             ax.invert_yaxis()
         ax.grid(alpha=0.3)
-        if (i, j) == (0, 1):
+        if (i, j) == (1, 0):
             ax.set_aspect("equal", adjustable="datalim")
     fig.suptitle(title or "Path following")
     fig.tight_layout()
@@ -108,8 +116,8 @@ def mission_axes(res: ClosedLoopResult, ax: Any = None, label: str = "flown") ->
     ax.plot(wp[:, 1], wp[:, 0], "k--", lw=1.0, label="planned")
     ax.plot(wp[:, 1], wp[:, 0], "ko", ms=3)
     ax.plot(res.eta[:, 1], res.eta[:, 0], lw=1.3, label=label)
-    ax.set_xlabel("east y (m)")
-    ax.set_ylabel("north x (m)")
+    ax.set_xlabel(EAST)
+    ax.set_ylabel(NORTH)
     ax.set_aspect("equal", adjustable="datalim")
     ax.grid(alpha=0.3)
     ax.legend(fontsize=8)
@@ -149,8 +157,8 @@ def envelope_figure(
         ax.plot(nominal[label][:, 1], nominal[label][:, 0], color="C0", lw=1.4, label="identified vehicle")
         if truth is not None and label in truth:
             ax.plot(truth[label][:, 1], truth[label][:, 0], color="C3", lw=1.1, ls=":", label="true vehicle")
-        ax.set_xlabel("east y (m)")
-        ax.set_ylabel("north x (m)")
+        ax.set_xlabel(EAST)
+        ax.set_ylabel(NORTH)
         ax.set_aspect("equal", adjustable="datalim")
         ax.grid(alpha=0.3)
         ax.legend(fontsize=7)
@@ -186,8 +194,8 @@ def fleet_axes(waypoints: np.ndarray, paths: np.ndarray | None, cross_track_rms:
         ax.plot(p[:, 1], p[:, 0], color="C0", lw=0.6, alpha=0.5, label="copies" if k == 0 else None)
     ax.plot(waypoints[:, 1], waypoints[:, 0], "k--", lw=1.0, label="planned")
     ax.plot(waypoints[:, 1], waypoints[:, 0], "ko", ms=3)
-    ax.set_xlabel("east y (m)")
-    ax.set_ylabel("north x (m)")
+    ax.set_xlabel(EAST)
+    ax.set_ylabel(NORTH)
     ax.set_aspect("equal", adjustable="datalim")
     ax.grid(alpha=0.3)
     ax.legend(fontsize=8)

@@ -10,17 +10,17 @@ from hydrokit.plot._mpl import axes_or_new, new_figure, to_png
 
 
 def path_axes(res: Any, ax: Any = None) -> Any:
-    """3-D path (NED drawn with z up as depth decreasing) of the assembly origin and every
-    part's origin, start and end marked; returns the axes."""
+    """3-D path (east across, north into the page as on a chart, height −z up) of the
+    assembly origin and every part's origin, start and end marked; returns the axes."""
     ax = axes_or_new(ax, figsize=(6.4, 5.2), projection="3d")
     for name, S in res.parts.items():
-        ax.plot(S[:, 0], S[:, 1], -S[:, 2], lw=1.0, label=name)
-        ax.scatter([S[-1, 0]], [S[-1, 1]], [-S[-1, 2]], s=10)
+        ax.plot(S[:, 1], S[:, 0], -S[:, 2], lw=1.0, label=name)
+        ax.scatter([S[-1, 1]], [S[-1, 0]], [-S[-1, 2]], s=10)
     A = res.assembly
-    ax.plot(A[:, 0], A[:, 1], -A[:, 2], "k--", lw=1.2, label="assembly origin")
-    ax.scatter([A[0, 0]], [A[0, 1]], [-A[0, 2]], c="k", marker="o", s=20)
-    ax.set_xlabel("north x (m)")
-    ax.set_ylabel("east y (m)")
+    ax.plot(A[:, 1], A[:, 0], -A[:, 2], "k--", lw=1.2, label="assembly origin")
+    ax.scatter([A[0, 1]], [A[0, 0]], [-A[0, 2]], c="k", marker="o", s=20)
+    ax.set_xlabel("east y (m)")
+    ax.set_ylabel("north x (m)")
     ax.set_zlabel("height −z (m)")
     ax.set_title(f"Transport, {res.model} model", fontsize=9)
     ax.legend(fontsize=7, loc="upper left")
