@@ -6,7 +6,9 @@ from __future__ import annotations
 from types import SimpleNamespace
 
 import numpy as np
+from matplotlib.collections import PolyCollection
 
+from hydrokit.plot._mpl import to_png
 from hydrokit.plot.mission import envelope_figure, fleet_axes, mission_axes, path_figure
 
 #: a path that goes 10 m north and only 2 m east: a swapped plan view shows it lying down
@@ -64,6 +66,28 @@ def test_every_mission_plan_view_has_east_across_and_north_up():
         _check_chart(ax)
     three_d = next(a for a in path_figure(runs).axes if a.name == "3d")
     assert three_d.get_xlabel().startswith("east") and three_d.get_ylabel().startswith("north")
+
+
+def test_monte_carlo_bands_are_under_the_lines_and_visible():
+    """A 5 cm spread along a 10 m path: each band must be drawn beneath every line of its
+    axes, in a colour that shows (alpha ≥ 0.3 for the 5–95 % band), and in some panel the band
+    must take a visible share (≥ 20 %) of the panel's height at the end of the run."""
+    grid, envs, nominal, truth = _envelope_inputs(0.05)
+    fig = envelope_figure(WAYPOINTS, grid, envs, nominal, truth)
+    to_png(fig, 90)
+    shares = []
+    for ax in fig.axes:
+        bands = [c for c in ax.collections if isinstance(c, PolyCollection)]
+        if not bands:
+            continue
+        lines = [line for line in ax.lines if line.get_visible()]
+        assert max(b.get_zorder() for b in bands) < min(line.get_zorder() for line in lines)
+        assert max(b.get_alpha() for b in bands) >= 0.3
+        y0, y1 = sorted(ax.get_ylim())
+        for b in bands:
+            ext = b.get_paths()[0].vertices[:, 1]
+            shares.append((ext.max() - ext.min()) / (y1 - y0))
+    assert shares and max(shares) >= 0.2, shares
 
 
 def test_the_transport_path_is_drawn_as_a_chart_too():

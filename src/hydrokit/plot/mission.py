@@ -124,6 +124,16 @@ def mission_axes(res: ClosedLoopResult, ax: Any = None, label: str = "flown") ->
     return ax
 
 
+#: colours of the Monte Carlo figure: bands drawn under the lines in the hue of the identified
+#: vehicle's line, which is darker so that it reads on top of them
+BAND = "C0"
+LINE = "#08306b"
+TRUE = "C3"
+#: NED axes in the spread panels: names and one hue each
+AXIS_NAMES = ("north", "east", "depth")
+AXIS_COLOURS = ("C2", "C1", "C4")
+
+
 def envelope_figure(
     waypoints: np.ndarray,
     grid: np.ndarray,
@@ -132,51 +142,74 @@ def envelope_figure(
     truth: Mapping[str, np.ndarray] | None = None,
     title: str = "",
 ) -> Any:
-    """Monte Carlo of a mission: per controller, the plan view with sample paths (thin), the
-    identified vehicle's path and the truth's (when known), and the 5–95 % band of depth (m)
-    against time (s).
+    """Monte Carlo of a mission, one column per controller: the plan view (east across, north
+    up) with sample paths under the identified vehicle's path and the truth's (when known);
+    then the samples' 5–95 % and min–max bands about the identified vehicle's path against
+    time (s): north and east, then depth (m), each at its own scale — a spread of centimetres
+    along a path of metres vanishes in the plan view.
 
     Parameters
     ----------
     waypoints : (k, 3) — NED, m
     grid : (t,) — s
-    envelopes : controller label → {"p5", "p95", "min", "max": (t, 3), "sample_paths": (n, t, 3)}
+    envelopes : controller label → {"p5", "p95": (t, 3); optional "min", "max": (t, 3);
+        "sample_paths": (n, t, 3)}, m
     nominal : controller label → (t, 3) path of the identified vehicle on ``grid``, m
     truth : controller label → (t, 3) path of the true vehicle on ``grid``, m (virtual data)
     """
     labels = list(envelopes)
-    fig = new_figure((5.2 * len(labels), 8.2))
-    axes = fig.subplots(2, len(labels), squeeze=False, gridspec_kw={"height_ratios": [3, 1.4]})
+    grid = np.asarray(grid, float)
+    fig = new_figure((5.4 * len(labels), 11.5))
+    axes = fig.subplots(3, len(labels), squeeze=False, gridspec_kw={"height_ratios": [3, 1.5, 1.3]})
     for j, label in enumerate(labels):
         env = envelopes[label]
+        nom = np.asarray(nominal[label], float)
+        true = np.asarray(truth[label], float) if truth is not None and label in truth else None
+        paths = np.asarray(env["sample_paths"], float)
         ax = axes[0, j]
-        for k, p in enumerate(np.asarray(env["sample_paths"], float)):
-            ax.plot(p[:, 1], p[:, 0], color="0.6", lw=0.5, alpha=0.6, label="samples" if k == 0 else None)
-        ax.plot(waypoints[:, 1], waypoints[:, 0], "k--", lw=1.0, label="planned")
-        ax.plot(waypoints[:, 1], waypoints[:, 0], "ko", ms=3)
-        ax.plot(nominal[label][:, 1], nominal[label][:, 0], color="C0", lw=1.4, label="identified vehicle")
-        if truth is not None and label in truth:
-            ax.plot(truth[label][:, 1], truth[label][:, 0], color="C3", lw=1.1, ls=":", label="true vehicle")
+        for k, p in enumerate(paths):
+            ax.plot(p[:, 1], p[:, 0], color=BAND, lw=1.0, alpha=0.35, zorder=1, label="samples" if k == 0 else None)
+        ax.plot(waypoints[:, 1], waypoints[:, 0], "k--", lw=1.0, zorder=2, label="planned")
+        ax.plot(waypoints[:, 1], waypoints[:, 0], "ko", ms=3, zorder=2)
+        ax.plot(nom[:, 1], nom[:, 0], color=LINE, lw=0.9, zorder=3, label="identified vehicle")
+        if true is not None:
+            ax.plot(true[:, 1], true[:, 0], color=TRUE, lw=1.1, ls=":", zorder=4, label="true vehicle")
         ax.set_xlabel(EAST)
         ax.set_ylabel(NORTH)
         ax.set_aspect("equal", adjustable="datalim")
         ax.grid(alpha=0.3)
-        ax.legend(fontsize=7)
-        ax.set_title(f"{label}: {len(env['sample_paths'])} of the samples shown", fontsize=9)
-        ax = axes[1, j]
-        lo, hi = np.asarray(env["p5"], float), np.asarray(env["p95"], float)
-        ax.fill_between(grid, lo[:, 2], hi[:, 2], color="C0", alpha=0.25, label="5–95 % of samples")
-        ax.plot(grid, nominal[label][:, 2], color="C0", lw=1.2, label="identified")
-        if truth is not None and label in truth:
-            ax.plot(grid, truth[label][:, 2], color="C3", lw=1.0, ls=":", label="true")
-        ax.invert_yaxis()
-        ax.set_xlabel("time (s)")
-        ax.set_ylabel("depth z (m)")
-        ax.grid(alpha=0.3)
-        ax.legend(fontsize=7)
+        ax.legend(fontsize=8)
+        width = np.asarray(env["p95"], float)[:, :2] - np.asarray(env["p5"], float)[:, :2]
+        spread = float(np.nanmax(width)) if np.isfinite(width).any() else float("nan")
+        ax.set_title(f"{label}: {len(paths)} sample paths; 5–95 % spread ≤ {spread:.2g} m", fontsize=10)
+        for row, ks in ((1, (0, 1)), (2, (2,))):
+            ax = axes[row, j]
+            for k in ks:
+                name, colour = AXIS_NAMES[k], AXIS_COLOURS[k]
+                _bands(ax, grid, env, k, nom[:, k], colour, (f"{name}: min–max", f"{name}: 5–95 %"))
+                if true is not None:
+                    ax.plot(grid, true[:, k] - nom[:, k], color=colour, lw=1.1, ls=":", zorder=4, label=f"{name}: true")
+            ax.axhline(0.0, color=LINE, lw=0.9, zorder=3, label="identified")
+            ax.set_ylabel(f"{' and '.join(AXIS_NAMES[k] for k in ks)} from identified (m)", fontsize=9)
+            ax.set_xlabel("time (s)")
+            ax.grid(alpha=0.3)
+            ax.legend(fontsize=7, ncol=3 if len(ks) > 1 else 2)
+        axes[1, j].set_title("the samples about the identified vehicle's path", fontsize=9)
     fig.suptitle(title or "Mission under coefficient uncertainty (Monte Carlo)")
     fig.tight_layout()
     return fig
+
+
+def _bands(
+    ax: Any, grid: np.ndarray, env: Mapping[str, Any], k: int, about: Any, colour: str, labels: tuple[Any, Any]
+) -> None:
+    """The min–max (light) and 5–95 % (darker) bands of NED axis ``k`` minus ``about`` (m),
+    under every line of ``ax``; ``labels`` their legend entries (None: none)."""
+    if "min" in env and "max" in env:
+        lo, hi = np.asarray(env["min"], float)[:, k] - about, np.asarray(env["max"], float)[:, k] - about
+        ax.fill_between(grid, lo, hi, color=colour, alpha=0.2, lw=0, zorder=1, label=labels[0])
+    lo, hi = np.asarray(env["p5"], float)[:, k] - about, np.asarray(env["p95"], float)[:, k] - about
+    ax.fill_between(grid, lo, hi, color=colour, alpha=0.45, lw=0, zorder=1.5, label=labels[1])
 
 
 def fleet_axes(waypoints: np.ndarray, paths: np.ndarray | None, cross_track_rms: np.ndarray, ax: Any = None) -> Any:
