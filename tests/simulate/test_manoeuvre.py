@@ -190,7 +190,7 @@ def test_not_reached_is_said():
     res = fly(M.zigzag(math.radians(10), math.radians(10)), duration=5.0)
     assert "never reached 10° off the original course" in res.problem
     res = fly(M.depth_change(50.0, 0.2), nomoto(pitch=True), duration=5.0)
-    assert "never reached 50 m" in res.problem
+    assert "asked 50 m deeper, the vehicle sank" in res.problem and "never reached it" in res.problem
 
 
 def test_figures_report_and_table():

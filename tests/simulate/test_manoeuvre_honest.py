@@ -1,6 +1,6 @@
 """The manoeuvre runner measures and says what happened (issue #49 item 3): pull-out sides that
 are truly opposite, spiral steps ended by steady-state detection within a budget scaled by the
-vehicle.
+vehicle, and depth changes and holds described as they went.
 
 Models as in test_manoeuvre.py: Nomoto's first-order yaw T ṙ + n1 r + n3 r³ = K δ (+ a bias) at
 constant speed, whose steady states and decays are known in closed form.
@@ -9,6 +9,7 @@ constant speed, whose steady states and decays are known in closed form.
 from __future__ import annotations
 
 import math
+from types import SimpleNamespace
 
 import numpy as np
 import pytest
@@ -100,3 +101,43 @@ def test_spiral_that_never_reverses_is_not_complete():
     res = fly(M.spiral("direct", 0.3), nomoto(bias=0.2), dt=0.1)
     assert "kept turning to starboard (r > 0) at every deflection from +17.19° to −17.19°" in res.problem
     assert res.to_dict()["complete"] is False
+
+
+def _record(z, kind_m, hold=None, length=1.33):
+    """A synthetic record (straight ahead at 1 m/s) whose depth follows ``z`` (m) after the execute."""
+    n = len(z)
+    t = np.arange(n) * 1.0
+    x = np.zeros((n, 12))
+    x[:, 0] = t
+    x[:, 2] = z
+    x[:, 6] = 1.0
+    logic = SimpleNamespace(executes=[0.0], notes=[])
+    return M.measure(
+        kind_m,
+        t,
+        x,
+        np.zeros((n, 1)),
+        logic,
+        vehicle="auv",
+        surface_names=("rudder",),
+        surface="rudder",
+        reference_length=length,
+        hold=hold,
+    )
+
+
+def test_a_depth_change_that_rises_says_so():
+    z = -np.linspace(0.0, 238.2, 300)  # asked 5 m deeper, it rose 238.2 m
+    res = _record(z, M.depth_change(5.0, 0.26))
+    assert res.problem.startswith("depth change: asked 5 m deeper, the vehicle rose 238 m in 299 s")
+    assert "it went the other way: depth control lost" in res.problem
+
+
+def test_a_lost_depth_hold_is_not_called_holding():
+    z = -np.linspace(0.0, 224.0, 300)
+    res = _record(z, M.zigzag(0.26, 0.26), hold={"depth": "sternplane"})
+    assert res.problem.startswith("zigzag: depth hold lost — the vehicle rose 224 m (more than 2.66 m")
+    assert res.hold_lost is not None and res.to_dict()["hold_lost"] == res.hold_lost
+    assert any("the depth hold by sternplane was lost" in w for w in res.warnings)
+    kept = _record(np.linspace(0.0, 0.5, 300), M.zigzag(0.26, 0.26), hold={"depth": "sternplane"})
+    assert kept.hold_lost is None and "depth hold lost" not in (kept.problem or "")

@@ -193,6 +193,8 @@ class ManoeuvreResult(Result):
     planar : bool — a surface-craft model (3 or 4 DOF): the IMO criteria apply
     hold : dict — what was held and by which surface ({"depth": "sternplane", "heading":
         "rudder (approach)"}; empty: nothing held)
+    hold_lost : str or None — what happened when the depth hold lost its depth (the vehicle
+        strayed more than :data:`HOLD_LOST_LENGTHS` L, at least 1 m; ``problem`` says so too)
     propulsion : dict or None — with thruster commands: ``commands`` and ``command_units`` per
         thruster, ``force`` (N, N·m), ``thrust_at_execute`` and ``thrust_at_end`` per thruster (N);
         None with a constant force only
@@ -217,6 +219,7 @@ class ManoeuvreResult(Result):
     warnings: list[str] = field(default_factory=list)
     hold: dict[str, str] = field(default_factory=dict)
     propulsion: dict[str, Any] | None = None
+    hold_lost: str | None = None
 
     @property
     def kind(self) -> str:
@@ -257,6 +260,7 @@ class ManoeuvreResult(Result):
             "problem": self.problem,
             "warnings": list(self.warnings),
             "hold": dict(self.hold),
+            "hold_lost": self.hold_lost,
             "units": mm.UNITS,
         }
         if self.propulsion is not None:
@@ -1342,11 +1346,15 @@ def measure(
     else:  # depth_change
         metrics = mm.depth_change_metrics(t, x, logic.executes, manoeuvre.depth)
         if metrics["depth_overshoot"] is None:
-            reached = float(np.max(np.abs(x[:, 2] - x[0, 2])))
+            problem = _depth_change_problem(manoeuvre, t, x, logic.executes)
+    hold_lost = None
+    if hold and "depth" in hold and kind not in VERTICAL:
+        hold_lost = _depth_lost(x[:, 2] - x[0, 2], reference_length)
+        if hold_lost is not None:
+            warnings.append(f"{kind.replace('_', ' ')}: the depth hold by {hold['depth']} was lost: {hold_lost}")
             problem = (
-                f"depth change: the depth changed by at most {reached:.4g} m in {t[-1]:.4g} s and never "
-                f"{'reached ' + format(abs(manoeuvre.depth), 'g') + ' m' if len(logic.executes) < 2 else 'levelled off'}; "
-                "expected a larger plane angle or a longer --duration"
+                f"{kind.replace('_', ' ')}: depth hold lost — {hold_lost}; the trial is flown at constant depth, so "
+                "its metrics would be those of a climb or a dive" + (f" (and {problem})" if problem else "")
             )
     return ManoeuvreResult(
         manoeuvre=manoeuvre,
@@ -1365,6 +1373,48 @@ def measure(
         problem=problem,
         warnings=warnings,
         hold=dict(hold or {}),
+        hold_lost=hold_lost,
+    )
+
+
+#: a depth hold is lost when the depth strays from its set-point by more than this many L (at least 1 m)
+HOLD_LOST_LENGTHS = 2.0
+
+
+def _moved(dz: np.ndarray) -> str:
+    """How the depth changed over a record (``dz``: m, + deeper): "rose 238 m", "sank 3.1 m",
+    "rose 2 m and sank 4 m" — the largest excursions each way that exceed a centimetre."""
+    rise, fall = max(0.0, -float(np.min(dz))), max(0.0, float(np.max(dz)))
+    parts = [f"{w} {v:.3g} m" for w, v in (("rose", rise), ("sank", fall)) if v >= 0.01]
+    return " and ".join(parts) if parts else "kept its depth within 1 cm"
+
+
+def _depth_lost(dz: np.ndarray, length: float | None) -> str | None:
+    """None while the held depth stays within :data:`HOLD_LOST_LENGTHS` L (≥ 1 m) of where the
+    manoeuvre started, else what happened ("the vehicle rose 224 m (more than 2.67 m)")."""
+    limit = max(1.0, HOLD_LOST_LENGTHS * (length or 0.0))
+    if float(np.max(np.abs(dz))) <= limit:
+        return None
+    return f"the vehicle {_moved(dz)} (more than {limit:.3g} m from the depth it held at the execute)"
+
+
+def _depth_change_problem(m: Manoeuvre, t: np.ndarray, x: np.ndarray, executes: Any) -> str:
+    """What a depth change that did not level off did, in words."""
+    dz = x[:, 2] - x[0, 2]
+    want = f"{abs(m.depth):g} m {'deeper' if m.depth > 0 else 'shallower'}"
+    sense = 1.0 if m.depth > 0 else -1.0
+    wrong = -sense * dz
+    if len(executes) < 2:
+        why = "never reached it"
+        if float(np.max(wrong)) > max(1.0, abs(m.depth)):
+            why += " — it went the other way: depth control lost"
+        return (
+            f"depth change: asked {want}, the vehicle {_moved(dz)} in {t[-1]:.4g} s after the execute and {why}; "
+            "expected a larger plane angle or a longer --duration"
+        )
+    return (
+        f"depth change: the vehicle reached {want} at {executes[1]:.4g} s but never levelled off (it "
+        f"{_moved(dz)} in {t[-1]:.4g} s); expected a smaller plane angle or a longer --duration"
     )
 
 
