@@ -163,13 +163,15 @@ class CampaignResult(Result):
 
         if coefficient not in self.summary:
             raise InputError(f"coefficient = {coefficient!r}: expected one of {', '.join(COEFFS)}")
+        units = coefficient_units(self.rig)
         return campaign_axes(
             self.results,
             coefficient,
             self.summary[coefficient],
-            coefficient_units(self.rig).get(coefficient, "–"),
+            units.get(coefficient, "–"),
             ax,
             f"{self.rig.test} rig, {self.rig.axis} ({self.method})",
+            amplitude_unit=units["amplitude"],
         )
 
 

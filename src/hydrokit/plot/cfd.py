@@ -97,7 +97,7 @@ def sweep_figure(result: Any) -> Any | None:
             )
         ax.axhline(0, color="0.6", lw=0.8)
         ax.set_xlabel(label)
-        ax.set_ylabel("load")
+        ax.set_ylabel(f"load ({', '.join(loads[:1])}: N; {', '.join(loads[1:])}: N·m)")
         ax.grid(alpha=0.3)
         ax.legend(fontsize=8)
     fig.tight_layout()
@@ -119,8 +119,8 @@ def convergence_figure(result: Any, limit: int = 12) -> Any:
         ref = abs(X[-1]) or 1.0
         ax.plot(it, X / ref, lw=1, label=f"{o['label']} ({o['status']})")
         shown += 1
-    ax.set_xlabel("iteration")
-    ax.set_ylabel("X / |X final|")
+    ax.set_xlabel("iteration (count)")
+    ax.set_ylabel("X / |X final| (–)")
     ax.set_ylim(-2.5, 0.5) if shown else None
     ax.grid(alpha=0.3)
     if shown:

@@ -32,7 +32,7 @@ def launch_fit(
     a1.legend(loc="upper right", fontsize=8)
     a2.plot(t, (y - fitted) * scale, "-", lw=0.7, color="C3")
     a2.axhline(0, color="0.5", lw=0.5)
-    a2.set_ylabel("residual")
+    a2.set_ylabel("residual (mm)" if unit == "m" else "residual (°)")
     a2.set_xlabel("time after release (s)")
     if compact:
         fig.subplots_adjust(left=0.16, right=0.97, top=0.91, bottom=0.15, hspace=0.08)
@@ -56,10 +56,10 @@ def coefficients_vs_reynolds(
     fig = new_figure((8, 5.5))
     axes = fig.subplots(2, 2)
     panels = (
-        ("added_mass_coefficient", "C_m = m_a/(ρV)"),
-        ("drag_coefficient", "C_D"),
-        ("linear_damping", "K_L"),
-        ("quadratic_damping", "K_Q"),
+        ("added_mass_coefficient", "C_m = m_a/(ρV) (–)"),
+        ("drag_coefficient", "C_D (–)"),
+        ("linear_damping", "K_L (N·s/m or N·m·s/rad)"),
+        ("quadratic_damping", "K_Q (N·s²/m² or N·m·s²/rad²)"),
     )
     rejected = rejected or {}
     for ax, (field, label) in zip(axes.flat, panels):
@@ -88,7 +88,7 @@ def coefficients_vs_reynolds(
             ax.legend(fontsize=7)
         ax.set_xscale("log")
         ax.set_ylabel(label)
-        ax.set_xlabel("peak Reynolds number")
+        ax.set_xlabel("peak Reynolds number (–)")
         ax.grid(alpha=0.3)
     if axes.flat[0].get_legend_handles_labels()[0]:
         axes.flat[0].legend(fontsize=7)
@@ -106,8 +106,8 @@ def drag_per_cycle(cycles: Sequence[dict[str, Any]], title: str = "") -> Any:
     cd = [c["drag_coefficient"] for c in cycles if c.get("drag_coefficient") is not None]
     ax.plot(re, cd, "o", ms=4)
     ax.set_xscale("log")
-    ax.set_xlabel("cycle peak Reynolds number")
-    ax.set_ylabel("C_D per cycle")
+    ax.set_xlabel("cycle peak Reynolds number (–)")
+    ax.set_ylabel("C_D per cycle (–)")
     ax.set_title(title, fontsize=9)
     ax.grid(alpha=0.3)
     fig.tight_layout()
@@ -144,8 +144,8 @@ def drag_vs_reynolds(results: Sequence[Any], summary: dict[str, Any], title: str
     if summary.get("mean") is not None:
         ax.axhline(summary["mean"], color="C1", lw=1, label="campaign mean")
     ax.set_xscale("log")
-    ax.set_xlabel("peak Reynolds number")
-    ax.set_ylabel("C_D")
+    ax.set_xlabel("peak Reynolds number (–)")
+    ax.set_ylabel("C_D (–)")
     ax.grid(alpha=0.3)
     ax.legend(fontsize=7)
     if title:
@@ -155,7 +155,13 @@ def drag_vs_reynolds(results: Sequence[Any], summary: dict[str, Any], title: str
 
 
 def campaign_axes(
-    results: Sequence[Any], coefficient: str, summary: dict[str, Any], unit: str, ax: Any = None, title: str = ""
+    results: Sequence[Any],
+    coefficient: str,
+    summary: dict[str, Any],
+    unit: str,
+    ax: Any = None,
+    title: str = "",
+    amplitude_unit: str = "m or rad",
 ) -> Any:
     """One coefficient per launch against the launch amplitude, with the campaign mean and its
     confidence interval as a band; rejected launches (outliers) drawn hollow in red, and then the
@@ -168,6 +174,7 @@ def campaign_axes(
     summary : the campaign summary entry of that coefficient (``mean``, ``ci``, ``rejected``,
         ``without_rejection``)
     unit : the coefficient's unit, for the axis label
+    amplitude_unit : the launches' amplitude unit ("m" or "rad"), for the axis label
     """
     ax = axes_or_new(ax)
     rejected = set(summary.get("rejected") or [])
@@ -193,7 +200,7 @@ def campaign_axes(
     every = summary.get("without_rejection") or {}
     if out and every.get("mean") is not None:
         ax.axhline(every["mean"], color="0.4", lw=1.0, ls="--", label="mean without rejection")
-    ax.set_xlabel("launch amplitude")
+    ax.set_xlabel(f"launch amplitude ({amplitude_unit})")
     ax.set_ylabel(f"{coefficient} ({unit})")
     ax.grid(alpha=0.3)
     ax.legend(fontsize=7)
