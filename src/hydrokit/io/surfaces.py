@@ -17,8 +17,21 @@ control_surfaces:
     drag_coefficient: 0.01         # C_D0 (default 0)
     oswald: 0.9                    # e of the induced drag C_L²/(π e AR) (default 0.9)
     normal_force_coefficient: 1.2  # flat-plate C_N beyond stall (default 1.2)
+    neutral_deflection_deg: 0.5    # optional: the fin's zero-lift deflection (default 0)
     slipstream: {diameter: 0.1, thrust_share: 1.0}   # a rudder in a propeller race
+    # or the race of a named thruster, with the MMG standard method's rudder inflow:
+    # slipstream: {thruster: prop, inflow: mmg, epsilon: 1.09, kappa: 0.5, rudder_height: 0.25,
+    #              gamma_R_positive: 0.640, gamma_R_negative: 0.395, l_R: -0.71}
 ```
+
+``slipstream`` keys: ``diameter`` (m; default the named thruster's ``diameter``),
+``thrust_share`` (the share of the commanded surge force that is the propeller's thrust when the
+run gives no thruster's thrust; default 1), ``thruster`` (a name of the ``thrusters:`` block:
+its thrust at each instant and its ``wake_fraction``), ``inflow`` (``race``: the fully developed
+race of momentum theory, default; ``mmg``: Yasukawa & Yoshimura 2015), and for ``mmg``
+``epsilon`` ε, ``kappa`` κ, ``eta`` η = D/H_R or ``rudder_height`` H_R (m), ``gamma_R_positive``
+and ``gamma_R_negative`` (flow straightening for β_R > 0 and < 0), ``l_R`` (m, l_R' × L);
+each defaults to 1 (l_R: the rudder's x position, the geometric value).
 
 Degrees are converted here, at the edge; the model holds radians
 (:mod:`hydrokit.model.surfaces`).
@@ -38,6 +51,7 @@ from hydrokit.io.yamlfile import check_keys
 from hydrokit.model.surfaces import (
     DEFAULT_STALL_WIDTH,
     FLAT_PLATE_NORMAL_FORCE,
+    INFLOW_LAWS,
     MAX_SURFACES,
     ControlSurface,
     Fin,
@@ -57,9 +71,12 @@ FIN_KEYS = (
     "oswald",
     "normal_force_coefficient",
     "slipstream",
+    "neutral_deflection_deg",
 )
 EXTRA_KEYS = ("description", "note", "source", "chord")
-SLIPSTREAM_KEYS = ("diameter", "thrust_share")
+#: the MMG inflow's numbers in ``slipstream`` (each defaults to 1; l_R to the rudder's x, m)
+MMG_KEYS = ("epsilon", "kappa", "eta", "rudder_height", "gamma_R_positive", "gamma_R_negative", "l_R")
+SLIPSTREAM_KEYS = ("diameter", "thrust_share", "thruster", "inflow", *MMG_KEYS)
 
 
 def read_dofs(value: Any, source: str) -> tuple[int, ...] | None:
@@ -92,7 +109,74 @@ def _unit(value: Any, n: int, where: str, source: str) -> tuple[float, float, fl
     return float(u[0]), float(u[1]), float(u[2])
 
 
-def _fin(entry: dict[str, Any], where: str, source: str) -> Fin | None:
+def _slipstream(
+    slip: Any, where: str, source: str, position: np.ndarray, axis: tuple[float, float, float], thrusters: Any
+) -> dict[str, Any]:
+    """The :class:`Fin` fields of a ``slipstream`` block (module docstring). ``thrusters`` maps each
+    thruster's name to its raw entry (file order)."""
+    at = f"{where}.slipstream"
+    slip = mapping(slip, at, source)
+    check_keys(slip, SLIPSTREAM_KEYS, at, source)
+    out: dict[str, Any] = {}
+    entry: dict[str, Any] = {}
+    if "thruster" in slip:
+        name = slip["thruster"]
+        names = list(thrusters)
+        if not isinstance(name, str) or name not in names:
+            raise InputError(
+                f"field '{at}.thruster' = {cut_repr(name)}: names no thruster of the vehicle "
+                f"(thrusters: {', '.join(names) or 'none'})",
+                source,
+            )
+        out["race_thruster"] = names.index(name)
+        entry = thrusters[name]
+        w = number(entry.get("wake_fraction", 0.0), f"thrusters ({name}).wake_fraction", source)
+        out["wake_fraction"] = w if 0 <= w < 1 else 0.0  # a bad one is said by the thrusters' reader
+    if "diameter" in slip:
+        out["slipstream_diameter"] = number(slip["diameter"], f"{at}.diameter", source, positive=True)
+    elif "diameter" in entry:
+        out["slipstream_diameter"] = number(entry["diameter"], f"{at}.thruster's diameter", source, positive=True)
+    else:
+        raise InputError(f"field '{at}': missing 'diameter' (m, the propeller's)", source)
+    out["thrust_share"] = number(slip.get("thrust_share", 1.0), f"{at}.thrust_share", source, nonneg=True)
+    inflow = slip.get("inflow", "race")
+    if inflow not in INFLOW_LAWS:
+        raise InputError(f"field '{at}.inflow' = {cut_repr(inflow)}: expected one of {', '.join(INFLOW_LAWS)}", source)
+    out["inflow"] = inflow
+    given = [k for k in MMG_KEYS if k in slip]
+    if inflow != "mmg":
+        if given:
+            raise InputError(f"field '{at}': {', '.join(given)} given without 'inflow: mmg'", source)
+        return out
+    if abs(axis[2]) < 0.99:
+        raise InputError(
+            f"field '{where}.axis' = {list(axis)}: the MMG rudder inflow is for a rudder; expected a hinge along "
+            "body z ([0, 0, 1])",
+            source,
+        )
+    for key, field in (("epsilon", "epsilon"), ("kappa", "kappa")):
+        out[field] = number(slip.get(key, 1.0), f"{at}.{key}", source, positive=True)
+    if "eta" in slip and "rudder_height" in slip:
+        raise InputError(f"field '{at}': give 'eta' or 'rudder_height' (m), not both", source)
+    if "rudder_height" in slip:
+        h = number(slip["rudder_height"], f"{at}.rudder_height", source, positive=True)
+        out["eta"] = out["slipstream_diameter"] / h
+    else:
+        out["eta"] = number(slip.get("eta", 1.0), f"{at}.eta", source, positive=True)
+    if out["eta"] > 1.0:
+        raise InputError(
+            f"field '{at}': eta = D/H_R = {out['eta']:.4g}: expected at most 1 (a propeller no taller than the rudder)",
+            source,
+        )
+    out["gamma_positive"] = number(slip.get("gamma_R_positive", 1.0), f"{at}.gamma_R_positive", source, nonneg=True)
+    out["gamma_negative"] = number(slip.get("gamma_R_negative", 1.0), f"{at}.gamma_R_negative", source, nonneg=True)
+    out["l_R"] = number(slip["l_R"], f"{at}.l_R", source) if "l_R" in slip else float(position[0])
+    return out
+
+
+def _fin(
+    entry: dict[str, Any], where: str, source: str, position: np.ndarray | None = None, thrusters: Any = None
+) -> Fin | None:
     """The physical model of a surface entry, or None when it has no ``area``."""
     if "area" not in entry:
         given = [k for k in FIN_KEYS if k in entry]
@@ -147,14 +231,19 @@ def _fin(entry: dict[str, Any], where: str, source: str) -> Fin | None:
         source,
         positive=True,
     )
-    d_s, share = 0.0, 1.0
+    race: dict[str, Any] = {}
     if "slipstream" in entry:
-        slip = mapping(entry["slipstream"], f"{where}.slipstream", source)
-        check_keys(slip, SLIPSTREAM_KEYS, f"{where}.slipstream", source)
-        if "diameter" not in slip:
-            raise InputError(f"field '{where}.slipstream': missing 'diameter' (m, the propeller's)", source)
-        d_s = number(slip["diameter"], f"{where}.slipstream.diameter", source, positive=True)
-        share = number(slip.get("thrust_share", 1.0), f"{where}.slipstream.thrust_share", source, nonneg=True)
+        pos = np.zeros(3) if position is None else position
+        race = _slipstream(entry["slipstream"], where, source, pos, axis, thrusters or {})
+    neutral = 0.0
+    if "neutral_deflection_deg" in entry:
+        nd = number(entry["neutral_deflection_deg"], f"{where}.neutral_deflection_deg", source)
+        if abs(nd) > stall_deg:
+            raise InputError(
+                f"field '{where}.neutral_deflection_deg' = {nd:g}: expected at most the stall angle ({stall_deg:g}°)",
+                source,
+            )
+        neutral = math.radians(nd)
     return Fin(
         axis=axis,
         chord=(float(chord[0]), float(chord[1]), float(chord[2])),
@@ -166,13 +255,19 @@ def _fin(entry: dict[str, Any], where: str, source: str) -> Fin | None:
         aspect_ratio=ar,
         oswald=e,
         normal_force_coefficient=cn,
-        slipstream_diameter=d_s,
-        thrust_share=share,
+        neutral_deflection=neutral,
+        **race,
     )
 
 
-def read_control_surfaces(value: Any, source: str) -> SurfaceSet:
-    """``control_surfaces:`` as a :class:`~hydrokit.model.surfaces.SurfaceSet` (empty when absent)."""
+def read_control_surfaces(value: Any, source: str, thrusters: tuple[str, ...] = (), entries: Any = None) -> SurfaceSet:
+    """``control_surfaces:`` as a :class:`~hydrokit.model.surfaces.SurfaceSet` (empty when absent).
+
+    ``thrusters`` : the names of the ``thrusters:`` block in file order, and ``entries`` its raw
+    entries (a race's ``thruster`` takes its diameter and wake fraction from them).
+    """
+    raw = entries if isinstance(entries, list) else []
+    named = {n: (e if isinstance(e, dict) else {}) for n, e in zip(thrusters, raw + [{}] * len(thrusters))}
     if value is None:
         return SurfaceSet()
     if not isinstance(value, list):
@@ -219,7 +314,7 @@ def read_control_surfaces(value: Any, source: str) -> SurfaceSet:
                 max_deflection=math.radians(max_deg),
                 rate_limit=rate,
                 time_constant=lag,
-                fin=_fin(entry, where, source),
+                fin=_fin(entry, where, source, pos, named),
             )
         )
     return SurfaceSet(tuple(out))

@@ -18,7 +18,8 @@ Each entry (units in the file: m, N, s, rpm, degrees)::
         thrust_loss: {forward: 0.72, reverse: 0.53}   # or one number
         max_rpm: 1500                 # rpm (propeller model: required)
         advance_ratio_range: [-0.5, 1.0]
-        wake_fraction: 0.1
+        wake_fraction: 0.1            # w: advance speed (1 - w) u at the propeller
+        thrust_deduction: 0.2         # t: the thruster pushes the hull with (1 - t) T
         time_constant: 0.2            # s, first-order rotor lag
         thrust_table: {command: [...], thrust: [...]}  # table model, thrust in N
         channel: 1                    # autopilot servo output (SERVOn / RCOU Cn), 1-based
@@ -55,6 +56,7 @@ ALLOWED = {
     "max_rpm",
     "advance_ratio_range",
     "wake_fraction",
+    "thrust_deduction",
     "time_constant",
     "thrust_table",
     "channel",
@@ -150,6 +152,7 @@ def _one(entry: dict[str, Any], name: str, where: str, density: float | None) ->
         "min_thrust": entry.get("min_thrust"),
         "time_constant": entry.get("time_constant", 0.0),
         "wake_fraction": entry.get("wake_fraction", 0.0),
+        "thrust_deduction": entry.get("thrust_deduction", 0.0),
         # log metadata (hydrokit ingest --run-out): which autopilot output drives it
         "channel": entry.get("channel"),
         "motor": entry.get("motor"),

@@ -280,6 +280,24 @@ def _sign_warnings(
     return out
 
 
+def _thruster_names(value: Any) -> tuple[tuple[str, ...], tuple[str, ...]]:
+    """(names, propeller names) of the ``thrusters:`` list in file order, for the ``T(NAME)`` and
+    ``n(NAME)`` term factors; the block itself is read and checked by :mod:`hydrokit.io.thrusters`."""
+    if not isinstance(value, list):
+        return (), ()
+    names: list[str] = []
+    props: list[str] = []
+    for entry in value:
+        name = entry.get("name") if isinstance(entry, dict) else None
+        if isinstance(name, (int, float)) and not isinstance(name, bool):
+            name = str(name)
+        name = name if isinstance(name, str) else ""
+        names.append(name)
+        if isinstance(entry, dict) and "kt_forward" in entry:
+            props.append(name)
+    return tuple(names), tuple(props)
+
+
 def parse_vehicle(data: dict[str, Any], source: str) -> Vehicle:
     """Validate a vehicle mapping (errors name the file and field)."""
     for key in REQUIRED:
@@ -314,7 +332,8 @@ def parse_vehicle(data: dict[str, Any], source: str) -> Vehicle:
         raise InputError(f"field 'terms_nondimensional' = {cut_repr(default_nd)}: expected true or false", source)
     from hydrokit.io.surfaces import read_control_surfaces, read_dofs
 
-    surfaces = read_control_surfaces(data.get("control_surfaces"), source)
+    thrusters, propellers = _thruster_names(data.get("thrusters"))
+    surfaces = read_control_surfaces(data.get("control_surfaces"), source, thrusters, data.get("thrusters"))
     dofs = read_dofs(data.get("dofs"), source)
     terms_raw = data.get("terms") or {}
     if not isinstance(terms_raw, dict):
@@ -325,7 +344,7 @@ def parse_vehicle(data: dict[str, Any], source: str) -> Vehicle:
         from hydrokit.io.hull import read_hull_block
 
         hull_elements, hull_terms = read_hull_block(data["hull"], source, rho)
-        velocity_terms += [(parse_term(n, source, surfaces.names), c) for n, c in hull_terms]
+        velocity_terms += [(parse_term(n, source, surfaces.names, thrusters, propellers), c) for n, c in hull_terms]
     for name, spec in terms_raw.items():
         where = f"terms.{cut(str(name))}"
         nd = default_nd
@@ -343,7 +362,7 @@ def parse_vehicle(data: dict[str, Any], source: str) -> Vehicle:
             value = _number(spec["value"], where + ".value", source)
         else:
             value = _number(spec, where, source)
-        term = parse_term(str(name), source, surfaces.names)
+        term = parse_term(str(name), source, surfaces.names, thrusters, propellers)
         if nd:
             if L is None:
                 raise InputError(
@@ -391,4 +410,5 @@ def parse_vehicle(data: dict[str, Any], source: str) -> Vehicle:
         _provenance(data),
         surfaces,
         dofs,
+        thrusters,
     )

@@ -33,7 +33,7 @@ from hydrokit.core.kinematics import (
 )
 from hydrokit.errors import InputError
 from hydrokit.model.surfaces import FIN_WIDTH, fin_wrench
-from hydrokit.model.terms import add_term_forces
+from hydrokit.model.terms import add_term_forces, input_layout
 from hydrokit.model.vehicle import Vehicle
 
 Dynamics = Callable[..., np.ndarray]
@@ -75,7 +75,7 @@ def pack(v: Vehicle) -> Packed:
     Minv[np.ix_(kept, kept)] = np.linalg.inv(M[np.ix_(kept, kept)])
     mask = np.zeros(6)
     mask[kept] = 1.0
-    fins = v.surfaces.pack_fins(v.density)
+    fins = v.surfaces.pack_fins(v.density, len(v.thruster_names))
     return Packed(
         Minv=np.ascontiguousarray(Minv),
         Mc=np.ascontiguousarray(0.5 * (Mc + Mc.T)),
@@ -198,6 +198,35 @@ def interp_table(tab: np.ndarray, t: float) -> tuple[np.ndarray, np.ndarray]:
     return tab[k, 1:] + slope * (t - tab[k, 0]), slope
 
 
+def input_vector(vehicle: Vehicle, delta: object = None, thrust: object = None, rate: object = None) -> np.ndarray:
+    """The input vector [δ_1 … δ_ns, T_1 … T_m, n_1 … n_m] of ``vehicle`` (rad, N, rev/s) that the
+    terms' ``delta()``, ``T()`` and ``n()`` factors and the fins read
+    (:func:`hydrokit.model.terms.input_layout`).
+
+    ``delta`` : None (all 0) or one deflection per control surface (rad), or already a whole input
+    vector (then ``thrust`` and ``rate`` must be None); ``thrust`` : None (all 0) or one thrust per
+    thruster of the vehicle file (N); ``rate`` : None (all 0) or one rotation rate per thruster
+    (rev/s; :meth:`hydrokit.model.thrusters.ThrusterSet.rotation_rate`).
+    """
+    ns, m = len(vehicle.surfaces), len(vehicle.thruster_names)
+    first_t, first_n, size = input_layout(ns, m)
+    out = np.zeros(size)
+    d = np.zeros(0) if delta is None else np.atleast_1d(np.asarray(delta, float))
+    if d.shape[0] not in (ns, size) or (d.shape[0] == size != ns and (thrust is not None or rate is not None)):
+        raise InputError(
+            f"{d.shape[0]} deflections: expected {ns} (one per control surface, rad) or a whole input vector of {size}"
+        )
+    out[: d.shape[0]] = d
+    for values, first, what in ((thrust, first_t, "thrusts (N)"), (rate, first_n, "rotation rates (rev/s)")):
+        if values is None:
+            continue
+        a = np.atleast_1d(np.asarray(values, float))
+        if a.shape != (m,):
+            raise InputError(f"{a.shape[0]} {what}: expected {m}, one per thruster of the vehicle file")
+        out[first : first + m] = a
+    return out
+
+
 def hydro_force(
     p: Packed, nr: np.ndarray, R: np.ndarray, delta: np.ndarray | None = None, thrust_x: float = 0.0
 ) -> np.ndarray:
@@ -224,9 +253,13 @@ def hydro_force(
 
 
 def vehicle_dynamics(vehicle: Vehicle, current_ned: object = None, attitude: str = "euler") -> Dynamics:
-    """f(t, x, τ, δ=None) → ẋ for ``vehicle`` (numpy; see module docstring for the state layout).
+    """f(t, x, τ, δ=None, thrust=None, rate=None) → ẋ for ``vehicle`` (numpy; see module docstring
+    for the state layout).
 
-    τ: 6 floats (N, N·m); δ: the control surfaces' deflections (rad, file order; None: all 0).
+    τ: 6 floats (N, N·m); δ: the control surfaces' deflections (rad, file order; None: all 0) or
+    the whole input vector; thrust, rate: each thruster's thrust (N) and rotation rate (rev/s)
+    at that instant, read by the ``T()`` and ``n()`` term factors and a race's fin
+    (:func:`input_vector`; None: 0, and the race takes its thrust from τ_X).
     A planar vehicle's dropped DOF have zero rates (their velocities and angles stay where they
     start: at zero, for a planar model).
 
@@ -245,7 +278,16 @@ def vehicle_dynamics(vehicle: Vehicle, current_ned: object = None, attitude: str
     quat = attitude == "quaternion"
     mask = p.scal[scal_mask_offset(p.scal) : scal_mask_offset(p.scal) + 6]
 
-    def f(t: float, x: np.ndarray, tau: np.ndarray, delta: np.ndarray | None = None) -> np.ndarray:
+    def f(
+        t: float,
+        x: np.ndarray,
+        tau: np.ndarray,
+        delta: np.ndarray | None = None,
+        thrust: np.ndarray | None = None,
+        rate: np.ndarray | None = None,
+    ) -> np.ndarray:
+        if thrust is not None or rate is not None:
+            delta = input_vector(vehicle, delta, thrust, rate)
         if quat:
             q = x[3:7]
             R = quaternion_to_rotation(q / math.sqrt(q @ q))

@@ -26,9 +26,27 @@ Sign check (Prestero 2001): a rudder with a = +z behind the origin, δ > 0, movi
 α = −δ, a force +Y and a moment −N (Y_uuδr > 0, N_uuδr < 0); a stern plane with a = +y gives −Z
 and −M (Z_uuδs < 0, M_uuδs < 0).
 
-A rudder in a propeller race (``slipstream``) sees the axial speed of the fully developed race
-from momentum theory, √(u_a² + 8 T / (ρ π D²)) (Carlton, *Marine Propellers and Propulsion*,
-§4), with T the propulsive force: the commanded surge force τ_X times ``thrust_share``.
+A rudder in a propeller race (``slipstream``) takes its inflow from the propeller's loading, T
+the propeller's thrust (N): the named thruster's (``T`` of the input vector
+[δ…, T…, n…], :mod:`hydrokit.model.terms`) when the run gives it, else the commanded surge force
+τ_X times ``thrust_share``. Two inflow laws, with u_P = (1 − w_P) u the propeller's advance speed
+(w_P the thruster's ``wake_fraction``, u the fin's axial speed through the water):
+
+``race`` (actuator disc)
+    the fully developed race of momentum theory, u_R = √(u_P² + 8 T / (ρ π D²)) (Carlton,
+    *Marine Propellers and Propulsion*, §4); the lateral inflow is the fin's own.
+``mmg`` (the MMG standard method's rudder inflow, Yasukawa & Yoshimura 2015, eq. 38–44)
+    u_R = ε u_P √(η {1 + κ (√(1 + 8 K_T/(π J²)) − 1)}² + (1 − η)), v_R = U γ_R β_R with
+    β_R = β − l_R' r', β = atan(−v/u), U = √(u² + v²), η = D/H_R and γ_R one value for β_R > 0
+    and another for β_R < 0 (flow straightening). With K_T/J² = T/(ρ D² u_P²) the square root is
+    the race's, √(u_P² + 8T/(ρπD²)) / u_P, so the law is written as u_R = ε √(η a² + (1 − η) u_P²)
+    with a = (1 − κ) u_P + κ √(u_P² + 8T/(ρπD²)) — the same value for u_P > 0 and finite at rest;
+    U β_R = U β − l_R r with l_R in m (l_R' L). The fin's lateral inflow is −v_R (body y: the law
+    is for a rudder, hinge along body z). ε = κ = η = γ_R = 1, w_P = 0 and l_R at the rudder give
+    back the race's axial speed and the fin's own geometric inflow for small drift.
+
+A surface's ``neutral_deflection`` δ₀ (rad) is the deflection at which the fin is at zero angle
+to its chord line's neutral: the law turns the chord by δ − δ₀.
 
 :func:`fin_wrench` and :func:`servo_step` are the only implementations of these laws: the numpy
 model (:mod:`hydrokit.model.dynamics`) calls them as Python, the compiled integrators
@@ -47,7 +65,9 @@ from hydrokit.errors import InputError
 from hydrokit.model.terms import add_term_forces
 
 #: numbers per packed fin row (see :func:`pack_fins`)
-FIN_WIDTH = 20
+FIN_WIDTH = 32
+#: the inflow laws of a fin in a propeller race (``slipstream.inflow``)
+INFLOW_LAWS = ("race", "mmg")
 #: most control surfaces a vehicle may have (sizes the compiled kernels' scratch buffers)
 MAX_SURFACES = 16
 #: flat-plate normal-force coefficient (Hoerner 1965, Fluid-Dynamic Drag, ch. 3: C_N ≈ 1.17–1.2)
@@ -70,7 +90,12 @@ class Fin:
     rad; drag_coefficient : float — C_D0; aspect_ratio : float — 0 when not given (no induced drag);
     oswald : float — e; normal_force_coefficient : float — flat-plate C_N;
     slipstream_diameter : float — m, 0 for none; thrust_share : float — share of τ_X that is the
-    propeller's thrust.
+    propeller's thrust when the run gives no thruster's thrust; neutral_deflection : float — δ₀,
+    rad; race_thruster : int — index (file order) of the thruster whose race it is, −1 for none;
+    inflow : str — ``race`` or ``mmg`` (module docstring); wake_fraction : float — w_P of that
+    propeller, –; epsilon, kappa, eta : float — the MMG ε, κ and η = D/H_R, –;
+    gamma_positive, gamma_negative : float — the MMG flow straightening γ_R for β_R > 0 and
+    β_R < 0, –; l_R : float — the MMG l_R (l_R' L), m.
     """
 
     axis: tuple[float, float, float]
@@ -85,6 +110,16 @@ class Fin:
     normal_force_coefficient: float = FLAT_PLATE_NORMAL_FORCE
     slipstream_diameter: float = 0.0
     thrust_share: float = 1.0
+    neutral_deflection: float = 0.0
+    race_thruster: int = -1
+    inflow: str = "race"
+    wake_fraction: float = 0.0
+    epsilon: float = 1.0
+    kappa: float = 1.0
+    eta: float = 1.0
+    gamma_positive: float = 1.0
+    gamma_negative: float = 1.0
+    l_R: float = 0.0
 
 
 @dataclass(frozen=True)
@@ -157,12 +192,14 @@ class SurfaceSet:
                     f"{math.degrees(lim[k]):.4g}° (max_deflection_deg)"
                 )
 
-    def pack_fins(self, density: float) -> np.ndarray:
+    def pack_fins(self, density: float, n_thrusters: int = 0) -> np.ndarray:
         """The physical fins as (n, FIN_WIDTH) rows for :func:`fin_wrench` (empty for none).
 
         Row: [r (3) m, axis (3), chord (3), ½ρS kg/m, C_Lα 1/rad, α_s rad, blend width rad, C_D0,
         1/(π e AR) (0 without AR), C_N, surface index, slipstream ρπD²/8 kg/m (0: none),
-        thrust share, 0 …].
+        thrust share, input index of the race's thrust (−1: none), inflow law (0 race, 1 mmg),
+        ε, κ, η, γ_R(β_R > 0), γ_R(β_R < 0), l_R m, w_P, δ₀ rad, 0 …]; ``n_thrusters`` places the
+        thrusts in the input vector (:func:`hydrokit.model.terms.input_layout`).
         """
         rows = []
         for k, s in enumerate(self.surfaces):
@@ -183,6 +220,11 @@ class SurfaceSet:
             row[16] = k
             row[17] = density * math.pi * fin.slipstream_diameter**2 / 8.0
             row[18] = fin.thrust_share
+            row[19] = len(self.surfaces) + fin.race_thruster if 0 <= fin.race_thruster < n_thrusters else -1.0
+            row[20] = INFLOW_LAWS.index(fin.inflow)
+            row[21:27] = (fin.epsilon, fin.kappa, fin.eta, fin.gamma_positive, fin.gamma_negative, fin.l_R)
+            row[27] = fin.wake_fraction
+            row[28] = fin.neutral_deflection
             rows.append(row)
         return np.array(rows, dtype=float).reshape(len(rows), FIN_WIDTH)
 
@@ -204,6 +246,7 @@ def section_coefficients(
     row = np.zeros(FIN_WIDTH)
     row[3:9] = (0.0, 0.0, 1.0, 1.0, 0.0, 0.0)  # hinge +z, chord +x: the normal is +y
     row[9:16] = (1.0, lift_slope, stall, width, cd0, k_ind, cn)
+    row[19] = -1.0
     nr = np.array([math.cos(alpha), math.sin(alpha), 0.0, 0.0, 0.0, 0.0])
     f = np.zeros(6)
     fin_wrench(row, 0, nr, 0.0, np.zeros(1), 1, f)
@@ -216,7 +259,8 @@ def fin_wrench(p, b, nr, thrust_x, delta, n_delta, f):  # noqa: ANN001, ANN201
     """Add the force and moment (N, N·m) of the fin packed at ``p[b : b + FIN_WIDTH]`` to ``f``.
 
     ``nr`` the relative velocity ν_r (m/s, rad/s), ``thrust_x`` the commanded surge force τ_X (N,
-    for a rudder in a propeller race), ``delta`` the deflections (rad; the first ``n_delta`` are
+    for a rudder in a propeller race when the run gives no thruster's thrust), ``delta`` the
+    input vector (deflections rad, thrusts N, rotation rates rev/s; the first ``n_delta`` are
     real, a missing one is 0). Plain floats and loops: the numpy model calls it as Python and the
     compiled integrators compile it (module docstring for the law).
     """
@@ -224,7 +268,7 @@ def fin_wrench(p, b, nr, thrust_x, delta, n_delta, f):  # noqa: ANN001, ANN201
     ax, ay, az = p[b + 3], p[b + 4], p[b + 5]
     c0x, c0y, c0z = p[b + 6], p[b + 7], p[b + 8]
     k = int(p[b + 16])
-    d = delta[k] if k < n_delta else 0.0
+    d = (delta[k] if k < n_delta else 0.0) - p[b + 28]
     cd_, sd_ = math.cos(d), math.sin(d)
     # c = c₀ cos δ + (a × c₀) sin δ  (Rodrigues with a·c₀ = 0)
     cx = c0x * cd_ + (ay * c0z - az * c0y) * sd_
@@ -239,10 +283,21 @@ def fin_wrench(p, b, nr, thrust_x, delta, n_delta, f):  # noqa: ANN001, ANN201
     vz = nr[2] + (p_ * ry - q_ * rx)
     race = p[b + 17]
     if race > 0.0:
-        thrust = p[b + 18] * thrust_x
-        if thrust > 0.0:
-            ua = vx if vx > 0.0 else 0.0
-            vx = math.sqrt(ua * ua + thrust / race)
+        ti = int(p[b + 19])
+        thrust = delta[ti] if 0 <= ti < n_delta else p[b + 18] * thrust_x
+        if thrust < 0.0:
+            thrust = 0.0
+        up = (1.0 - p[b + 27]) * (vx if vx > 0.0 else 0.0)
+        if p[b + 20] == 0.0:  # the fully developed race (actuator disc)
+            if thrust > 0.0:
+                vx = math.sqrt(up * up + thrust / race)
+        elif vx > 0.0 or thrust > 0.0:  # the MMG standard method's rudder inflow (module docstring)
+            eps, kap, eta = p[b + 21], p[b + 22], p[b + 23]
+            a_ = (1.0 - kap) * up + kap * math.sqrt(up * up + thrust / race)
+            vx = eps * math.sqrt(eta * a_ * a_ + (1.0 - eta) * up * up)
+            u_, v_ = nr[0], nr[1]
+            ub = math.sqrt(u_ * u_ + v_ * v_) * math.atan2(-v_, u_) - p[b + 26] * r_  # U β_R
+            vy = -(p[b + 24] if ub > 0.0 else p[b + 25]) * ub
     vc = vx * cx + vy * cy + vz * cz
     vn = vx * nx + vy * ny + vz * nz
     v2 = vc * vc + vn * vn

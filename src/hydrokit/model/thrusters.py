@@ -554,6 +554,10 @@ class Thruster:
     thrust_loss_forward, thrust_loss_reverse : float — thrust-loss factors, – (1 = none)
     advance_ratio_range : (float, float) — J range where the K_T polynomial holds, –
     wake_fraction : float — w in V_a = (1 − w) e_i·(v + ω × r_i), –
+    thrust_deduction : float — t, the hull's resistance increase t·T: the thruster's force on the
+        vehicle is (1 − t) T e_i, its moment that of the full thrust r_i × T e_i (the increase is
+        a pressure drop on the hull acting along the thrust line's direction through the body
+        origin; MMG: X_P = (1 − t_P) T), –, 0 ≤ t < 1
     max_speed : float or None — propeller speed limit, rev/s (required for ``propeller``)
     time_constant : float — first-order rotor lag τ, s (0 = instantaneous)
     table_command, table_thrust : tuple of float or None — thrust table: command (its own
@@ -584,6 +588,7 @@ class Thruster:
     thrust_loss_reverse: float = 1.0
     advance_ratio_range: tuple[float, float] = DEFAULT_ADVANCE_RATIO_RANGE
     wake_fraction: float = 0.0
+    thrust_deduction: float = 0.0
     max_speed: float | None = None
     time_constant: float = 0.0
     table_command: tuple[float, ...] | None = None
@@ -625,6 +630,10 @@ class Thruster:
         if not 0 <= w < 1:
             raise InputError(f"{where} wake_fraction = {w}: expected 0 ≤ w < 1")
         put("wake_fraction", w)
+        td = quantity(self.thrust_deduction, f"{where} thrust_deduction")
+        if not 0 <= td < 1:
+            raise InputError(f"{where} thrust_deduction = {td}: expected 0 ≤ t < 1")
+        put("thrust_deduction", td)
         if self.diameter is not None:
             put("diameter", quantity(self.diameter, f"{where} diameter", positive=True, unit="m"))
         built = self._curve_from_fields(where)
@@ -770,10 +779,30 @@ class ThrusterSet:
         return len(self.thrusters)
 
     def configuration_matrix(self) -> Array:
-        """The 6×m configuration matrix T, column i = [e_i; r_i × e_i] (LI2021 eq. 22–23)."""
+        """The 6×m configuration matrix T, column i = [(1 − t_i) e_i; r_i × e_i] (LI2021 eq.
+        22–23, with the thrust deduction t_i of :class:`Thruster`: the hull's resistance increase
+        t_i T_i acts along e_i through the body origin, so it takes from the force only)."""
         from hydrokit.model.allocation import configuration_matrix
 
-        return configuration_matrix(self.positions, self.directions)
+        T = configuration_matrix(self.positions, self.directions)
+        T[:3] *= 1.0 - np.array([t.thrust_deduction for t in self.thrusters])
+        return T
+
+    def rotation_rate(
+        self, thrust: ArrayLike, advance_speed: ArrayLike | None = None, command: ArrayLike | None = None
+    ) -> Array:
+        """Each thruster's rotation rate n, rev/s, for the ``n(NAME)`` term factors.
+
+        A propeller's rotor state is its command: ``command`` (rev/s) when given; otherwise n is
+        the one inversion of the curve, :meth:`command_for_thrust`, at ``thrust`` (N) and
+        ``advance_speed`` (m/s, None = 0). A thruster without a propeller curve has no rate: 0.
+        """
+        c = (
+            self.command_for_thrust(thrust, advance_speed)
+            if command is None
+            else self._per_thruster(command, "commands")
+        )
+        return np.array([c[i] if isinstance(cv, PropellerCurve) else 0.0 for i, cv in enumerate(self.curves)])
 
     # ------------------------------------------------------------------ kinematics
     def advance_speed(self, nu: ArrayLike) -> Array:

@@ -64,6 +64,9 @@ class Vehicle:
         their own
     dofs : tuple of int — the degrees of freedom kept (0 surge … 5 yaw); a planar model
         (``dofs: [surge, sway, yaw]``) holds the others at zero and drops their equations
+    thruster_names : tuple of str — the ``thrusters:`` block's names in file order, as the
+        ``T(NAME)`` and ``n(NAME)`` term factors and a surface's race index them (the input vector
+        [δ…, T…, n…], :func:`hydrokit.model.terms.input_layout`); empty when the file has none
 
     A vehicle is equal only to itself (``eq=False``): its fields are arrays, which have no
     single truth value; compare the fields of two vehicles with numpy.
@@ -90,6 +93,12 @@ class Vehicle:
     provenance: tuple[str, ...] = field(default=(), repr=False)
     surfaces: SurfaceSet = field(default_factory=SurfaceSet)
     dofs: tuple[int, ...] = (0, 1, 2, 3, 4, 5)
+    thruster_names: tuple[str, ...] = ()
+
+    @property
+    def n_inputs(self) -> int:
+        """Length of the input vector [δ…, T…, n…] (deflections, thrusts, rotation rates)."""
+        return len(self.surfaces) + 2 * len(self.thruster_names)
 
     @property
     def planar(self) -> bool:
@@ -196,6 +205,7 @@ def make_vehicle(
     provenance: tuple[str, ...] = (),
     surfaces: SurfaceSet | None = None,
     dofs: tuple[int, ...] | list[int] | None = None,
+    thruster_names: tuple[str, ...] = (),
 ) -> Vehicle:
     """Validate and build a :class:`Vehicle`.
 
@@ -297,6 +307,7 @@ def make_vehicle(
         provenance=tuple(provenance),
         surfaces=surfaces if surfaces is not None else SurfaceSet(),
         dofs=kept,
+        thruster_names=tuple(thruster_names),
     )
 
 

@@ -35,7 +35,7 @@ import numpy as np
 
 from hydrokit.core.drag import add_drag_wrench
 from hydrokit.model.surfaces import FIN_WIDTH, MAX_SURFACES, fin_wrench, servo_step, steer_surfaces
-from hydrokit.model.terms import add_term_forces
+from hydrokit.model.terms import MAX_THRUSTERS, add_term_forces
 
 #: ``numba.njit`` for kernels that allocate nothing: compiled without numba's reference
 #: counting, which otherwise updates every array argument's count atomically on entry and exit
@@ -45,8 +45,9 @@ from hydrokit.model.terms import add_term_forces
 njit_noalloc = numba.njit(cache=True, _nrt=False)  # type: ignore[call-overload]
 
 #: scratch length of :func:`deriv` (40 numbers, then the force table's values and slopes:
-#: 6 forces and up to MAX_SURFACES deflections each)
-BUF_SIZE = 40 + 2 * (6 + MAX_SURFACES)
+#: 6 forces and an input vector of up to MAX_SURFACES deflections, MAX_THRUSTERS thrusts and as
+#: many rotation rates each)
+BUF_SIZE = 40 + 2 * (6 + MAX_SURFACES + 2 * MAX_THRUSTERS)
 
 
 def compile_law(func, **callees):  # noqa: ANN001, ANN003, ANN201
@@ -103,8 +104,10 @@ def _interp(tab, t, val, slope):  # noqa: ANN001, ANN202
 def deriv(t, x, quat, tau_tab, cur_tab, Minv, Mc, DL, DQ, scal, t_dof, t_coef, t_kind, t_idx, buf, out):  # noqa: ANN001, ANN201
     """ẋ into ``out``; ``buf`` is scratch of length ≥ BUF_SIZE.
 
-    ``tau_tab`` rows are [t, X, Y, Z, K, M, N, δ_1 … δ_n] (s, N, N·m, rad): the deflections of the
-    vehicle's control surfaces may follow the six forces (missing ones are 0).
+    ``tau_tab`` rows are [t, X, Y, Z, K, M, N, δ_1 … δ_n, T_1 … T_m, n_1 … n_m] (s, N, N·m, rad,
+    N, rev/s): the input vector of the vehicle (its control surfaces' deflections, then its
+    thrusters' thrusts and rotation rates, :func:`hydrokit.model.terms.input_layout`) may follow
+    the six forces (missing ones are 0).
     """
     if quat:
         q0, q1, q2, q3 = x[3], x[4], x[5], x[6]
@@ -308,12 +311,13 @@ def rk4_batch(
 
 
 def make_dynamics(vehicle, current_ned=None, attitude: str = "euler"):  # noqa: ANN001, ANN201
-    """f(t, x, τ, δ=None) → ẋ calling the compiled right-hand side (same equations as
-    :func:`hydrokit.model.dynamics.vehicle_dynamics`, about 50× faster per call). Used by the
-    closed loop and the manoeuvres, where τ (N, N·m) and the deflections δ (rad, one per control
-    surface) change every step."""
+    """f(t, x, τ, δ=None, thrust=None, rate=None) → ẋ calling the compiled right-hand side (same
+    equations as :func:`hydrokit.model.dynamics.vehicle_dynamics`, about 50× faster per call). Used
+    by the closed loop and the manoeuvres, where τ (N, N·m), the deflections δ (rad, one per
+    control surface, or the whole input vector) and each thruster's thrust (N) and rotation rate
+    (rev/s) change every step (:func:`hydrokit.model.dynamics.input_vector`)."""
     from hydrokit.errors import InputError
-    from hydrokit.model.dynamics import current_table, pack
+    from hydrokit.model.dynamics import current_table, input_vector, pack
 
     if attitude == "quaternion" and vehicle.planar:
         raise InputError(f"vehicle {vehicle.name!r} is planar (dofs): expected attitude euler")
@@ -321,13 +325,29 @@ def make_dynamics(vehicle, current_ned=None, attitude: str = "euler"):  # noqa: 
     ctab = current_table(current_ned)
     quat = attitude == "quaternion"
     n = 13 if quat else 12
-    tau_tab = np.zeros((1, 7 + len(vehicle.surfaces)))
+    ns, m = len(vehicle.surfaces), len(vehicle.thruster_names)
+    # the thrusts and rates fit the scratch of deriv up to MAX_THRUSTERS thrusters
+    tau_tab = np.zeros((1, 7 + (vehicle.n_inputs if m <= MAX_THRUSTERS else ns)))
     buf = np.empty(BUF_SIZE)
     args = (p.Minv, p.Mc, p.DL, p.DQ, p.scal, p.t_dof, p.t_coef, p.t_kind, p.t_idx)
 
-    def f(t: float, x: np.ndarray, tau: np.ndarray, delta: np.ndarray | None = None) -> np.ndarray:
+    def f(
+        t: float,
+        x: np.ndarray,
+        tau: np.ndarray,
+        delta: np.ndarray | None = None,
+        thrust: np.ndarray | None = None,
+        rate: np.ndarray | None = None,
+    ) -> np.ndarray:
         tau_tab[0, 1:7] = tau
-        tau_tab[0, 7:] = 0.0 if delta is None else delta
+        if thrust is not None or rate is not None:
+            if m > MAX_THRUSTERS:
+                raise InputError(f"vehicle {vehicle.name!r} has {m} thrusters: expected at most {MAX_THRUSTERS}")
+            delta = input_vector(vehicle, delta, thrust, rate)
+        tau_tab[0, 7:] = 0.0
+        if delta is not None:
+            d = np.asarray(delta, float)
+            tau_tab[0, 7 : 7 + d.shape[0]] = d
         out = np.empty(n)
         deriv(float(t), np.asarray(x, dtype=float), quat, tau_tab, ctab, *args, buf, out)
         return out
