@@ -173,7 +173,13 @@ def _drag_elements(value: Any, source: str) -> list[DragElement]:
     return out
 
 
-def _uncertainty(value: Any, source: str, terms: TermSet | None = None, surfaces: tuple[str, ...] = ()) -> Any:
+def _uncertainty(
+    value: Any,
+    source: str,
+    terms: TermSet | None = None,
+    surfaces: tuple[str, ...] = (),
+    thrusters: tuple[str, ...] = (),
+) -> Any:
     """The ``uncertainty`` block as an :class:`~hydrokit.model.uncertainty.Uncertainty` (or None);
     a ``terms.<term>`` parameter must name one of the vehicle's ``terms`` (or an acceleration
     term), with ``delta(NAME)`` among its control ``surfaces``."""
@@ -199,7 +205,7 @@ def _uncertainty(value: Any, source: str, terms: TermSet | None = None, surfaces
     names = value.get("parameters") or []
     if not isinstance(names, list):
         raise InputError(f"field 'uncertainty.parameters' = {cut_repr(names)}: expected a list of names", source)
-    return make_uncertainty(names, value.get("covariance"), sigma, source, terms, surfaces)
+    return make_uncertainty(names, value.get("covariance"), sigma, source, terms, surfaces, thrusters)
 
 
 def _provenance(data: dict[str, Any]) -> tuple[str, ...]:
@@ -387,7 +393,9 @@ def parse_vehicle(data: dict[str, Any], source: str) -> Vehicle:
     if not isinstance(allow, bool):
         raise InputError(f"field 'allow_negative_damping' = {cut_repr(allow)}: expected true or false", source)
     warnings.extend(_sign_warnings(M_A, D_L, D_Q, allow, source, _feeding_terms(velocity_terms)))
-    uncertainty = _uncertainty(data.get("uncertainty"), source, TermSet.build(velocity_terms), surfaces.names)
+    uncertainty = _uncertainty(
+        data.get("uncertainty"), source, TermSet.build(velocity_terms), surfaces.names, thrusters
+    )
     return make_vehicle(
         name,
         mass,

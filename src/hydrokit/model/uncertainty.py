@@ -11,7 +11,14 @@ the same vehicles on any machine). A parameter is named
 - ``"terms.<term>"`` with a derivative term of the grammar (:mod:`hydrokit.model.terms`): that
   term's SI coefficient, SNAME signs (``terms.N_r|r|`` in N·m·s²/rad², ``terms.Y_vdot`` in
   kg — for an acceleration term the value is −M_A[dof, acceleration], as ``hydrokit sysid``
-  names it). A velocity term must be one of the vehicle's ``terms:``.
+  names it). A velocity term must be one of the vehicle's ``terms:``;
+- ``"control_surfaces.<NAME>.<FIELD>"`` (issue #48): a numeric field of a physical surface's fin,
+  FIELD one of :data:`SURFACE_FIELDS` (``lift_slope`` 1/rad, ``neutral_deflection_deg`` and
+  ``stall_angle_deg`` in degrees as the file gives them, ``area`` m², the race's ``diameter`` m,
+  ``l_R`` m, the rest –); the MMG fields need ``inflow: mmg``, the race fields a ``slipstream``;
+- ``"thrusters.<NAME>.<FIELD>"``: FIELD ``wake_fraction`` or ``thrust_deduction`` (–) of a
+  thruster of the vehicle's ``thrusters:`` block (a race that names the thruster follows its wake
+  fraction). These names are frozen.
 
 Drawn diagonal coefficients below zero are set to 0 (and counted); a term's coefficient keeps
 its sign, which the grammar does not fix (X_u|u| < 0 is drag, a cross term may be either).
@@ -33,6 +40,27 @@ from hydrokit.model.terms import Term, TermSet, parse_term
 COEFFICIENTS = ("added_mass", "linear_damping", "quadratic_damping")
 #: the prefix of a derivative-term parameter (``terms.N_r|r|``)
 TERM_PREFIX = "terms."
+#: the prefixes of a surface's and a thruster's field (``control_surfaces.rudder.lift_slope``)
+SURFACE_PREFIX, THRUSTER_PREFIX = "control_surfaces.", "thrusters."
+#: a surface's free fields → (the :class:`~hydrokit.model.surfaces.Fin` attribute, file unit →
+#: SI factor, what the fin needs: "" any fin, "race" a slipstream, "mmg" the MMG inflow)
+SURFACE_FIELDS: dict[str, tuple[str, float, str]] = {
+    "lift_slope": ("lift_slope", 1.0, ""),
+    "neutral_deflection_deg": ("neutral_deflection", math.pi / 180.0, ""),
+    "stall_angle_deg": ("stall_angle", math.pi / 180.0, ""),
+    "area": ("area", 1.0, ""),
+    "drag_coefficient": ("drag_coefficient", 1.0, ""),
+    "diameter": ("slipstream_diameter", 1.0, "race"),
+    "thrust_share": ("thrust_share", 1.0, "race"),
+    "epsilon": ("epsilon", 1.0, "mmg"),
+    "kappa": ("kappa", 1.0, "mmg"),
+    "eta": ("eta", 1.0, "mmg"),
+    "gamma_R_positive": ("gamma_positive", 1.0, "mmg"),
+    "gamma_R_negative": ("gamma_negative", 1.0, "mmg"),
+    "l_R": ("l_R", 1.0, "mmg"),
+}
+#: a thruster's free fields (–)
+THRUSTER_FIELDS = ("wake_fraction", "thrust_deduction")
 #: relative asymmetry, and negative eigenvalue relative to the largest, tolerated in a covariance
 #: (the run writes a symmetric matrix; round-off of a hand-made one is no error)
 COVARIANCE_TOLERANCE = 1e-9
@@ -42,25 +70,73 @@ COVARIANCE_TOLERANCE = 1e-9
 class ParameterRef:
     """Where a named parameter sits in a vehicle.
 
-    kind : one of :data:`COEFFICIENTS` (diagonal entry ``dof``), ``"accel"`` (−M_A[dof, index])
-    or ``"term"`` (the velocity term ``term``); dof : DOF index 0–5 of the force;
-    index : the acceleration's velocity index (accel), else ``dof``; term : the parsed term
+    kind : one of :data:`COEFFICIENTS` (diagonal entry ``dof``), ``"accel"`` (−M_A[dof, index]),
+    ``"term"`` (the velocity term ``term``), ``"surface"`` or ``"thruster"`` (field ``field`` of
+    the surface or thruster ``index``, file order); dof : DOF index 0–5 of the force (a surface's
+    field is reported under yaw, a thruster's under surge); index : the acceleration's velocity
+    index (accel), the surface's or thruster's (surface, thruster), else ``dof``; term : the
+    parsed term
     """
 
     kind: str
     dof: int
     index: int
     term: Term | None = None
+    field: str = ""
 
 
-def check_parameter(name: Any, what: str, source: str, surfaces: tuple[str, ...] = ()) -> ParameterRef:
-    """The :class:`ParameterRef` of ``"<coefficient>.<dof>"`` or ``"terms.<term>"``, or an
-    error starting with ``what`` (``"field 'uncertainty.parameters[2]' ="``, ``"variation"``).
-    ``surfaces`` are the control-surface names a ``delta(NAME)`` factor may use."""
+def field_unit(name: str) -> str:
+    """The unit of a ``control_surfaces.NAME.FIELD`` or ``thrusters.NAME.FIELD`` parameter (as the
+    vehicle file gives it), "" for another name."""
+    field = name.rpartition(".")[2]
+    if name.startswith(THRUSTER_PREFIX):
+        return "–" if field in THRUSTER_FIELDS else ""
+    if not name.startswith(SURFACE_PREFIX) or field not in SURFACE_FIELDS:
+        return ""
+    units = {"lift_slope": "1/rad", "area": "m²", "diameter": "m", "l_R": "m"}
+    return "deg" if field.endswith("_deg") else units.get(field, "–")
+
+
+def _field_parameter(text: str, what: str, source: str, surfaces: tuple[str, ...], thrusters: tuple[str, ...]) -> Any:
+    """The :class:`ParameterRef` of ``control_surfaces.NAME.FIELD`` or ``thrusters.NAME.FIELD``
+    (None for another name); NAME may hold dots, FIELD may not."""
+    for prefix, names, fields, kind, dof in (
+        (SURFACE_PREFIX, surfaces, tuple(SURFACE_FIELDS), "surface", 5),
+        (THRUSTER_PREFIX, thrusters, THRUSTER_FIELDS, "thruster", 0),
+    ):
+        if not text.startswith(prefix):
+            continue
+        name, _, field = text[len(prefix) :].rpartition(".")
+        if field not in fields:
+            raise InputError(
+                f"{what} {text[:80]!r}: expected '{prefix}<name>.<field>' with field one of {', '.join(fields)}", source
+            )
+        if name not in names:
+            raise InputError(
+                f"{what} {text[:80]!r}: {name!r} names no {kind} of the vehicle "
+                f"({prefix.rstrip('.')}: {', '.join(names) or 'none'})",
+                source,
+            )
+        return ParameterRef(kind, dof, names.index(name), None, field)
+    return None
+
+
+def check_parameter(
+    name: Any, what: str, source: str, surfaces: tuple[str, ...] = (), thrusters: tuple[str, ...] = ()
+) -> ParameterRef:
+    """The :class:`ParameterRef` of ``"<coefficient>.<dof>"``, ``"terms.<term>"``,
+    ``"control_surfaces.<NAME>.<FIELD>"`` or ``"thrusters.<NAME>.<FIELD>"``, or an error starting
+    with ``what`` (``"field 'uncertainty.parameters[2]' ="``, ``"variation"``). ``surfaces`` are
+    the control-surface names a ``delta(NAME)`` factor may use, ``thrusters`` the thruster names
+    (file order) of ``T(NAME)`` and ``n(NAME)``."""
     text = str(name)
+    if isinstance(name, str):
+        field_ref = _field_parameter(text, what, source, tuple(surfaces), tuple(thrusters))
+        if field_ref is not None:
+            return field_ref  # type: ignore[no-any-return]
     if isinstance(name, str) and text.startswith(TERM_PREFIX) and text[len(TERM_PREFIX) :].strip():
         try:
-            term = parse_term(text[len(TERM_PREFIX) :], "", surfaces)
+            term = parse_term(text[len(TERM_PREFIX) :], "", surfaces, thrusters)
         except InputError as exc:
             raise InputError(f"{what} {text[:80]!r}: {exc}", source) from None
         if term.acceleration is not None:
@@ -70,7 +146,8 @@ def check_parameter(name: Any, what: str, source: str, surfaces: tuple[str, ...]
     if not isinstance(name, str) or coef not in COEFFICIENTS or dof not in DOF_NAMES:
         raise InputError(
             f"{what} {text[:80]!r}: expected '<coefficient>.<dof>' with coefficient one of "
-            f"{', '.join(COEFFICIENTS)} and dof one of {', '.join(DOF_NAMES)}, or 'terms.<term>' (e.g. terms.N_r|r|)",
+            f"{', '.join(COEFFICIENTS)} and dof one of {', '.join(DOF_NAMES)}, 'terms.<term>' (e.g. terms.N_r|r|), "
+            "'control_surfaces.<name>.<field>' or 'thrusters.<name>.<field>'",
             source,
         )
     i = DOF_NAMES.index(dof)
@@ -98,7 +175,18 @@ def _ref(vehicle: Any, name: str, what: str = "parameter") -> tuple[ParameterRef
     """The reference of ``name`` in ``vehicle`` and, for a velocity term, its position; errors
     start with ``what``."""
     surfaces = tuple(vehicle.surfaces.names) if getattr(vehicle, "surfaces", None) is not None else ()
-    ref = check_parameter(name, what, "", surfaces)
+    ref = check_parameter(name, what, "", surfaces, tuple(getattr(vehicle, "thruster_names", ())))
+    if ref.kind == "surface":
+        fin = vehicle.surfaces.surfaces[ref.index].fin
+        need = SURFACE_FIELDS[ref.field][2]
+        said = {"": "a physical fin (area)", "race": "a slipstream", "mmg": "a slipstream with inflow: mmg"}[need]
+        if fin is None or (need and fin.slipstream_diameter <= 0) or (need == "mmg" and fin.inflow != "mmg"):
+            raise InputError(
+                f"{what} {name[:80]!r}: control surface {vehicle.surfaces.names[ref.index]!r} has no {ref.field}; "
+                f"expected a surface with {said}"
+            )
+    if ref.kind == "thruster" and getattr(vehicle, "thrusters", None) is None:
+        raise InputError(f"{what} {name[:80]!r}: the vehicle {vehicle.name!r} was loaded without its thrusters")
     k = -1
     if ref.kind == "term":
         assert ref.term is not None
@@ -123,6 +211,11 @@ def parameter_value(vehicle: Any, name: str) -> float:
         return float(vehicle.D_Q[ref.dof])
     if ref.kind == "accel":
         return float(-vehicle.M_A[ref.dof, ref.index])  # SNAME: X_udot = −M_A[0, 0]
+    if ref.kind == "surface":
+        attr, to_si, _ = SURFACE_FIELDS[ref.field]
+        return float(getattr(vehicle.surfaces.surfaces[ref.index].fin, attr)) / to_si
+    if ref.kind == "thruster":
+        return float(getattr(vehicle.thrusters.thrusters[ref.index], ref.field))
     return float(vehicle.terms.coef[k])
 
 
@@ -136,7 +229,10 @@ def with_coefficients(vehicle: Any, values: Any) -> Any:
 def _with(vehicle: Any, refs: list[tuple[ParameterRef, int]], values: Any) -> Any:
     M_A, D_L, D_Q = vehicle.M_A.copy(), vehicle.D_L.copy(), np.array(vehicle.D_Q, float)
     coef = None
+    fields = [(ref, float(v)) for (ref, _), v in zip(refs, values) if ref.kind in ("surface", "thruster")]
     for (ref, k), v in zip(refs, values):
+        if ref.kind in ("surface", "thruster"):
+            continue
         if ref.kind == "added_mass":
             M_A[ref.dof, ref.dof] = v
         elif ref.kind == "linear_damping":
@@ -149,7 +245,34 @@ def _with(vehicle: Any, refs: list[tuple[ParameterRef, int]], values: Any) -> An
             coef = vehicle.terms.coef.copy() if coef is None else coef
             coef[k] = v
     out = replace(vehicle, M_A=M_A, D_L=D_L, D_Q=D_Q)
-    return out if coef is None else replace(out, terms=replace(vehicle.terms, coef=coef))
+    out = out if coef is None else replace(out, terms=replace(vehicle.terms, coef=coef))
+    return _with_fields(out, fields) if fields else out
+
+
+def _with_fields(vehicle: Any, fields: list[tuple[ParameterRef, float]]) -> Any:
+    """``vehicle`` with surface and thruster fields set (the values in the file's units; the
+    model's own checks apply: a wake fraction of 1 is an error naming the thruster)."""
+    from hydrokit.model.surfaces import SurfaceSet
+    from hydrokit.model.thrusters import ThrusterSet
+
+    surfaces = list(vehicle.surfaces.surfaces)
+    ts = vehicle.thrusters
+    thrusters = list(ts.thrusters) if ts is not None else []
+    for ref, v in fields:
+        if ref.kind == "thruster":
+            thrusters[ref.index] = replace(thrusters[ref.index], **{ref.field: v})
+            if ref.field == "wake_fraction":  # a race naming this thruster sees its wake
+                for i, s in enumerate(surfaces):
+                    if s.fin is not None and s.fin.race_thruster == ref.index:
+                        surfaces[i] = replace(s, fin=replace(s.fin, wake_fraction=v))
+            continue
+        attr, to_si, _ = SURFACE_FIELDS[ref.field]
+        s = surfaces[ref.index]
+        surfaces[ref.index] = replace(s, fin=replace(s.fin, **{attr: v * to_si}))
+    out = replace(vehicle, surfaces=SurfaceSet(tuple(surfaces)))
+    if ts is not None:
+        out = replace(out, thrusters=ThrusterSet(tuple(thrusters), density=ts.density, notes=ts.notes))
+    return out
 
 
 @dataclass(frozen=True, eq=False)
@@ -172,8 +295,9 @@ class Uncertainty:
         return np.sqrt(np.clip(np.diag(self.covariance), 0.0, None))
 
     def draw(self, mean: np.ndarray, n: int, seed: int) -> tuple[np.ndarray, int]:
-        """``n`` parameter vectors from N(mean, covariance), negative diagonal coefficients set
-        to 0 (a ``terms.*`` parameter keeps its sign: the grammar does not fix it).
+        """``n`` parameter vectors from N(mean, covariance), negative diagonal coefficients and
+        surface or thruster fields set to 0 (a ``terms.*`` parameter keeps its sign: the grammar
+        does not fix it; so do ``neutral_deflection_deg`` and ``l_R``).
 
         One ``numpy.random.default_rng(seed)``; the eigen-decomposition method, so a singular
         covariance (a parameter with σ = 0, or two that move together) is fine.
@@ -183,7 +307,9 @@ class Uncertainty:
         if not self.parameters:
             return np.zeros((n, 0)), 0
         x = rng.multivariate_normal(np.asarray(mean, float), self.covariance, size=n, method="eigh")
-        clip = np.array([not str(p).startswith(TERM_PREFIX) for p in self.parameters])
+        # a term keeps its sign, and so do a neutral deflection and l_R; the rest are ≥ 0
+        signed = (".neutral_deflection_deg", ".l_R")
+        clip = np.array([not (str(p).startswith(TERM_PREFIX) or str(p).endswith(signed)) for p in self.parameters])
         below = (x < 0) & clip
         x[below] = 0.0
         return x, int(np.sum(below))
@@ -211,6 +337,8 @@ def location(ref: ParameterRef) -> tuple[Any, ...]:
         assert ref.term is not None
         one = TermSet.build([(ref.term, 0.0)])
         return ("term", _signature(one.dof[0], one.kinds[0], one.idx[0]))
+    if ref.kind in ("surface", "thruster"):
+        return (ref.kind, ref.index, ref.field)
     return (ref.kind, ref.dof)
 
 
@@ -221,6 +349,7 @@ def make_uncertainty(
     source: str,
     terms: TermSet | None = None,
     surfaces: tuple[str, ...] = (),
+    thrusters: tuple[str, ...] = (),
 ) -> Uncertainty | None:
     """Check an uncertainty block and build it (None when it states no σ at all).
 
@@ -236,6 +365,8 @@ def make_uncertainty(
     terms : TermSet, optional — the vehicle's velocity terms: a ``terms.*`` velocity term must
         be one of them (None: not checked)
     surfaces : tuple of str — control-surface names a ``delta(NAME)`` factor may use
+    thrusters : tuple of str — thruster names (file order) of ``T(NAME)``, ``n(NAME)`` and
+        ``thrusters.NAME.FIELD``
 
     Raises
     ------
@@ -246,7 +377,7 @@ def make_uncertainty(
     seen: dict[tuple[Any, ...], str] = {}
     for k, name in enumerate(names):
         what = f"field 'uncertainty.parameters[{k}]' ="
-        ref = check_parameter(name, what, source, surfaces)
+        ref = check_parameter(name, what, source, surfaces, thrusters)
         if ref.kind == "term" and terms is not None and ref.term is not None and term_index(terms, ref.term) is None:
             raise InputError(
                 f"{what} {str(name)[:80]!r}: the vehicle has no such term; expected one of its 'terms:' "
