@@ -85,31 +85,36 @@ def test_remus100_is_course_stable_by_two_methods():
     assert eig.real.max() < -0.1  # s⁻¹: a margin, not round-off
 
 
-@pytest.fixture(scope="module")
-def turns():
-    v = load_vehicle("remus100")
-    return {
+ANGLES = (5.0, 10.0, 15.0, 20.0)  # deg
+
+
+@pytest.fixture(scope="module", params=["remus100", "remus100-fins"])
+def turns(request):
+    v = load_vehicle(request.param)
+    runs = {
         deg: run_manoeuvre(v, turning_circle(math.radians(deg)), tau=PROPULSION, nu0=APPROACH, dt=0.05, duration=600)
-        for deg in (5.0, 10.0, 15.0, 20.0)
+        for deg in ANGLES
     }
+    return v, runs
 
 
 def test_turning_diameter_falls_as_the_rudder_grows(turns):
     """A course-stable AUV turns on a smaller circle at a larger rudder angle (the printed table
     settled on 2.0 m at every angle). Each circle is the least-squares circle of the last 360°;
     the steps between angles are tens of percent, far beyond its resolution."""
-    d = [turns[a].metrics["steady_turning_diameter"] for a in (5.0, 10.0, 15.0, 20.0)]
-    # at 15° and 20° the turn costs 70 % of the speed, and at 0.5 m/s the stern planes cannot hold
-    # REMUS's 7 N of buoyancy: the manoeuvre says the depth hold was lost, its circle is still measured
-    assert turns[5.0].problem is None and turns[10.0].problem is None
+    v, runs = turns
+    d = [runs[a].metrics["steady_turning_diameter"] for a in ANGLES]
+    # remus100 at 15° and 20° keeps 30 % of its speed, and at 0.5 m/s the stern planes cannot
+    # hold REMUS's 7 N of buoyancy: the manoeuvre says the depth hold was lost; the circle is
+    # still measured
+    assert runs[5.0].problem is None and runs[10.0].problem is None
     assert d[0] > d[1] > d[2] > d[3]
     assert d[0] > 1.3 * d[2]
-    length = load_vehicle("remus100").reference_length
-    assert d[3] > 2.0 * length  # not the 1.5 L of a vehicle that is unstable on its course
+    assert d[3] > 2.0 * v.reference_length  # not the 1.5 L of a vehicle unstable on its course
     # a smaller circle costs speed: the hull drifts more (X_vr v r and m v r act against thrust)
-    ratio = [turns[a].metrics["speed_ratio"] for a in (5.0, 10.0, 15.0, 20.0)]
+    ratio = [runs[a].metrics["speed_ratio"] for a in ANGLES]
     assert ratio[0] > ratio[1] > ratio[2] > ratio[3] > 0.2
-    drift = [turns[a].metrics["drift_angle_deg"] for a in (5.0, 10.0, 15.0, 20.0)]
+    drift = [runs[a].metrics["drift_angle_deg"] for a in ANGLES]
     assert drift[0] < drift[1] < drift[2] < drift[3] < 30.0
 
 
@@ -117,13 +122,14 @@ def test_a_depth_holding_turn_holds_depth(turns):
     """With the stern planes holding depth through pitch (the default hold), a 5° and a 10° turn
     stay within 0.75 m of the approach depth (REMUS is 7 N buoyant: the planes and the body lift
     at a few degrees of pitch carry it)."""
+    _, runs = turns
     for deg in (5.0, 10.0):
-        r = turns[deg]
-        assert r.hold
-        assert r.metrics["max_depth_change"] < 0.75
+        assert runs[deg].hold
+        assert runs[deg].metrics["max_depth_change"] < 0.75
 
 
-def test_pull_out_returns_to_a_straight_course():
+@pytest.mark.parametrize("name", ["remus100", "remus100-fins"])
+def test_pull_out_returns_to_a_straight_course(name):
     """ITTC 7.5-04-02-01 §2.2.6: after steady turns at ±10° and the rudder back to zero, a
     course-stable vehicle's yaw rate decays to (nearly) zero from both sides. Without the
     propeller's roll torque the vehicle is symmetric: the residual is within 5 % of the turn's
@@ -131,7 +137,7 @@ def test_pull_out_returns_to_a_straight_course():
     then push sideways) both sides settle on the same small rate — the same value from both
     sides is the ITTC mark of a stable vehicle with a bias; an unstable one keeps turning to the
     side it came from."""
-    v = load_vehicle("remus100")
+    v = load_vehicle(name)
     r = run_manoeuvre(v, pull_out(math.radians(10)), tau=(THRUST, 0, 0, 0, 0, 0), nu0=APPROACH, dt=0.05, duration=900)
     assert r.problem is None
     for side in r.metrics["sides"]:
@@ -140,7 +146,9 @@ def test_pull_out_returns_to_a_straight_course():
     port, starboard = r.metrics["sides"]
     assert np.sign(port["yaw_rate_before"]) != np.sign(starboard["yaw_rate_before"])
     assert r.problem is None
-    assert port["residual_yaw_rate"] == pytest.approx(starboard["residual_yaw_rate"], abs=0.02 * 0.24)
+    assert port["residual_yaw_rate"] == pytest.approx(
+        starboard["residual_yaw_rate"], abs=0.02 * abs(port["yaw_rate_before"])
+    )
     assert abs(port["residual_yaw_rate"]) < 0.15 * abs(port["yaw_rate_before"])
 
 

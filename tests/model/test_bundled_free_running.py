@@ -24,8 +24,8 @@ def test_bundled_remus_loads_with_its_surfaces(name):
     assert name in bundled_vehicles()
     v = load_vehicle(name)
     assert v.surfaces.names == ("rudder", "sternplane")
-    # remus100: 20° (MSS's REMUS 100 limit; its fin terms are linear, without stall)
-    assert np.allclose(np.degrees(v.surfaces.max_deflection), 20.0 if name == "remus100" else 15.0)
+    # 20°: the MSS REMUS 100 limit (no hardware limit was found in a public source)
+    assert np.allclose(np.degrees(v.surfaces.max_deflection), 20.0)
     assert v.buoyancy - v.weight == pytest.approx(306.0 - 299.0, abs=0.1)  # Prestero: B 306 N, W 299 N
 
 
