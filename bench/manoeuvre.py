@@ -1,20 +1,26 @@
-"""Manoeuvre benchmark: the bundled REMUS-100-like AUVs' turning circles and zigzags beside the
-peers' REMUS 100 models, and the speed of the manoeuvre loop.
+"""Manoeuvre benchmark: the bundled REMUS 100 models beside the published simulators' REMUS 100,
+flown by the same code, and the speed of the manoeuvre loop.
 
-1. ``remus100`` (Prestero 2001 derivative terms with delta() factors) and ``remus100-fins``
-   (physical fins, hull lift and cross-flow; skipped with its error when it does not load):
-   turning circles at 5°, 10° and 15° (the files' fin limit) and zigzags 10°/10° and 15°/15°,
-   at Prestero's steady propulsion (3.86 N thrust, −0.543 N·m propeller torque: about 1.5 m/s),
-   with the stern planes holding depth and pitch (the default) — and one turn without the hold.
-2. The facts of PythonVehicleSimulator's and MSS's REMUS 100 (read from their source files;
-   no code copied): they are printed beside ours, with what differs in the model.
-3. The planar surface ship ``mariner``'s IMO trials (turning circle at 35°, zigzags 10°/10° and
+1. Four REMUS 100 models side by side, each pushed by the constant thrust that holds Prestero's
+   steady speed u = 1.54 m/s in its own straight-line resistance (no propeller roll torque, so
+   that roll trim does not colour the comparison), the stern planes holding depth (the default):
+   turning circles at 5°, 10°, 15° and 20°, zigzags 10°/10°, 15°/15° and 20°/20°, a pull-out from
+   ±10°. The models:
+
+   * ``remus100`` — Prestero (2001) derivative model, lift terms from his fin and hull data;
+   * ``remus100-fins`` — physical fins, hull lift and cross-flow strips from his profile;
+   * ``pvs`` — PythonVehicleSimulator's ``remus100`` class and ``mss`` — the MSS toolbox's
+     ``remus100.m`` (both by T. I. Fossen), rebuilt here as hydrokit vehicle dicts from the numbers
+     their source files publish (no code copied; :func:`peer_vehicle` lists each number and what
+     had to be approximated to write it as hydrokit terms).
+
+2. The planar surface ship ``mariner``'s IMO trials (turning circle at 35°, zigzags 10°/10° and
    20°/20°) with the IMO MSC.137(76) criteria.
-4. Speed: calls/s of the compiled right-hand side with delta() terms, with physical fins and
+3. Speed: calls/s of the compiled right-hand side with delta() terms, with physical fins and
    with no surfaces at all; the manoeuvre loop's steps/s, compiled vs python; and today's
    thruster-only compiled closed loop (bench/closed_loop.py's figure) for reference.
 
-    .venv/bin/python bench/manoeuvre.py [--no-speed] [--no-manoeuvres]
+    .venv/bin/python bench/manoeuvre.py [--no-speed] [--no-manoeuvres] [--no-ship]
 """
 
 from __future__ import annotations
@@ -24,36 +30,11 @@ import sys
 import time
 from typing import Any
 
-PROPULSION = (3.86, 0.0, 0.0, -0.543, 0.0, 0.0)  # Prestero (2001): N, N·m
+PRESTERO_SPEED = math.sqrt(3.86 / 1.62)  # m/s: his 3.86 N against X_u|u| = -1.62 kg/m
 APPROACH = (1.5, 0, 0, 0, 0, 0)
-
-#: the peers' REMUS 100 models, as their source files state them (no code copied)
-PEERS = [
-    (
-        "PythonVehicleSimulator remus100.py (cybergalactic/PythonVehicleSimulator, "
-        "src/python_vehicle_simulator/vehicles/remus100.py)",
-        [
-            "L 1.6 m, D 0.19 m, mass 31.9 kg (a spheroid's), B = W (neutral)",
-            "fin limit 30°, first-order fin servo T = 1 s",
-            "rudder: one fin, area 0.10 × 0.05 = 0.005 m², C_Lδ 0.5, at x = −L/2; stern planes 2 × 0.005 m², C_Lδ 0.7",
-            "lift from δ alone (no inflow angle from the vehicle's own motion), no stall",
-            "Munk moments in pitch and yaw set to zero (C_A entries zeroed)",
-            "cross-flow drag by strips, hull lift/drag from the angle of attack (Fossen 2021 §8.4.2)",
-            "no published turning-circle or zigzag figures for it were found",
-        ],
-    ),
-    (
-        "MSS remus100.m (cybergalactic/MSS, VESSELS/remus100.m)",
-        [
-            "L 1.6 m, D 0.19 m, mass 31.9 kg, B = W (neutral); max speed 2.5 m/s at 1525 rpm",
-            "fin limit 20° (no servo in the model)",
-            "rudder area 2 × S_fin = 2 × 0.00665 = 0.0133 m² (Prestero's fin), C_Lδr 0.5, C_Lδs 0.7, at x = −L/2",
-            "Munk moments in pitch and yaw set to zero ('can destabilize the model')",
-            "propeller roll moment scaled by 1/10 'to match experimental results'",
-            "MSS ExZigZag includes the REMUS 100 (revision 16 Nov 2023); no published numbers for it were found",
-        ],
-    ),
-]
+PROPULSION = (3.86, 0.0, 0.0, -0.543, 0.0, 0.0)  # Prestero (2001): N, N·m (the speed section)
+ANGLES = (5.0, 10.0, 15.0, 20.0)  # deg
+ZIGZAGS = (10.0, 15.0, 20.0)  # deg
 
 
 def _fmt(v: Any) -> str:
@@ -75,58 +56,209 @@ def _load(name: str) -> Any:
         return None
 
 
-def manoeuvres(names: tuple[str, ...] = ("remus100", "remus100-fins")) -> dict[str, Any]:
-    """Fly and print the turning circles and zigzags of the bundled REMUS-like vehicles."""
-    from hydrokit.simulate.manoeuvre import run_manoeuvre, turning_circle, zigzag
+def peer_vehicle(kind: str) -> tuple[Any, float]:
+    """The REMUS 100 of PythonVehicleSimulator (``kind="pvs"``: src/python_vehicle_simulator/
+    vehicles/remus100.py) or of the MSS toolbox (``kind="mss"``: VESSELS/remus100.m), as a
+    hydrokit vehicle, and the surge resistance (N) at Prestero's speed.
+
+    Their published numbers (both: Fossen 2021 §8.4.2, Allen et al. 2000):
+
+    * a prolate spheroid of L 1.6 m, D 0.19 m in water of 1026 kg/m³: m = 4/3 π ρ a b² = 31.03
+      kg (their comment says 31.9), I_x = 2/5 m b², I_y = I_z = 1/5 m (a² + b²) about G; r_G =
+      (0, 0, 0.02) m, r_B = 0, B = W;
+    * added mass of the spheroid from Lamb's k-factors (PVS writes them out; MSS calls imlay61,
+      taken here as the same spheroid), roll A_44 = 0.3 I_x;
+    * added-mass Coriolis C_A with the Munk moments zeroed, each as its file does: PVS zeroes
+      C_A[M,u], C_A[M,p], C_A[N,u], C_A[N,v]; MSS zeroes (M,w), (Z,q), (M,u), (X,q), (N,u), (X,r),
+      (N,v), (Y,r). Written here as explicit terms (added_mass_coriolis off);
+    * linear damping diag(M11/T1, M22/T2, M33/T2, 2ζ4 ω4 M44, 2ζ5 ω5 M55, M66/T6), ω = √(W z_G/M):
+      T1 = T2 = 20 s, ζ4 = 0.3, ζ5 = 0.8; T6 = 5 s (PVS) or 1 s (MSS). Both scale D11 and D22 (PVS
+      also D66) by e^{−3U}; hydrokit's linear damping is constant, so the factor is taken at
+      1.5 m/s (0.011): in a slow turn the peers' own damping would be larger;
+    * hull drag and lift in the vertical plane only (forceLiftDrag): S = 0.7 L D, C_D0 = 0.42 π b²
+      / S, C_Lα = π AR / (1 + √(1 + (AR/2)²)), AR = D²/S, Oswald e = 0.7; written as X_u U,
+      Z_w U and X_ww terms (small-angle forms of their flow-axis formulas);
+    * cross-flow drag in sway and yaw only (crossFlowDrag): 21 strips of width L/20 from −L/2 to
+      L/2, ½ ρ D C_d (Hoerner's 2-D C_d at B/2T = 0.5, 1.198) per metre — here 21 point drag
+      elements with sway drag only, the same sum;
+    * fins (rudder force −½ρ U_h² A C_Lδ δ at x = −L/2, yaw moment x_r Y_r; stern plane likewise
+      in heave, pitch moment x_s Z_s as published): PVS rudder one fin 0.10 × 0.05 m², C_Lδ 0.5,
+      stern planes 2 × 0.005 m², C_Lδ 0.7, limit 30°, first-order servo T = 1 s; MSS rudder and
+      stern planes 2 × 0.00665 m² each (Prestero's fin), C_Lδ 0.5 and 0.7, limit 20°, no servo.
+      Their fin drag −½ρU²A C_Lδ δ² is kept (delta()² terms). The fins' lift depends on δ only:
+      no inflow angle from the vehicle's own motion, so the fins do not damp sway or yaw.
+
+    The propeller is left out: every model in the bench gets a constant thrust.
+    """
+    from hydrokit.io.vehicle import parse_vehicle
+
+    if kind not in ("pvs", "mss"):
+        raise ValueError(f"peer {kind!r}: expected 'pvs' or 'mss'")
+    rho, g, length, diam = 1026.0, 9.81, 1.6, 0.19
+    a, b = length / 2, diam / 2
+    m = 4 / 3 * math.pi * rho * a * b * b
+    ix, iy = 0.4 * m * b * b, 0.2 * m * (a * a + b * b)
+    e = math.sqrt(1 - (b / a) ** 2)
+    log = math.log((1 + e) / (1 - e))
+    alpha0 = 2 * (1 - e * e) / e**3 * (0.5 * log - e)
+    beta0 = 1 / e**2 - (1 - e * e) / (2 * e**3) * log
+    k1, k2 = alpha0 / (2 - alpha0), beta0 / (2 - beta0)
+    kp = e**4 * (beta0 - alpha0) / ((2 - e * e) * (2 * e * e - (2 - e * e) * (beta0 - alpha0)))
+    added = [m * k1, m * k2, m * k2, 0.3 * ix, kp * iy, kp * iy]
+    a1, a2, a3, a4, a5, a6 = added
+    z_g, weight = 0.02, m * g
+    big = [m + added[0], m + added[1], m + added[2], ix + added[3], iy + added[4], iy + added[5]]
+    t_yaw = 5.0 if kind == "pvs" else 1.0
+    fade = math.exp(-3 * 1.5)  # their e^{-3U} at 1.5 m/s
+    damping = [
+        big[0] / 20 * fade,
+        big[1] / 20 * fade,
+        big[2] / 20,
+        2 * 0.3 * math.sqrt(weight * z_g / big[3]) * big[3],
+        2 * 0.8 * math.sqrt(weight * z_g / big[4]) * big[4],
+        big[5] / t_yaw * (fade if kind == "pvs" else 1.0),
+    ]
+    # added-mass Coriolis, −C_A(ν)ν of a diagonal M_A (Fossen 2011 eq. 6.43) less what each zeroes
+    if kind == "pvs":
+        coriolis = {"X_wq": -a3, "X_vr": a2, "Y_ur": -a1, "Y_wp": a3, "Z_vp": -a2, "Z_uq": a1}
+        coriolis |= {"M_uw": -a1, "M_pr": -a4, "N_pq": a4 - a5}
+    else:
+        coriolis = {"Y_wp": a3, "Z_vp": -a2, "M_pr": a6 - a4, "N_pq": a4 - a5}
+    # forceLiftDrag (vertical plane), small-angle forms
+    s_ref = 0.7 * length * diam
+    cd0 = 0.42 * math.pi * b * b / s_ref
+    ar = diam**2 / s_ref
+    cla = math.pi * ar / (1 + math.sqrt(1 + (ar / 2) ** 2))
+    q = 0.5 * rho * s_ref
+    hull = {
+        "X_u*sqrt(u^2+v^2+w^2)": -q * cd0,
+        "Z_w*sqrt(u^2+v^2+w^2)": -q * (cd0 + cla),
+        "X_ww": q * (cla - cla * cla / (math.pi * 0.7 * ar)),
+    }
+    # crossFlowDrag: Hoerner's C_d at B/(2T) = 0.5 (interpolated in his table: 1.198)
+    cd_2d = 1.2108 + (0.5 - 0.4933) / (0.5585 - 0.4933) * (1.0836 - 1.2108)
+    dx = length / 20
+    strips = [
+        {
+            "name": f"cf-{i:02d}",
+            "position": [-a + i * dx, 0.0, 0.0],
+            "quadratic": [0.0, 0.5 * rho * diam * cd_2d * dx, 0.0],
+        }
+        for i in range(21)
+    ]
+    if kind == "pvs":
+        rudder_area, plane_area, limit, servo = 0.10 * 0.05, 2 * 0.10 * 0.05, 30, 1.0
+    else:
+        rudder_area, plane_area, limit, servo = 2 * 0.00665, 2 * 0.00665, 20, None
+    yr, zs = -0.5 * rho * rudder_area * 0.5, -0.5 * rho * plane_area * 0.7
+    fins = {
+        "Y_uu*delta(rudder)": yr,
+        "Y_vv*delta(rudder)": yr,
+        "N_uu*delta(rudder)": -a * yr,
+        "N_vv*delta(rudder)": -a * yr,
+        "X_uu*delta(rudder)^2": yr,
+        "X_vv*delta(rudder)^2": yr,
+        "Z_uu*delta(sternplane)": zs,
+        "Z_ww*delta(sternplane)": zs,
+        "M_uu*delta(sternplane)": -a * zs,  # as published: M = x_s Z_s
+        "M_ww*delta(sternplane)": -a * zs,
+        "X_uu*delta(sternplane)^2": zs,
+        "X_ww*delta(sternplane)^2": zs,
+    }
+    surfaces = []
+    for name in ("rudder", "sternplane"):
+        entry: dict[str, Any] = {"name": name, "position": [-a, 0.0, 0.0], "max_deflection_deg": limit}
+        if servo is not None:
+            entry["time_constant"] = servo
+        surfaces.append(entry)
+    data = {
+        "name": f"{kind}-remus100",
+        "gravity": g,
+        "fluid": {"density": rho},
+        "mass": m,
+        "volume": m / rho,
+        "inertia": [ix, iy, iy],
+        "center_of_gravity": [0.0, 0.0, z_g],
+        "center_of_buoyancy": [0.0, 0.0, 0.0],
+        "added_mass": added,
+        "added_mass_coriolis": False,
+        "linear_damping": damping,
+        "quadratic_damping": [0, 0, 0, 0, 0, 0],
+        "reference_length": length,
+        "drag_elements": strips,
+        "control_surfaces": surfaces,
+        "terms": coriolis | hull | fins,
+    }
+    u = PRESTERO_SPEED
+    resistance = q * cd0 * u * u + damping[0] * u
+    return parse_vehicle(data, f"bench {kind} REMUS 100"), resistance
+
+
+def _models() -> list[tuple[str, Any, float]]:
+    """(label, vehicle, thrust N) of every REMUS model flown side by side."""
+    out = []
+    for name in ("remus100", "remus100-fins"):
+        v = _load(name)
+        if v is not None:
+            out.append((name, v, 1.62 * PRESTERO_SPEED**2))
+    for kind in ("pvs", "mss"):
+        v, thrust = peer_vehicle(kind)
+        out.append((f"{kind} remus100", v, thrust))
+    return out
+
+
+def manoeuvres() -> dict[str, Any]:
+    """Fly and print the REMUS models' turning circles, zigzags and pull-outs side by side."""
+    from hydrokit.simulate.manoeuvre import pull_out, run_manoeuvre, turning_circle, zigzag
 
     out: dict[str, Any] = {}
     rad = math.radians
-    for name in names:
-        v = _load(name)
-        if v is None:
-            continue
-        L = v.reference_length
-        print(f"\n== {name}: L = {L} m, propulsion {PROPULSION} (N, N·m), approach from u = 1.5 m/s ==")
+    models = _models()
+    print(f"\n== REMUS 100 models: constant thrust holding u = {PRESTERO_SPEED:.3f} m/s, no roll torque, depth held ==")
+    for label, v, thrust in models:
         print(
-            f"{'turn':>10s} {'hold':>5s} {'U0 m/s':>7s} {'advance':>8s} {'transfer':>8s} {'tactical':>8s} "
-            f"{'D_steady':>8s} {'D/L':>5s} {'U/U0':>5s} {'drift°':>6s} {'t90 s':>6s} {'dz max m':>8s} {'turns':>5s}"
+            f"{label:16s} L {v.reference_length} m, mass {v.mass:.2f} kg, B − W {v.buoyancy - v.weight:.2f} N, thrust {thrust:.3f} N"
         )
-        for deg, hold in ((5.0, None), (10.0, None), (15.0, None), (15.0, False)):
-            r = run_manoeuvre(v, turning_circle(rad(deg)), tau=PROPULSION, nu0=APPROACH, hold=hold, duration=600)
+    print(
+        f"\n{'turning circle':16s} {'rudder':>6s} {'U0 m/s':>7s} {'advance':>8s} {'tactical':>8s} {'D_steady':>8s} "
+        f"{'D/L':>5s} {'U/U0':>5s} {'drift°':>6s} {'dz max m':>8s}  note"
+    )
+    for label, v, thrust in models:
+        tau = (thrust, 0.0, 0.0, 0.0, 0.0, 0.0)
+        for deg in ANGLES:
+            r = run_manoeuvre(v, turning_circle(rad(deg)), tau=tau, nu0=APPROACH, dt=0.05, duration=900)
             m = r.metrics
             d = m["steady_turning_diameter"]
+            note = (r.problem or "; ".join(r.warnings) or "")[:60]
             print(
-                f"{deg:9.0f}° {'on' if r.hold else 'off':>5s} {r.approach_speed:7.3f} {_fmt(m['advance']):>8s} "
-                f"{_fmt(m['transfer']):>8s} {_fmt(m['tactical_diameter']):>8s} {_fmt(d):>8s} "
-                f"{_fmt(d / L if d else None):>5s} {_fmt(m['speed_ratio']):>5s} {_fmt(m['drift_angle_deg']):>6s} "
-                f"{_fmt(m['time_to_90_deg']):>6s} {_fmt(m.get('max_depth_change')):>8s} "
-                f"{m['heading_change_deg'] / 360:5.1f}"
+                f"{label:16s} {deg:5.0f}° {r.approach_speed:7.3f} {_fmt(m['advance']):>8s} "
+                f"{_fmt(m['tactical_diameter']):>8s} {_fmt(d):>8s} {_fmt(d / v.reference_length if d else None):>5s} "
+                f"{_fmt(m['speed_ratio']):>5s} {_fmt(m['drift_angle_deg']):>6s} {_fmt(m.get('max_depth_change')):>8s}  {note}"
             )
-            for w in r.warnings:
-                print(f"{'':17s}warning: {w}")
-            if r.problem:
-                print(f"{'':17s}problem: {r.problem}")
-            out[f"{name} turn {deg:g} hold={bool(r.hold)}"] = m
-        print(
-            f"{'zigzag':>10s} {'1st os°':>8s} {'2nd os°':>8s} {'t_a s':>6s} {'t_check s':>9s} {'period s':>8s} "
-            f"{'dz max m':>8s}"
-        )
-        for a in (10.0, 15.0):
-            r = run_manoeuvre(v, zigzag(rad(a), rad(a)), tau=PROPULSION, nu0=APPROACH, duration=300)
+            out[f"{label} turn {deg:g}"] = m
+    print(f"\n{'zigzag':16s} {'A/B':>6s} {'1st os°':>8s} {'2nd os°':>8s} {'3rd os°':>8s} {'period s':>8s}  note")
+    for label, v, thrust in models:
+        tau = (thrust, 0.0, 0.0, 0.0, 0.0, 0.0)
+        for a in ZIGZAGS:
+            r = run_manoeuvre(v, zigzag(rad(a), rad(a)), tau=tau, nu0=APPROACH, dt=0.05, duration=300)
             m = r.metrics
             print(
-                f"{a:6.0f}/{a:<3.0f} {_fmt(m['first_overshoot_deg']):>8s} {_fmt(m['second_overshoot_deg']):>8s} "
-                f"{_fmt(m['initial_turning_time']):>6s} {_fmt(m['time_to_check_yaw']):>9s} {_fmt(m['period']):>8s} "
-                f"{_fmt(m.get('max_depth_change')):>8s}"
+                f"{label:16s} {a:3.0f}/{a:<2.0f} {_fmt(m['first_overshoot_deg']):>8s} {_fmt(m['second_overshoot_deg']):>8s} "
+                f"{_fmt(m.get('third_overshoot_deg')):>8s} {_fmt(m['period']):>8s}  {(r.problem or '')[:60]}"
             )
-            if r.problem:
-                print(f"{'':11s}problem: {r.problem}")
-            out[f"{name} zigzag {a:g}"] = m
-    print("\n== the peers' REMUS 100 (facts from their source files) ==")
-    for title, facts in PEERS:
-        print(title)
-        for fact in facts:
-            print(f"  - {fact}")
+            out[f"{label} zigzag {a:g}"] = m
+    print(f"\n{'pull-out ±10°':16s} {'r before rad/s':>15s} {'residual rad/s':>15s} {'t½ s':>6s}")
+    for label, v, thrust in models:
+        tau = (thrust, 0.0, 0.0, 0.0, 0.0, 0.0)
+        r = run_manoeuvre(v, pull_out(rad(10)), tau=tau, nu0=APPROACH, dt=0.05, duration=900)
+        for side in r.metrics.get("sides") or []:
+            print(
+                f"{label:16s} {_fmt(side.get('yaw_rate_before')):>15s} {_fmt(side.get('residual_yaw_rate')):>15s} "
+                f"{_fmt(side.get('time_to_half')):>6s}"
+            )
+        if r.problem:
+            print(f"{label:16s} problem: {r.problem[:100]}")
+        out[f"{label} pull-out 10"] = r.metrics
     return out
 
 
@@ -263,6 +395,7 @@ def main(argv: list[str]) -> None:
     t0 = time.perf_counter()
     if "--no-manoeuvres" not in argv:
         manoeuvres()
+    if "--no-ship" not in argv:
         ship()
     if "--no-speed" not in argv:
         rhs_speed()
