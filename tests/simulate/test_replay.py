@@ -129,3 +129,19 @@ def test_rudder_that_never_moves_is_refused():
     t = np.arange(0.0, 10.0, 0.1)
     with pytest.raises(InputError, match=r"column 'rudder' moves by .* the steering surface never moves"):
         detect_manoeuvre(t, np.full_like(t, math.radians(0.2)), lambda tt: np.zeros_like(tt))
+
+
+def test_course_keeping_before_the_execute_is_not_a_side():
+    """As in a pond trial started from rest: the rudder sweeps to 16° and back (about 3 s held
+    near 16°) and sits at −5° for 20 s while the model gathers speed, then a 20°/20° zigzag holds
+    each side 20 s. Only the zigzag's sides count: the first execute is the step at 40 s."""
+    t = np.arange(0.0, 140.0, 0.1)
+    d = np.zeros_like(t)
+    d[(t >= 2.0) & (t < 5.0)] = 16.0
+    d[(t >= 10.0) & (t < 30.0)] = -5.0
+    for k, start in enumerate((40.0, 60.0, 80.0, 100.0, 120.0)):
+        d[t >= start] = -20.0 if k % 2 == 0 else 20.0
+    det = detect_manoeuvre(t, np.radians(d), lambda tt: np.radians(np.where(np.asarray(tt) > 50, 20.0, 0.0)))
+    assert det.manoeuvre.kind == "zigzag"
+    assert det.executes == pytest.approx((40.0, 60.0, 80.0, 100.0, 120.0), abs=1e-9)
+    assert det.manoeuvre.deflection == pytest.approx(math.radians(-20.0))

@@ -6,11 +6,12 @@ motion channels at their own rates, thruster commands or measured thrusts and co
 deflections, held from row to row) and
 
 1. **detects the manoeuvre** from the steering surface's deflection (:func:`detect_manoeuvre`):
-   stepped to one side and held — a *turning circle*; switched between the two sides at least
-   twice — a *zigzag* A/B, A the median held deflection and B the heading change at the
-   reversals (rounded to the whole degree: the trial's nominal check angle). Each execute is the
-   row where the surface starts to move towards its new side (the order given, as far as a log
-   can tell it);
+   its *sides* are the angles it is held at, long and large (:func:`_sides`: course keeping
+   before the execute moves the rudder too, but briefly or by little); one side — a *turning
+   circle*; two or more, alternating — a *zigzag* A/B, A the median held deflection and B the
+   heading change at the reversals (rounded to the whole degree: the trial's nominal check
+   angle). Each execute is the row where the surface starts to move towards its new side (the
+   order given, as far as a log can tell it);
 2. **puts the measured track** on the integration grid (each channel linear between its samples;
    a velocity not measured from the pose's rate, a position not measured by dead reckoning of u
    and v; what was neither is 0 and said in the warnings);
@@ -44,7 +45,12 @@ from hydrokit.simulate.manoeuvre import Manoeuvre, ManoeuvreResult, measure, ste
 
 #: a steering surface whose deflection spans less than this never moved, rad (0.5°)
 NEVER_MOVES = math.radians(0.5)
-#: a sample is on a side when its deflection is beyond this fraction of the largest one
+#: a surface is held while it stays within this angle of where it settled, rad (0.6°: a rudder
+#: sensor's quantisation and noise)
+HELD = math.radians(0.6)
+#: a held stretch is a side of the manoeuvre when it lasts this fraction of the longest one …
+LONG_FRACTION = 0.2
+#: … at this fraction of the largest angle of those
 SIDE_FRACTION = 0.5
 #: the surface is moving towards its new side while each row changes by more than this fraction
 #: of the largest deflection (the walk back from the side to the execute)
@@ -69,18 +75,44 @@ class Detected:
     end: float
 
 
-def _sides(delta: np.ndarray) -> list[tuple[int, int, int]]:
-    """(side ±1, first row, last row) of the stretches beyond ±SIDE_FRACTION of the largest
-    deflection; stretches on the same side with only rows near zero between them are one."""
-    big = float(np.max(np.abs(delta)))
-    side = np.where(delta >= SIDE_FRACTION * big, 1, np.where(delta <= -SIDE_FRACTION * big, -1, 0))
+def _sides(time: np.ndarray, delta: np.ndarray) -> list[tuple[int, int, int]]:
+    """(side ±1, first row, last row) of the surface's held sides, in time order.
+
+    A *plateau* is a run of rows within :data:`HELD` of its first row. The sides are the
+    plateaus away from zero (≥ :data:`NEVER_MOVES`) held at least :data:`LONG_FRACTION` of the
+    longest such plateau, at ≥ :data:`SIDE_FRACTION` of the largest of their angles — so the
+    sweeps of course keeping before the execute (short, or small) are not sides — and the last
+    plateau of the record if it reverses the last side (a trial's last side is cut short by the
+    end of the log). Consecutive sides of one sign are one.
+    """
+    n = delta.size
+    plateaus: list[tuple[int, int]] = []
+    k = 0
+    while k < n:
+        j = k
+        while j + 1 < n and abs(delta[j + 1] - delta[k]) <= HELD:
+            j += 1
+        plateaus.append((k, j))
+        k = j + 1
+    value = {p: float(np.median(delta[p[0] : p[1] + 1])) for p in plateaus}
+    away = [p for p in plateaus if abs(value[p]) >= NEVER_MOVES and p[1] > p[0]]
+    if not away:
+        return []
+    held = {p: float(time[p[1]] - time[p[0]]) for p in away}
+    longest = max(held.values())
+    long = [p for p in away if held[p] >= LONG_FRACTION * longest]
+    big = max(abs(value[p]) for p in long)
+    picked = [p for p in long if abs(value[p]) >= SIDE_FRACTION * big]
+    last = next((p for p in reversed(away) if abs(value[p]) >= SIDE_FRACTION * big), None)
+    if last is not None and last[0] > picked[-1][1] and value[last] * value[picked[-1]] < 0:
+        picked.append(last)
     runs: list[tuple[int, int, int]] = []
-    for k in np.flatnonzero(side):
-        s = int(side[k])
-        if runs and runs[-1][0] == s:
-            runs[-1] = (s, runs[-1][1], int(k))
+    for a, b in picked:
+        sign = 1 if value[(a, b)] > 0 else -1
+        if runs and runs[-1][0] == sign:
+            runs[-1] = (sign, runs[-1][1], b)
         else:
-            runs.append((s, int(k), int(k)))
+            runs.append((sign, a, b))
     return runs
 
 
@@ -120,8 +152,14 @@ def detect_manoeuvre(
             f"steering surface never moves; expected a turning circle (stepped to an angle and held) or a zigzag "
             f"(switched between ±A), a range of at least {math.degrees(NEVER_MOVES):g}°"
         )
-    big = float(np.max(np.abs(d)))
-    runs = _sides(d)
+    runs = _sides(t, d)
+    if not runs:
+        raise InputError(
+            f"column '{column}' is never held at an angle of at least {math.degrees(NEVER_MOVES):g}° (it moves by "
+            f"{math.degrees(span):.3g}°); expected a turning circle (stepped to an angle and held) or a zigzag "
+            "(switched between ±A and held)"
+        )
+    big = max(float(np.max(np.abs(d[a : b + 1]))) for _, a, b in runs)
     tol = MOVING_FRACTION * big
     rows, low = [], 0
     for s, first, _ in runs:
