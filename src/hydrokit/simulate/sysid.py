@@ -486,6 +486,7 @@ def identify(
     progress: Callable[[int, float], None] | None = None,
     workers: int | None = None,
     scheduler: str | None = None,
+    window: float | str | None = None,
 ) -> SysidResult:
     """Identify the ``free`` coefficients of ``vehicle`` from ``runs`` (module docstring).
 
@@ -505,6 +506,9 @@ def identify(
     workers : int or None — threads of the compiled batch simulations (None: all cores)
     scheduler : str or None — address of a running Dask scheduler: each iteration's runs (with
         all their perturbed vehicles) are simulated on its workers as independent tasks
+    window : float, "auto" or None — cut the runs into windows of about this many seconds,
+        each started from its smoothed state (:mod:`hydrokit.simulate.sysid_window`); "auto":
+        only when a run drifts at the start values (said in the warnings); None: whole runs
 
     Raises
     ------
@@ -518,11 +522,11 @@ def identify(
         numba.set_num_threads(min(int(workers), numba.config.NUMBA_NUM_THREADS))  # type: ignore[attr-defined]
     args = (vehicle, runs, free, holdout, method, dt, max_iter, check_step, samples, seed, progress)
     if scheduler is None:
-        return _identify(*args, None)
+        return _identify(*args, None, window)
     from hydrokit._parallel import Executor
 
     with Executor(scheduler=scheduler) as executor:
-        return _identify(*args, executor)
+        return _identify(*args, executor, window)
 
 
 def _identify(
@@ -538,6 +542,7 @@ def _identify(
     seed: int,
     progress: Callable[[int, float], None] | None,
     executor: Any,
+    window: float | str | None = None,
 ) -> SysidResult:
     """:func:`identify` with the runs' simulations on ``executor`` (None: in this process)."""
     from hydrokit.simulate.sysid_smooth import equation_error, initial_noise, smooth_run, tau_on_grid
@@ -584,6 +589,15 @@ def _identify(
     start = ee.values.copy()
     bad = ~np.isfinite(start)
     start[bad] = base[bad]
+    cut = None
+    if window is not None:  # windowed output error (issue #48): the windows replace the runs
+        from hydrokit.simulate.sysid_window import cut_runs, parse_window
+
+        cut = cut_runs(parse_window(window), veh, params, start, runs, smoothed, preps)
+    if cut is not None:
+        preps, smoothed, est = cut.preps, cut.smoothed, cut.est
+        problem = cut.problem(problem)
+        warnings.append(cut.note)
     z0 = np.concatenate([start, *[x[e] for x, e in zip(problem.x0, est)]])
     scale = np.concatenate([np.maximum(np.abs(start), np.maximum(np.abs(base), 1e-3)), np.full(z0.size - p, 0.01)])
     iterations = 0
@@ -597,7 +611,7 @@ def _identify(
         z = z0
         try:
             for _ in range(3):  # re-weight: σ of each channel from its residuals
-                z, r, _, its = _lm(problem, z, scale, max_iter, progress)
+                z, r, _, its = (cut.lm if cut else _lm)(problem, z, scale, max_iter, progress)
                 iterations += its
                 sig = _channel_rms(problem, r)
                 if all(abs(sig[c] / problem.sigma[c] - 1) < 0.02 for c in sig):
@@ -630,7 +644,9 @@ def _identify(
         half = _Problem(
             veh,
             params,
-            [prepare_run(rr, th, dt / 2, surfaces=veh.surfaces.names) for rr in runs],
+            cut.prepare(runs, th, dt / 2, veh.surfaces.names)
+            if cut
+            else [prepare_run(rr, th, dt / 2, surfaces=veh.surfaces.names) for rr in runs],
             problem.x0,
             est,
             problem.sigma,
@@ -644,6 +660,8 @@ def _identify(
     fitted = _predict(problem, theta, cov, x0s, preps, samples, seed)
     hold_preps = [prepare_run(r, th, dt, surfaces=veh.surfaces.names) for r in holdout]
     hold_x0 = [smooth_run(r).at(float(r.time[0])) for r in holdout]
+    if cut is not None:
+        hold_preps, hold_x0, hold_smoothed = cut.holdout(holdout, th, dt, veh.surfaces.names)
     held = _predict(problem, theta, cov, hold_x0, hold_preps, samples, seed + 1)
     run_rows, predictions = [], []
     for prep, (nom, lo, hi), is_hold in [(a, b, False) for a, b in zip(preps, fitted)] + [

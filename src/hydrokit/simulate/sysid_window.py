@@ -1,0 +1,403 @@
+"""Windowed output error for runs that drift (issue #48): multiple shooting with the smoothed
+states as each window's start.
+
+A course-unstable hull (or any vehicle with an unstable or marginally stable mode) drifts
+away from its measured track in every open-loop simulation of minutes, whatever its
+coefficients: the output-error cost of a whole run is then dominated by the growth of a
+small initial error, the Levenberg–Marquardt fit crawls, and the estimates absorb the drift.
+Cutting each run into windows of ``S`` seconds and starting every window from the state
+reconstructed by the smoother (:mod:`hydrokit.simulate.sysid_smooth`: a two-sided RTS
+smoother, so a state inside a run is known to a fraction of the sensor noise) keeps every
+simulation short enough not to drift, and leaves only the free parameters to fit — the
+practice of ship-manoeuvring identification from free-running trials (an inverse-dynamics
+start from the smoothed states, the equation-error fit; then output error over short
+segments: Wakita et al. 2022, J. Mar. Sci. Technol. 27:772; Miyauchi et al. 2022, 27:1065).
+Each window is an independent series of the coloured-residual covariance (its residuals
+start again from a known state), and the same windows of the held-out runs are predicted.
+
+The windows of a run are equal, ``duration / round(duration / S)`` long (the nearest to
+``S``), their edges on the integration grid; a sample on an inner edge belongs to the later
+window.
+
+**Initial states by variable projection.** The smoothed state is a good start but not good
+enough to hold fixed (at a run's ends the smoother is one-sided: a heading error of a few
+mrad puts the position residuals of the first window at several σ). Every measured state of
+every window is therefore estimated too — a state per window, the multiple shooting of the
+issue — but eliminated rather than carried: at each evaluation the residuals r and the
+Jacobians J_θ (parameters) and J_x (the window's initial state) come from one batch
+simulation of the window (p + 1 + n_x vehicles), the initial state takes its Gauss–Newton
+step δx = −J_x⁺ r, and the Levenberg–Marquardt fit of the parameters sees the projected
+residual (I − P_x) r and Jacobian (I − P_x) J_θ, P_x = J_x J_x⁺ (variable projection with
+Kaufman's Jacobian: Golub & Pereyra 2003, Inverse Problems 19:R1, §4). The dense Jacobian of
+the whole-run fit would hold p + n_x × windows columns (several hundred for 60 windows); this
+one holds p. At the solution δx = 0, and by the Frisch–Waugh–Lovell theorem the projected
+Jacobian gives exactly the parameters' block of the covariance with every initial state free
+(the Schur complement of the information matrix).
+
+``window="auto"`` (the default of ``hydrokit sysid``): each training run is first simulated
+open loop from its smoothed first state with the start values (equation error); a run drifts
+when a velocity channel's NRMSE exceeds :data:`DRIFT_NRMSE` (the prediction is worse than the
+channel's own mean: a stable vehicle forgets its initial state, its velocities follow the
+inputs) or the simulation diverges. If any run drifts, every run is cut into windows of
+:data:`DEFAULT_WINDOW` seconds, and the result's warnings say so with the run and channel.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+
+from hydrokit.errors import InputError
+from hydrokit.model.vehicle import Vehicle
+from hydrokit.simulate.sysid_model import (
+    CHANNELS,
+    Parameter,
+    PreparedRun,
+    RunData,
+    prepare_run,
+    simulate_run,
+    stack_packs,
+    with_values,
+)
+
+#: window length chosen by ``auto`` when a run drifts, s (20–30 s: what ship-model trials use)
+DEFAULT_WINDOW = 30.0
+#: a velocity channel whose open-loop NRMSE at the start values exceeds this drifts (–)
+DRIFT_NRMSE = 1.0
+#: an accepted step that lowers the weighted cost χ² by less than this ends the fit (–)
+CHI2_TOL = 0.01
+#: finite-difference step of an initial state, SI (m, rad, m/s, rad/s)
+_STATE_STEP = 1e-7
+#: the velocity channels looked at for drift
+_VELOCITIES = CHANNELS[6:]
+
+
+def parse_window(value: Any, source: str = "--window") -> float | str | None:
+    """``"auto"``, None (``"none"``/``"off"``: whole runs) or a window length > 0 in seconds.
+
+    Raises
+    ------
+    InputError
+        Anything else, naming the value and what was expected.
+    """
+    if value is None:
+        return None
+    if isinstance(value, str):
+        text = value.strip().lower()
+        if text == "auto":
+            return "auto"
+        if text in ("none", "off", "whole"):
+            return None
+        try:
+            value = float(text.removesuffix("s"))
+        except ValueError:
+            raise InputError(
+                f"window {value!r}: expected a length in seconds (e.g. 30), 'auto' or 'none'", source
+            ) from None
+    s = float(value)
+    if not (math.isfinite(s) and s > 0):
+        raise InputError(f"window {value!r}: expected a length > 0 s, 'auto' or 'none'", source)
+    return s
+
+
+def spans(duration: float, window: float, dt: float) -> list[tuple[float, float]]:
+    """The windows (start, end) of a run of ``duration`` s cut into equal windows near
+    ``window`` s, edges on the grid of ``dt`` (s) from the run's start (module docstring)."""
+    n = max(1, int(round(duration / window)))
+    edges = [min(round(k * duration / n / dt) * dt, duration) for k in range(n + 1)]
+    edges[-1] = duration
+    return [(a, b) for a, b in zip(edges[:-1], edges[1:]) if b > a]
+
+
+def crop(prep: PreparedRun, a: float, b: float, last: bool) -> PreparedRun:
+    """The window [a, b] (s from the run's start) of a prepared run: its force rows (time from
+    a) and the samples in [a, b) — [a, b] for the ``last`` window."""
+    dt = prep.dt
+    tab = prep.table[(prep.table[:, 0] >= a - dt) & (prep.table[:, 0] <= b + dt)].copy()
+    tab[:, 0] -= a
+    chans, times, values = [], [], []
+    for c, t, y in zip(prep.channels, prep.times, prep.values):
+        keep = (t >= a - 1e-9) & ((t <= b + 1e-9) if last else (t < b - 1e-9))
+        if np.any(keep):
+            chans.append(c)
+            times.append(t[keep] - a)
+            values.append(y[keep])
+    return PreparedRun(
+        f"{prep.name}@{a:g}s", prep.t0 + a, b - a, tab, tuple(chans), tuple(times), tuple(values), prep.dt
+    )
+
+
+@dataclass(frozen=True)
+class Windows:
+    """Training runs cut into windows, each started from the smoothed state.
+
+    length : float — requested window length, s; preps : the windows (PreparedRun, time from
+    each window's start); x0 : (12,) initial state of each window (SI); est : empty index
+    arrays (no initial state estimated); smoothed : the smoothed run of each window's run;
+    note : str — what was done and why, for the warnings
+    """
+
+    length: float
+    preps: list[PreparedRun]
+    x0: list[np.ndarray]
+    est: list[np.ndarray]
+    smoothed: list[Any]
+    note: str
+
+    @property
+    def lm(self) -> Callable[..., tuple[np.ndarray, np.ndarray, np.ndarray, int]]:
+        """The fit of the windowed problem (:func:`lm`)."""
+        return lm
+
+    def problem(self, whole: Any) -> Any:
+        """The whole-run problem of :mod:`hydrokit.simulate.sysid` (its ``_Problem``) on the
+        windows, with every measured initial state projected out (module docstring)."""
+        states = [np.array([i for i in range(12) if s.known[i]], dtype=int) for s in self.smoothed]
+        return _window_problem(whole, self.preps, [x.copy() for x in self.x0], self.est, states)
+
+    def prepare(self, runs: Sequence[RunData], thrusters: Any, dt: float, surfaces: Sequence[str]) -> list[PreparedRun]:
+        """The same windows prepared with the integration step ``dt`` (s)."""
+        return _cut_preps([prepare_run(r, thrusters, dt, surfaces=surfaces) for r in runs], self.length, dt)[0]
+
+    def holdout(
+        self, runs: Sequence[RunData], thrusters: Any, dt: float, surfaces: Sequence[str]
+    ) -> tuple[list[PreparedRun], list[np.ndarray], list[Any]]:
+        """Held-out runs cut into windows of the same length: preps, smoothed starts, smoothed runs."""
+        from hydrokit.simulate.sysid_smooth import smooth_run
+
+        smoothed = [smooth_run(r) for r in runs]
+        preps, owner = _cut_preps([prepare_run(r, thrusters, dt, surfaces=surfaces) for r in runs], self.length, dt)
+        return preps, [smoothed[i].at(p.t0) for p, i in zip(preps, owner)], [smoothed[i] for i in owner]
+
+
+def _window_problem(
+    whole: Any, preps: list[PreparedRun], x0: list[np.ndarray], est: list[np.ndarray], states: list[np.ndarray]
+) -> Any:
+    from hydrokit.simulate.sysid import _Problem, _simulate_task
+
+    class WindowProblem(_Problem):  # type: ignore[misc, valid-type]
+        """Output error over windows, each window's measured initial states projected out: the
+        fit sees the parameters only (module docstring). ``x0`` holds the initial states of
+        the best evaluation so far (the point Levenberg–Marquardt last accepted)."""
+
+        best: float = math.inf
+        weights_at_best: tuple[float, ...] = ()
+
+        def evaluate(self, z: np.ndarray, scale: np.ndarray, jac: bool) -> tuple[np.ndarray, np.ndarray | None, bool]:
+            p = len(self.params)
+            theta = z[:p]
+            vehicles = [with_values(self.vehicle, self.params, theta)]
+            if jac:
+                for k in range(p):
+                    th = theta.copy()
+                    th[k] += 1e-6 * scale[k]
+                    vehicles.append(with_values(self.vehicle, self.params, th))
+            packs = stack_packs(vehicles)
+            tasks = []
+            for prep, x, e in zip(self.preps, self.x0, states):
+                n_x = e.size if jac else 0
+                X0 = np.repeat(x[None], p + 1 + n_x if jac else 1, axis=0)
+                for j, i in enumerate(e[:n_x]):
+                    X0[p + 1 + j, i] += _STATE_STEP
+                tasks.append((prep, _take(packs, list(range(len(vehicles))) + [0] * n_x), X0))
+            sims = (
+                [_simulate_task(t) for t in tasks]
+                if self.executor is None
+                else self.executor.map(_simulate_task, tasks)
+            )
+            res, blocks, new_x = [], [], []
+            for prep, x, e, (pred, done, seconds) in zip(self.preps, self.x0, states, sims):
+                self.sim_seconds += seconds
+                if done[0] < math.ceil(prep.duration / prep.dt - 1e-9) or not np.all(np.isfinite(pred[0])):
+                    return np.empty(0), None, False
+                w = self.weights(prep)
+                r = (prep.measured - pred[0]) * w
+                if not jac:
+                    res.append(r)
+                    continue
+                d = -(pred[1:] - pred[0]) * w
+                Jt = (d[:p] / 1e-6).T  # per unit of the scaled parameter
+                Jx = (d[p:] / _STATE_STEP).T  # per unit of the state (SI)
+                # Gauss–Newton step of the initial state, and the projection I − J_x J_x⁺
+                pinv = np.linalg.pinv(Jx)
+                dx = -pinv @ r
+                res.append(r + Jx @ dx)
+                blocks.append(Jt - Jx @ (pinv @ Jt))
+                xx = x.copy()
+                xx[e] += dx
+                new_x.append(xx)
+            out = np.concatenate(res)
+            if jac:
+                cost = float(out @ out)
+                key = tuple(self.sigma.values())
+                if key != self.weights_at_best:
+                    self.best, self.weights_at_best = math.inf, key
+                if cost < self.best:  # the point the fit will accept: its initial states move on
+                    self.best = cost
+                    self.x0 = new_x
+            return out, (np.concatenate(blocks) if jac else None), True
+
+    return WindowProblem(whole.vehicle, whole.params, preps, x0, est, whole.sigma, whole.sim_seconds, whole.executor)
+
+
+def lm(
+    problem: Any,
+    z0: np.ndarray,
+    scale: np.ndarray,
+    max_iter: int,
+    progress: Callable[[int, float], None] | None,
+) -> tuple[np.ndarray, np.ndarray, np.ndarray, int]:
+    """Levenberg–Marquardt of the windowed problem in the scaled variables z/scale (as the
+    whole-run fit's), stopped when an accepted step lowers the weighted cost χ² by less than
+    :data:`CHI2_TOL`: a change of χ² by 1 moves an estimate by one σ, so further digits are
+    noise (the initial states, re-projected at every evaluation, would keep the cost creeping
+    down by less than that for many iterations). Returns z, residuals, Jacobian, iterations."""
+    from hydrokit.simulate.sysid import RUNAWAY, _Diverged
+
+    z = z0.copy()
+    r, J0, ok = problem.evaluate(z, scale, True)
+    if not ok or J0 is None:
+        raise _Diverged(z)
+    J: np.ndarray = J0
+    cost = float(r @ r)
+    lam = 1e-3
+    p = len(problem.params)
+    it = 0
+    for it in range(1, max_iter + 1):
+        g = J.T @ r
+        A = J.T @ J
+        d2 = np.clip(np.diag(A), 1e-300, None)
+        while lam < 1e10:
+            step = -np.linalg.solve(A + lam * np.diag(d2), g)
+            z_new = z + step * scale
+            r_new, J_new, ok = problem.evaluate(z_new, scale, True)
+            if ok and J_new is not None and float(r_new @ r_new) < cost:
+                break
+            lam *= 10.0
+        else:
+            break
+        lam = max(lam / 10.0, 1e-9)
+        drop = cost - float(r_new @ r_new)
+        z, r, J, cost = z_new, r_new, J_new, float(r_new @ r_new)
+        if np.any(np.abs(z[:p] - z0[:p]) / scale[:p] > RUNAWAY):
+            raise _Diverged(z)
+        if progress:
+            progress(it, cost)
+        if drop < CHI2_TOL:
+            break
+    return z, r, J, it
+
+
+def _take(packs: Any, index: list[int]) -> Any:
+    from hydrokit.simulate.sysid_model import take
+
+    return take(packs, index)
+
+
+def _cut_preps(preps: Sequence[PreparedRun], length: float, dt: float) -> tuple[list[PreparedRun], list[int]]:
+    out, owner = [], []
+    for i, prep in enumerate(preps):
+        cuts = spans(prep.duration, length, dt)
+        for k, (a, b) in enumerate(cuts):
+            out.append(crop(prep, a, b, k == len(cuts) - 1))
+            owner.append(i)
+    return out, owner
+
+
+def drift(
+    vehicle: Vehicle,
+    params: Sequence[Parameter],
+    values: np.ndarray,
+    preps: Sequence[PreparedRun],
+    x0: Sequence[np.ndarray],
+) -> list[str]:
+    """The training runs that drift in an open-loop simulation of ``vehicle`` with ``params``
+    at ``values`` (SI) from their initial states ``x0`` (module docstring): one phrase per
+    drifting run, naming the channel and its NRMSE (or the time it diverged)."""
+    packs = stack_packs([with_values(vehicle, params, values)])
+    out = []
+    for prep, x in zip(preps, x0):
+        pred, done = simulate_run(prep, packs, np.asarray(x, float)[None])
+        if done[0] < math.ceil(prep.duration / prep.dt - 1e-9) or not np.all(np.isfinite(pred[0])):
+            out.append(f"{prep.name} diverged at t = {int(done[0]) * prep.dt:.1f} s")
+            continue
+        k, worst = 0, (0.0, "")
+        for c, t, y in zip(prep.channels, prep.times, prep.values):
+            e = y - pred[0, k : k + t.size]
+            k += t.size
+            sd = float(np.std(y))
+            if c in _VELOCITIES and sd > 0:
+                q = float(np.sqrt(np.mean(e**2)) / sd)
+                worst = max(worst, (q, c))
+        if worst[0] > DRIFT_NRMSE:
+            out.append(f"{prep.name} ({worst[1]} NRMSE {worst[0]:.2f})")
+    return out
+
+
+def cut_runs(
+    window: float | str | None,
+    vehicle: Vehicle,
+    params: Sequence[Parameter],
+    start: np.ndarray,
+    runs: Sequence[RunData],
+    smoothed: Sequence[Any],
+    preps: Sequence[PreparedRun],
+) -> Windows | None:
+    """The training runs cut into windows (:class:`Windows`), or None to fit whole runs.
+
+    Parameters
+    ----------
+    window : float, "auto" or None — window length, s; "auto": :data:`DEFAULT_WINDOW` s if a
+        run drifts at the ``start`` values, else None; None: None
+    vehicle : Vehicle with the free terms; params : the free parameters; start : (p,) their
+        start values (SI)
+    runs, smoothed, preps : the training runs, their smoothed states and prepared runs
+
+    Raises
+    ------
+    InputError
+        A window longer than a run (naming the run and both lengths).
+    """
+    if window is None:
+        return None
+    x0 = [s.at(float(p.t0)) for s, p in zip(smoothed, preps)]
+    if window == "auto":
+        drifting = drift(vehicle, params, start, preps, x0)
+        if not drifting:
+            return None
+        length = DEFAULT_WINDOW
+        why = (
+            f"the open-loop simulation at the start values (equation error) drifts: {', '.join(drifting)} > "
+            f"{DRIFT_NRMSE:g}"
+        )
+    else:
+        length = float(window)
+        for r, p in zip(runs, preps):
+            if length > p.duration + 1e-9:
+                raise InputError(
+                    f"window {length:g} s is longer than run {r.name} ({p.duration:g} s); expected a window ≤ "
+                    f"{p.duration:g} s, or 'none' to fit whole runs",
+                    "--window",
+                )
+        why = "as asked"
+    dt = preps[0].dt
+    cut, owner = _cut_preps(preps, length, dt)
+    note = (
+        f"windowed output error: {len(cut)} windows of about {length:g} s ({why}), each started from the smoothed "
+        "state; predictions and residuals are per window"
+    )
+    return Windows(
+        length,
+        cut,
+        [smoothed[i].at(p.t0) for p, i in zip(cut, owner)],
+        [np.zeros(0, dtype=int) for _ in cut],
+        [smoothed[i] for i in owner],
+        note,
+    )
+
+
+__all__ = ["DEFAULT_WINDOW", "DRIFT_NRMSE", "Windows", "crop", "cut_runs", "drift", "parse_window", "spans"]
