@@ -134,3 +134,13 @@ def test_an_uncertainty_block_draws_surface_and_thruster_fields():
     bad["uncertainty"]["parameters"][0] = "control_surfaces.rudder.lift_slope_deg"
     with pytest.raises(InputError, match=r"uncertainty\.parameters\[0\]' = .*expected 'control_surfaces\.<name>"):
         vehicle_from_dict(bad, "s")
+
+
+def test_parameter_ref_is_the_hook_for_a_fit():
+    from hydrokit.model.uncertainty import parameter_ref
+
+    v = vehicle_from_dict(ship(), "s")
+    ref = parameter_ref(v, "thrusters.prop.thrust_deduction")
+    assert (ref.kind, ref.index, ref.field) == ("thruster", 0, "thrust_deduction")
+    with pytest.raises(InputError, match=r"^--free 'thrusters\.bow\.kappa': expected 'thrusters\.<name>\.<field>'"):
+        parameter_ref(v, "thrusters.bow.kappa", "--free")

@@ -200,6 +200,13 @@ def _ref(vehicle: Any, name: str, what: str = "parameter") -> tuple[ParameterRef
     return ref, k
 
 
+def parameter_ref(vehicle: Any, name: str, what: str = "free parameter") -> ParameterRef:
+    """The :class:`ParameterRef` of ``name`` checked against ``vehicle`` (its terms, surfaces and
+    thrusters): the hook through which a free ``control_surfaces.NAME.FIELD`` or
+    ``thrusters.NAME.FIELD`` (unit: :func:`field_unit`) joins a fit; errors start with ``what``."""
+    return _ref(vehicle, name, what)[0]
+
+
 def parameter_value(vehicle: Any, name: str) -> float:
     """The vehicle's current value of the parameter ``name`` (SI; see the module docstring)."""
     ref, k = _ref(vehicle, name)
