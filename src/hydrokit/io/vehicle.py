@@ -36,7 +36,9 @@ A negative damping entry (``linear_damping`` diagonal, ``quadratic_damping``) fe
 refused unless the file sets ``allow_negative_damping: true`` (then warned).
 
 ``control_surfaces:`` (rudders, planes, fins) and ``dofs:`` (planar models), issue #45, are read
-by :mod:`hydrokit.io.surfaces`; terms may then use ``delta(NAME)`` factors. ``hull:`` (cross-flow
+by :mod:`hydrokit.io.surfaces`; terms may then use ``delta(NAME)`` factors, and with a
+``thrusters:`` block ``T(NAME)`` (thrust, N) and ``n(NAME)`` (rotation rate, rev/s, a
+propeller's) factors; ``X_0`` … ``N_0`` are constant terms (issue #48). ``hull:`` (cross-flow
 drag strips and viscous lift of a body of revolution from its profile) is read by
 :mod:`hydrokit.io.hull`: its strips join the drag elements, its terms the ``terms:``.
 
