@@ -86,3 +86,40 @@ def test_printed_metrics_carry_units_and_the_json_has_no_float_noise(run_cli, tm
     raw = (out / "manoeuvre.json").read_text()
     long = [m for m in re.findall(r"-?\d+\.\d+(?:e-?\d+)?", raw) if len(re.sub(r"e.*|\D", "", m).lstrip("0")) > 9]
     assert long == []
+
+
+def test_pull_out_prints_both_sides_with_units(run_cli, tmp_path):
+    """The user's report: ``--pull-out`` printed ``pull_out:`` and nothing else (a course-stable boat:
+    the sway and yaw damping of docs/manoeuvre.md's propeller boat)."""
+    boat = tmp_path / "boat.yaml"
+    boat.write_text(BOAT.replace("linear_damping: [0, 40, 0, 0, 0, 30]", "linear_damping: [0, 300, 0, 0, 0, 200]"))
+    out = tmp_path / "po"
+    code, stdout, err = run_cli(
+        "manoeuvre", boat, "--out", out, "--pull-out", "20", "--force", "20,0,0,0,0,0", "--dt", "0.1", "--no-plots"
+    )
+    assert code == 0, err
+    doc = json.loads((out / "manoeuvre.json").read_text())
+    assert doc["complete"] is True and doc["pull_out"]["opposite"] is True
+    sides = doc["pull_out"]["sides"]
+    assert [s["deflection_deg"] for s in sides] == [20.0, -20.0]
+    assert sides[0]["yaw_rate_before"] * sides[1]["yaw_rate_before"] < 0
+    assert stdout.startswith("pull-out, rudder at ±20°:")
+    for s, line in zip(sides, [ln for ln in stdout.splitlines() if ln.strip().startswith("side ")]):
+        assert line.strip().startswith(f"side {s['deflection_deg']:+.4g}°: yaw rate before ")
+        assert f"residual yaw rate {s['residual_yaw_rate']:.4g} rad/s" in line
+        assert f"time to settle {s['time_to_settle']:.4g} s" in line
+
+
+def test_pull_out_of_a_boat_that_cannot_leave_its_turn_is_an_error(run_cli, tmp_path):
+    """The lightly damped boat locks into its turn: even the full opposite rudder cannot straighten it,
+    and its −20° side turns the same way as its +20° side; that is said, with exit 2."""
+    boat = tmp_path / "boat.yaml"
+    boat.write_text(BOAT)
+    out = tmp_path / "po"
+    code, stdout, err = run_cli(
+        "manoeuvre", boat, "--out", out, "--pull-out", "20", "--force", "20,0,0,0,0,0", "--dt", "0.1", "--no-plots"
+    )
+    assert code == 2 and stdout == ""
+    assert "pull-out: the -20° side turned the same way as the +20° side (yaw rates " in err
+    assert "the vehicle was not brought back to a straight course between them" in err
+    assert sorted(p.name for p in out.iterdir()) == ["trajectory.csv"]

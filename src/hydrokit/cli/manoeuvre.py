@@ -111,7 +111,7 @@ def manoeuvre(
         )
     if res.hold:
         click.echo("held: " + ", ".join(f"{k} by {n}" for k, n in res.hold.items()), err=True)
-    click.echo(f"{m.kind.replace('_', ' ')}, {res.surface} {_setting(res)}:")
+    click.echo(f"{'pull-out' if m.kind == 'pull_out' else m.kind.replace('_', ' ')}, {res.surface} {_setting(res)}:")
     for line in describe(m.kind, res.metrics):
         click.echo("  " + line)
     for c in res.imo():

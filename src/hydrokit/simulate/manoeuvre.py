@@ -710,10 +710,11 @@ class _Keeper:
 
 def _settle_time(t: np.ndarray, r: np.ndarray, r0: float, r_end: float) -> float | None:
     """Time (s, from the record's start) after which the rate ``r`` stays within 5 % of its change
-    ``r0 − r_end`` (rad/s) of its final value ``r_end`` (the 5 % settling time); None: never."""
+    ``r0 − r_end`` (rad/s) of its final value ``r_end`` (the 5 % settling time; the band at least
+    1 % of ``r_end``, the steady turn's own ripple); None: never."""
     if t.size == 0:
         return None
-    band = 0.05 * abs(r0 - r_end)
+    band = max(0.05 * abs(r0 - r_end), 0.01 * abs(r_end))
     out = np.flatnonzero(np.abs(r - r_end) > band)
     if out.size == 0:
         return 0.0
@@ -1351,9 +1352,9 @@ def measure(
     if hold and "depth" in hold and kind not in VERTICAL:
         hold_lost = _depth_lost(x[:, 2] - x[0, 2], reference_length)
         if hold_lost is not None:
-            warnings.append(f"{kind.replace('_', ' ')}: the depth hold by {hold['depth']} was lost: {hold_lost}")
+            warnings.append(f"{_label(kind)}: the depth hold by {hold['depth']} was lost: {hold_lost}")
             problem = (
-                f"{kind.replace('_', ' ')}: depth hold lost — {hold_lost}; the trial is flown at constant depth, so "
+                f"{_label(kind)}: depth hold lost — {hold_lost}; the trial is flown at constant depth, so "
                 "its metrics would be those of a climb or a dive" + (f" (and {problem})" if problem else "")
             )
     return ManoeuvreResult(
@@ -1381,11 +1382,17 @@ def measure(
 HOLD_LOST_LENGTHS = 2.0
 
 
+def _label(kind: str) -> str:
+    """The manoeuvre's name in a sentence: "turning circle", "pull-out", "depth change" …"""
+    return "pull-out" if kind == "pull_out" else kind.replace("_", " ")
+
+
 def _moved(dz: np.ndarray) -> str:
     """How the depth changed over a record (``dz``: m, + deeper): "rose 238 m", "sank 3.1 m",
-    "rose 2 m and sank 4 m" — the largest excursions each way that exceed a centimetre."""
+    "rose 2 m and sank 4 m" — the largest excursions each way (from 1 cm and a tenth of the larger)."""
     rise, fall = max(0.0, -float(np.min(dz))), max(0.0, float(np.max(dz)))
-    parts = [f"{w} {v:.3g} m" for w, v in (("rose", rise), ("sank", fall)) if v >= 0.01]
+    least = max(0.01, 0.1 * max(rise, fall))  # a small excursion the other way is not news
+    parts = [f"{w} {v:.3g} m" for w, v in (("rose", rise), ("sank", fall)) if v >= least]
     return " and ".join(parts) if parts else "kept its depth within 1 cm"
 
 
@@ -1462,7 +1469,7 @@ def _pull_out_problem(logic: Any, t_end: float) -> str | None:
         d = math.degrees(s["deflection"])
         if not s["turn_settled"]:
             return f"pull-out: the turn at {d:+.4g}° never reached a steady yaw rate (it was released anyway)"
-        if not s["decay_settled"]:
+        if not s["decay_settled"] or s.get("time_to_settle") is None:
             return f"pull-out: after the release from {d:+.4g}° the yaw rate never settled (residual not measured)"
     a, b = (s["yaw_rate_before"] for s in sides)
     if a * b >= 0:
