@@ -63,6 +63,18 @@ def test_remus100_lift_terms_are_prestero_inputs():
         assert t[other] == pytest.approx(sign * value, rel=5e-3), other
 
 
+def test_remus100_cross_flow_strips_give_prestero_pure_sway_drag():
+    """remus100's cross-flow drag is the strip integral of Prestero's profile with his C_dc = 1.1;
+    in pure sway it must give his Y_v|v| = −131 kg/m (the value with his fins' −3.8, which the
+    hull strips leave out: rtol 3 %), and nothing in surge."""
+    from hydrokit.model.dynamics import hydro_force, pack
+
+    v = load_vehicle("remus100")
+    f = hydro_force(pack(v), np.array([0.0, 0.2, 0, 0, 0, 0]), np.eye(3), np.zeros(2))
+    assert f[1] == pytest.approx(-131.0 * 0.2 * 0.2, rel=0.03)
+    assert f[0] == 0.0
+
+
 def test_remus100_is_course_stable_by_two_methods():
     """Clarke's criterion C = Y_uv N_ur − N_uv (Y_ur − m) > 0 from the file's terms (the header:
     +254), and independently the eigenvalues of the compiled right-hand side linearised in sway and
@@ -104,10 +116,10 @@ def test_turning_diameter_falls_as_the_rudder_grows(turns):
     the steps between angles are tens of percent, far beyond its resolution."""
     v, runs = turns
     d = [runs[a].metrics["steady_turning_diameter"] for a in ANGLES]
-    # remus100 at 15° and 20° keeps 30 % of its speed, and at 0.5 m/s the stern planes cannot
-    # hold REMUS's 7 N of buoyancy: the manoeuvre says the depth hold was lost; the circle is
-    # still measured
-    assert runs[5.0].problem is None and runs[10.0].problem is None
+    # at 20° remus100 keeps a third of its speed, and at 0.5 m/s the stern planes cannot hold
+    # REMUS's 7 N of buoyancy: the manoeuvre may say the depth hold was lost; the circle is still
+    # measured
+    assert all(runs[a].problem is None for a in (5.0, 10.0, 15.0))
     assert d[0] > d[1] > d[2] > d[3]
     assert d[0] > 1.3 * d[2]
     assert d[3] > 2.0 * v.reference_length  # not the 1.5 L of a vehicle unstable on its course
@@ -119,13 +131,14 @@ def test_turning_diameter_falls_as_the_rudder_grows(turns):
 
 
 def test_a_depth_holding_turn_holds_depth(turns):
-    """With the stern planes holding depth through pitch (the default hold), a 5° and a 10° turn
-    stay within 0.75 m of the approach depth (REMUS is 7 N buoyant: the planes and the body lift
-    at a few degrees of pitch carry it)."""
+    """With the stern planes holding depth through pitch (the default hold), turns at 5°, 10° and
+    15° stay within 1 m of the approach depth (REMUS is 7 N buoyant: the planes and the body lift
+    at a few degrees of pitch carry it, less well as the turn slows the vehicle)."""
     _, runs = turns
-    for deg in (5.0, 10.0):
+    for deg in (5.0, 10.0, 15.0):
         assert runs[deg].hold
-        assert runs[deg].metrics["max_depth_change"] < 0.75
+        assert runs[deg].metrics["max_depth_change"] < 1.0
+    assert runs[5.0].metrics["max_depth_change"] < 0.5
 
 
 @pytest.mark.parametrize("name", ["remus100", "remus100-fins"])
