@@ -84,6 +84,21 @@ def test_command_adds_to_force(run, tmp_path):
     assert math.isclose(float(data[-1, 7]), float(want[-1]), rel_tol=1e-7)
 
 
+def test_thrust_reaches_the_terms(run_cli, tmp_path):
+    """A term X_T(main) = −0.5 (a thrust deduction written as a term) takes half the thruster's
+    lagged thrust back: the surge is half the closed form (the right-hand side is given each
+    thruster's thrust, not only τ). Same rtol as above."""
+    boat = tmp_path / "deduct.yaml"
+    boat.write_text(BOAT + "terms:\n  X_T(main): -0.5\n")
+    out = tmp_path / "u.csv"
+    code, _, err = run_cli("simulate", boat, "--duration", "10", "--dt", "0.01", "--command", f"main={F}", "--out", out)
+    assert code == 0, err
+    data = np.loadtxt(out, delimiter=",", skiprows=1)
+    np.testing.assert_allclose(data[:, 7], 0.5 * surge(data[:, 0]), rtol=1e-7, atol=1e-9)
+    code, _, err = run_cli("simulate", boat, "--command", "main=1", "--integrator", "dop853", "--out", out)
+    assert code == 2 and "--integrator dop853 with thruster commands" in err, err
+
+
 @pytest.mark.parametrize(
     ("args", "csv", "match"),
     [

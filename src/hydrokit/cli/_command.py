@@ -63,3 +63,38 @@ def command_force(
         except InputError as exc:
             raise InputError(str(exc), src) from None
     return CommandForce(vehicle.thrusters, table, force=force, start="rest", current_ned=current_ned)
+
+
+def simulator(tau: Any, integrator: str, attitude: str) -> Callable[..., Any]:
+    """The run function for ``tau``: :func:`hydrokit.simulate.driver.simulate`, or under thruster
+    commands :func:`hydrokit.simulate.commands.fly_commands` with the same arguments (the compiled
+    RK4 in Euler angles only: it gives the right-hand side each thruster's thrust and rate)."""
+    from hydrokit.simulate.commands import CommandForce, fly_commands
+    from hydrokit.simulate.driver import simulate
+
+    if not isinstance(tau, CommandForce):
+        return simulate
+    for option, value, wanted in (("--integrator", integrator, "rk4"), ("--attitude", attitude, "euler")):
+        if value != wanted:
+            raise InputError(
+                f"{option} {value} with thruster commands: they fly the compiled RK4 in Euler angles (each "
+                f"thruster's thrust and rate reach the right-hand side); expected {option} {wanted}"
+            )
+
+    def run(
+        vehicle: Any,
+        duration: float,
+        dt: float,
+        force: Any,
+        eta0: Any,
+        nu0: Any,
+        current_ned: Any,
+        integrator: str,
+        attitude: str,
+        output_every: int,
+        progress: Any = None,
+        deflection: Any = None,
+    ) -> Any:
+        return fly_commands(vehicle, duration, dt, force, eta0, nu0, current_ned, deflection, output_every, progress)
+
+    return run

@@ -7,7 +7,7 @@ from typing import Any
 
 import click
 
-from hydrokit.cli._command import command_force, command_options
+from hydrokit.cli._command import command_force, command_options, simulator
 from hydrokit.cli._deflection import deflection_input, deflection_options
 from hydrokit.cli._samples import check_samples, sampled_files, samples_options
 from hydrokit.cli._types import SECONDS, Count, Numbers
@@ -106,7 +106,8 @@ def simulate(
     check_samples(v, samples, force_csv or deflection_csv, integrator, attitude)  # before the run, like every input
     tau = command_force(v, command_text, command_csv, tau, cur, samples)
     from hydrokit.io.trajectory import trajectory_csv
-    from hydrokit.simulate.driver import simulate as run
+
+    run = simulator(tau, integrator, attitude)  # the driver, or the thrusters' own loop under --command
 
     with progress_bar(time_based=True) as bar:
         task = bar.add_task("simulating", total=duration)

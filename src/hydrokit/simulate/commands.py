@@ -10,12 +10,15 @@ the state reached at the row before (the one rotor law). The thrust is the thrus
 (:meth:`~hydrokit.model.thrusters.ThrusterSet.thrust`) at that rotor state and at the advance
 speed of the state's velocity relative to the water, so a propeller at constant revolutions
 pushes harder as the vehicle slows — the same law as :class:`hydrokit.simulate.manoeuvre.ThrusterDrive`,
-evaluated at every stage of the integrator instead of once per step.
+evaluated at every stage of the integrator instead of once per step. :func:`fly_commands` is the
+open-loop run (``simulate --command``): RK4 on the compiled right-hand side, which also reads each
+thruster's thrust and rotation rate (the ``T()`` and ``n()`` term factors, a rudder in a race).
 """
 
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 from typing import Any
 
 import numpy as np
@@ -113,9 +116,90 @@ class CommandForce:
 
     def __call__(self, t: float, eta: Any, nu: Any) -> np.ndarray:
         """τ, N and N·m (body axes)."""
+        return self.inputs(t, eta, nu)[0]
+
+    def inputs(self, t: float, eta: Any, nu: Any) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """(τ in N and N·m, each thruster's thrust in N, each thruster's rotation rate in rev/s) at
+        ``t`` (s) in the pose ``eta`` and velocity ``nu``: what the right-hand side reads (the
+        thrust and rate feed the ``T()`` and ``n()`` term factors and a rudder's race). A
+        propeller's rate is its rotor state; with a measured thrust, the curve's inversion at it."""
         from hydrokit.model.dynamics import interp_table
 
-        return interp_table(self.force_table, t)[0] + self.T @ self.thrust(t, eta, nu)
+        ts = self.thrusters
+        f = self.thrust(t, eta, nu)
+        rate = ts.rotation_rate(f, command=self.rotor(t))
+        if np.any(self.measured):
+            va = ts.advance_speed(np.asarray(nu, float)[:6])
+            rate = np.where(self.measured, ts.rotation_rate(f, va), rate)
+        return interp_table(self.force_table, t)[0] + self.T @ f, f, rate
+
+
+def fly_commands(
+    vehicle: Any,
+    duration: float,
+    dt: float,
+    force: CommandForce,
+    eta0: Any = (0, 0, 0, 0, 0, 0),
+    nu0: Any = (0, 0, 0, 0, 0, 0),
+    current_ned: Any = None,
+    deflection: Any = None,
+    output_every: int = 1,
+    progress: Callable[[float], None] | None = None,
+) -> Any:
+    """Open-loop run of ``vehicle`` propelled by ``force`` (its thrusters under commands): RK4 on
+    the compiled right-hand side in Euler angles, every stage given τ and each thruster's thrust
+    and rotation rate (:meth:`CommandForce.inputs`). Returns a
+    :class:`hydrokit.simulate.driver.Trajectory`.
+
+    Parameters
+    ----------
+    vehicle : Vehicle — with the thrusters of ``force``
+    duration, dt : float — s
+    force : CommandForce
+    eta0, nu0 : 6 floats each — initial pose (m, rad) and velocity (m/s, rad/s)
+    current_ned : None, 3 floats (m/s) or rows [t, v_N, v_E, v_D]
+    deflection : None, one deflection per surface (rad) or rows [t, δ_1 … δ_n] (s, rad;
+        interpolated linearly, held at the ends), as :func:`hydrokit.simulate.driver.simulate`
+    output_every : int — keep every n-th step
+    progress : callable(simulated seconds) or None
+    """
+    from hydrokit.core.kinematics import PITCH_WARNING
+    from hydrokit.model.dynamics import interp_table
+    from hydrokit.model.terms import MAX_THRUSTERS
+    from hydrokit.simulate.compiled import make_dynamics
+    from hydrokit.simulate.driver import Trajectory, deflection_table
+    from hydrokit.simulate.integrators import rk4
+
+    if not (isinstance(duration, (int, float)) and math.isfinite(duration) and duration > 0):
+        raise InputError(f"duration = {duration}: expected a positive time (s)")
+    if not (isinstance(dt, (int, float)) and math.isfinite(dt) and 0 < dt <= duration):
+        raise InputError(f"dt = {dt}: expected 0 < dt ≤ duration (s)")
+    if not (isinstance(output_every, int) and output_every >= 1):
+        raise InputError(f"output_every = {output_every}: expected a whole number ≥ 1")
+    x0 = np.concatenate([np.asarray(eta0, float), np.asarray(nu0, float)])
+    if x0.shape != (12,) or not np.all(np.isfinite(x0)):
+        raise InputError(f"initial pose and velocity {x0.tolist()}: expected 6 + 6 finite numbers")
+    f = make_dynamics(vehicle, current_ned)
+    dtab = deflection_table(vehicle, deflection)
+    thrusters = 0 < len(vehicle.thruster_names) <= MAX_THRUSTERS  # the input vector holds them
+
+    def rhs(t: float, x: np.ndarray) -> np.ndarray:
+        tau, thrust, rate = force.inputs(t, x[:6], x[6:])
+        d = None if dtab is None else interp_table(dtab, t)[0]
+        return f(t, x, tau, d, thrust, rate) if thrusters else f(t, x, tau, d)
+
+    n_steps = math.floor(duration / dt + 1e-9)
+    prog = None if progress is None else (lambda k: progress(k * dt))
+    times, states = rk4(rhs, x0, float(dt), n_steps, output_every, prog)
+    if progress is not None:
+        progress(duration)
+    warnings = list(vehicle.warnings)
+    if np.any(np.abs(states[:, 4]) > PITCH_WARNING):
+        warnings.append(
+            f"pitch reached {math.degrees(float(np.max(np.abs(states[:, 4])))):.1f}°: Euler angles are near their "
+            "singularity at ±90°"
+        )
+    return Trajectory(times, states[:, :6], states[:, 6:], warnings)
 
 
 def command_table(vehicle: Any, commands: Any) -> np.ndarray:
