@@ -7,6 +7,8 @@ from pathlib import Path
 from typing import Any
 
 import pytest
+import yaml
+from tests.simulate.test_sysid_surfaces import SHIP
 
 
 @pytest.fixture()
@@ -43,8 +45,12 @@ def test_identify_writes_all_outputs(run_sysid: Any, tmp_path: Path) -> None:
     assert "training  dive1: 1.5 s" in err and "held out  dive2" in err  # the start lists the runs
     assert sorted(p.name for p in out.iterdir()) == ["predictions.csv", "report.html", "sysid.json", "vehicle.yaml"]
     assert "quadratic_damping.yaw = " in out_text
+    # the verdict leads stdout and sysid.json: per run the NRMSE/lag-1 ρ of every channel
+    assert out_text.startswith("verdict: ") and "dive2 (held out)" in out_text
+    assert out_text.index("verdict: ") < out_text.index("quadratic_damping.yaw = ")
     # the identified file is a vehicle that simulate --samples reads, with the fitted values
     doc = json.loads((out / "sysid.json").read_text())
+    assert list(doc)[0] == "verdict" and set(doc["verdict"]) == {"fits", "reasons"} and doc["verdict"]["reasons"]
     v = hydrokit.load_vehicle(out / "vehicle.yaml")
     assert v.uncertainty.parameters == ("added_mass.yaw", "quadratic_damping.yaw")
     assert v.M_A[5, 5] == doc["parameters"][0]["value"] and v.D_Q[5] == doc["parameters"][1]["value"]
@@ -82,3 +88,32 @@ def test_bad_inputs_exit_2_and_write_nothing(run_sysid: Any, tmp_path: Path) -> 
     assert code == 2 and "no column for thruster 'FL'" in err and str(bad) in err
     code, out_text, _ = run_sysid("sysid", "--help")
     assert code == 0 and "generate" in out_text
+
+
+def test_a_bad_free_name_is_one_line_with_the_nearest_names_before_any_run_is_read(
+    run_cli: Any, tmp_path: Path
+) -> None:
+    run = tmp_path / "run.csv"
+    names = ["FR", "FL", "RR", "RL", "VFR", "VFL", "VRR", "VRL"]
+    rows = "\n".join(f"{0.1 * k:.1f},0.0," + ",".join("0" for _ in names) for k in range(30))
+    run.write_text("time,r," + ",".join(names) + "\n" + rows + "\n")
+    missing = tmp_path / "missing.csv"  # never read: the free names are checked first
+    out = tmp_path / "out"
+    code, text, err = run_cli(
+        "sysid", run, "--holdout", missing, "--vehicle", "bluerov2-sysid", "--free", "added_mass.yaw,lineer_damping.yaw",
+        "--out", out,
+    )  # fmt: skip
+    assert code == 2 and text == ""
+    lines = err.strip().splitlines()
+    assert len(lines) == 1, err  # no run listing before it
+    assert "free parameter 'lineer_damping.yaw' does not exist (nearest: linear_damping.yaw" in lines[0]
+    assert not out.exists() or not any(out.iterdir())
+    # a delta() term naming no surface of the vehicle: before the fit, with the vehicle's terms near it
+    ship = tmp_path / "ship.yaml"
+    ship.write_text(yaml.safe_dump(SHIP))
+    code, _, err = run_cli("sysid", run, "--vehicle", ship, "--free", "terms.N_uu*delta(ruder)", "--out", out)
+    assert code == 2 and len(err.strip().splitlines()) == 1
+    assert "delta(ruder) names no control surface" in err and "nearest: terms.N_uu*delta(rudder)" in err
+    # a misspelt term: the nearest of the vehicle's own terms
+    code, _, err = run_cli("sysid", run, "--vehicle", ship, "--free", "terms.N_uu*delta(rudder", "--out", out)
+    assert code == 2 and len(err.strip().splitlines()) == 1 and "(nearest: terms.N_uu*delta(rudder)" in err

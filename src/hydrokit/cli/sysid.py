@@ -8,8 +8,9 @@ from typing import Any
 
 import click
 
+from hydrokit.cli._sysid_generate import generate
 from hydrokit.cli._sysid_plan import _names, plan
-from hydrokit.cli._types import NON_NEGATIVE, SECONDS, SEED, Count, Number
+from hydrokit.cli._types import SECONDS, SEED, Count
 
 SUBCOMMANDS = ("fit", "generate", "plan")
 
@@ -30,6 +31,7 @@ def sysid() -> None:
 
 
 sysid.add_command(plan)
+sysid.add_command(generate)
 
 
 @sysid.command("fit")
@@ -72,18 +74,17 @@ def fit(runs: tuple[str, ...], vehicle: str, free: str, out_dir: str, holdout: t
     phi theta psi rad, u v w m/s, p q r rad/s, empty = no sample; one command column per thruster)."""
     from hydrokit.api import load_vehicle
     from hydrokit.cli._common import check_out_dir, progress_bar, write_all
-    from hydrokit.io.runlog import read_run
+    from hydrokit.io.runlog import read_runs
     from hydrokit.io.vehicle import resolve_vehicle
     from hydrokit.io.yamlfile import read_yaml
-    from hydrokit.report.sysid import describe_runs, output_files
-    from hydrokit.simulate.sysid import identify
+    from hydrokit.report.sysid import describe_runs, output_files, verdict_lines
+    from hydrokit.simulate.sysid import check_options, identify
 
     check_out_dir(out_dir)
     base = load_vehicle(vehicle)
-    names = base.thrusters.names if base.thrusters is not None else []
-    surf = (base.surfaces.names, base.surfaces.max_deflection)
-    train = [read_run(p, names, *surf) for p in runs]
-    held = [read_run(p, names, *surf) for p in _names(holdout)]
+    names = _names((free,))
+    check_options(base, names, opts["method"], opts["dt"])  # every option before a run is read or printed
+    train, held = read_runs(runs, base), read_runs(_names(holdout), base)
     for line in describe_runs(train, held):
         click.echo(line, err=True)
     for r in (*train, *held):
@@ -92,56 +93,13 @@ def fit(runs: tuple[str, ...], vehicle: str, free: str, out_dir: str, holdout: t
     with progress_bar() as bar:
         task = bar.add_task("output-error fit", total=None)
         step = lambda it, cost: bar.update(task, advance=1, description=f"iteration {it}: cost {cost:.6g}")  # noqa: E731
-        result = identify(base, train, _names((free,)), held, progress=step, **opts)
+        result = identify(base, train, names, held, progress=step, **opts)
     files = output_files(result, read_yaml(resolve_vehicle(vehicle)), out_dir)
     write_all(files)
+    for line in verdict_lines(result):
+        click.echo(line)
     for n, u, v, s in zip(result.parameters, result.units, result.values, result.sigma):
         click.echo(f"{n} = {v:.5g} ± {s:.2g} {u}")
     for m in (*result.messages, *result.warnings):
         click.echo(f"note: {m}", err=True)
     click.echo(f"wrote {', '.join(Path(f).name for f in files)} to {out_dir}", err=True)
-
-
-@sysid.command("generate")
-@click.option(
-    "--vehicle", default="bluerov2-sysid", show_default=True, help="Vehicle YAML or bundled name (with thrusters)."
-)
-@click.option(
-    "--out", "out_dir", required=True, type=click.Path(file_okay=False), help="Folder for diveN.csv and truth.json."
-)
-@click.option("--runs", "n_runs", type=Count(1), default=4, show_default=True, help="Number of dives (count).")
-@click.option(
-    "--duration", type=Number("s", at_least=1), default=90.0, show_default=True, help="Length of each dive, s."
-)
-@click.option(
-    "--seed", type=SEED, default=1, show_default=True, help="Seed of the hidden coefficients, commands and noise."
-)
-@click.option(
-    "--spread",
-    type=Number(at_least=0, at_most=0.9),
-    default=0.3,
-    show_default=True,
-    help="Hidden coefficients = base × uniform(1 − spread, 1 + spread) (fraction).",
-)
-@click.option(
-    "--amplitude",
-    type=Number(above=0, at_most=1),
-    default=0.6,
-    show_default=True,
-    help="Largest fraction of a thrust limit used (0–1).",
-)
-@click.option(
-    "--noise", type=NON_NEGATIVE, default=1.0, show_default=True, help="Multiplier of the sensor noise σ (0 = none)."
-)
-def generate(
-    vehicle: str, out_dir: str, n_runs: int, duration: float, seed: int, spread: float, amplitude: float, noise: float
-) -> None:
-    """Write virtual pool dives of VEHICLE with hidden added mass and damping (surge, sway, heave,
-    yaw): attitude and gyro at 50 Hz, depth at 10 Hz, DVL at 5 Hz, commands at 50 Hz."""
-    from hydrokit.api import load_vehicle
-    from hydrokit.cli._common import check_out_dir, write_all
-    from hydrokit.report.sysid import dive_files
-
-    check_out_dir(out_dir)
-    write_all(dive_files(load_vehicle(vehicle), out_dir, n_runs, duration, seed, spread, amplitude, noise))
-    click.echo(f"wrote {n_runs} dive(s) of {duration:g} s and truth.json to {out_dir}", err=True)

@@ -17,6 +17,7 @@ from typing import Any
 
 from hydrokit.pipeline.result import RunResult
 from hydrokit.report.html import esc, fmt, page, table, warnings_block
+from hydrokit.report.sysid import identifiability_note, verdict_html
 
 SYMBOL = {"added_mass": "added mass", "linear_damping": "K_L", "quadratic_damping": "K_Q"}
 UNIT = {
@@ -146,6 +147,8 @@ def sysid_section(s: dict[str, Any], figures: dict[str, list[dict[str, str]]]) -
     equation error and truth), identifiability, residuals and held-out NRMSE, figures."""
     res = s["result"]
     parts = [f"<h2>System identification from the vehicle's own runs ({esc(s['method'])})</h2>"]
+    if s.get("verdict"):  # first: does the model describe the runs (hydrokit.simulate.sysid_stats.verdict)
+        parts += verdict_html(s["verdict"], res["runs"], level=3)
     held = f"; held out for validation: <code>{esc(', '.join(s['holdout']))}</code>" if s["holdout"] else ""
     tank = s["start_vehicle"]["from_tank"]
     start = (
@@ -200,7 +203,7 @@ def sysid_section(s: dict[str, Any], figures: dict[str, list[dict[str, str]]]) -
     msgs = res.get("messages") or []
     parts.append(
         "<h3>Identifiability</h3>"
-        + (warnings_block(msgs) if msgs else "<p>No pair with |ρ| > 0.95; every σ below its value.</p>")
+        + (warnings_block(msgs) if msgs else f"<p>{esc(identifiability_note(s.get('verdict') or {}))}</p>")
     )
     run_rows = []
     for r in res["runs"]:

@@ -76,6 +76,63 @@ def predictions_csv(result: SysidResult) -> str:
     return out.getvalue()
 
 
+def identifiability_note(verdict: Mapping[str, Any]) -> str:
+    """The line shown when no identifiability message is raised: good news only when the model
+    fits (σ are meaningful only then)."""
+    if verdict.get("fits", True):
+        return "No pair with |ρ| > 0.95; every σ below its value."
+    return (
+        "No pair with |ρ| > 0.95 and every σ below its value — but the model does not describe the runs "
+        "(verdict above), so these σ understate the error."
+    )
+
+
+def verdict_lines(result: SysidResult) -> list[str]:
+    """What ``hydrokit sysid`` prints first (stdout): the verdict, its reasons, and per run the
+    NRMSE and residual lag-1 ρ of every channel (``NRMSE/ρ``; held-out runs are predicted open
+    loop, fitted ones are the fit's residuals)."""
+    from hydrokit.simulate.sysid_stats import symbol
+
+    v = result.verdict
+    out = [f"verdict: {'fits' if v['fits'] else 'DOES NOT FIT'}"] + [f"  {r}" for r in v["reasons"]]
+    out.append("per run, channel NRMSE/lag-1 ρ of the residuals:")
+    width = max((len(r["name"]) for r in result.runs), default=4) + 12
+    for r in result.runs:
+        head = f"{r['name']} ({'held out' if r['holdout'] else 'fitted'})"
+        cells = [f"{symbol(c)} {d['nrmse']:.2f}/{d['whiteness']['lag1']:.2f}" for c, d in r["channels"].items()]
+        out.append(f"  {head:<{width}} " + "  ".join(cells))
+    return out
+
+
+def verdict_html(verdict: Mapping[str, Any], runs: Sequence[Mapping[str, Any]], level: int = 2) -> list[str]:
+    """The verdict as the head of a report: a heading that says it, the reasons, and a table of
+    per run and channel NRMSE, lag-1 ρ and residual RMS / sensor noise."""
+    from hydrokit.simulate.sysid_stats import symbol
+
+    fits = bool(verdict["fits"])
+    head = "the model describes these runs" if fits else "the model does NOT describe these runs"
+    said = "".join(f"<p>{esc(r)}</p>" for r in verdict["reasons"]) if fits else warnings_block(verdict["reasons"])
+    parts = [f"<h{level}>Verdict: {esc(head)}</h{level}>", said]
+    rows = []
+    for r in runs:
+        for c, d in r["channels"].items():
+            rows.append(
+                [
+                    r["name"],
+                    "held out" if r["holdout"] else "fitted",
+                    symbol(c),
+                    d.get("nrmse"),
+                    d["whiteness"]["lag1"],
+                    d.get("noise_ratio"),
+                    "yes" if d.get("moving") else "no",
+                ]
+            )
+    parts.append(
+        table(["run", "use", "channel", "NRMSE", "lag-1 ρ", "residual / noise σ", "moving"], rows, left_cols=3)
+    )
+    return parts
+
+
 def _pm(v: float, s: float) -> str:
     return f"{v:.4g} ± {s:.2g}" if math.isfinite(s) else f"{v:.4g}"
 
@@ -85,7 +142,8 @@ def report_html(result: SysidResult, title: str = "System identification") -> st
     from hydrokit.plot._mpl import to_png
     from hydrokit.plot.sysid import correlation_figure, residual_figure, run_figure
 
-    parts = [
+    parts = verdict_html(result.verdict, result.runs)
+    parts += [
         f"<p>Method: {esc(result.method)}; {result.iterations} iteration(s); condition number of the "
         f"scaled Fisher information {result.condition:.3g}; halving the integration step moves the estimates "
         f"by at most {result.step_check:.3g} σ. Wall time {result.timing.get('total', float('nan')):.1f} s, of which "
@@ -93,9 +151,7 @@ def report_html(result: SysidResult, title: str = "System identification") -> st
     ]
     parts.append("<h2>Identifiability</h2>")
     parts.append(
-        warnings_block(result.messages)
-        if result.messages
-        else "<p>No pair with |ρ| > 0.95; every σ below its value.</p>"
+        warnings_block(result.messages) if result.messages else f"<p>{esc(identifiability_note(result.verdict))}</p>"
     )
     if result.warnings:
         parts.append("<h2>Warnings</h2>" + warnings_block(result.warnings))

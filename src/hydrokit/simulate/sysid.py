@@ -47,7 +47,14 @@ from hydrokit.simulate.sysid_model import (
     values_of,
     with_values,
 )
-from hydrokit.simulate.sysid_stats import condition_number, correlation, sandwich, whiteness
+from hydrokit.simulate.sysid_stats import (
+    channel_checks,
+    condition_number,
+    correlation,
+    sandwich,
+    verdict,
+    whiteness,
+)
 
 METHODS = ("output-error", "equation-error")
 #: |ρ| above which two parameters are said to move together
@@ -76,11 +83,15 @@ class SysidResult(Result):
         information scaled to unit diagonal
     equation_error : dict — ``values`` and ``sigma`` of the equation-error fit (SI)
     runs : list of dict — per run: name, holdout, duration (s), per channel residual RMS (SI),
-        whiteness (lag-1 ρ, fraction of lags outside the 95 % band), NRMSE (held-out runs)
+        whiteness (lag-1 ρ, fraction of lags outside the 95 % band), NRMSE, sensor noise σ (SI)
+        and the residual's ratio to it, its systematic part (:func:`~hydrokit.simulate.sysid_stats.channel_checks`)
     noise : dict — channel → σ used as weight (SI)
     predictions : list of dict — per run and channel: time (s), measured, simulated, low, high
         (2.5/97.5 % of the Monte Carlo over the covariance)
     messages : tuple of str — identifiability in plain words; warnings : tuple of str
+    verdict : dict — ``fits`` (bool) and ``reasons`` (sentences): does the model describe the
+        runs (:func:`hydrokit.simulate.sysid_stats.verdict`: held-out NRMSE, residuals against
+        the sensor noise and their whiteness)
     method : str; iterations : int; step_check : float — max |Δθ|/σ on halving the step
     timing : dict — seconds: total, simulation
     """
@@ -102,6 +113,7 @@ class SysidResult(Result):
     predictions: list[dict[str, Any]] = field(repr=False)
     messages: tuple[str, ...] = ()
     warnings: tuple[str, ...] = ()
+    verdict: dict[str, Any] = field(default_factory=lambda: {"fits": True, "reasons": []})
     method: str = "output-error"
     iterations: int = 0
     step_check: float = float("nan")
@@ -115,8 +127,8 @@ class SysidResult(Result):
         return np.column_stack([self.values - z * self.sigma, self.values + z * self.sigma])
 
     def to_dict(self) -> dict[str, Any]:
-        """sysid.json: parameters (value, σ, start, base, unit), correlation, condition number,
-        runs, noise, messages, warnings (SI)."""
+        """sysid.json, led by the verdict (``fits``, ``reasons``): parameters (value, σ, start,
+        base, unit), correlation, condition number, runs, noise, messages, warnings (SI)."""
         params = [
             {
                 "name": n,
@@ -143,6 +155,7 @@ class SysidResult(Result):
         ]
         return jsonable(
             {
+                "verdict": {"fits": bool(self.verdict["fits"]), "reasons": list(self.verdict["reasons"])},
                 "method": self.method,
                 "parameters": params,
                 "covariance": self.covariance,
@@ -171,6 +184,7 @@ class SysidResult(Result):
             (f"{n} ({u})", f"{v:.4g} ± {s:.2g}")
             for n, u, v, s in zip(self.parameters, self.units, self.values, self.sigma)
         ]
+        rows = [("verdict", "fits" if self.verdict["fits"] else "does not fit"), *rows]
         rows += [("condition number", self.condition), ("runs", len(self.runs))]
         return rows + [("note", m) for m in self.messages]
 
@@ -472,6 +486,35 @@ def _predict(
     return out
 
 
+def check_options(
+    vehicle: Vehicle, free: Sequence[str], method: str = "output-error", dt: float = 0.01
+) -> tuple[Vehicle, list[Parameter]]:
+    """Check what :func:`identify` is asked before any run is read: the method, the step, the
+    vehicle's thrusters and every free name (a bad one with the nearest valid names).
+
+    Parameters
+    ----------
+    vehicle : Vehicle — the base; free : names; method : str; dt : float — integration step, s
+
+    Returns
+    -------
+    The vehicle with absent free terms added at 0 and the parameters
+    (:func:`hydrokit.simulate.sysid_model.free_parameters`).
+
+    Raises
+    ------
+    InputError
+        One line naming the option, the bad value and what was expected.
+    """
+    if method not in METHODS:
+        raise InputError(f"method {method!r}: expected one of {', '.join(METHODS)}")
+    if not (math.isfinite(dt) and 0 < dt <= 0.1):
+        raise InputError(f"dt = {dt}: expected an integration step 0 < dt ≤ 0.1 s")
+    if vehicle.thrusters is None:
+        raise InputError(f"vehicle {vehicle.name!r} has no thrusters: the runs' commands cannot be turned into forces")
+    return free_parameters(vehicle, list(free))
+
+
 def identify(
     vehicle: Vehicle,
     runs: Sequence[RunData],
@@ -548,15 +591,9 @@ def _identify(
     from hydrokit.simulate.sysid_smooth import equation_error, initial_noise, smooth_run, tau_on_grid
 
     t_start = _time.perf_counter()
-    if method not in METHODS:
-        raise InputError(f"method {method!r}: expected one of {', '.join(METHODS)}")
     if not runs:
         raise InputError("no training run; expected at least one run file")
-    if vehicle.thrusters is None:
-        raise InputError(f"vehicle {vehicle.name!r} has no thrusters: the runs' commands cannot be turned into forces")
-    if not (math.isfinite(dt) and 0 < dt <= 0.1):
-        raise InputError(f"dt = {dt}: expected an integration step 0 < dt ≤ 0.1 s")
-    veh, params = free_parameters(vehicle, list(free))
+    veh, params = check_options(vehicle, free, method, dt)
     p = len(params)
     base = values_of(veh, params)
     th = veh.thrusters
@@ -659,13 +696,14 @@ def _identify(
     _, x0s = problem.unpack(z)
     fitted = _predict(problem, theta, cov, x0s, preps, samples, seed)
     hold_preps = [prepare_run(r, th, dt, surfaces=veh.surfaces.names) for r in holdout]
-    hold_x0 = [smooth_run(r).at(float(r.time[0])) for r in holdout]
+    hold_smoothed = [smooth_run(r) for r in holdout]
+    hold_x0 = [sm.at(float(r.time[0])) for sm, r in zip(hold_smoothed, holdout)]
     if cut is not None:
         hold_preps, hold_x0, hold_smoothed = cut.holdout(holdout, th, dt, veh.surfaces.names)
     held = _predict(problem, theta, cov, hold_x0, hold_preps, samples, seed + 1)
     run_rows, predictions = [], []
-    for prep, (nom, lo, hi), is_hold in [(a, b, False) for a, b in zip(preps, fitted)] + [
-        (a, b, True) for a, b in zip(hold_preps, held)
+    for prep, (nom, lo, hi), is_hold, sm in [(a, b, False, c) for a, b, c in zip(preps, fitted, smoothed)] + [
+        (a, b, True, c) for a, b, c in zip(hold_preps, held, hold_smoothed)
     ]:
         row: dict[str, Any] = {"name": prep.name, "holdout": is_hold, "duration_s": prep.duration, "channels": {}}
         k = 0
@@ -673,9 +711,8 @@ def _identify(
         for c, t, y in zip(prep.channels, prep.times, prep.values):
             e = y - nom[k : k + t.size]
             entry = {"samples": int(t.size), "residual_rms": float(np.sqrt(np.mean(e**2))), "whiteness": whiteness(e)}
-            sd = float(np.std(y))
-            if is_hold:
-                entry["nrmse"] = float(np.sqrt(np.mean(e**2)) / sd) if sd > 0 else float("nan")
+            # the sensor noise of this run's channel from the smoother (independent of the model)
+            entry.update(channel_checks(y, e, sm.noise.get(c, float("nan"))))
             row["channels"][c] = entry
             chans[c] = {
                 "time": t + prep.t0,
@@ -710,6 +747,7 @@ def _identify(
         predictions=predictions,
         messages=tuple(msgs),
         warnings=tuple(warnings),
+        verdict=verdict(run_rows),
         method=method,
         iterations=iterations,
         step_check=step_check,
@@ -738,4 +776,4 @@ def _channel_rms(problem: _Problem, r: np.ndarray) -> dict[str, float]:
     return {c: max(float(np.sqrt(np.mean(np.concatenate(v) ** 2))), 1e-9) for c, v in acc.items()}
 
 
-__all__ = ["CHANNELS", "METHODS", "SysidResult", "identify"]
+__all__ = ["CHANNELS", "METHODS", "SysidResult", "check_options", "identify"]

@@ -88,6 +88,21 @@ def _term_unit(term: Any) -> str:
     return f"{force} per product of velocities (SI)"
 
 
+def valid_names(vehicle: Vehicle) -> list[str]:
+    """Every free name ``vehicle`` surely has: the diagonal coefficients of its kept DOFs and
+    its own terms (``terms.<term>``; any other term of the grammar is valid too)."""
+    kept = [DOF_NAMES[i] for i in vehicle.dofs]
+    return [f"{c}.{d}" for c in COEFFICIENTS for d in kept] + [f"terms.{n}" for n in vehicle.terms.names]
+
+
+def nearest_names(name: str, vehicle: Vehicle) -> str:
+    """``" (nearest: a, b)"`` — the valid names closest to a bad ``name`` (difflib), or ``""``."""
+    import difflib
+
+    near = difflib.get_close_matches(name, valid_names(vehicle), n=3, cutoff=0.6)
+    return f" (nearest: {', '.join(near)})" if near else ""
+
+
 def free_parameters(vehicle: Vehicle, names: Sequence[str], source: str = "--free") -> tuple[Vehicle, list[Parameter]]:
     """Check free names and return the vehicle (with absent velocity terms added at 0) and the
     parameters, in the order given.
@@ -114,11 +129,15 @@ def free_parameters(vehicle: Vehicle, names: Sequence[str], source: str = "--fre
             continue
         if head != "terms" or not rest:
             raise InputError(
-                f"free parameter {name[:80]!r} does not exist; expected '<coefficient>.<dof>' with coefficient one "
-                f"of {', '.join(COEFFICIENTS)} and dof one of {', '.join(DOF_NAMES)}, or 'terms.<term>' (e.g. terms.N_r|r|)",
+                f"free parameter {name[:80]!r} does not exist{nearest_names(name, vehicle)}; expected "
+                f"'<coefficient>.<dof>' with coefficient one of {', '.join(COEFFICIENTS)} and dof one of "
+                f"{', '.join(DOF_NAMES)}, or 'terms.<term>' (e.g. terms.N_r|r|)",
                 source,
             )
-        term = parse_term(rest, f"{source} {name}", vehicle.surfaces.names)
+        try:
+            term = parse_term(rest, f"{source} {name}", vehicle.surfaces.names)
+        except InputError as exc:
+            raise InputError(f"{exc.detail}{nearest_names(name, vehicle)}", exc.source) from None
         if term.acceleration is not None:
             out.append(Parameter(name, "accel", term.dof, term.acceleration, _term_unit(term)))
             continue
