@@ -309,21 +309,16 @@ def sysid(
     SysidResult — values, σ, covariance, correlations, condition number, residuals, warnings;
     ``to_dict()``, ``plot()``
     """
-    from hydrokit.io.runlog import read_run
+    from hydrokit.io.runlog import read_runs
     from hydrokit.simulate.sysid import identify
 
     v = _as_vehicle(vehicle)
-    names = v.thrusters.names if v.thrusters is not None else []
-
-    def read(r: Any) -> Any:
-        return r if hasattr(r, "channels") else read_run(r, names, v.surfaces.names, v.surfaces.max_deflection)
-
     listed = [n.strip() for n in free.split(",")] if isinstance(free, str) else list(free)
     return identify(
         v,
-        [read(r) for r in runs],
+        read_runs(runs, v),
         listed,
-        [read(r) for r in holdout],
+        read_runs(holdout, v),
         method=method,
         dt=dt,
         samples=samples,

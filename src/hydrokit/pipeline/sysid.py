@@ -76,16 +76,16 @@ def sysid_step(
 
     Returns
     -------
-    dict — ``parameters`` (name → value, sigma, unit, start, base, equation_error,
-    identifiable, truth), ``covariance`` (SI², in ``names`` order), ``result`` (sysid.json
-    without the prediction series), ``figures`` (base64 PNG), ``warnings``.
+    dict — ``verdict`` (``fits``, ``reasons``: does the model describe the runs), ``parameters``
+    (name → value, sigma, unit, start, base, equation_error, identifiable, truth), ``covariance``
+    (SI², in ``names`` order), ``result`` (sysid.json without the prediction series),
+    ``figures`` (base64 PNG), ``warnings`` (the verdict's reasons first when it does not fit).
     """
-    from hydrokit.io.runlog import read_run
-    from hydrokit.simulate.sysid import identify
+    from hydrokit.io.runlog import read_runs
+    from hydrokit.simulate.sysid import check_options, identify
 
-    names = vehicle.thrusters.names
-    runs = [read_run(p, names) for p in spec.runs]
-    holdout = [read_run(p, names) for p in spec.holdout]
+    check_options(vehicle, list(spec.free), spec.method, spec.dt)  # a bad free name before any run is read
+    runs, holdout = read_runs(spec.runs, vehicle), read_runs(spec.holdout, vehicle)
     result = identify(
         vehicle,
         runs,
@@ -111,7 +111,8 @@ def sysid_step(
             "identifiable": entry["identifiable"],
             "truth": truth.get(entry["name"]),
         }
-    warnings = [f"sysid: {m}" for m in (*result.messages, *result.warnings)]
+    said = [] if result.verdict["fits"] else [f"sysid: {r}" for r in result.verdict["reasons"]]
+    warnings = said + [f"sysid: {m}" for m in (*result.messages, *result.warnings)]
     for name, p in params.items():
         s = p["sigma"]
         if s is not None and math.isfinite(s) and s >= abs(p["value"]):
@@ -119,6 +120,7 @@ def sysid_step(
                 f"sysid: {name} = {p['value']:.4g} ± {s:.2g}: σ exceeds the value, not identifiable from these runs"
             )
     return {
+        "verdict": doc["verdict"],
         "runs": [rel(p) for p in spec.runs],
         "holdout": [rel(p) for p in spec.holdout],
         "pattern": spec.pattern,
@@ -176,29 +178,46 @@ def diagonal_values(step: Mapping[str, Any] | None) -> dict[str, dict[str, dict[
     return out
 
 
+def _named_surfaces(name: str) -> tuple[str, ...]:
+    """The surface names a term's ``delta(NAME)`` factors use (``terms.Y_uu*delta(rudder)`` →
+    rudder): the DOF of a term does not depend on which surfaces the vehicle has."""
+    import re
+
+    return tuple(re.findall(r"delta\(\s*([^()\s]+)\s*\)", name))
+
+
+def doc_surfaces(doc: Mapping[str, Any]) -> tuple[str, ...]:
+    """The control-surface names of a vehicle document (its ``control_surfaces:`` entries)."""
+    entries = doc.get("control_surfaces") or []
+    return tuple(str(e["name"]) for e in entries if isinstance(e, Mapping) and "name" in e)
+
+
 def term_dof(name: str) -> str:
-    """The DOF whose force a ``terms.<term>`` parameter enters (``terms.N_r|r|`` → yaw)."""
-    return DOF_NAMES[check_parameter(name, "parameter", "").dof]
+    """The DOF whose force a ``terms.<term>`` parameter enters (``terms.N_r|r|`` → yaw;
+    ``terms.N_uu*delta(rudder)`` → yaw)."""
+    return DOF_NAMES[check_parameter(name, "parameter", "", _named_surfaces(name)).dof]
 
 
 def write_terms(doc: dict[str, Any], values: Sequence[tuple[str, float]]) -> dict[str, Any]:
     """Write identified ``terms.<term>`` values (SI, as :mod:`hydrokit.model.uncertainty` names
     them) into the vehicle document ``doc`` (changed in place and returned).
 
-    A velocity term replaces the file's entry of the same term (however spelt) with its SI
+    ``delta(NAME)`` factors name the document's ``control_surfaces``. A velocity term replaces
+    the file's entry of the same term (however spelt) with its SI
     value; an acceleration term (``terms.Y_vdot``, value −M_A[dof, acceleration]) is written as
     the file term that, with the document's ``added_mass`` entry, gives that M_A entry:
     term = added_mass[dof][acceleration] + value (the file subtracts a term from M_A).
     """
     terms = dict(doc.get("terms") or {})
+    surfaces = doc_surfaces(doc)
     spelt = {}
     for key in terms:
         try:
-            spelt[location(check_parameter(TERM_PREFIX + str(key), "term", ""))] = key
-        except InputError:  # a delta(NAME) term of the file's surfaces: not a free one of sysid
+            spelt[location(check_parameter(TERM_PREFIX + str(key), "term", "", surfaces))] = key
+        except InputError:  # not a term this document's vehicle could load: never a free one
             continue
     for name, v in values:
-        ref = check_parameter(name, "parameter", "")
+        ref = check_parameter(name, "parameter", "", surfaces)
         key = spelt.get(location(ref), name[len(TERM_PREFIX) :])
         value = float(v)
         if ref.kind == "accel":
