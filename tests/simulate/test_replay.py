@@ -145,3 +145,25 @@ def test_course_keeping_before_the_execute_is_not_a_side():
     assert det.manoeuvre.kind == "zigzag"
     assert det.executes == pytest.approx((40.0, 60.0, 80.0, 100.0, 120.0), abs=1e-9)
     assert det.manoeuvre.deflection == pytest.approx(math.radians(-20.0))
+
+
+def test_result_is_json_table_and_plot(mariner, zigzag_trial):
+    """The replay's result as the other results: JSON-ready, a table of both tracks, drawn on the
+    caller's axes (the measured and the predicted track, each from the execute point)."""
+    import json
+
+    from hydrokit.plot._mpl import new_figure
+
+    _, run = zigzag_trial
+    rp = replay(mariner, run, tau=FORCE, dt=DT)
+    doc = json.loads(json.dumps(rp.to_dict(), allow_nan=False))
+    assert doc["trial"]["executes"][0] == 0.0 and doc["predicted"]["check_angle_deg"] == 20.0
+    cols, rows = rp.table()
+    assert cols[:3] == ["time", "rudder", "measured_x"] and len(rows) == rp.measured.time.size
+    k = cols.index("measured_psi")
+    assert rows[-1][k] == pytest.approx(float(rp.measured.eta[-1, 5]))
+    ax = new_figure().add_subplot(1, 1, 1)
+    assert rp.plot(ax) is ax
+    labels = [ln.get_label() for ln in ax.get_lines()]
+    assert labels.count("measured") == 1 and labels.count("predicted") == 1
+    assert "<table" in rp._repr_html_()
