@@ -123,3 +123,28 @@ def test_pull_out_of_a_boat_that_cannot_leave_its_turn_is_an_error(run_cli, tmp_
     assert "pull-out: the -20° side turned the same way as the +20° side (yaw rates " in err
     assert "the vehicle was not brought back to a straight course between them" in err
     assert sorted(p.name for p in out.iterdir()) == ["trajectory.csv"]
+
+
+@pytest.mark.parametrize(
+    ("args", "match"),
+    [
+        (("--initial-velocity", "1,0,0,0,0,nan"), "--initial-velocity"),
+        (("--command", "prop=20"), "vehicle 'mariner' has no thrusters"),
+        (("--surface", "fin"), "--surface 'fin': the vehicle has rudder"),
+        (("--turning-circle", "45"), "expected at most the surface's max_deflection_deg 40°"),
+    ],
+)
+def test_every_option_is_checked_before_the_dynamics_are_built(run_cli, tmp_path, monkeypatch, args, match):
+    """A bad setting is refused before the (compiled) dynamics are built and anything is flown."""
+    import hydrokit.simulate.compiled as compiled
+
+    def never(*a, **k):
+        raise AssertionError("the dynamics were built before the refusal")
+
+    monkeypatch.setattr(compiled, "make_dynamics", never)
+    monkeypatch.setattr(M, "fly_manoeuvre", never)
+    manoeuvre = () if "--turning-circle" in args else ("--zigzag", "10/10")
+    code, stdout, err = run_cli("manoeuvre", "mariner", "--out", tmp_path / "bad", *manoeuvre, *args)
+    assert code == 2 and match in err, err
+    assert len(err.strip().splitlines()) == 1 and stdout == ""
+    assert not (tmp_path / "bad").exists() or not any((tmp_path / "bad").iterdir())

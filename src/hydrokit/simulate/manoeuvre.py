@@ -1201,16 +1201,6 @@ def run_manoeuvre(
     check_vehicle(vehicle, manoeuvre)
     idx = steering_surface(names, manoeuvre.kind, surface)
     check_settings(manoeuvre, float(vehicle.surfaces.max_deflection[idx]), dt, duration)
-    if loop == "compiled":
-        from hydrokit.simulate.compiled import make_dynamics
-
-        f = make_dynamics(vehicle, current_ned)
-    elif loop == "python":
-        from hydrokit.model.dynamics import vehicle_dynamics
-
-        f = vehicle_dynamics(vehicle, current_ned)
-    else:
-        raise InputError(f"loop = {loop!r}: expected compiled or python")
     x0 = np.zeros(12)
     for part, a in ((slice(0, 6), eta0), (slice(6, 12), nu0)):
         if a is not None:
@@ -1229,6 +1219,20 @@ def run_manoeuvre(
             raise InputError(f"force {_shown(tau)} with commands: expected 6 finite numbers (N, N·m)")
         drive = ThrusterDrive(vehicle.thrusters, command, force, current_ned)
         notes = list(vehicle.thrusters.notes)
+    if loop not in ("compiled", "python"):
+        raise InputError(f"loop = {loop!r}: expected compiled or python")
+    if not callable(tau):  # every setting is checked before the dynamics are built
+        tau_c = np.asarray(tau, float)
+        if tau_c.shape != (6,) or not np.all(np.isfinite(tau_c)):
+            raise InputError(f"force {_shown(tau)}: expected 6 finite numbers (N, N·m)")
+    if loop == "compiled":
+        from hydrokit.simulate.compiled import make_dynamics
+
+        f = make_dynamics(vehicle, current_ned)
+    else:
+        from hydrokit.model.dynamics import vehicle_dynamics
+
+        f = vehicle_dynamics(vehicle, current_ned)
     s = vehicle.surfaces
     held = holding_surfaces(f, tuple(vehicle.dofs), len(names), manoeuvre.kind, idx, hold)
     time, states, defl, logic, warnings = fly_manoeuvre(
