@@ -145,6 +145,11 @@ def test_course_keeping_before_the_execute_is_not_a_side():
     assert det.manoeuvre.kind == "zigzag"
     assert det.executes == pytest.approx((40.0, 60.0, 80.0, 100.0, 120.0), abs=1e-9)
     assert det.manoeuvre.deflection == pytest.approx(math.radians(-20.0))
+    assert det.notes == ()
+    # a helmsman reversing at 12° to 28° instead of one check angle: said in a note
+    psi = lambda tt: np.radians(np.interp(tt, [0, 40, 60, 80, 100, 120], [0, 0, 12, -28, 12, -28]))  # noqa: E731
+    odd = detect_manoeuvre(t, np.radians(d), psi)
+    assert odd.notes and "changed by 12° to 28° at the rudder reversals" in odd.notes[0]
 
 
 def test_result_is_json_table_and_plot(mariner, zigzag_trial):

@@ -55,6 +55,8 @@ SIDE_FRACTION = 0.5
 #: the surface is moving towards its new side while each row changes by more than this fraction
 #: of the largest deflection (the walk back from the side to the execute)
 MOVING_FRACTION = 0.01
+#: a zigzag's heading changes at the reversals may spread by this fraction of B before a warning
+CHECK_SPREAD = 0.25
 #: seconds of samples fitted for the initial state (at least INITIAL_MIN_SAMPLES samples)
 INITIAL_WINDOW = 0.5
 INITIAL_MIN_SAMPLES = 3
@@ -68,11 +70,13 @@ class Detected:
     manoeuvre : Manoeuvre — kind, deflection A (rad, signed: the first side), check angle B (rad)
     executes : tuple of float — s, file time of every execute (the first is the manoeuvre's start)
     end : float — s, file time of the record's end (the last row the surface held its side)
+    notes : tuple of str — what looked unlike the standard manoeuvre (for the warnings)
     """
 
     manoeuvre: Manoeuvre
     executes: tuple[float, ...]
     end: float
+    notes: tuple[str, ...] = ()
 
 
 def _sides(time: np.ndarray, delta: np.ndarray) -> list[tuple[int, int, int]]:
@@ -180,7 +184,14 @@ def detect_manoeuvre(
             f"{math.degrees(float(np.median(change))):.3g}° at the reversals; expected a zigzag's check angle "
             "between 1° and 89°"
         )
-    return Detected(Manoeuvre("zigzag", a, check_angle=b), executes, end)
+    notes: tuple[str, ...] = ()
+    if float(np.ptp(change)) > CHECK_SPREAD * b:
+        notes = (
+            f"zigzag: the heading changed by {math.degrees(float(np.min(change))):.3g}° to "
+            f"{math.degrees(float(np.max(change))):.3g}° at the rudder reversals, not one check angle; B = "
+            f"{math.degrees(b):g}° is their median",
+        )
+    return Detected(Manoeuvre("zigzag", a, check_angle=b), executes, end, notes)
 
 
 # ------------------------------------------------------------------------------ the measured track
@@ -474,7 +485,7 @@ def replay(
     }
     m_res = measure(det.manoeuvre, time, meas, d_grid, logic, **kw)  # type: ignore[arg-type]
     p_res = measure(det.manoeuvre, time, pred, d_grid, logic, **kw)  # type: ignore[arg-type]
-    warnings = [*vehicle.warnings, *getattr(run, "warnings", ()), *notes]
+    warnings = [*vehicle.warnings, *getattr(run, "warnings", ()), *det.notes, *notes]
     for what, r in (("measured", m_res), ("predicted", p_res)):
         if r.problem:
             warnings.append(f"{what}: {r.problem}")
