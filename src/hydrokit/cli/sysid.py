@@ -69,6 +69,14 @@ sysid.add_command(generate)
     "--samples", type=Count(0), default=40, show_default=True, help="Monte Carlo draws for the prediction band (count)."
 )
 @click.option("--seed", type=SEED, default=0, show_default=True, help="Seed of the Monte Carlo draws (integer).")
+@click.option(
+    "--window",
+    default="auto",
+    show_default=True,
+    help="Fit windows of about this length, s, each started from its smoothed state (for runs that drift open "
+    "loop, e.g. a course-unstable hull); 'auto': 30 s windows only when a run drifts at the start values; "
+    "'none': whole runs.",
+)
 def fit(runs: tuple[str, ...], vehicle: str, free: str, out_dir: str, holdout: tuple[str, ...], **opts: Any) -> None:
     """Identify the --free coefficients of --vehicle from the run files RUN... (CSV: time s; x y z m,
     phi theta psi rad, u v w m/s, p q r rad/s, empty = no sample; one command column per thruster)."""
@@ -85,6 +93,9 @@ def fit(runs: tuple[str, ...], vehicle: str, free: str, out_dir: str, holdout: t
     names = _names((free,))
     check_options(base, names, opts["method"], opts["dt"])  # every option before a run is read or printed
     train, held = read_runs(runs, base), read_runs(_names(holdout), base)
+    from hydrokit.simulate.sysid_window import check_window
+
+    check_window(opts["window"], train)  # a window longer than a run: refused before the fit
     for line in describe_runs(train, held):
         click.echo(line, err=True)
     for r in (*train, *held):

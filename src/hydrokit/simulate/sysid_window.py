@@ -35,11 +35,13 @@ Jacobian gives exactly the parameters' block of the covariance with every initia
 (the Schur complement of the information matrix).
 
 ``window="auto"`` (the default of ``hydrokit sysid``): each training run is first simulated
-open loop from its smoothed first state with the start values (equation error); a run drifts
-when a velocity channel's NRMSE exceeds :data:`DRIFT_NRMSE` (the prediction is worse than the
-channel's own mean: a stable vehicle forgets its initial state, its velocities follow the
-inputs) or the simulation diverges. If any run drifts, every run is cut into windows of
-:data:`DEFAULT_WINDOW` seconds, and the result's warnings say so with the run and channel.
+open loop from its smoothed first state with the start values (equation error), once as it
+is and once with each measured initial velocity perturbed; a run drifts when such an initial
+error grows more than :data:`DRIFT_GROWTH` times over the run (an unstable mode — a
+course-unstable hull's sway–yaw — amplifies it; a stable vehicle forgets its initial state)
+or the simulation diverges. If any run drifts, every run is cut into windows of
+:data:`DEFAULT_WINDOW` seconds, and the result's warnings say so, naming the run, the velocity
+and the growth (runs shorter than 1.5 windows are fitted whole without looking).
 """
 
 from __future__ import annotations
@@ -66,14 +68,14 @@ from hydrokit.simulate.sysid_model import (
 
 #: window length chosen by ``auto`` when a run drifts, s (20–30 s: what ship-model trials use)
 DEFAULT_WINDOW = 30.0
-#: a velocity channel whose open-loop NRMSE at the start values exceeds this drifts (–)
-DRIFT_NRMSE = 1.0
+#: a run drifts when an error of its initial velocity grows more than this over the run (–)
+DRIFT_GROWTH = 10.0
+#: the perturbation of an initial velocity that measures its growth, m/s or rad/s
+_PROBE = 1e-6
 #: an accepted step that lowers the weighted cost χ² by less than this ends the fit (–)
 CHI2_TOL = 0.01
 #: finite-difference step of an initial state, SI (m, rad, m/s, rad/s)
 _STATE_STEP = 1e-7
-#: the velocity channels looked at for drift
-_VELOCITIES = CHANNELS[6:]
 
 
 def parse_window(value: Any, source: str = "--window") -> float | str | None:
@@ -314,28 +316,70 @@ def drift(
     values: np.ndarray,
     preps: Sequence[PreparedRun],
     x0: Sequence[np.ndarray],
+    known: Sequence[np.ndarray],
+    threshold: float = DRIFT_GROWTH,
 ) -> list[str]:
-    """The training runs that drift in an open-loop simulation of ``vehicle`` with ``params``
-    at ``values`` (SI) from their initial states ``x0`` (module docstring): one phrase per
-    drifting run, naming the channel and its NRMSE (or the time it diverged)."""
+    """The training runs that drift open loop (module docstring): one phrase per drifting run,
+    naming the velocity whose initial error grows most and by how much (or when it diverged).
+
+    Parameters
+    ----------
+    vehicle : Vehicle with the free terms; params : the free parameters; values : (p,) their
+        values, SI
+    preps : the prepared runs; x0 : (12,) each run's initial state (SI); known : (12,) bool
+        each run's measured states
+    threshold : float — growth above which a run drifts (–)
+
+    Every measured velocity of the initial state is perturbed by :data:`_PROBE` (m/s, rad/s)
+    in its own simulation of the run (one batch); the growth of a perturbation is the largest
+    |Δ| of the same velocity over the run divided by the perturbation.
+    """
+    from hydrokit.core.names import VELOCITY_SYMBOLS
+
     packs = stack_packs([with_values(vehicle, params, values)])
     out = []
-    for prep, x in zip(preps, x0):
-        pred, done = simulate_run(prep, packs, np.asarray(x, float)[None])
+    for prep, x, kn in zip(preps, x0, known):
+        probe = [i for i in range(6, 12) if kn[i] and CHANNELS[i] in prep.channels]
+        X0 = np.repeat(np.asarray(x, float)[None], 1 + len(probe), axis=0)
+        for j, i in enumerate(probe):
+            X0[1 + j, i] += _PROBE
+        pred, done = simulate_run(prep, _take(packs, [0] * (1 + len(probe))), X0)
         if done[0] < math.ceil(prep.duration / prep.dt - 1e-9) or not np.all(np.isfinite(pred[0])):
             out.append(f"{prep.name} diverged at t = {int(done[0]) * prep.dt:.1f} s")
             continue
-        k, worst = 0, (0.0, "")
-        for c, t, y in zip(prep.channels, prep.times, prep.values):
-            e = y - pred[0, k : k + t.size]
-            k += t.size
-            sd = float(np.std(y))
-            if c in _VELOCITIES and sd > 0:
-                q = float(np.sqrt(np.mean(e**2)) / sd)
-                worst = max(worst, (q, c))
-        if worst[0] > DRIFT_NRMSE:
-            out.append(f"{prep.name} ({worst[1]} NRMSE {worst[0]:.2f})")
+        worst = (0.0, "")
+        for j, i in enumerate(probe):
+            k = prep.channels.index(CHANNELS[i])
+            a = sum(t.size for t in prep.times[:k])
+            b = a + prep.times[k].size
+            delta = pred[1 + j, a:b] - pred[0, a:b]
+            grow = float(np.max(np.abs(delta)) / _PROBE) if np.all(np.isfinite(delta)) else math.inf
+            worst = max(worst, (grow, VELOCITY_SYMBOLS[i - 6]))
+        if worst[0] > threshold:
+            out.append(f"{prep.name} (an error in its initial {worst[1]} grows {worst[0]:.3g}×)")
     return out
+
+
+def check_window(window: Any, runs: Sequence[RunData]) -> float | str | None:
+    """``window`` parsed (:func:`parse_window`) and checked against the runs' lengths.
+
+    Raises
+    ------
+    InputError
+        A bad value, or a window longer than a run (naming the run and both lengths, s).
+    """
+    length = parse_window(window)
+    if isinstance(length, float):
+        for r in runs:
+            t = np.asarray(r.time, float)
+            duration = float(t[-1] - t[0]) if t.size else 0.0
+            if length > duration + 1e-9:
+                raise InputError(
+                    f"window {length:g} s is longer than run {r.name} ({duration:g} s); expected a window ≤ "
+                    f"{duration:g} s, or 'none' to fit whole runs",
+                    "--window",
+                )
+    return length
 
 
 def cut_runs(
@@ -366,23 +410,16 @@ def cut_runs(
         return None
     x0 = [s.at(float(p.t0)) for s, p in zip(smoothed, preps)]
     if window == "auto":
-        drifting = drift(vehicle, params, start, preps, x0)
+        if all(len(spans(p.duration, DEFAULT_WINDOW, p.dt)) == 1 for p in preps):
+            return None  # no run long enough to cut: whole runs
+        drifting = drift(vehicle, params, start, preps, x0, [sm.known for sm in smoothed])
         if not drifting:
             return None
         length = DEFAULT_WINDOW
-        why = (
-            f"the open-loop simulation at the start values (equation error) drifts: {', '.join(drifting)} > "
-            f"{DRIFT_NRMSE:g}"
-        )
+        why = f"the open-loop simulation at the start values (equation error) drifts: {', '.join(drifting)}"
     else:
         length = float(window)
-        for r, p in zip(runs, preps):
-            if length > p.duration + 1e-9:
-                raise InputError(
-                    f"window {length:g} s is longer than run {r.name} ({p.duration:g} s); expected a window ≤ "
-                    f"{p.duration:g} s, or 'none' to fit whole runs",
-                    "--window",
-                )
+        check_window(length, runs)
         why = "as asked"
     dt = preps[0].dt
     cut, owner = _cut_preps(preps, length, dt)
@@ -400,4 +437,14 @@ def cut_runs(
     )
 
 
-__all__ = ["DEFAULT_WINDOW", "DRIFT_NRMSE", "Windows", "crop", "cut_runs", "drift", "parse_window", "spans"]
+__all__ = [
+    "DEFAULT_WINDOW",
+    "DRIFT_GROWTH",
+    "Windows",
+    "check_window",
+    "crop",
+    "cut_runs",
+    "drift",
+    "parse_window",
+    "spans",
+]
