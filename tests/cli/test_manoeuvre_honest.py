@@ -103,7 +103,7 @@ def test_pull_out_prints_both_sides_with_units(run_cli, tmp_path):
     sides = doc["pull_out"]["sides"]
     assert [s["deflection_deg"] for s in sides] == [20.0, -20.0]
     assert sides[0]["yaw_rate_before"] * sides[1]["yaw_rate_before"] < 0
-    assert stdout.startswith("pull-out, rudder at ±20°:")
+    assert stdout.startswith("pull-out at ±20°, rudder:")
     for s, line in zip(sides, [ln for ln in stdout.splitlines() if ln.strip().startswith("side ")]):
         assert line.strip().startswith(f"side {s['deflection_deg']:+.4g}°: yaw rate before ")
         assert f"residual yaw rate {s['residual_yaw_rate']:.4g} rad/s" in line

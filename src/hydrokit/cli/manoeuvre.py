@@ -111,7 +111,7 @@ def manoeuvre(
         )
     if res.hold:
         click.echo("held: " + ", ".join(f"{k} by {n}" for k, n in res.hold.items()), err=True)
-    click.echo(f"{'pull-out' if m.kind == 'pull_out' else m.kind.replace('_', ' ')}, {res.surface} {_setting(res)}:")
+    click.echo(f"{'pull-out' if m.kind == 'pull_out' else m.kind.replace('_', ' ')}{_setting(res)}, {res.surface}:")
     for line in describe(m.kind, res.metrics):
         click.echo("  " + line)
     for c in res.imo():
@@ -121,16 +121,17 @@ def manoeuvre(
 
 
 def _setting(res: Any) -> str:
-    """The manoeuvre's settings as a person reads them: "at 35°", "10°/10°", "5 m at 15°"."""
+    """The manoeuvre's settings as a person reads them: " at 35°", " 10°/10°", " +5 m at 15°",
+    " (direct)"."""
     p = res.manoeuvre.parameters()
     a = p.get("deflection_deg")
     if "check_angle_deg" in p:
-        return f"{a:.4g}°/{p['check_angle_deg']:.4g}°"
+        return f" {a:.4g}°/{p['check_angle_deg']:.4g}°"
     if "depth_change" in p:
-        return f"{p['depth_change']:+.4g} m at {abs(a):.4g}°"
+        return f" {p['depth_change']:+.4g} m at {abs(a):.4g}°"
     if "mode" in p:
-        return p["mode"] + ("" if a is None else f" up to {a:.4g}°")
-    return f"at ±{abs(a):.4g}°" if res.kind == "pull_out" else f"at {a:.4g}°"
+        return f" ({p['mode']}" + ("" if a is None else f", up to {a:.4g}°") + ")"
+    return f" at ±{abs(a):.4g}°" if res.kind == "pull_out" else f" at {a:.4g}°"
 
 
 def _columns(res: Any) -> tuple[list[str], Any]:
