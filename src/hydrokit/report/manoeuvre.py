@@ -18,7 +18,9 @@ DEFINITIONS = (
     "MSC.137(76) 4.2.3–4.2.4); steady turning diameter, speed, yaw rate and drift angle over the last 360° "
     "of a turn held to 540° (ITTC 7.5-04-02-01 2.2.1). Zigzag: initial turning time to the second execute, "
     "overshoots past ±B after the second and third executes (IMO 4.2.7–4.2.8), period between the second "
-    "and fourth executes."
+    "and fourth executes. Pull-out (ITTC 2.2.6): steady turns at +δ and −δ, each from a straight course, "
+    "released to zero: the residual yaw rate, the time to half the turn's rate and the time to settle within "
+    "5 %. Spiral (ITTC 2.2.5): each step held until the yaw rate's means over two windows of 5 L/U agree."
 )
 
 
