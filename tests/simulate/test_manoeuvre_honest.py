@@ -137,6 +137,7 @@ def test_a_lost_depth_hold_is_not_called_holding():
     z = -np.linspace(0.0, 224.0, 300)
     res = _record(z, M.zigzag(0.26, 0.26), hold={"depth": "sternplane"})
     assert res.problem.startswith("zigzag: depth hold lost — the vehicle rose 224 m (more than 2.66 m")
+    assert "sank" not in res.problem  # it never went below where it started
     assert res.hold_lost is not None and res.to_dict()["hold_lost"] == res.hold_lost
     assert any("the depth hold by sternplane was lost" in w for w in res.warnings)
     kept = _record(np.linspace(0.0, 0.5, 300), M.zigzag(0.26, 0.26), hold={"depth": "sternplane"})
