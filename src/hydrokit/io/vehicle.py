@@ -42,6 +42,12 @@ propeller's) factors; ``X_0`` … ``N_0`` are constant terms (issue #48). ``hull
 drag strips and viscous lift of a body of revolution from its profile) is read by
 :mod:`hydrokit.io.hull`: its strips join the drag elements, its terms the ``terms:``.
 
+``wind:`` (issue #48 item 4) the wind-load model of the part above the water
+(:mod:`hydrokit.model.wind`, docs/model.md): ``frontal_area``, ``lateral_area`` (m²),
+``length`` (m), ``density`` (kg/m³, default 1.225) and either ``model: table`` with
+``coefficients: {angle_deg, C_X, C_Y, C_N}`` or ``model: blendermann1994`` with ``vessel`` (or
+``parameters``) and ``s_L`` (m).
+
 ``uncertainty:`` (written by ``hydrokit run``, docs/run.md) is read into
 ``Vehicle.uncertainty`` (:mod:`hydrokit.model.uncertainty`): standard errors per coefficient
 (6 numbers ≥ 0 each, SI), ``parameters`` (``<coefficient>.<dof>`` or ``terms.<term>``) and their
@@ -101,7 +107,23 @@ KNOWN = set(REQUIRED) | {
     "control_surfaces",
     "dofs",
     "hull",
+    "wind",
 }
+#: the keys of the ``wind`` block (frozen, issue #48 item 4)
+WIND_KEYS = (
+    "frontal_area",
+    "lateral_area",
+    "length",
+    "density",
+    "model",
+    "vessel",
+    "parameters",
+    "s_L",
+    "coefficients",
+    "source",
+)
+#: the keys of the ``wind.coefficients`` table
+WIND_TABLE_KEYS = ("angle_deg", "C_X", "C_Y", "C_N")
 #: the keys of the ``fluid`` block (the viscosity is read by other tools: Reynolds numbers)
 FLUID_KEYS = ("density", "kinematic_viscosity")
 #: the keys of one ``drag_elements`` entry (frozen, issue #11)
@@ -173,6 +195,72 @@ def _drag_elements(value: Any, source: str) -> list[DragElement]:
         p, lin, quad = ((float(a[0]), float(a[1]), float(a[2])) for a in triples)
         out.append(DragElement(name, p, lin, quad))
     return out
+
+
+def _wind(value: Any, source: str) -> Any:
+    """The ``wind:`` block (docs/model.md; :func:`hydrokit.model.wind.make_wind` checks the values)."""
+    from hydrokit.model.wind import AIR_DENSITY, MODELS, make_wind
+
+    block = mapping(value, "wind", source)
+    check_keys(block, WIND_KEYS, "wind", source)
+    for key in ("frontal_area", "lateral_area", "length"):
+        if key not in block:
+            raise InputError(f"field 'wind' has no '{key}': expected A_F, A_L (m^2) and L_oa (m)", source)
+    size = {k: number(block[k], f"wind.{k}", source, positive=True) for k in ("frontal_area", "lateral_area", "length")}
+    density = number(block.get("density", AIR_DENSITY), "wind.density", source, positive=True)
+    model = block.get("model", "table" if "coefficients" in block else None)
+    if model not in MODELS:
+        raise InputError(f"field 'wind.model' = {cut_repr(model)}: expected one of {', '.join(MODELS)}", source)
+    if model == "blendermann1994":
+        for key in ("coefficients",):
+            if key in block:
+                raise InputError(f"field 'wind.{key}' is for model table: not with blendermann1994", source)
+        if ("vessel" in block) == ("parameters" in block):
+            raise InputError(
+                "field 'wind': expected one of 'vessel' (a type of Blendermann 1994) or 'parameters' "
+                "[CD_t, CD_l_AF_bow, CD_l_AF_stern, delta]",
+                source,
+            )
+        vessel = block.get("vessel")
+        if vessel is not None and not isinstance(vessel, str):
+            raise InputError(f"field 'wind.vessel' = {cut_repr(vessel)}: expected a vessel type's name", source)
+        s_l = number(block.get("s_L", 0.0), "wind.s_L", source)
+        return make_wind(
+            model=model,
+            vessel=vessel,
+            parameters=block.get("parameters"),
+            s_L=s_l,
+            density=density,
+            source=source,
+            **size,
+        )
+    for key in ("vessel", "parameters", "s_L"):
+        if key in block:
+            raise InputError(f"field 'wind.{key}' is for model blendermann1994: not with a table", source)
+    if "coefficients" not in block:
+        raise InputError("field 'wind' has no 'coefficients': expected {angle_deg, C_X, C_Y, C_N} lists", source)
+    table = mapping(block["coefficients"], "wind.coefficients", source)
+    check_keys(table, WIND_TABLE_KEYS, "wind.coefficients", source)
+    cols = {}
+    for key in WIND_TABLE_KEYS:
+        raw = table.get(key)
+        if not isinstance(raw, list) or len(raw) < 2:
+            raise InputError(
+                f"field 'wind.coefficients.{key}' = {cut_repr(raw)}: expected a list of ≥ 2 numbers", source
+            )
+        cols[key] = [number(x, f"wind.coefficients.{key}[{i}]", source) for i, x in enumerate(raw)]
+    return make_wind(
+        size["frontal_area"],
+        size["lateral_area"],
+        size["length"],
+        density,
+        "table",
+        angles=np.radians(cols["angle_deg"]),
+        C_X=cols["C_X"],
+        C_Y=cols["C_Y"],
+        C_N=cols["C_N"],
+        source=source,
+    )
 
 
 def _uncertainty(
@@ -421,4 +509,5 @@ def parse_vehicle(data: dict[str, Any], source: str) -> Vehicle:
         surfaces,
         dofs,
         thrusters,
+        _wind(data["wind"], source) if data.get("wind") is not None else None,
     )

@@ -7,7 +7,9 @@ State (quaternion): x = [x, y, z, η, ε1, ε2, ε3, u, v, w, p, q, r]          
 ν_r = ν − [Rᵀ v_c; 0] with v_c the current in NED (constant, or a table over time);
 M ν̇_r = τ − C(ν_r) ν_r − D_L ν_r − D_Q|ν_r|ν_r + τ_terms(ν_r) + τ_drag(ν_r) − g(η), with C from
 M_RB + M_A (Fossen Theorem 3.2), τ_drag the wrench of the point drag elements
-(:func:`hydrokit.core.drag.drag_wrench`), and ν̇ = ν̇_r + d/dt [Rᵀ v_c; 0]
+(:func:`hydrokit.core.drag.drag_wrench`), plus the wind's X, Y, N when the vehicle has a wind
+model and the run a wind (:mod:`hydrokit.model.wind`, at ν minus the wind: the air moves over the
+ground, not with the water), and ν̇ = ν̇_r + d/dt [Rᵀ v_c; 0]
 = ν̇_r − [ω × Rᵀv_c − Rᵀ v̇_c; 0].
 
 :func:`pack` flattens a vehicle into arrays for the compiled integrators in
@@ -35,6 +37,7 @@ from hydrokit.errors import InputError
 from hydrokit.model.surfaces import FIN_WIDTH, fin_wrench
 from hydrokit.model.terms import add_term_forces, input_layout
 from hydrokit.model.vehicle import Vehicle
+from hydrokit.model.wind import wind_wrench
 
 Dynamics = Callable[..., np.ndarray]
 
@@ -44,7 +47,8 @@ class Packed:
     """A vehicle as flat arrays (SI).
 
     scal = [W, B, r_g (3), r_b (3), n, then 9 numbers per drag element, the DOF mask (6), m,
-    then FIN_WIDTH numbers per physical fin]: W and B in N, r_g and r_b in m, n the number of drag
+    then FIN_WIDTH numbers per physical fin, then the wind model's packed row when the vehicle has
+    one (:meth:`hydrokit.model.wind.WindModel.pack`; :func:`scal_wind` finds it)]: W and B in N, r_g and r_b in m, n the number of drag
     elements (stored as a float), and per element the packed row [x, y, z, Lx, Ly, Lz, Qx, Qy, Qz]
     (m, N·s/m, N·s²/m²; :mod:`hydrokit.core.drag`); the mask is 1 for a kept DOF and 0 for a
     dropped one (planar models); m the number of fins and their rows
@@ -91,6 +95,7 @@ def pack(v: Vehicle) -> Packed:
                 mask,
                 [fins.shape[0]],
                 fins.ravel(),
+                v.wind.pack() if v.wind is not None else np.zeros(0),
             ]
         ).astype(float),
         t_dof=v.terms.dof,
@@ -162,6 +167,12 @@ def scal_fins(scal: np.ndarray) -> tuple[int, int]:
     return o + 1, int(scal[o])
 
 
+def scal_wind(scal: np.ndarray) -> int:
+    """Index in a packed ``scal`` of the wind model's row (past the end: no wind model)."""
+    first, n = scal_fins(scal)
+    return first + FIN_WIDTH * n
+
+
 def stack_scal(rows: list[np.ndarray]) -> np.ndarray:
     """Stack the ``scal`` arrays of several vehicles, zero-padded to the longest (C order)."""
     width = max(r.shape[0] for r in rows)
@@ -172,17 +183,61 @@ def stack_scal(rows: list[np.ndarray]) -> np.ndarray:
 
 
 def current_table(current_ned: object) -> np.ndarray:
-    """A current given as None, 3 numbers (m/s, NED) or rows [t, v_N, v_E, v_D] → (n, 4) table."""
+    """A current given as None, 3 numbers (m/s, NED) or rows [t, v_N, v_E, v_D] → (n, 4) table;
+    an environment table of :func:`environment_table` (rows [t, v_N, v_E, v_D, w_N, w_E], the
+    current and the wind's velocity, m/s) is checked and kept whole."""
     if current_ned is None:
         return np.zeros((1, 4))
     a = np.asarray(current_ned, dtype=float)
     if a.shape == (3,):
         return np.concatenate([[0.0], a])[None, :]
-    if a.ndim == 2 and a.shape[1] == 4 and a.shape[0] >= 1:
+    if a.ndim == 2 and a.shape[1] in (4, 6) and a.shape[0] >= 1:
         if np.any(np.diff(a[:, 0]) <= 0):
             raise InputError("current table: times must increase strictly (s)")
+        if not np.all(np.isfinite(a)):
+            raise InputError("current or wind table: expected finite numbers (s, m/s)")
         return a
     raise InputError(f"current of shape {a.shape}: expected 3 values (m/s, NED) or rows [t, vN, vE, vD]")
+
+
+def wind_table(wind: object) -> np.ndarray:
+    """A wind given as (speed m/s, direction rad) — true, the direction it blows from, clockwise
+    from North — or rows [t s, speed, direction] → rows [t, w_N, w_E] of its velocity (m/s)."""
+    a = np.asarray(wind, dtype=float)
+    if a.shape == (2,):
+        a = np.concatenate([[0.0], a])[None, :]
+    if a.ndim != 2 or a.shape[1] != 3 or a.shape[0] < 1 or not np.all(np.isfinite(a)):
+        raise InputError(
+            f"wind of shape {a.shape}: expected speed (m/s) and direction (rad, from) or rows [t, speed, direction]"
+        )
+    if np.any(a[:, 1] < 0):
+        raise InputError(f"wind speed {a[:, 1].min():.6g} m/s: expected ≥ 0")
+    if np.any(np.diff(a[:, 0]) <= 0):
+        raise InputError("wind table: times must increase strictly (s)")
+    return np.column_stack([a[:, 0], -a[:, 1] * np.cos(a[:, 2]), -a[:, 1] * np.sin(a[:, 2])])
+
+
+def environment_table(current_ned: object = None, wind: object = None) -> np.ndarray:
+    """The current (:func:`current_table`) and the wind (:func:`wind_table`) on one time grid: rows
+    [t, v_N, v_E, v_D, w_N, w_E] (s, m/s), each interpolated linearly and held beyond its ends —
+    what the integrators take in place of a current. No wind: the current's own table."""
+    cur = current_table(current_ned)
+    if wind is None:
+        return cur
+    w = wind_table(wind)
+    t = np.union1d(cur[:, 0], w[:, 0])
+    cols = [np.interp(t, cur[:, 0], cur[:, j]) for j in (1, 2, 3)]
+    cols += [np.interp(t, w[:, 0], w[:, j]) for j in (1, 2)]
+    return np.column_stack([t, *cols])
+
+
+def check_wind(vehicle: Vehicle, table: np.ndarray) -> None:
+    """Refuse a wind that blows on a vehicle without a wind model (it would be ignored)."""
+    if vehicle.wind is None and table.shape[1] >= 6 and np.any(table[:, 4:6] != 0):
+        raise InputError(
+            f"a wind is given but vehicle {vehicle.name!r} has no wind model: expected a 'wind:' block in its "
+            "file (docs/model.md)"
+        )
 
 
 def interp_table(tab: np.ndarray, t: float) -> tuple[np.ndarray, np.ndarray]:
@@ -266,7 +321,8 @@ def vehicle_dynamics(vehicle: Vehicle, current_ned: object = None, attitude: str
     Parameters
     ----------
     vehicle : Vehicle
-    current_ned : None, 3 floats (m/s, NED) or (n, 4) rows [t s, v_N, v_E, v_D m/s]
+    current_ned : None, 3 floats (m/s, NED), (n, 4) rows [t s, v_N, v_E, v_D m/s] or the (n, 6)
+        rows of :func:`environment_table` (the wind's velocity w_N, w_E m/s after the current's)
     attitude : "euler" or "quaternion"
     """
     if attitude not in ("euler", "quaternion"):
@@ -275,8 +331,10 @@ def vehicle_dynamics(vehicle: Vehicle, current_ned: object = None, attitude: str
         raise InputError(f"vehicle {vehicle.name!r} is planar (dofs): expected attitude euler")
     p = pack(vehicle)
     ctab = current_table(current_ned)
+    check_wind(vehicle, ctab)
     quat = attitude == "quaternion"
     mask = p.scal[scal_mask_offset(p.scal) : scal_mask_offset(p.scal) + 6]
+    wfirst = scal_wind(p.scal)
 
     def f(
         t: float,
@@ -295,12 +353,18 @@ def vehicle_dynamics(vehicle: Vehicle, current_ned: object = None, attitude: str
         else:
             R = rotation_zyx(x[3], x[4], x[5])
             nu = x[6:12]
-        vc, vc_dot = interp_table(ctab, t)
+        env, env_dot = interp_table(ctab, t)
+        vc, vc_dot = env[:3], env_dot[:3]
         vcb = R.T @ vc
         nr = nu.copy()
         nr[:3] -= vcb
         tau = np.asarray(tau, float)
-        nr_dot = p.Minv @ (tau + hydro_force(p, nr, R, delta, float(tau[0])))
+        force = tau + hydro_force(p, nr, R, delta, float(tau[0]))
+        if env.shape[0] >= 5:
+            # the air moves over the ground: the relative wind is ν minus the wind in body axes
+            wb = R.T @ np.array([env[3], env[4], 0.0])
+            wind_wrench(p.scal, wfirst, float(nu[0] - wb[0]), float(nu[1] - wb[1]), force)
+        nr_dot = p.Minv @ force
         nu_dot = nr_dot
         nu_dot[:3] += -np.cross(nu[3:], vcb) + R.T @ vc_dot
         nu_dot *= mask

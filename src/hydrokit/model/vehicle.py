@@ -23,6 +23,7 @@ from hydrokit.core.rigid_body import rigid_body_mass_matrix
 from hydrokit.errors import InputError
 from hydrokit.model.surfaces import SurfaceSet
 from hydrokit.model.terms import TermSet
+from hydrokit.model.wind import WindModel
 
 #: relative asymmetry of M_RB + M_A tolerated (and symmetrised with a warning); larger is an error
 SYMMETRY_TOLERANCE = 1e-3
@@ -67,6 +68,8 @@ class Vehicle:
     thruster_names : tuple of str — the ``thrusters:`` block's names in file order, as the
         ``T(NAME)`` and ``n(NAME)`` term factors and a surface's race index them (the input vector
         [δ…, T…, n…], :func:`hydrokit.model.terms.input_layout`); empty when the file has none
+    wind : WindModel or None — the file's ``wind:`` block (:mod:`hydrokit.model.wind`): the loads of
+        a measured or given wind on the part above the water; None: the wind does not act
 
     A vehicle is equal only to itself (``eq=False``): its fields are arrays, which have no
     single truth value; compare the fields of two vehicles with numpy.
@@ -94,6 +97,7 @@ class Vehicle:
     surfaces: SurfaceSet = field(default_factory=SurfaceSet)
     dofs: tuple[int, ...] = (0, 1, 2, 3, 4, 5)
     thruster_names: tuple[str, ...] = ()
+    wind: WindModel | None = field(default=None, repr=False)
 
     @property
     def n_inputs(self) -> int:
@@ -206,6 +210,7 @@ def make_vehicle(
     surfaces: SurfaceSet | None = None,
     dofs: tuple[int, ...] | list[int] | None = None,
     thruster_names: tuple[str, ...] = (),
+    wind: WindModel | None = None,
 ) -> Vehicle:
     """Validate and build a :class:`Vehicle`.
 
@@ -308,6 +313,7 @@ def make_vehicle(
         surfaces=surfaces if surfaces is not None else SurfaceSet(),
         dofs=kept,
         thruster_names=tuple(thruster_names),
+        wind=wind,
     )
 
 

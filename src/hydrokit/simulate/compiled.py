@@ -12,7 +12,7 @@ The force laws written on plain floats are compiled here from their one implemen
 pattern new laws follow, issue #45): the derivative terms
 (:func:`hydrokit.model.terms.add_term_forces`), the point drag elements
 (:func:`hydrokit.core.drag.add_drag_wrench`), the physical fins
-(:func:`hydrokit.model.surfaces.fin_wrench`) and the servo
+(:func:`hydrokit.model.surfaces.fin_wrench`), the wind (:func:`hydrokit.model.wind.wind_wrench`) and the servo
 (:func:`hydrokit.model.surfaces.servo_step`). The remaining blocks are still compiled *copies*
 of a numpy source, kept for speed only (a debt, to move onto the same pattern when touched);
 the numpy one is the definition, and tests/model/test_compiled_vs_numpy.py compares each copy
@@ -36,6 +36,7 @@ import numpy as np
 from hydrokit.core.drag import add_drag_wrench
 from hydrokit.model.surfaces import FIN_WIDTH, MAX_SURFACES, fin_wrench, servo_step, steer_surfaces
 from hydrokit.model.terms import MAX_THRUSTERS, add_term_forces
+from hydrokit.model.wind import wind_coefficients, wind_wrench
 
 #: ``numba.njit`` for kernels that allocate nothing: compiled without numba's reference
 #: counting, which otherwise updates every array argument's count atomically on entry and exit
@@ -67,6 +68,7 @@ _terms = compile_law(add_term_forces)
 _drag = compile_law(add_drag_wrench)
 _fin = compile_law(fin_wrench)
 servo_step_compiled = compile_law(servo_step)
+_wind = compile_law(wind_wrench, wind_coefficients=compile_law(wind_coefficients))
 steer_surfaces_compiled = compile_law(
     steer_surfaces, add_term_forces=_terms, fin_wrench=_fin, servo_step=servo_step_compiled
 )
@@ -145,8 +147,10 @@ def deriv(t, x, quat, tau_tab, cur_tab, Minv, Mc, DL, DQ, scal, t_dof, t_coef, t
     tau = tval[0:6]
     delta = tval[6:m_tab]
     n_delta = m_tab - 6
-    vc = buf[12:15]
-    vcd = buf[15:18]
+    # the current (and the wind's velocity, when the table has it: rows [t, vN, vE, vD, wN, wE])
+    m_env = cur_tab.shape[1] - 1
+    vc = buf[0:m_env]
+    vcd = buf[6 : 6 + m_env]
     _interp(cur_tab, t, vc, vcd)
     # current in body axes: Rᵀ v_c and Rᵀ v̇_c
     cb0 = R00 * vc[0] + R10 * vc[1] + R20 * vc[2]
@@ -205,6 +209,11 @@ def deriv(t, x, quat, tau_tab, cur_tab, Minv, Mc, DL, DQ, scal, t_dof, t_coef, t
     n_fin = int(scal[om + 6])
     for e in range(n_fin):
         _fin(scal, om + 7 + FIN_WIDTH * e, nr, tau[0], delta, n_delta, f)
+    # wind (model.wind.wind_wrench, compiled) after the fins, at ν minus the wind in body axes
+    if m_env >= 5:
+        uw = R00 * vc[3] + R10 * vc[4]
+        vw = R01 * vc[3] + R11 * vc[4]
+        _wind(scal, om + 7 + FIN_WIDTH * n_fin, u - uw, v - vw, f)
     # ν̇ = M⁻¹ f − [ω × Rᵀv_c − Rᵀv̇_c; 0], zero for a dropped DOF
     for i in range(6):
         s = 0.0
@@ -317,12 +326,13 @@ def make_dynamics(vehicle, current_ned=None, attitude: str = "euler"):  # noqa: 
     control surface, or the whole input vector) and each thruster's thrust (N) and rotation rate
     (rev/s) change every step (:func:`hydrokit.model.dynamics.input_vector`)."""
     from hydrokit.errors import InputError
-    from hydrokit.model.dynamics import current_table, input_vector, pack
+    from hydrokit.model.dynamics import check_wind, current_table, input_vector, pack
 
     if attitude == "quaternion" and vehicle.planar:
         raise InputError(f"vehicle {vehicle.name!r} is planar (dofs): expected attitude euler")
     p = pack(vehicle)
     ctab = current_table(current_ned)
+    check_wind(vehicle, ctab)
     quat = attitude == "quaternion"
     n = 13 if quat else 12
     ns, m = len(vehicle.surfaces), len(vehicle.thruster_names)

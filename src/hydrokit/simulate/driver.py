@@ -17,7 +17,7 @@ from hydrokit._result import Result, jsonable
 from hydrokit.core.kinematics import PITCH_WARNING, euler_to_quaternion, quaternion_to_euler
 from hydrokit.core.names import STATE_COLUMNS
 from hydrokit.errors import InputError, SimulationError
-from hydrokit.model.dynamics import current_table, pack, vehicle_dynamics
+from hydrokit.model.dynamics import check_wind, current_table, pack, vehicle_dynamics
 from hydrokit.model.vehicle import Vehicle
 from hydrokit.simulate.budget import check_memory
 
@@ -109,7 +109,8 @@ def simulate(
     tau : 6 floats (N, N·m), rows [t, X, Y, Z, K, M, N] (interpolated, held at the ends), or a
         callable ``tau(t, eta, nu) -> 6 floats`` (controllers)
     eta0, nu0 : 6 floats each — initial pose (m, rad) and velocity (m/s, rad/s)
-    current_ned : None, 3 floats (m/s) or rows [t, v_N, v_E, v_D]
+    current_ned : None, 3 floats (m/s) or rows [t, v_N, v_E, v_D], or with the wind's velocity
+        [t, v_N, v_E, v_D, w_N, w_E] (m/s; :func:`hydrokit.model.dynamics.environment_table`)
     integrator : "rk4" (compiled), "rk4-numpy", "dop853" or "rk45"
     attitude : "euler" or "quaternion"
     output_every : int — keep every n-th step
@@ -151,6 +152,7 @@ def simulate(
     if ttab is not None and dtab is not None:
         ttab = merge_tables(ttab, dtab)
     ctab = current_table(current_ned)
+    check_wind(vehicle, ctab)
     if integrator == "rk4" and ttab is not None:
         from hydrokit.simulate.compiled import rk4_run
 
