@@ -262,7 +262,7 @@ def test_report_renders_in_chromium_with_every_figure(first_run, open_in_chromiu
     assert len(page.images) == source.count("<img") == 8 + 4 + 2 + 1
     assert page.text("h1") == ["hydrokit run: tiny"]
     assert page.text("p")[0] == (
-        "These launches are virtual: simulated by hydrokit's virtual rig, not measured. "
+        "The 8 tank launches (surge) are virtual: simulated by hydrokit's virtual rig, not measured. "
         "Where the truth is known the report shows identified against true values."
     )
     # the browser shows the JSON's numbers: the full-scale comparison, row by row (4 significant
@@ -306,10 +306,10 @@ def test_report_renders_in_chromium_with_every_figure(first_run, open_in_chromiu
         mc = doc["monte_carlo"]["controllers"][c]
         x = mc["metrics"]["cross_track_rms"]
         row = [c] + [f"{m[k]:.4g}" for k in ("cross_track_rms", "cross_track_max", "depth_error_rms")]
-        row += [str(m["completed"]), f"{x['median']:.3g} [{x['p5']:.3g}, {x['p95']:.3g}]"]
+        row += ["yes" if m["completed"] else "no", f"{x['median']:.3g} [{x['p5']:.3g}, {x['p95']:.3g}]"]
         row += [f"{100 * mc['completed_fraction']:.0f} %"]
         assert shown(row), row
-    assert "truth inside envelope" in page.text("th")
+    assert "truth inside envelope (% of times)" in page.text("th")
 
 
 @pytest.mark.bem

@@ -177,7 +177,8 @@ def correlation_figure(names: Sequence[str], corr: np.ndarray) -> Any:
     for i in range(n):
         for j in range(n):
             colour = cell_text_colour(im.cmap(im.norm(corr[i, j])))
-            ax.text(j, i, f"{corr[i, j]:.2f}", ha="center", va="center", fontsize=TICK_PT, color=colour)
+            text = f"{corr[i, j]:.2f}".replace("-0.00", "0.00")  # no signed zero
+            ax.text(j, i, text, ha="center", va="center", fontsize=TICK_PT, color=colour)
     bar = ax.figure.colorbar(im, ax=ax, shrink=0.8)
     bar.set_label("correlation ρ (–)", fontsize=LABEL_PT)
     bar.ax.tick_params(labelsize=TICK_PT)

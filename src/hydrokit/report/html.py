@@ -15,7 +15,7 @@ body{font-family:system-ui,-apple-system,Segoe UI,Roboto,sans-serif;margin:2rem 
 max-width:1100px;color:#1b1f24;line-height:1.45;padding:0 1rem}
 h1{border-bottom:3px solid #0b5394;padding-bottom:.3rem}
 h2{color:#0b5394;margin-top:2rem}
-table{border-collapse:collapse;margin:.6rem 0 1.2rem;font-size:.92rem}
+table{border-collapse:collapse;margin:.6rem 0 1.2rem;font-size:.92rem;display:block;max-width:100%;overflow-x:auto}
 th,td{border:1px solid #c8ced6;padding:.25rem .55rem;text-align:right}
 th{background:#eef3f9} td.l,th.l{text-align:left}
 .warn{background:#fff4e5;border-left:4px solid #e69138;padding:.4rem .8rem;margin:.3rem 0}

@@ -16,6 +16,7 @@ from pathlib import Path
 from typing import Any
 
 from hydrokit.pipeline.result import RunResult
+from hydrokit.plot.sysid import LABELS, channel_order
 from hydrokit.report.html import esc, fmt, page, table, warnings_block
 from hydrokit.report.sysid import identifiability_note, verdict_html
 
@@ -25,6 +26,8 @@ UNIT = {
     True: {"added_mass": "kg·m²", "linear_damping": "N·m·s/rad", "quadratic_damping": "N·m·s²/rad²"},
 }
 ROTATIONAL = {"roll", "pitch", "yaw"}
+#: SI unit of each sysid channel ("x (m)" → "m")
+CHANNEL_UNIT = {c: label[label.index("(") + 1 : -1] for c, label in LABELS.items()}
 EXTRA_CSS = """
 .banner{background:#fdecea;border-left:5px solid #c0392b;padding:.5rem .9rem;font-weight:600}
 details{margin:.4rem 0} summary{cursor:pointer;color:#0b5394}
@@ -61,13 +64,8 @@ def _without_rejection(e: dict[str, Any]) -> str:
 
 def first_screen(doc: dict[str, Any], figures: dict[str, list[dict[str, str]]]) -> list[str]:
     """Coefficients vs other sources, the choice, the mission envelope, warnings."""
-    parts = []
+    parts = data_statement(doc)
     proj = doc["project"]
-    if proj.get("virtual_data"):
-        parts.append(
-            '<p class="banner">These launches are virtual: simulated by hydrokit\'s virtual rig, not measured. '
-            "Where the truth is known the report shows identified against true values.</p>"
-        )
     if proj.get("description"):
         parts.append(f"<p>{esc(proj['description'])}</p>")
     has_tank = bool(doc["campaigns"])
@@ -133,6 +131,45 @@ def first_screen(doc: dict[str, Any], figures: dict[str, list[dict[str, str]]]) 
                 "<details><summary>all warnings</summary>" + warnings_block(doc["warnings"][15:]) + "</details>"
             )
     return parts
+
+
+def data_statement(doc: dict[str, Any]) -> list[str]:
+    """What the data are, per source: tank launches simulated by the virtual rig or measured;
+    dives (sysid runs) written by hydrokit's generator or logged. Simulated or generated data
+    get the red banner, measured data a plain line."""
+    virtual = bool(doc["project"].get("virtual_data"))
+    made, measured = [], []
+    camps = doc.get("campaigns") or {}
+    if camps:
+        n = sum(len(c["campaign"]["launches"]) for c in camps.values())
+        where = f"{n} tank launches ({', '.join(camps)})"
+        if virtual or all(c.get("truth") for c in camps.values()):
+            made.append(f"The {where} are virtual: simulated by hydrokit's virtual rig, not measured.")
+        else:
+            measured.append(f"The {where} are measured.")
+    sysid = doc.get("sysid")
+    if sysid:
+        runs = [*sysid["runs"], *sysid["holdout"]]
+        where = f"{len(runs)} dives (sysid runs: {', '.join(runs)})"
+        if virtual or sysid.get("truth_file"):
+            made.append(
+                f"The {where} are generated: simulated by hydrokit from a vehicle with hidden coefficients "
+                "(hydrokit sysid generate), not logged in the water."
+            )
+        else:
+            measured.append(f"The {where} are logs of the vehicle.")
+    truth = any(r.get("truth") is not None for r in doc.get("comparison") or []) or (
+        sysid and any(p.get("truth") is not None for p in sysid["parameters"].values())
+    )
+    out = []
+    if made:
+        said = " ".join(made) + (
+            " Where the truth is known the report shows identified against true values." if truth else ""
+        )
+        out.append(f'<p class="banner">{esc(said)}</p>')
+    if measured:
+        out.append(f"<p>{esc(' '.join(measured))}</p>")
+    return out
 
 
 def _sysid_cell(r: dict[str, Any], relative: float | None) -> str:
@@ -207,12 +244,14 @@ def sysid_section(s: dict[str, Any], figures: dict[str, list[dict[str, str]]]) -
     )
     run_rows = []
     for r in res["runs"]:
-        for c, d in r["channels"].items():
+        for c in channel_order(r["channels"]):
+            d = r["channels"][c]
             run_rows.append(
                 [
                     r["name"],
                     "held out" if r["holdout"] else "fitted",
                     c,
+                    CHANNEL_UNIT.get(c, "SI"),
                     d["samples"],
                     fmt(d["residual_rms"], 3),
                     fmt(d["whiteness"]["lag1"], 2),
@@ -220,8 +259,13 @@ def sysid_section(s: dict[str, Any], figures: dict[str, list[dict[str, str]]]) -
                 ]
             )
     parts.append(
-        "<details><summary>Residuals per run and channel (RMS in SI; NRMSE of held-out runs)</summary>"
-        + table(["run", "use", "channel", "samples", "residual RMS", "lag-1 ρ", "NRMSE"], run_rows, left_cols=3)
+        "<details><summary>Residuals per run and channel (RMS in the channel's SI unit; NRMSE of held-out "
+        "runs)</summary>"
+        + table(
+            ["run", "use", "channel", "unit", "samples (count)", "residual RMS (unit)", "lag-1 ρ (–)", "NRMSE (–)"],
+            run_rows,
+            left_cols=4,
+        )
         + "</details>"
     )
     figs = figures.get("sysid", [])
@@ -236,17 +280,17 @@ def _mission_summary(doc: dict[str, Any], figures: dict[str, list[dict[str, str]
     if not missions:
         return ["<h2>Mission</h2><p>No mission in the project.</p>"]
     parts = [f"<h2>Mission {esc(missions['mission'])} on the identified vehicle</h2>"]
-    header = ["controller", "cross-track RMS (m)", "cross-track max (m)", "depth error RMS (m)", "completed"]
+    header = ["controller", "cross-track RMS (m)", "cross-track max (m)", "depth error RMS (m)", "completed (yes/no)"]
     if mc:
         header += [
             f"MC cross-track RMS, median [5–95 %] (m), n = {mc['samples']}",
-            "MC completed",
-            "truth inside envelope",
+            "MC completed (% of samples)",
+            "truth inside envelope (% of times)",
         ]
     rows = []
     for c, f in missions["controllers"].items():
         m = f["metrics"]
-        row = [c, m["cross_track_rms"], m["cross_track_max"], m["depth_error_rms"], str(m["completed"])]
+        row = [c, m["cross_track_rms"], m["cross_track_max"], m["depth_error_rms"], "yes" if m["completed"] else "no"]
         if mc:
             s = mc["controllers"][c]
             x = s["metrics"]["cross_track_rms"]
@@ -307,13 +351,13 @@ def campaign_section(dof: str, c: dict[str, Any], figures: dict[str, list[dict[s
             [
                 "coefficient",
                 "unit (model)",
-                "model mean [95 % CI]",
-                "std",
-                "n",
-                "rejected",
-                "all launches mean [95 % CI]",
-                "true (model)",
-                "full scale [95 % CI]",
+                "model mean [95 % CI] (unit)",
+                "std (unit)",
+                "n (launches)",
+                "rejected (launches)",
+                "all launches mean [95 % CI] (unit)",
+                "true (model, unit)",
+                "full scale [95 % CI] (SI, full-scale unit)",
             ],
             rows,
             left_cols=2,
@@ -339,11 +383,23 @@ def campaign_section(dof: str, c: dict[str, Any], figures: dict[str, list[dict[s
             f"<details><summary>Repeats against their stated errors (χ² per amplitude group; {low} of "
             f"{len(cons_rows)} with p &lt; 0.01: repeats differ by more than their standard errors say)</summary>"
         )
-        parts.append(table(["coefficient", "group", "n", "χ²", "dof", "p", "Birge ratio"], cons_rows, 2))
+        parts.append(
+            table(
+                ["coefficient", "group", "n (launches)", "χ² (–)", "dof (count)", "p (–)", "Birge ratio (–)"],
+                cons_rows,
+                2,
+            )
+        )
         parts.append("</details>")
     if test_rows:
         parts.append("<details><summary>Amplitude-group tests (two-sided rank-sum)</summary>")
-        parts.append(table(["coefficient", "groups", "U", "z (continuity)", "p (normal)", "p (exact)"], test_rows, 2))
+        parts.append(
+            table(
+                ["coefficient", "groups", "U (–)", "z, continuity (–)", "p, normal (–)", "p, exact (–)"],
+                test_rows,
+                2,
+            )
+        )
         parts.append("</details>")
     se_u = {k: units.get(k, "") for k in ("added_mass", "linear_damping", "quadratic_damping")}
     launch_rows = []
@@ -371,13 +427,13 @@ def campaign_section(dof: str, c: dict[str, Any], figures: dict[str, list[dict[s
                 "file",
                 f"amplitude ({units.get('amplitude', '')})",
                 f"m_a ({se_u['added_mass']})",
-                "SE",
+                f"SE ({se_u['added_mass']})",
                 f"K_L ({se_u['linear_damping']})",
-                "SE",
+                f"SE ({se_u['linear_damping']})",
                 f"K_Q ({se_u['quadratic_damping']})",
-                "SE",
-                "C_D",
-                "Re_max",
+                f"SE ({se_u['quadratic_damping']})",
+                "C_D (–)",
+                "Re_max (–)",
                 f"RMS residual ({units.get('rms_residual', '')})",
             ],
             launch_rows,
@@ -397,7 +453,7 @@ def campaign_section(dof: str, c: dict[str, Any], figures: dict[str, list[dict[s
         )
         parts.append(
             table(
-                ["file", "residual / noise", "autocorrelation one period apart", "verdict"],
+                ["file", "residual / noise (–)", "autocorrelation one period apart (–)", "verdict"],
                 [[f, fmt(a["residual_to_noise"], 3), fmt(a["acf_at_period"], 2), a["verdict"]] for f, a in ade],
             )
         )
@@ -422,23 +478,25 @@ def run_report(result: RunResult) -> str:
         parts += [_img(f) for f in figures["missions"]]
     unc = doc["vehicle"].get("uncertainty", {})
     parts.append("<h2>Vehicle written (vehicle.yaml)</h2>")
+    unit = {k: f"{UNIT[False][k]}; {UNIT[True][k]}" for k in SYMBOL}
     parts.append(
         table(
-            ["coefficient", "surge", "sway", "heave", "roll", "pitch", "yaw"],
+            ["coefficient", "unit (surge–heave; roll–yaw)", "surge", "sway", "heave", "roll", "pitch", "yaw"],
             [
-                [f"{k}", *doc["vehicle"][k]]
+                [f"{k}", unit[k], *doc["vehicle"][k]]
                 if not isinstance(doc["vehicle"][k][0], list)
-                else [k, *[doc["vehicle"][k][i][i] for i in range(6)]]
+                else [k, unit[k], *[doc["vehicle"][k][i][i] for i in range(6)]]
                 for k in SYMBOL
             ]
-            + [[f"{k} standard error", *unc.get(k, [None] * 6)] for k in SYMBOL],
+            + [[f"{k} standard error", unit[k], *unc.get(k, [None] * 6)] for k in SYMBOL],
+            left_cols=2,
         )
     )
     parts.append("<details><summary>Steps, timings and inputs</summary>")
     parts.append(
         table(
-            ["step", "time (s)", "cached"],
-            [[t["step"], fmt(t["seconds"], 3), str(t["cached"])] for t in result.timings],
+            ["step", "time (s)", "cached (yes/no)"],
+            [[t["step"], fmt(t["seconds"], 3), "yes" if t["cached"] else "no"] for t in result.timings],
         )
     )
     parts.append(f"<p>Engine: {esc(doc.get('engine', ''))}.</p>")
