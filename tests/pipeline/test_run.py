@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import json
 import math
+import re
 import shutil
 from pathlib import Path
 
@@ -90,7 +91,9 @@ def test_full_scale_values_are_the_launch_mean_scaled_with_lambda(first_run):
     for coef, e in exps.items():
         s = camp["campaign"]["summary"][coef]
         kept = [L[coef] for L in camp["campaign"]["launches"] if L["file"] not in (s["rejected"] or [])]
-        assert camp["full_scale"][coef]["mean"] == pytest.approx(np.mean(kept) * lam**e, rel=1e-12)
+        # results.json holds 10 significant digits (JSON_DIGITS): the launches and the mean each
+        # carry a rounding of at most 5e-10 relative
+        assert camp["full_scale"][coef]["mean"] == pytest.approx(np.mean(kept) * lam**e, rel=2e-9)
         # the tank is chosen (rule "tank") and goes into the vehicle unchanged
         assert doc["chosen"]["surge"][coef] == {
             "value": camp["full_scale"][coef]["mean"],
@@ -120,8 +123,10 @@ def test_uncertainty_block_is_launch_scatter_plus_between_group_variance(first_r
     unc = veh["uncertainty"]
     assert unc["parameters"] == ["added_mass.surge", "linear_damping.surge", "quadratic_damping.surge"]
     assert np.allclose(unc["covariance"], expected, rtol=1e-9)
-    assert unc["added_mass"][0] == pytest.approx(math.sqrt(expected[0, 0]), rel=1e-9)
-    assert unc["quadratic_damping"][:3] == [pytest.approx(math.sqrt(expected[2, 2]), rel=1e-9), 0.0, 0.0]
+    # recomputed from results.json's 10-digit launch values: their scatter is ~0.5 % of the
+    # values, so it carries ~1e-8 relative rounding
+    assert unc["added_mass"][0] == pytest.approx(math.sqrt(expected[0, 0]), rel=1e-7)
+    assert unc["quadratic_damping"][:3] == [pytest.approx(math.sqrt(expected[2, 2]), rel=1e-7), 0.0, 0.0]
 
 
 def test_written_vehicle_loads_and_simulates(first_run, run_cli, tmp_path):
@@ -163,7 +168,8 @@ def test_cfd_comparison_against_the_printed_fit(first_run):
     # cfd_x.csv is CELY2019 Table 5's x-axis Chin fit evaluated at 10 speeds: the fit returns it
     assert row["cfd"] == pytest.approx(43.2322, rel=1e-5)  # the CSV holds 6 significant digits
     assert row["relative_to_tank_percent"]["cfd"] == pytest.approx(
-        100 * (row["cfd"] - row["tank"]) / row["tank"], rel=1e-12
+        100 * (row["cfd"] - row["tank"]) / row["tank"],
+        rel=1e-8,  # from 10-digit values
     )
 
 
@@ -178,6 +184,15 @@ def test_mission_metrics_match_flying_the_written_vehicle(first_run):
     assert mc["samples"] == 6 and set(mc["controllers"]) == {"pid", "s-plane"}
     x = mc["controllers"]["pid"]["metrics"]["cross_track_rms"]
     assert x["p5"] <= x["median"] <= x["p95"]
+
+
+def test_the_json_files_carry_no_float_noise(first_run):
+    _, out, _ = first_run
+    for name in ("results.json", "mission/metrics.json"):
+        text = (out / name).read_text()
+        digits = [len(m.replace(".", "").strip("0")) for m in re.findall(r"(?<![\w.])\d+\.\d+", text)]
+        assert digits and max(digits) <= 10, name  # JSON_DIGITS significant digits at most
+        assert "999999999" not in text and "000000000" not in text.replace("0.000000000", "")
 
 
 def test_a_second_run_takes_every_step_from_the_cache(first_run, run_cli):

@@ -2,10 +2,27 @@
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass, field
 from typing import Any
 
 from hydrokit._result import Result, html_table, jsonable
+
+#: significant digits of the floats in the run's JSON files: float64 arithmetic leaves noise in
+#: the last two or three of its 17 (14.999999999999998); 10 keep every measured digit with room
+JSON_DIGITS = 10
+
+
+def rounded(obj: Any, digits: int = JSON_DIGITS) -> Any:
+    """``obj`` (JSON-ready: dicts, lists, numbers, text) with every float rounded to ``digits``
+    significant digits; keys, ints, booleans, text and None as they were."""
+    if isinstance(obj, dict):
+        return {k: rounded(v, digits) for k, v in obj.items()}
+    if isinstance(obj, list):
+        return [rounded(v, digits) for v in obj]
+    if isinstance(obj, float) and math.isfinite(obj):
+        return float(f"{obj:.{digits}g}")
+    return obj
 
 
 @dataclass
@@ -27,8 +44,9 @@ class RunResult(Result):
     timings: list[dict[str, Any]] = field(default_factory=list)
 
     def to_dict(self) -> dict[str, Any]:
-        """``results.json``: the document with the step timings."""
-        return jsonable({**self.document, "timings": self.timings})
+        """``results.json``: the document with the step timings, floats rounded to
+        :data:`JSON_DIGITS` significant digits."""
+        return rounded(jsonable({**self.document, "timings": self.timings}))
 
     @property
     def chosen(self) -> dict[str, Any]:

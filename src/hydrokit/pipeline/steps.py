@@ -252,7 +252,7 @@ class Runner:
     def _result(self, tank, others, rows, chosen, vdoc, flights, mc) -> Any:  # noqa: ANN001
         import yaml
 
-        from hydrokit.pipeline.result import RunResult
+        from hydrokit.pipeline.result import RunResult, rounded
 
         warnings: list[str] = []
         for t in tank.values():
@@ -322,7 +322,7 @@ class Runner:
             for name, text in flights["csv"].items():
                 files[f"mission/{name}"] = text
             metrics = {"missions": doc["missions"], "monte_carlo": _without_paths(doc["monte_carlo"])}
-            files["mission/metrics.json"] = json.dumps(jsonable(metrics), indent=2, allow_nan=False) + "\n"
+            files["mission/metrics.json"] = json.dumps(rounded(jsonable(metrics)), indent=2, allow_nan=False) + "\n"
         return RunResult(jsonable(doc), figures, files, self.timings)
 
 
