@@ -8,11 +8,12 @@ from typing import Any
 
 import click
 
+from hydrokit.cli._sysid_compare import compare
 from hydrokit.cli._sysid_generate import generate
 from hydrokit.cli._sysid_plan import _names, plan
 from hydrokit.cli._types import SECONDS, SEED, Count
 
-SUBCOMMANDS = ("fit", "generate", "plan")
+SUBCOMMANDS = ("fit", "generate", "plan", "compare")
 
 
 class _SysidGroup(click.Group):
@@ -32,6 +33,7 @@ def sysid() -> None:
 
 sysid.add_command(plan)
 sysid.add_command(generate)
+sysid.add_command(compare)
 
 
 @sysid.command("fit")

@@ -310,9 +310,11 @@ def choose(scores: Sequence[Scored], equivalent: float = EQUIVALENT) -> tuple[tu
                 "the training runs does not carry over to the held-out runs"
             )
         if other.k > keep.k:
-            text += f"; {other.name}'s extra {_params(other.k - keep.k)} do not pay"
+            n = other.k - keep.k
+            text += f"; {other.name}'s extra " + ("parameter does" if n == 1 else f"{n} parameters do") + " not pay"
         elif other.k < keep.k:
-            text += f"; its {keep.k - other.k} extra parameter{'s' if keep.k - other.k != 1 else ''} pay"
+            n = keep.k - other.k
+            text += "; its extra " + ("parameter pays" if n == 1 else f"{n} parameters pay")
     else:
         others = [s for s in tie if s is not keep]
         names = ", ".join(s.name for s in tie[:-1]) + f" and {tie[-1].name}"
@@ -327,7 +329,9 @@ def choose(scores: Sequence[Scored], equivalent: float = EQUIVALENT) -> tuple[tu
         elif keep.k > simplest:
             simple = min(others, key=lambda s: (s.k, s.bic))
             text = (
-                f"{head}: keep {keep.name}: its extra {_params(keep.k - simple.k)} pay on the training runs "
+                f"{head}: keep {keep.name}: its extra {_params(keep.k - simple.k)} "
+                + ("pays" if keep.k - simple.k == 1 else "pay")
+                + " on the training runs "
                 f"(ΔBIC {simple.bic - keep.bic:.0f} to {simple.name})"
             )
         else:
