@@ -142,3 +142,18 @@ def test_a_lost_depth_hold_is_not_called_holding():
     assert any("the depth hold by sternplane was lost" in w for w in res.warnings)
     kept = _record(np.linspace(0.0, 0.5, 300), M.zigzag(0.26, 0.26), hold={"depth": "sternplane"})
     assert kept.hold_lost is None and "depth hold lost" not in (kept.problem or "")
+
+
+def test_a_depth_transient_that_comes_back_is_warned_of_not_lost():
+    """Sinks 3.45 m (beyond 2 L = 2.66 m, within 4 × that) and comes back to 0.3 m: said, not lost."""
+    t = np.linspace(0.0, 1.0, 301)  # the peak at a sample
+    z = np.interp(t, [0.0, 0.5, 1.0], [0.0, 3.45, 0.3])
+    res = _record(z, M.zigzag(0.26, 0.26), hold={"depth": "sternplane"})
+    assert res.hold_lost is None and "depth hold lost" not in (res.problem or "")
+    assert any(
+        w.startswith("zigzag: the depth hold by sternplane let the vehicle stray: it sank 3.45 m (more than 2.66 m)")
+        and w.endswith("before it was brought back to within 0.3 m of the depth at the execute")
+        for w in res.warnings
+    ), res.warnings
+    wild = _record(12.0 * np.sin(math.pi * t), M.zigzag(0.26, 0.26), hold={"depth": "sternplane"})
+    assert wild.hold_lost is not None and "sank 12 m" in wild.problem  # beyond 4 × 2 L: lost though it came back

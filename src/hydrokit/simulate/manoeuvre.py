@@ -193,8 +193,9 @@ class ManoeuvreResult(Result):
     planar : bool — a surface-craft model (3 or 4 DOF): the IMO criteria apply
     hold : dict — what was held and by which surface ({"depth": "sternplane", "heading":
         "rudder (approach)"}; empty: nothing held)
-    hold_lost : str or None — what happened when the depth hold lost its depth (the vehicle
-        strayed more than :data:`HOLD_LOST_LENGTHS` L, at least 1 m; ``problem`` says so too)
+    hold_lost : str or None — what happened when the depth hold lost its depth (the depth
+        ended more than :data:`HOLD_LOST_LENGTHS` L, at least 1 m, from the execute's, or strayed
+        :data:`HOLD_LOST_WILD` times that; ``problem`` says so too)
     propulsion : dict or None — with thruster commands: ``commands`` and ``command_units`` per
         thruster, ``force`` (N, N·m), ``thrust_at_execute`` and ``thrust_at_end`` per thruster (N);
         None with a constant force only
@@ -1354,7 +1355,9 @@ def measure(
             problem = _depth_change_problem(manoeuvre, t, x, logic.executes)
     hold_lost = None
     if hold and "depth" in hold and kind not in VERTICAL:
-        hold_lost = _depth_lost(x[:, 2] - x[0, 2], reference_length)
+        hold_lost, strayed = _depth_lost(x[:, 2] - x[0, 2], reference_length)
+        if strayed is not None:
+            warnings.append(f"{_label(kind)}: the depth hold by {hold['depth']} let {strayed}")
         if hold_lost is not None:
             warnings.append(f"{_label(kind)}: the depth hold by {hold['depth']} was lost: {hold_lost}")
             problem = (
@@ -1382,8 +1385,10 @@ def measure(
     )
 
 
-#: a depth hold is lost when the depth strays from its set-point by more than this many L (at least 1 m)
+#: a depth hold is lost when the depth ends more than this many L (at least 1 m) from its set-point …
 HOLD_LOST_LENGTHS = 2.0
+#: … or strays more than this many times that at any time (less, and back: a transient, warned of)
+HOLD_LOST_WILD = 4.0
 
 
 def _label(kind: str) -> str:
@@ -1400,13 +1405,21 @@ def _moved(dz: np.ndarray) -> str:
     return " and ".join(parts) if parts else "kept its depth within 1 cm"
 
 
-def _depth_lost(dz: np.ndarray, length: float | None) -> str | None:
-    """None while the held depth stays within :data:`HOLD_LOST_LENGTHS` L (≥ 1 m) of where the
-    manoeuvre started, else what happened ("the vehicle rose 224 m (more than 2.67 m)")."""
+def _depth_lost(dz: np.ndarray, length: float | None) -> tuple[str | None, str | None]:
+    """(lost, strayed): what happened when a depth hold was lost — the depth ends more than
+    :data:`HOLD_LOST_LENGTHS` L (≥ 1 m) from where the manoeuvre started, or strayed more than
+    :data:`HOLD_LOST_WILD` times that ("the vehicle rose 224 m (more than 2.67 m …)") — or when it
+    strayed that far but came back (a transient, said as a warning); None for what did not happen."""
     limit = max(1.0, HOLD_LOST_LENGTHS * (length or 0.0))
-    if float(np.max(np.abs(dz))) <= limit:
-        return None
-    return f"the vehicle {_moved(dz)} (more than {limit:.3g} m from the depth it held at the execute)"
+    worst, end = float(np.max(np.abs(dz))), abs(float(dz[-1]))
+    if worst <= limit:
+        return None, None
+    if end > limit or worst > HOLD_LOST_WILD * limit:
+        return f"the vehicle {_moved(dz)} (more than {limit:.3g} m from the depth it held at the execute)", None
+    return None, (
+        f"the vehicle stray: it {_moved(dz)} (more than {limit:.3g} m) before it was brought back to within "
+        f"{end:.2g} m of the depth at the execute"
+    )
 
 
 def _depth_change_problem(m: Manoeuvre, t: np.ndarray, x: np.ndarray, executes: Any) -> str:
