@@ -25,7 +25,7 @@ RANDOM = random.Random(32).randbytes(4096)
 TRUTH = ["--added-mass", "0.3", "--linear-damping", "2", "--quadratic-damping", "5", "--amplitudes", "20"]
 SKIPPED = {"cfd"}  # OpenFOAM; covered by tests/cfd
 #: commands whose start lists their inputs on stderr (sysid: the runs, durations and channels)
-TALKATIVE = {"sysid fit"}
+TALKATIVE = {"sysid fit", "sysid compare"}
 
 Files = dict[str, Path]
 #: an input: a file to copy, or its text made from the paths of the other inputs
@@ -153,6 +153,32 @@ CALLS: dict[str, tuple[dict[str, Source], Callable[[Files], list[object]]]] = {
             "1",
             "--dt",
             "0.02",
+        ],  # fmt: skip
+    ),
+    "sysid compare": (
+        {"vehicle.yaml": DATA_DIR / "vehicles" / "bluerov2-sysid.yaml", "dive.csv": _dive, "held.csv": _dive},
+        lambda f: [
+            "sysid",
+            "compare",
+            f["dive.csv"],
+            "--holdout",
+            f["held.csv"],
+            "--candidate",
+            f"a={f['vehicle.yaml']}",
+            "--free",
+            "added_mass.yaw",
+            "--candidate",
+            f"b={f['vehicle.yaml']}",
+            "--free",
+            "added_mass.yaw,linear_damping.yaw",
+            "--out",
+            "cmp",
+            "--workers",
+            "1",
+            "--dt",
+            "0.02",
+            "--window",
+            "none",
         ],  # fmt: skip
     ),
     "sysid generate": (
