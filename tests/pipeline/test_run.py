@@ -186,6 +186,16 @@ def test_mission_metrics_match_flying_the_written_vehicle(first_run):
     assert x["p5"] <= x["median"] <= x["p95"]
 
 
+def _snapshot(out: Path) -> dict[str, tuple[int, int, bytes]]:
+    """Every file of a run folder (cache included): inode, mtime (ns) and bytes. An atomic
+    rewrite moves a new file in, so even identical bytes get a new inode."""
+    return {
+        str(p.relative_to(out)): (p.stat().st_ino, p.stat().st_mtime_ns, p.read_bytes())
+        for p in sorted(out.rglob("*"))
+        if p.is_file()
+    }
+
+
 def test_the_json_files_carry_no_float_noise(first_run):
     _, out, _ = first_run
     for name in ("results.json", "mission/metrics.json"):
@@ -195,15 +205,47 @@ def test_the_json_files_carry_no_float_noise(first_run):
         assert "999999999" not in text and "000000000" not in text.replace("0.000000000", "")
 
 
-def test_a_second_run_takes_every_step_from_the_cache(first_run, run_cli):
+def test_a_second_run_with_nothing_changed_writes_nothing(first_run, run_cli):
     project, out, _ = first_run
-    before = results(out)
+    before = _snapshot(out)
+    assert ".cache/report.json" in before  # the stamp of the folder's files
     code, _, err = run_cli("run", project, "--out", out, "--workers", "1", "--quiet")
     assert code == 0, err
-    after = results(out)
-    assert all(t["cached"] for t in after["timings"] if t["step"] != "cfd fit")
+    assert "up to date" in err and "nothing written" in err
+    assert _snapshot(out) == before
+
+
+def test_a_second_run_takes_every_step_from_the_cache(first_run):
+    project, out, _ = first_run
+    before = results(out)
+    again = hydrokit.run_project(project, out, workers=1)
+    assert all(t["cached"] for t in again.timings if t["step"] != "cfd fit")
     strip = lambda d: {k: v for k, v in d.items() if k not in ("timings", "engine")}  # noqa: E731
-    assert strip(after) == strip(before)
+    assert strip(again.to_dict()) == strip(before)
+
+
+def test_a_changed_input_or_an_edited_output_renders_the_report_again(tmp_path, run_cli):
+    project = make_project(tmp_path, samples=0, mission=False)
+    out = tmp_path / "run"
+    args = ("run", project, "--out", out, "--workers", "1", "--quiet")
+    assert run_cli(*args)[0] == 0
+    first = _snapshot(out)
+    # the project's description is an input of the report only: every step stays cached
+    doc = yaml.safe_load(project.read_text())
+    doc["description"] = "Second description <b>escaped</b>"
+    project.write_text(yaml.safe_dump(doc))
+    code, _, err = run_cli(*args)
+    assert code == 0 and "wrote" in err, err
+    second = _snapshot(out)
+    assert second["report.html"][:2] != first["report.html"][:2]
+    assert "Second description &lt;b&gt;escaped&lt;/b&gt;" in second["report.html"][2].decode()
+    assert all(t["cached"] for t in results(out)["timings"] if t["step"] != "cfd fit")
+    # a report edited by hand is rendered again (the step timings in it are this run's)
+    (out / "report.html").write_text("edited")
+    assert run_cli(*args)[0] == 0
+    assert "Second description" in (out / "report.html").read_text()
+    code, _, err = run_cli(*args, "--force")
+    assert code == 0 and "wrote" in err and _snapshot(out)["results.json"][0] != second["results.json"][0]
 
 
 def test_a_changed_launch_recomputes_its_campaign_and_what_follows(tmp_path):

@@ -51,17 +51,29 @@ def run(
     Identifies every campaign, scales it to full size, compares with geometry/BEM/CFD, chooses per
     the project's rule, writes vehicle.yaml with an uncertainty block, flies the mission with PID
     and S-plane, runs the Monte Carlo and writes report.html. Steps whose inputs did not change
-    are taken from the cache in OUT/.cache.
+    are taken from the cache in OUT/.cache; when nothing changed (inputs, options, hydrokit, the
+    folder's files) nothing is computed, rendered or written.
     """
-    from hydrokit._atomic import staged_dir
     from hydrokit.cli._common import check_out_dir
-    from hydrokit.io.project import load_project
-    from hydrokit.pipeline import run_project
-    from hydrokit.report.run import write_run
+    from hydrokit.io.project import check_inputs, parse_project, resolve_project
+    from hydrokit.io.yamlfile import read_yaml
+    from hydrokit.pipeline import run_project, up_to_date
 
     start = time.perf_counter()
-    proj = load_project(project)
-    out = check_out_dir(Path(out_dir) if out_dir else Path(f"{proj.name}-run"))
+    path = resolve_project(project)
+    proj = parse_project(read_yaml(path), path)
+    out = Path(out_dir) if out_dir else Path(f"{proj.name}-run")
+    if not force and up_to_date(proj, out, bem=bem, samples=samples):  # nothing to compute, render or write
+        if not quiet:
+            _print_summary(_stored_result(out), steps=False)
+        click.echo(
+            f"{out / 'report.html'}, results.json, vehicle.yaml: up to date, nothing changed; nothing written "
+            f"({time.perf_counter() - start:.2f} s)",
+            err=True,
+        )
+        return
+    check_inputs(proj)
+    out = check_out_dir(out)
     if quiet:
         result = run_project(proj, out, force=force, bem=bem, workers=workers, scheduler=scheduler, samples=samples)
     else:
@@ -83,8 +95,9 @@ def run(
                 samples=samples,
                 progress=progress,
             )
-    with staged_dir(out) as stage:  # the report folder's files replace the old ones as one set
-        write_run(result, stage)
+    from hydrokit.report.run import write_run_folder
+
+    write_run_folder(result, out, force=force)  # the folder's files replace the old ones as one set
     if not quiet:
         _print_summary(result)
     click.echo(
@@ -92,7 +105,17 @@ def run(
     )
 
 
-def _print_summary(result) -> None:  # noqa: ANN001
+def _stored_result(out: Path):  # noqa: ANN202
+    """The RunResult of the run folder's results.json (document and timings; no figures)."""
+    import json
+
+    from hydrokit.pipeline.result import RunResult
+
+    doc = json.loads((out / "results.json").read_text(encoding="utf-8"))
+    return RunResult(doc, timings=doc.pop("timings", []))
+
+
+def _print_summary(result, steps: bool = True) -> None:  # noqa: ANN001
     from rich.console import Console
     from rich.table import Table
 
@@ -113,7 +136,7 @@ def _print_summary(result) -> None:  # noqa: ANN001
         tab.add_row(r["dof"], r["coefficient"], *tank, *sysid, fmt(r["chosen"]), r["chosen_source"])
     console = Console(stderr=True)
     console.print(tab)
-    steps = ", ".join(
-        f"{t['step']} {t['seconds']:.1f} s" + (" (cached)" if t["cached"] else "") for t in result.timings
-    )
-    console.print(f"steps: {steps}")
+    if not steps:
+        return
+    said = ", ".join(f"{t['step']} {t['seconds']:.1f} s" + (" (cached)" if t["cached"] else "") for t in result.timings)
+    console.print(f"steps: {said}")

@@ -10,6 +10,10 @@ Steps, each cached under the hash of its inputs (``OUT/.cache``; ``force`` redoe
    data are virtual and the truth is known);
 6. Monte Carlo: sample the coefficients from their covariance and fly every sample.
 
+The run folder's own files (report, results.json, vehicle.yaml, mission/) are cached the same
+way: :func:`up_to_date` says whether a folder already holds them for unchanged inputs, options
+and hydrokit, and :func:`hydrokit.report.run.write_run_folder` writes nothing when they are.
+
 :func:`run_project` returns a :class:`RunResult`; :func:`hydrokit.report.run.write_run` writes
 it (report, results.json, vehicle.yaml, mission/).
 """
@@ -131,4 +135,28 @@ def run_project(
         mapper.close()
 
 
-__all__ = ["RunResult", "digest", "file_digest", "run_project"]
+def up_to_date(
+    project: Project, out_dir: str | os.PathLike[str], *, bem: bool = False, samples: int | None = None
+) -> bool:
+    """True when ``out_dir`` holds the files of a run of ``project`` with these options and
+    nothing has changed since: no input file, option or hydrokit source, and no output file
+    edited (:func:`hydrokit.pipeline.cache.outputs_current`). Reads only the input files'
+    bytes (hashes them), so ``project`` may come from :func:`hydrokit.io.project.parse_project`
+    without :func:`~hydrokit.io.project.check_inputs`; a file that cannot be read gives False.
+
+    Parameters
+    ----------
+    project : Project
+    out_dir : the run folder (directory)
+    bem : bool — the run's ``bem`` option
+    samples : int, optional — Monte Carlo samples (count); None = the project's
+    """
+    from hydrokit.pipeline.cache import outputs_current, project_key
+
+    try:
+        return outputs_current(out_dir, project_key(project, bem, samples))
+    except OSError:  # an input that vanished: the full run names it
+        return False
+
+
+__all__ = ["RunResult", "digest", "file_digest", "run_project", "up_to_date"]

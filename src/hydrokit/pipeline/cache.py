@@ -89,3 +89,50 @@ class StepCache:
         for old in self.directory.glob(f"{path.name.rsplit('-', 1)[0]}-*.json"):
             if old != path and len(old.stem) == len(path.stem):
                 old.unlink(missing_ok=True)
+
+
+# -- the run folder's own files --------------------------------------------------------------
+#
+# The report and the files beside it are cached like a step: OUT/.cache/report.json holds the
+# key of the run that wrote them (every input file's hash, the options, hydrokit's source) and
+# the SHA-256 of each file as written. A re-run whose key matches, with every file still as
+# written, renders and writes nothing.
+
+#: the stamp of the run folder's files, in OUT/.cache
+STAMP = "report.json"
+
+
+def run_key(digests: dict[str, str], bem: bool, samples: int) -> str:
+    """Key of a whole run: the input files' SHA-256 (path → hex, as ``Runner.digests``), the
+    options that change its outputs (``bem``; ``samples``: Monte Carlo count), the cache format
+    and hydrokit's source. Workers and the scheduler change how, not what, and are left out."""
+    files = sorted((os.path.abspath(path), sha) for path, sha in digests.items())
+    return digest("run", files, bool(bem), int(samples))
+
+
+def project_key(project: Any, bem: bool = False, samples: int | None = None) -> str:
+    """:func:`run_key` of a parsed :class:`hydrokit.io.project.Project` (its input files hashed
+    now; ``samples`` None = the project's)."""
+    digests = {str(p): file_digest(p) for p in project.input_files()}
+    return run_key(digests, bem, project.samples if samples is None else samples)
+
+
+def outputs_current(out_dir: str | os.PathLike[str], key: str) -> bool:
+    """True when ``out_dir`` holds the files of the run with ``key``, each byte for byte as
+    that run wrote it (see :func:`record_outputs`)."""
+    out = Path(out_dir)
+    try:
+        stamp = json.loads((out / ".cache" / STAMP).read_text(encoding="utf-8"))
+        files = stamp["files"]
+        if stamp.get("key") != key or not isinstance(files, dict) or not files:
+            return False
+        return all(file_digest(out / name) == sha for name, sha in files.items())
+    except (OSError, ValueError, KeyError, TypeError):
+        return False
+
+
+def record_outputs(out_dir: str | os.PathLike[str], key: str, names: list[str]) -> None:
+    """Write the stamp of the files ``names`` (relative to ``out_dir``) of the run with ``key``."""
+    out = Path(out_dir)
+    doc = {"key": key, "files": {name: file_digest(out / name) for name in names}}
+    write_bytes(out / ".cache" / STAMP, (json.dumps(doc, indent=1, sort_keys=True) + "\n").encode("utf-8"))

@@ -36,12 +36,15 @@ class RunResult(Result):
     files : dict — output path relative to the run folder → text (``vehicle.yaml``,
         ``mission/…``), written with the report
     timings : list of {step, seconds, cached}
+    key : str, optional — the run's key (:func:`hydrokit.pipeline.cache.run_key`): the run
+        folder's files are rewritten only when it changes
     """
 
     document: dict[str, Any]
     figures: dict[str, list[dict[str, str]]] = field(default_factory=dict)
     files: dict[str, str] = field(default_factory=dict)
     timings: list[dict[str, Any]] = field(default_factory=list)
+    key: str | None = None
 
     def to_dict(self) -> dict[str, Any]:
         """``results.json``: the document with the step timings, floats rounded to

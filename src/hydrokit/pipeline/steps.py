@@ -12,7 +12,7 @@ from typing import Any
 from hydrokit._result import jsonable
 from hydrokit.errors import InputError
 from hydrokit.io.project import COEFFICIENTS, Project
-from hydrokit.pipeline.cache import StepCache, digest, file_digest
+from hydrokit.pipeline.cache import StepCache, digest, file_digest, run_key
 
 CONTROLLERS = ("pid", "s-plane")
 
@@ -323,7 +323,8 @@ class Runner:
                 files[f"mission/{name}"] = text
             metrics = {"missions": doc["missions"], "monte_carlo": _without_paths(doc["monte_carlo"])}
             files["mission/metrics.json"] = json.dumps(rounded(jsonable(metrics)), indent=2, allow_nan=False) + "\n"
-        return RunResult(jsonable(doc), figures, files, self.timings)
+        key = run_key(self.digests, self.bem, self.samples)
+        return RunResult(jsonable(doc), figures, files, self.timings, key)
 
 
 def _sysid_summary(project: Project, step: dict[str, Any]) -> dict[str, Any]:

@@ -514,13 +514,49 @@ def write_run(result: RunResult, out_dir: str | os.PathLike[str]) -> list[Path]:
     from hydrokit._atomic import write_bytes
 
     out = Path(out_dir)
+    written = []
+    for name, data in run_files(result).items():
+        write_bytes(out / name, data)
+        written.append(out / name)
+    return written
+
+
+def run_files(result: RunResult) -> dict[str, bytes]:
+    """The run folder's files (relative path → bytes), rendered in memory."""
     files: dict[str, str] = {
         "report.html": run_report(result),
         "results.json": json.dumps(result.to_dict(), indent=1, allow_nan=False, ensure_ascii=False) + "\n",
         **result.files,
     }
-    written = []
-    for name, text in files.items():
-        write_bytes(out / name, text.encode("utf-8"))
-        written.append(out / name)
-    return written
+    return {name: text.encode("utf-8") for name, text in files.items()}
+
+
+def write_run_folder(result: RunResult, out_dir: str | os.PathLike[str], force: bool = False) -> list[Path]:
+    """Write the run folder's files as one set (:func:`hydrokit._atomic.staged_dir`), unless
+    they are already there from a run with the same key (:func:`hydrokit.pipeline.cache.run_key`)
+    and unchanged since: then nothing is rendered or written and the list is empty.
+
+    Parameters
+    ----------
+    result : RunResult of :func:`hydrokit.pipeline.run_project`
+    out_dir : the run folder (directory)
+    force : bool — render and write even when the files are current
+
+    Returns
+    -------
+    list of Path — the files written
+    """
+    from hydrokit._atomic import staged_dir
+    from hydrokit.pipeline.cache import outputs_current, record_outputs
+
+    out = Path(out_dir)
+    if result.key is not None and not force and outputs_current(out, result.key):
+        return []
+    files = run_files(result)
+    with staged_dir(out) as stage:  # the folder's files replace the old ones as one set
+        for name, data in files.items():
+            (stage / name).parent.mkdir(parents=True, exist_ok=True)
+            (stage / name).write_bytes(data)
+    if result.key is not None:
+        record_outputs(out, result.key, list(files))
+    return [out / name for name in files]
