@@ -11,6 +11,7 @@ from hydrokit.cli._command import command_force, command_options, simulator
 from hydrokit.cli._deflection import deflection_input, deflection_options
 from hydrokit.cli._samples import check_samples, sampled_files, samples_options
 from hydrokit.cli._types import SECONDS, Count, Numbers
+from hydrokit.cli._wind import wind_input, wind_options
 
 
 @click.command()
@@ -63,6 +64,7 @@ from hydrokit.cli._types import SECONDS, Count, Numbers
     "--plots", "plots_dir", type=click.Path(file_okay=False), help="Write states.png, path.png here (folder)."
 )
 @deflection_options
+@wind_options
 @command_options
 @samples_options("OUT_envelope.csv (5/50/95 %, min, max per state and time; SI), OUT_samples.csv, envelope.png")
 def simulate(
@@ -74,6 +76,7 @@ def simulate(
     initial_velocity: list[float] | None,
     initial_pose: list[float] | None,
     current_ned: list[float] | None,
+    wind: Any,
     integrator: str,
     attitude: str,
     output_every: int,
@@ -101,7 +104,7 @@ def simulate(
         from hydrokit.io.trajectory import read_force_table
 
         tau = read_force_table(force_csv)
-    nu0, eta0, cur = initial_velocity or [0.0] * 6, initial_pose or [0.0] * 6, current_ned
+    nu0, eta0, cur = initial_velocity or [0.0] * 6, initial_pose or [0.0] * 6, wind_input(v, current_ned, wind)
     delta = deflection_input(v, deflection, deflection_csv)
     check_samples(v, samples, force_csv or deflection_csv, integrator, attitude)  # before the run, like every input
     tau = command_force(v, command_text, command_csv, tau, cur, samples)

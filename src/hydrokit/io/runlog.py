@@ -18,6 +18,13 @@ commands; it is the surface's actual angle (what a rudder-angle sensor logs), so
 and rate limit of the vehicle file do not act on it again. Columns matching none of these are
 ignored with a warning naming them. ``#`` lines are comments.
 
+Measured disturbances (issue #48 item 4), optional, in pairs: ``wind_speed`` (m/s) and
+``wind_direction`` (rad, true, the direction the wind blows *from*, clockwise from North), read
+only for a vehicle with a wind model (``wind:`` block; without one they are an error, not
+ignored); ``current_speed`` (m/s) and ``current_direction`` (rad, the direction the current flows
+*towards*, clockwise from North — the oceanographic convention). Empty cells are filled linearly
+between the samples (held beyond them).
+
 Bad input is one :class:`~hydrokit.errors.InputError` line naming the file, the column and the
 value: time not increasing, a thruster with no column, a ``thrust:`` column naming no thruster,
 a control surface with no column (a surface that did not move needs a column of zeros: flying
@@ -50,6 +57,8 @@ MOTION_CHANNELS: tuple[str, ...] = (*POSE_SYMBOLS, *VELOCITY_SYMBOLS)
 THRUST_PREFIX = "thrust:"
 #: a deflection this far past a surface's limit (rad; 9 significant digits of a file) is still within it
 DEFLECTION_TOLERANCE = 1e-9
+#: measured disturbances (frozen, issue #48 item 4): m/s, rad (wind true, from; current towards)
+ENVIRONMENT_COLUMNS = ("wind_speed", "wind_direction", "current_speed", "current_direction")
 #: the largest run file read, characters (a 90 s log at 50 Hz is about 1 MB)
 MAX_RUN_CHARS = 200_000_000
 
@@ -69,6 +78,8 @@ class RunLog:
     thrusts : mapping thruster → (n,) — measured thrust on each row, N (``thrust:NAME`` columns)
     deflections : mapping surface → (n,) — deflection on each row, rad, held to the next row; in
         the order of the surface names given to :func:`read_run` (the vehicle's file order)
+    environment : mapping column → (n,) — the measured wind and current on each row
+        (``ENVIRONMENT_COLUMNS``: m/s, rad), empty when the file has none
     warnings : tuple of str — ignored columns and other oddities
     """
 
@@ -80,6 +91,22 @@ class RunLog:
     thrusts: Mapping[str, np.ndarray] = field(default_factory=dict)
     warnings: tuple[str, ...] = ()
     deflections: Mapping[str, np.ndarray] = field(default_factory=dict)
+    environment: Mapping[str, np.ndarray] = field(default_factory=dict)
+
+    def environment_table(self) -> np.ndarray | None:
+        """The run's current and wind as the integrators take them (rows [t, v_N, v_E, v_D, w_N, w_E],
+        m/s; :func:`hydrokit.model.dynamics.environment_table`), None when it logged neither."""
+        if not self.environment:
+            return None
+        from hydrokit.model.dynamics import environment_table
+
+        env, t = self.environment, self.time
+        current = None
+        if "current_speed" in env:
+            c, d = env["current_speed"], env["current_direction"]
+            current = np.column_stack([t, c * np.cos(d), c * np.sin(d), np.zeros_like(t)])
+        wind = np.column_stack([t, env["wind_speed"], env["wind_direction"]]) if "wind_speed" in env else None
+        return environment_table(current, wind)
 
     @property
     def duration(self) -> float:
@@ -109,6 +136,7 @@ def read_run(
     thrusters: Sequence[str],
     surfaces: Sequence[str] = (),
     max_deflection: Sequence[float] | np.ndarray | None = None,
+    wind_model: bool = True,
 ) -> RunLog:
     """Read a run file for a vehicle whose thrusters are named ``thrusters`` (file order).
 
@@ -121,6 +149,7 @@ def read_run(
         a column of deflections, rad
     max_deflection : sequence of float or None — each surface's limit, rad (``max_deflection_deg``
         of the vehicle file); a deflection beyond it is an error. None: not checked
+    wind_model : bool — the vehicle has a wind model; False: wind columns are an error
 
     Returns
     -------
@@ -172,7 +201,19 @@ def read_run(
                 "expected thrust:NAME with NAME a thruster",
                 src,
             )
-    used = {"time", *motion, *cmd_cols, *thr_cols, *def_cols}
+    env_cols = [c for c in ENVIRONMENT_COLUMNS if c in header]
+    for a, b in (ENVIRONMENT_COLUMNS[:2], ENVIRONMENT_COLUMNS[2:]):
+        if (a in header) != (b in header):
+            raise InputError(
+                f"column '{a if a in header else b}' without '{b if a in header else a}'; expected both", src
+            )
+    if "wind_speed" in header and not wind_model:
+        raise InputError(
+            "columns wind_speed, wind_direction but the vehicle has no wind model; expected a 'wind:' block in the "
+            "vehicle file (docs/model.md)",
+            src,
+        )
+    used = {"time", *motion, *cmd_cols, *thr_cols, *def_cols, *env_cols}
     ignored = [c for c in header if c not in used]
     for name in thrusters:
         both = name in cmd_cols and THRUST_PREFIX + name in thr_cols
@@ -202,7 +243,7 @@ def read_run(
     n = len(rows) - 1
     time = np.empty(n)
     inputs = {c: np.empty(n) for c in (*cmd_cols, *thr_cols, *def_cols)}
-    values = {c: np.full(n, np.nan) for c in motion}
+    values = {c: np.full(n, np.nan) for c in (*motion, *env_cols)}
     width = len(header)
     for k, row in enumerate(rows[1:]):
         line = line_of[k + 1]
@@ -250,6 +291,15 @@ def read_run(
         channels[c] = (t, y)
     if not channels:
         raise InputError(f"motion column(s) {', '.join(motion)} hold no sample; expected measured motion", src)
+    environment = {}
+    for c in env_cols:
+        ok = np.isfinite(values[c])
+        if not ok.any():
+            raise InputError(f"column '{c}' holds no sample; expected the measured value (m/s, rad)", src)
+        if c.endswith("_speed") and np.any(values[c][ok] < 0):
+            raise InputError(f"column '{c}' = {values[c][ok].min():.6g}: expected a speed ≥ 0 (m/s)", src)
+        y = np.unwrap(values[c][ok]) if c.endswith("_direction") else values[c][ok]
+        environment[c] = np.interp(time, time[ok], y)
     warnings = (f"ignored column(s) matching nothing: {cut(', '.join(ignored))}",) if ignored else ()
     return RunLog(
         p.stem,
@@ -260,6 +310,7 @@ def read_run(
         {c[len(THRUST_PREFIX) :]: inputs[c] for c in thr_cols},
         warnings,
         {c: inputs[c] for c in surf},
+        environment,
     )
 
 
@@ -281,7 +332,8 @@ def read_runs(runs: Sequence[Any], vehicle: Any) -> list[Any]:
     """
     names = vehicle.thrusters.names if vehicle.thrusters is not None else []
     surf = vehicle.surfaces
-    return [r if hasattr(r, "channels") else read_run(r, names, surf.names, surf.max_deflection) for r in runs]
+    wind = getattr(vehicle, "wind", None) is not None
+    return [r if hasattr(r, "channels") else read_run(r, names, surf.names, surf.max_deflection, wind) for r in runs]
 
 
 def _num(v: float) -> str:

@@ -81,7 +81,7 @@ class CommandForce:
             raise InputError(f"force of shape {np.shape(force)}: expected 6 finite numbers (N, N·m) or rows [t, X … N]")
         self.force_table = np.ascontiguousarray(f)
         self.T = thrusters.configuration_matrix()
-        self.current = current_table(current_ned)
+        self.current = current_table(current_ned)[:, :4]  # the water's: the wind does not reach the propellers
         # the rotor state reached at every row (exact: the target is held over each interval)
         c = np.empty_like(self.values)
         lo, hi = thrusters.command_min, thrusters.command_max

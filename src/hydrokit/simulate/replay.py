@@ -396,7 +396,8 @@ def replay(
     surface : str or None — the steering surface (None: the one named rudder)
     tau : 6 floats — constant force added to the thrusters', N, N·m (body axes)
     dt : float — integration step, s
-    current_ned : None or 3 floats — ocean current, m/s (NED)
+    current_ned : None or 3 floats — ocean current, m/s (NED); None: the run's logged wind and current
+        (``wind_speed`` … columns, :meth:`hydrokit.io.runlog.RunLog.environment_table`), if any
     loop : "compiled" (the numba right-hand side) or "python" (the numpy one)
     progress : callable(seconds flown) or None
 
@@ -428,6 +429,8 @@ def replay(
     grid = t_ex + time
     t0 = float(grid[0])
     meas, x0, notes = measured_track(grid, run.channels)
+    if current_ned is None and hasattr(run, "environment_table"):
+        current_ned = run.environment_table()  # the logged wind and current, when the run has them
     force = _force(vehicle, run, tau, current_ned)
     if loop == "compiled":
         from hydrokit.simulate.compiled import make_dynamics
