@@ -172,3 +172,18 @@ def test_compare_json_lists_every_candidate_and_the_ranking(compared: Any) -> No
     first = doc["candidates"][0]
     assert {"aic", "bic", "heldout_nrmse", "verdict", "parameters", "free", "vehicle"} <= set(first)
     assert [p["name"] for p in first["parameters"]] == list(FREE)
+
+
+@pytest.mark.needs_jit(reason="three output-error fits over 12 s of dives")
+def test_the_report_shows_the_candidates_side_by_side_with_user_text_escaped(compared: Any) -> None:
+    from dataclasses import replace
+
+    from hydrokit.report.sysid_compare import report_html
+
+    first = replace(compared.candidates[0], source="<script>alert(1)</script>.yaml")
+    html = report_html(replace(compared, candidates=(first, *compared.candidates[1:])))
+    assert "<script>" not in html and "&lt;script&gt;alert(1)&lt;/script&gt;.yaml" in html
+    assert html.count("<img") == 1  # the per-channel held-out bars
+    # one column per candidate in the parameter table, in the order given
+    head = html.split('<th class="l">parameter</th>', 1)[1].split("</tr>", 1)[0]
+    assert [h.split(">", 1)[1].split("<", 1)[0] for h in head.split("<th")[1:]] == ["true", "linear", "extra"]

@@ -11,7 +11,7 @@ from typing import Any
 
 from hydrokit.report.html import esc, figure, page, table, warnings_block
 from hydrokit.report.sysid import vehicle_document
-from hydrokit.simulate.sysid_compare import Comparison
+from hydrokit.simulate.sysid_compare import EQUIVALENT, Comparison
 
 _SYMBOL = {"phi": "φ", "theta": "θ", "psi": "ψ"}
 
@@ -37,9 +37,9 @@ def report_html(comparison: Comparison, title: str = "Model structures compared"
                 c.source,
                 c.k,
                 c.heldout,
-                c.aic,
-                c.bic,
-                c.bic - best_bic,
+                f"{c.aic:.1f}",
+                f"{c.bic:.1f}",
+                f"{c.bic - best_bic:.1f}",
                 "fits" if c.verdict["fits"] else "does NOT fit",
             ]
         )
@@ -54,8 +54,11 @@ def report_html(comparison: Comparison, title: str = "Model structures compared"
         "<p class='note'>Held-out NRMSE: RMS error of the open-loop prediction of the held-out runs over the "
         "standard deviation of the measured channel, averaged over the channels that move. AIC and BIC from the "
         "Gaussian output-error likelihood of the training residuals with the effective sample count for their "
-        "autocorrelation; k = free parameters. Candidates within 5 % of the lowest held-out error predict equally; "
-        "of those the lowest BIC is kept.</p>"
+        "autocorrelation; k = free parameters. Candidates within "
+        f"{100 * EQUIVALENT:.0f} % of the lowest held-out error predict equally; of those the lowest BIC is kept. Effective samples (N_eff/N per channel, from "
+        f"{esc(comparison.reference)}'s residuals): "
+        + esc(", ".join(f"{_SYMBOL.get(c, c)} {100 * f:.0f} %" for c, f in comparison.effective.items()))
+        + ".</p>"
     )
     if comparison.notes:
         parts.append(warnings_block(comparison.notes))

@@ -35,7 +35,7 @@ from __future__ import annotations
 import math
 import re
 from collections.abc import Callable, Mapping, Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from typing import Any
 
 import numpy as np
@@ -119,6 +119,8 @@ class Comparison(Result):
     keep : str — the name of the one to keep
     recommendation : str — which to keep and why, in one sentence
     notes : tuple of str — caveats (e.g. candidates fitted on different windows)
+    effective : dict — channel → N_eff / N used for every candidate (unit-free)
+    reference : str — the candidate whose residuals gave ``effective`` (the best-fitting)
     """
 
     candidates: tuple[Scored, ...]
@@ -126,6 +128,8 @@ class Comparison(Result):
     keep: str
     recommendation: str
     notes: tuple[str, ...] = ()
+    effective: dict[str, float] = field(default_factory=dict)
+    reference: str = ""
 
     def by_name(self, name: str) -> Scored:
         """The scored candidate called ``name``."""
@@ -136,7 +140,8 @@ class Comparison(Result):
 
     def to_dict(self) -> dict[str, Any]:
         """compare.json: candidates (name, vehicle, free, k, aic, bic, heldout_nrmse, verdict,
-        parameters), ranking, keep, recommendation, notes (SI)."""
+        parameters), ranking, keep, recommendation, notes, effective_samples (the fraction N_eff/N
+        per channel and the candidate it came from) (SI)."""
         cands = []
         for c in self.candidates:
             r = c.result
@@ -167,6 +172,7 @@ class Comparison(Result):
                 "keep": self.keep,
                 "recommendation": self.recommendation,
                 "notes": list(self.notes),
+                "effective_samples": {"from": self.reference, "fraction": self.effective},
             }
         )
 
@@ -426,11 +432,7 @@ def compare(
             "AIC and BIC weigh different residual series; give --window S (or none) to compare them on one footing"
         )
     ranking, keep, sentence = choose(scores, equivalent)
-    notes.append(
-        f"effective samples per channel from {fits[ref][0].name}'s residuals (lag-1 ρ, AR(1)): "
-        + ", ".join(f"{c} {100 * f:.0f} %" for c, f in fraction.items())
-    )
-    return Comparison(tuple(scores), ranking, keep, sentence, tuple(notes))
+    return Comparison(tuple(scores), ranking, keep, sentence, tuple(notes), fraction, fits[ref][0].name)
 
 
 __all__ = [
