@@ -1414,8 +1414,16 @@ def _depth_lost(dz: np.ndarray, length: float | None) -> tuple[str | None, str |
     worst, end = float(np.max(np.abs(dz))), abs(float(dz[-1]))
     if worst <= limit:
         return None, None
-    if end > limit or worst > HOLD_LOST_WILD * limit:
-        return f"the vehicle {_moved(dz)} (more than {limit:.3g} m from the depth it held at the execute)", None
+    if end > limit:
+        return (
+            f"the vehicle {_moved(dz)} and ended {end:.3g} m from the depth at the execute (more than {limit:.3g} m)",
+            None,
+        )
+    if worst > HOLD_LOST_WILD * limit:
+        return (
+            f"the vehicle {_moved(dz)} (more than {HOLD_LOST_WILD * limit:.3g} m from the depth at the execute)",
+            None,
+        )
     return None, (
         f"the vehicle stray: it {_moved(dz)} (more than {limit:.3g} m) before it was brought back to within "
         f"{end:.2g} m of the depth at the execute"
