@@ -287,6 +287,7 @@ def sysid(
     seed: int = 0,
     workers: int | None = None,
     scheduler: str | None = None,
+    window: float | str | None = "auto",
 ) -> Any:
     """Identify a vehicle's free coefficients from its own free-running logs (issue #44).
 
@@ -303,6 +304,8 @@ def sysid(
     seed : int — seed of those draws
     workers : int or None — threads of the compiled batch simulations (None: all cores)
     scheduler : str or None — a running Dask scheduler's address: the runs are simulated on its workers
+    window : float, "auto" or None — fit windows of about this many seconds, each from its
+        smoothed state; "auto" (default): 30 s windows only when a run drifts; None: whole runs
 
     Returns
     -------
@@ -325,6 +328,7 @@ def sysid(
         seed=seed,
         workers=workers,
         scheduler=scheduler,
+        window=window,
     )
 
 
