@@ -399,3 +399,29 @@ def test_the_bundled_project_recovers_the_hidden_coefficients(tmp_path):
     assert yaml.safe_load((tmp_path / "vehicle.yaml").read_text())["uncertainty"]["parameters"] == [
         f"{r['coefficient']}.{r['dof']}" for r in rows
     ]
+
+
+def test_a_fit_that_does_not_describe_the_runs_says_so_first(tmp_path, monkeypatch):
+    """The step carries the verdict: its reasons lead the warnings and the report's sysid
+    section, and the identifiability line no longer reads as good news."""
+    from dataclasses import replace
+
+    from hydrokit.report.run import run_report
+
+    fake = FakeIdentify()
+    reason = "dive3 (held out): held-out NRMSE of φ 2.18 > 0.5 and residuals lag-1 ρ 0.99: the model does not fit"
+
+    def failing(*args: Any, **kw: Any) -> Any:
+        res = fake(*args, **kw)
+        return replace(res, verdict={"fits": False, "reasons": [reason]}, messages=())
+
+    monkeypatch.setattr("hydrokit.simulate.sysid.identify", failing)
+    monkeypatch.setattr("hydrokit.pipeline.sysid._figures", lambda result: [])
+    res = run(make_project(tmp_path), tmp_path / "out")
+    step = res.document["sysid"]
+    assert step["verdict"] == {"fits": False, "reasons": [reason]}
+    assert step["warnings"][0] == f"sysid: {reason}"
+    html = run_report(res)
+    section = html[html.index("System identification from the vehicle") :]
+    assert section.index("Verdict: the model does NOT describe these runs") < section.index("Identifiability")
+    assert "these σ understate the error" in section and "every σ below its value.</p>" not in section

@@ -260,11 +260,14 @@ def test_equation_error_method_and_terms(base: Any, short: Any) -> None:
     from hydrokit.simulate.sysid import identify
 
     runs = short
-    res = identify(
-        base, [_cut(runs[0], 2.0)], ["terms.N_r|r|", "terms.Z_wdot"], method="equation-error", dt=0.02, samples=0
-    )
+    free = ["terms.N_r|r|", "terms.Z_wdot"]
+    res = identify(base, [_cut(runs[0], 2.0)], free, method="equation-error", dt=0.02, samples=0, bounds=False)
     assert res.method == "equation-error"
     np.testing.assert_allclose(res.values, res.equation_error["values"])
+    # bounded (the default): N_r|r| projected onto ≤ 0 (a positive one feeds energy in), Z_wdot free
+    held = identify(base, [_cut(runs[0], 2.0)], free, method="equation-error", dt=0.02, samples=0)
+    ee = np.asarray(held.equation_error["values"])
+    np.testing.assert_allclose(held.values, [min(ee[0], 0.0), ee[1]])
     doc = vehicle_document(
         res, {"name": "b", "added_mass": [1, 2, 3, 4, 5, 6], "linear_damping": [0] * 6, "quadratic_damping": [0] * 6}
     )

@@ -34,7 +34,7 @@ import numpy as np
 
 from hydrokit.core.names import DOF_NAMES
 from hydrokit.errors import InputError
-from hydrokit.model.terms import Term, TermSet, parse_term
+from hydrokit.model.terms import ABS, VEL, Term, TermSet, parse_term
 
 #: the diagonal coefficients an uncertainty block may name
 COEFFICIENTS = ("added_mass", "linear_damping", "quadratic_damping")
@@ -331,6 +331,30 @@ class Uncertainty:
         refs = [_ref(vehicle, p) for p in self.parameters]
         vehicles = [_with(vehicle, refs, row) for row in values]
         return vehicles, values, clipped
+
+
+def physical_sign(ref: ParameterRef) -> int:
+    """The sign a parameter must keep to be physical: +1 (≥ 0) for a ``linear_damping`` or
+    ``quadratic_damping`` diagonal entry and for a diagonal ``added_mass``; −1 (≤ 0, SNAME) for
+    a damping derivative of its own DOF (a term odd in that one velocity: X_u, X_u|u|, N_r|r|,
+    N_rrr) and for an own-DOF acceleration term (X_udot … N_rdot = −M_A[i, i]); 0 (either sign)
+    otherwise.
+
+    A damping of the other sign feeds energy in (a vehicle file refuses it unless
+    ``allow_negative_damping``); the added-mass matrix of a body in unbounded fluid is positive
+    definite (the fluid's kinetic energy ½ νᵀ M_A ν > 0; Newman 1977, Marine Hydrodynamics,
+    ch. 4), so its diagonal is positive — a negative one, which the file accepts with a warning,
+    makes the body easier to accelerate than in vacuum and can leave M_RB + M_A singular."""
+    if ref.kind in ("linear_damping", "quadratic_damping", "added_mass"):
+        return 1
+    if ref.kind == "accel":
+        return -1 if ref.index == ref.dof else 0
+    if ref.kind == "term" and ref.term is not None:
+        t = ref.term
+        own = bool(t.factors) and all(f.indices == (t.dof,) and f.kind in (VEL, ABS) for f in t.factors)
+        if own and sum(f.kind == VEL for f in t.factors) % 2 == 1:
+            return -1
+    return 0
 
 
 def location(ref: ParameterRef) -> tuple[Any, ...]:

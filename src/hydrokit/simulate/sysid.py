@@ -292,9 +292,21 @@ def _lm(
     scale: np.ndarray,
     max_iter: int,
     progress: Callable[[int, float], None] | None,
+    bounds: tuple[np.ndarray, np.ndarray] | None = None,
 ) -> tuple[np.ndarray, np.ndarray, np.ndarray, int]:
-    """Levenberg–Marquardt in the scaled variables z/scale; returns z, residuals, J, iterations."""
-    z = z0.copy()
+    """Levenberg–Marquardt in the scaled variables z/scale; returns z, residuals, J, iterations.
+
+    ``bounds`` (lower, upper) of the parameters (SI, ±inf where free) keep them feasible: a
+    parameter on its bound whose gradient points out of the box is held there for that step
+    (active set), the others take the Levenberg–Marquardt step of the reduced problem, and the
+    new point is projected onto the box (projected Levenberg–Marquardt; Kanzow, Yamashita &
+    Fukushima 2004, J. Comput. Appl. Math. 172)."""
+    p = len(problem.params)
+    lo = np.full(z0.size, -np.inf)
+    hi = np.full(z0.size, np.inf)
+    if bounds is not None:
+        lo[:p], hi[:p] = bounds
+    z = np.clip(z0, lo, hi)
     r, J0, ok = problem.evaluate(z, scale, True)
     if not ok or J0 is None:
         raise _Diverged(z)
@@ -306,10 +318,16 @@ def _lm(
         g = J.T @ r
         A = J.T @ J
         d = np.sqrt(np.clip(np.diag(A), 1e-300, None))
+        tiny = 1e-12 * scale
+        held = ((z <= lo + tiny) & (g > 0)) | ((z >= hi - tiny) & (g < 0))
+        free = ~held
         accepted = False
         while lam < 1e10:
-            step = -np.linalg.solve(A + lam * np.diag(d**2), g)
-            z_new = z + step * scale
+            step = np.zeros_like(z)
+            Af = A[np.ix_(free, free)]
+            step[free] = -np.linalg.solve(Af + lam * np.diag(d[free] ** 2), g[free])
+            z_new = np.clip(z + step * scale, lo, hi)
+            step = (z_new - z) / scale
             r_new, J_new, ok = problem.evaluate(z_new, scale, True)
             if ok and J_new is not None and float(r_new @ r_new) < cost:
                 accepted = True
@@ -320,7 +338,6 @@ def _lm(
         lam = max(lam / 10.0, 1e-9)
         rel = (cost - float(r_new @ r_new)) / cost
         z, r, J, cost = z_new, r_new, J_new, float(r_new @ r_new)
-        p = len(problem.params)
         if np.any(np.abs(z[:p] - z0[:p]) / scale[:p] > RUNAWAY):
             raise _Diverged(z)
         if progress:
@@ -530,6 +547,7 @@ def identify(
     workers: int | None = None,
     scheduler: str | None = None,
     window: float | str | None = None,
+    bounds: bool = True,
 ) -> SysidResult:
     """Identify the ``free`` coefficients of ``vehicle`` from ``runs`` (module docstring).
 
@@ -552,6 +570,10 @@ def identify(
     window : float, "auto" or None — cut the runs into windows of about this many seconds,
         each started from its smoothed state (:mod:`hydrokit.simulate.sysid_window`); "auto":
         only when a run drifts at the start values (said in the warnings); None: whole runs
+    bounds : bool — keep every free damping physical (``linear_damping``/``quadratic_damping``
+        ≥ 0, an own-DOF damping derivative such as N_r|r| ≤ 0:
+        :func:`hydrokit.model.uncertainty.physical_sign`), so the fitted vehicle is one that
+        hydrokit loads; a parameter held on its bound is said in the messages. False: unbounded
 
     Raises
     ------
@@ -565,11 +587,11 @@ def identify(
         numba.set_num_threads(min(int(workers), numba.config.NUMBA_NUM_THREADS))  # type: ignore[attr-defined]
     args = (vehicle, runs, free, holdout, method, dt, max_iter, check_step, samples, seed, progress)
     if scheduler is None:
-        return _identify(*args, None, window)
+        return _identify(*args, None, window, bounds)
     from hydrokit._parallel import Executor
 
     with Executor(scheduler=scheduler) as executor:
-        return _identify(*args, executor, window)
+        return _identify(*args, executor, window, bounds)
 
 
 def _identify(
@@ -586,6 +608,7 @@ def _identify(
     progress: Callable[[int, float], None] | None,
     executor: Any,
     window: float | str | None = None,
+    bounds: bool = True,
 ) -> SysidResult:
     """:func:`identify` with the runs' simulations on ``executor`` (None: in this process)."""
     from hydrokit.simulate.sysid_smooth import equation_error, initial_noise, smooth_run, tau_on_grid
@@ -623,9 +646,11 @@ def _identify(
     )
     for c in list(problem.sigma):
         problem.sigma[c] = max(problem.sigma[c], 1e-9)
+    lower, upper = _bounds(veh, params) if bounds else (np.full(p, -np.inf), np.full(p, np.inf))
     start = ee.values.copy()
     bad = ~np.isfinite(start)
     start[bad] = base[bad]
+    start = np.clip(start, lower, upper)
     cut = None
     if window is not None:  # windowed output error (issue #48): the windows replace the runs
         from hydrokit.simulate.sysid_window import cut_runs, parse_window
@@ -648,7 +673,10 @@ def _identify(
         z = z0
         try:
             for _ in range(3):  # re-weight: σ of each channel from its residuals
-                z, r, _, its = (cut.lm if cut else _lm)(problem, z, scale, max_iter, progress)
+                if cut:
+                    z, r, _, its = cut.lm(problem, z, scale, max_iter, progress)
+                else:
+                    z, r, _, its = _lm(problem, z, scale, max_iter, progress, (lower, upper))
                 iterations += its
                 sig = _channel_rms(problem, r)
                 if all(abs(sig[c] / problem.sigma[c] - 1) < 0.02 for c in sig):
@@ -660,10 +688,22 @@ def _identify(
     else:
         z = z0.copy()
         z[:p] = ee.values
+    # the windowed and equation-error fits are projected onto the bounds at the end
+    moved = not np.array_equal(np.clip(z[:p], lower, upper), z[:p])
+    z[:p] = np.clip(z[:p], lower, upper)
+    if method != "output-error" or moved:
         r, J, _ok = problem.evaluate(z, scale, True)
         if not _ok:
             raise InputError(_runaway_message(problem, z, z0, scale))
     assert J is not None
+    if not np.all(np.isfinite(J)):  # a simulation blew up when a parameter was nudged
+        cols = np.nonzero(~np.all(np.isfinite(J), axis=0))[0]
+        names = [params[k].name if k < p else "an initial state" for k in cols[:3]]
+        raise InputError(
+            f"the fitted vehicle is on the edge of instability: nudging {', '.join(names)} by 1e-6 makes the "
+            "simulation diverge; expected a base vehicle that describes the runs (check its mass, inertia and "
+            "centres) and free parameters the runs excite"
+        )
     blocks = _series(problem)
     cov_s = sandwich(J, r, blocks, first=p)
     info = J.T @ J
@@ -674,7 +714,7 @@ def _identify(
     sigma = np.sqrt(np.clip(np.diag(cov), 0, None))
     fisher_sigma = scale[:p] * np.sqrt(np.clip(np.diag(fisher), 0, None))
     if method == "equation-error":
-        theta = ee.values
+        theta = np.clip(ee.values, lower, upper)
     corr = correlation(cov)
     step_check = float("nan")
     if check_step and method == "output-error":
@@ -725,6 +765,11 @@ def _identify(
         run_rows.append(row)
         predictions.append({"name": prep.name, "holdout": is_hold, "channels": chans})
     msgs = _messages([q.name for q in params], params, theta, sigma, corr, smoothed)
+    bound_msgs = _bound_messages(params, theta, lower, upper)
+    if bound_msgs:  # a value held at 0 has σ > |value| by construction: said by the bound's message instead
+        at = {q.name for q, v, lo, hi in zip(params, theta, lower, upper) if v in (lo, hi)}
+        msgs = [m for m in msgs if not (m.split(" = ", 1)[0] in at and m.endswith("not identifiable from these runs"))]
+    msgs += bound_msgs
     if math.isfinite(step_check) and step_check > 0.1:
         warnings.append(
             f"halving the integration step moves an estimate by {step_check:.2f} σ (> 0.1): use a smaller dt"
@@ -753,6 +798,30 @@ def _identify(
         step_check=step_check,
         timing={"total": _time.perf_counter() - t_start, "simulation": problem.sim_seconds},
     )
+
+
+def _bounds(vehicle: Vehicle, params: Sequence[Parameter]) -> tuple[np.ndarray, np.ndarray]:
+    """Lower and upper bounds of the parameters (SI): 0 on the side where a damping would feed
+    energy in (:func:`hydrokit.model.uncertainty.physical_sign`), ±inf elsewhere."""
+    from hydrokit.model.uncertainty import parameter_ref, physical_sign
+
+    signs = np.array([physical_sign(parameter_ref(vehicle, q.name)) for q in params], dtype=float)
+    return np.where(signs > 0, 0.0, -np.inf), np.where(signs < 0, 0.0, np.inf)
+
+
+def _bound_messages(params: Sequence[Parameter], theta: np.ndarray, lower: np.ndarray, upper: np.ndarray) -> list[str]:
+    """One message per parameter held on its physical bound."""
+    out = []
+    for q, v, lo, hi in zip(params, theta, lower, upper):
+        if v == lo or v == hi:
+            side = (
+                "≥ 0: a negative damping feeds energy in" if v == lo else "≤ 0 (SNAME): a positive one feeds energy in"
+            )
+            out.append(
+                f"{q.name} is held at its physical bound 0 {q.unit} ({side}): these runs push it past — the model "
+                "misses something (see the verdict) or the runs do not determine it; bounds=False fits it unbounded"
+            )
+    return out
 
 
 def _raise_diverged(z: np.ndarray) -> bool:
