@@ -205,3 +205,30 @@ def test_command_on_a_vehicle_without_thrusters(run, tmp_path):
     assert code == 2 and "vehicle 'boat' has no thrusters; expected a vehicle file with a 'thrusters:' block" in err
     assert "Traceback" not in err and len(err.strip().splitlines()) == 1
     assert not (tmp_path / "bad").exists() or not any((tmp_path / "bad").iterdir())
+
+
+def test_samples_write_intervals_about_the_nominal(run_cli, tmp_path):
+    """``--samples`` (issue #48 item 7): each drawn boat flies the turn; every numeric metric gets
+    its median and 95 % interval, and a σ of 10 % on the rudder's yaw moment puts the nominal
+    tactical diameter inside its interval."""
+    boat = tmp_path / "sigma.yaml"
+    boat.write_text(BOAT + "uncertainty:\n  parameters: [terms.N_uu*delta(rudder)]\n  covariance: [[4.0]]\n")
+    out = tmp_path / "tc"
+    code, stdout, err = run_cli(
+        "manoeuvre", boat, "--force", "20,0,0,0,0,0", "--out", out, "--turning-circle", "35", "--dt", "0.2",
+        "--samples", "5", "--seed", "3",
+    )  # fmt: skip
+    assert code == 0, err
+    doc = json.loads((out / "manoeuvre.json").read_text())
+    td, iv = doc["turning_circle"]["tactical_diameter"], doc["intervals"]["tactical_diameter"]
+    assert iv["samples"] == 5 and iv["low95"] < td < iv["high95"]
+    assert set(doc["intervals"]) >= {"advance", "transfer", "steady_speed", "time_to_90_deg"}
+    assert doc["sampling"]["seed"] == 3 and doc["sampling"]["sigma"] == [2.0]
+    assert "tactical diameter: median" in stdout and "95 % intervals" in (out / "report.html").read_text()
+
+
+def test_samples_without_an_uncertainty_block_are_refused_before_the_run(run, tmp_path):
+    code, _, err = run("--out", tmp_path / "no", "--turning-circle", "35", "--samples", "3")
+    assert code == 2 and "Traceback" not in err
+    assert "--samples 3: vehicle 'boat' has no 'uncertainty:' block" in err
+    assert not (tmp_path / "no").exists() or not any((tmp_path / "no").iterdir())

@@ -145,3 +145,24 @@ def test_replay_with_a_manoeuvre_option(run_cli, boat, tmp_path, args, match):
     code, _, err = run_cli("manoeuvre", boat, "--replay", trial, "--out", tmp_path / "out", *args)
     assert code == 2 and match in err, err
     assert not (tmp_path / "out").exists()
+
+
+def test_replay_samples_give_the_predicted_metrics_intervals(run_cli, tmp_path):
+    """``--replay --samples``: drawn boats replay the trial; a σ of ~0 on the rudder's yaw moment
+    collapses the predicted metrics' intervals onto the predicted values (same model, same inputs)."""
+    from hydrokit.simulate import manoeuvre as M
+
+    boat = tmp_path / "sigma.yaml"
+    boat.write_text(BOAT + "uncertainty:\n  parameters: [terms.N_uu*delta(rudder)]\n  covariance: [[1.0e-20]]\n")
+    trial = tmp_path / "tc.csv"
+    _write_trial(BOAT, trial, M.turning_circle(math.radians(35)), dt=0.2, tau=(20, 0, 0, 0, 0, 0))
+    out = tmp_path / "out"
+    args = ("--replay", trial, "--force", "20,0,0,0,0,0", "--dt", "0.2", "--out", out, "--samples", "3")
+    code, _, err = run_cli("manoeuvre", boat, *args)
+    assert code == 0, err
+    doc = json.loads((out / "manoeuvre.json").read_text())
+    for k in ("advance", "tactical_diameter"):
+        iv = doc["intervals"][k]
+        assert iv["samples"] == 3
+        assert iv["low95"] == pytest.approx(doc["predicted"][k], rel=1e-6)
+        assert iv["high95"] == pytest.approx(doc["predicted"][k], rel=1e-6)

@@ -20,17 +20,21 @@ def run_replay(
     loop: str,
     no_plots: bool,
     duration: float | None = None,
+    samples: int = 0,
+    seed: int = 1,
     **others: Any,
 ) -> None:
     """Replay the trial ``replay`` with ``vehicle`` into ``out_dir`` (the arguments of ``hydrokit
     manoeuvre``; ``duration`` is unused: the trial sets it). ``others``: the options that set a
     manoeuvre, its propulsion or its start — each must be None or False (a replay reads them from
-    the trial)."""
+    the trial). ``samples`` vehicles drawn from the file's covariance replay the trial too: the
+    predicted metrics' 95 % intervals (manoeuvre.json's ``intervals``)."""
     from hydrokit.api import load_vehicle
     from hydrokit.cli._common import check_out_dir, json_text, progress_bar, write_all
     from hydrokit.errors import InputError
     from hydrokit.io.runlog import read_run
     from hydrokit.io.trajectory import table_csv
+    from hydrokit.simulate.manoeuvre_samples import add_intervals, check_samples
     from hydrokit.simulate.replay import replay as replay_trial
 
     trial = replay
@@ -42,6 +46,7 @@ def run_replay(
         )
     out = check_out_dir(out_dir)
     v = load_vehicle(vehicle)
+    check_samples(v, samples)
     ts = getattr(v, "thrusters", None)
     run = read_run(trial, tuple(ts.names) if ts is not None else (), tuple(v.surfaces.names), v.surfaces.max_deflection)
     with progress_bar(time_based=True) as bar:
@@ -58,6 +63,18 @@ def run_replay(
             )
         except InputError as exc:
             raise InputError(exc.detail, exc.source or trial) from None
+    if samples:
+        with progress_bar() as bar:
+            drawn = bar.add_task(f"{samples} drawn vehicles", total=samples)
+            add_intervals(
+                res.predicted,
+                v,
+                samples,
+                seed,
+                lambda veh: replay_trial(veh, run, surface=surface, tau=force, dt=dt, loop=loop).predicted,
+                lambda k, n: bar.update(drawn, completed=k, total=n),
+            )
+        res.warnings.extend(w for w in res.predicted.warnings if "drawn vehicle" in w)
     cols, rows = res.table()
     import numpy as np
 

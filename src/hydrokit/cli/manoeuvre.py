@@ -10,11 +10,13 @@ import click
 
 from hydrokit.cli._manoeuvre_options import manoeuvre_options
 from hydrokit.cli._replay import run_replay
+from hydrokit.cli._samples import samples_options
 
 
 @click.command()
 @click.argument("vehicle", metavar="VEHICLE")
 @manoeuvre_options
+@samples_options("each metric's median and 95 % interval in manoeuvre.json (intervals), sample tracks on the plots")
 def manoeuvre(
     vehicle: str,
     out_dir: str,
@@ -34,6 +36,8 @@ def manoeuvre(
     loop: str,
     hold: bool | None,
     no_plots: bool,
+    samples: int,
+    seed: int,
 ) -> None:
     """Fly a standard manoeuvre with VEHICLE (a vehicle YAML file or bundled name): a straight
     approach until steady, then the execute; every metric is measured from the execute point
@@ -47,6 +51,10 @@ def manoeuvre(
     A manoeuvre that never reaches the heading it measures at is an error (exit 2); the track is
     still written.
 
+    --samples N flies N vehicles drawn from the file's uncertainty: block after the nominal one,
+    one after the other, and writes each metric's median and 95 % interval (manoeuvre.json's
+    "intervals"); the sample tracks are drawn thin under the nominal one.
+
     --replay TRIAL.csv flies a recorded trial's inputs instead and writes manoeuvre.json with the
     "measured", "predicted" and "difference" metrics, trajectory.csv (measured_* and predicted_*
     states) and track.png, time.png with both tracks (docs/manoeuvre.md, "Replaying a trial").
@@ -59,6 +67,7 @@ def manoeuvre(
     from hydrokit.io.trajectory import table_csv
     from hydrokit.simulate.manoeuvre import commands_from_text, from_options, run_manoeuvre
     from hydrokit.simulate.manoeuvre_metrics import describe
+    from hydrokit.simulate.manoeuvre_samples import add_intervals, check_samples, interval_lines
 
     out = check_out_dir(out_dir)
     m = from_options(
@@ -73,25 +82,21 @@ def manoeuvre(
     )
     commands = None if command_text is None else commands_from_text(command_text)
     v = load_vehicle(vehicle)
+    check_samples(v, samples)
+    settings: dict[str, Any] = dict(surface=surface, tau=force, nu0=initial_velocity, dt=dt, duration=duration)
+    settings |= dict(loop=loop, hold=hold, commands=commands)
     with progress_bar(time_based=True) as bar:
         task = bar.add_task(m.kind.replace("_", " "), total=duration)
-        res = run_manoeuvre(
-            v,
-            m,
-            surface=surface,
-            tau=force,
-            nu0=initial_velocity,
-            dt=dt,
-            duration=duration,
-            loop=loop,
-            hold=hold,
-            commands=commands,
-            progress=lambda t, total: bar.update(task, completed=t, total=total),
-        )
+        res = run_manoeuvre(v, m, **settings, progress=lambda t, total: bar.update(task, completed=t, total=total))
     files: dict[Any, Any] = {out / "trajectory.csv": table_csv(*_columns(res))}
     if res.problem:
         write_all(files)
         raise InputError(f"{res.problem}; the track was written to {out / 'trajectory.csv'}")
+    if samples:
+        with progress_bar() as bar:
+            drawn = bar.add_task(f"{samples} drawn vehicles", total=samples)
+            fly = lambda veh: run_manoeuvre(veh, m, **settings)  # noqa: E731
+            add_intervals(res, v, samples, seed, fly, lambda k, n: bar.update(drawn, completed=k, total=n))
     files[out / "manoeuvre.json"] = json_text(res.to_dict())
     if not no_plots:
         from hydrokit.plot._mpl import to_png
@@ -114,6 +119,10 @@ def manoeuvre(
     click.echo(f"{'pull-out' if m.kind == 'pull_out' else m.kind.replace('_', ' ')}{_setting(res)}, {res.surface}:")
     for line in describe(m.kind, res.metrics):
         click.echo("  " + line)
+    if res.intervals is not None:
+        click.echo(f"95 % intervals of {samples} vehicles from the file's covariance (seed {seed}):")
+        for line in interval_lines(res.intervals):
+            click.echo("  " + line)
     for c in res.imo():
         verdict = "–" if c["passed"] is None else "pass" if c["passed"] else "FAIL"
         click.echo(f"IMO {c['criterion']}: {verdict}")

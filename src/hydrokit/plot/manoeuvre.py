@@ -15,10 +15,15 @@ from hydrokit.plot._mpl import axes_or_new, new_figure
 def track_axes(res: Any, ax: Any = None) -> Any:
     """The horizontal track (east y across, north x up, m) with the execute point, and for a
     turning circle the advance, transfer and tactical diameter drawn as dimension lines and the
-    steady circle dashed; returns the axes."""
+    steady circle dashed; with ``--samples`` the drawn vehicles' tracks thin and grey beneath,
+    and the 95 % intervals of the drawn metrics in their labels; returns the axes."""
     ax = axes_or_new(ax)
     x, y = res.eta[:, 0], res.eta[:, 1]
-    ax.plot(y, x, lw=1.4, label="track")
+    tracks = getattr(res, "sample_tracks", None) or []
+    for k, tr in enumerate(tracks):
+        label = f"{len(tracks)} drawn vehicles" if k == 0 else None
+        ax.plot(tr[:, 2], tr[:, 1], lw=0.6, color="0.45", alpha=0.3, zorder=1, label=label)
+    ax.plot(y, x, lw=1.4, label="track", zorder=3)
     ax.plot([0], [0], "ko", ms=5, label="execute")
     m = res.metrics
     if res.kind == "turning_circle" and m.get("advance") is not None:
@@ -31,8 +36,8 @@ def track_axes(res: Any, ax: Any = None) -> Any:
 
         adv, tr = m["advance"], m["transfer"]
         for (a0, b0), (a1, b1), label in (
-            ((0, 0), (adv, 0), f"advance {adv:.3g} m"),
-            ((adv, 0), (adv, tr), f"transfer {tr:.3g} m"),
+            ((0, 0), (adv, 0), f"advance {adv:.3g} m{_interval(res, 'advance')}"),
+            ((adv, 0), (adv, tr), f"transfer {tr:.3g} m{_interval(res, 'transfer')}"),
         ):
             (e0, n0), (e1, n1) = pt(a0, b0), pt(a1, b1)
             ax.annotate("", (e1, n1), (e0, n0), arrowprops={"arrowstyle": "<->", "color": "0.3"})
@@ -41,7 +46,13 @@ def track_axes(res: Any, ax: Any = None) -> Any:
             td = m["tactical_diameter"]
             (e0, n0), (e1, n1) = pt(-0.1 * td, 0), pt(-0.1 * td, td)
             ax.annotate("", (e1, n1), (e0, n0), arrowprops={"arrowstyle": "<->", "color": "C3"})
-            ax.text(0.5 * (e0 + e1), 0.5 * (n0 + n1), f"tactical diameter {td:.3g} m", fontsize=8, color="C3")
+            ax.text(
+                0.5 * (e0 + e1),
+                0.5 * (n0 + n1),
+                f"tactical diameter {td:.3g} m{_interval(res, 'tactical_diameter')}",
+                fontsize=8,
+                color="C3",
+            )
         if m.get("steady_turning_diameter") is not None:
             from hydrokit.simulate.manoeuvre_metrics import fit_circle
 
@@ -65,6 +76,14 @@ def track_axes(res: Any, ax: Any = None) -> Any:
     ax.legend(fontsize=8, loc="best")
     ax.set_title(f"{res.vehicle}: {res.kind.replace('_', ' ')}")
     return ax
+
+
+def _interval(res: Any, key: str) -> str:
+    """`` (95 %: a–b)`` of a metric drawn from the covariance (empty without ``--samples``)."""
+    iv = (getattr(res, "intervals", None) or {}).get(key)
+    if not iv or iv["low95"] is None:
+        return ""
+    return f" (95 %: {iv['low95']:.3g}–{iv['high95']:.3g})"
 
 
 def track_figure(res: Any) -> Any:
@@ -93,6 +112,9 @@ def time_figure(res: Any) -> Any:
         for s in (1, -1):
             axes[0].axhline(s * math.degrees(b), color="0.5", ls="--", lw=0.8)
     if vertical:
+        for tr in getattr(res, "sample_tracks", None) or []:
+            j0 = int(np.searchsorted(tr[:, 0], 0.0))
+            axes[1].plot(tr[:, 0], tr[:, 3] - tr[j0, 3], lw=0.6, color="0.45", alpha=0.3)
         axes[1].plot(res.time, res.eta[:, 2] - res.eta[k0, 2], lw=1.3)
         axes[1].set_ylabel("depth change [m]")
         axes[1].invert_yaxis()

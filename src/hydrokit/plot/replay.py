@@ -14,8 +14,13 @@ from hydrokit.plot._mpl import axes_or_new, new_figure
 
 def tracks_axes(res: Any, ax: Any = None) -> Any:
     """The measured (solid) and predicted (dashed) tracks with the execute point and the later
-    executes marked on each; returns the axes."""
+    executes marked on each; with ``--samples`` the drawn vehicles' predicted tracks thin and grey
+    beneath; returns the axes."""
     ax = axes_or_new(ax)
+    tracks = getattr(res.predicted, "sample_tracks", None) or []
+    for k, tr in enumerate(tracks):
+        label = f"{len(tracks)} drawn vehicles" if k == 0 else None
+        ax.plot(tr[:, 2], tr[:, 1], lw=0.6, color="0.45", alpha=0.3, zorder=1, label=label)
     for r, style, label in ((res.measured, "-", "measured"), (res.predicted, "--", "predicted")):
         x, y = r.eta[:, 0], r.eta[:, 1]
         (line,) = ax.plot(y, x, style, lw=1.4, label=label)

@@ -32,6 +32,11 @@ def _cell(v: Any) -> Any:
     return v if isinstance(v, (int, float, str)) else str(v)
 
 
+def _unit(key: str, units: dict[str, str]) -> str:
+    leaf = key.rsplit(".", 1)[-1]
+    return units.get(leaf, "deg" if leaf.endswith("_deg") else "")
+
+
 def render(result: Any, figures: dict[str, bytes] | None = None) -> str:
     """The whole report as one self-contained HTML string (``figures``: PNG bytes by name; None:
     rendered here)."""
@@ -64,6 +69,24 @@ def render(result: Any, figures: dict[str, bytes] | None = None) -> str:
         if items:
             head = list(items[0])
             parts.append(table(head, [[_cell(p[h]) for h in head] for p in items], left_cols=0))
+    found = doc.get("intervals")
+    if found:
+        sampling = doc["sampling"]
+        parts.append(
+            f'<h2>95 % intervals</h2><p class="note">{sampling["samples"]} vehicles drawn from the vehicle file\'s '
+            f"covariance ({esc(', '.join(sampling['parameters']))}; seed {sampling['seed']}), each flown through "
+            "the same manoeuvre; median and the 2.5–97.5 % points of the draws that reached each metric.</p>"
+        )
+        parts.append(
+            table(
+                ["metric", "median", "low 95 %", "high 95 %", "samples", "unit"],
+                [
+                    [k, _cell(iv["median"]), _cell(iv["low95"]), _cell(iv["high95"]), iv["samples"], _unit(k, UNITS)]
+                    for k, iv in found.items()
+                ],
+                left_cols=1,
+            )
+        )
     crit = doc.get("imo_criteria")
     if crit is not None:
         parts.append("<h2>IMO MSC.137(76) criteria (surface craft)</h2>")

@@ -193,6 +193,11 @@ class ManoeuvreResult(Result):
     planar : bool — a surface-craft model (3 or 4 DOF): the IMO criteria apply
     hold : dict — what was held and by which surface ({"depth": "sternplane", "heading":
         "rudder (approach)"}; empty: nothing held)
+    intervals : dict or None — with ``--samples``: every numeric metric's ``median``, ``low95``
+        and ``high95`` over vehicles drawn from the file's covariance and how many ``samples``
+        reached it (:mod:`hydrokit.simulate.manoeuvre_samples`); None without
+    sampling : dict or None — the draw behind ``intervals`` (count, seed, parameters, σ)
+    sample_tracks : list of (k, 4) arrays — time (s), x, y, z (m) of the drawn vehicles' runs
     hold_lost : str or None — what happened when the depth hold lost its depth (the depth
         ended more than :data:`HOLD_LOST_LENGTHS` L, at least 1 m, from the execute's, or strayed
         :data:`HOLD_LOST_WILD` times that; ``problem`` says so too)
@@ -221,6 +226,9 @@ class ManoeuvreResult(Result):
     hold: dict[str, str] = field(default_factory=dict)
     propulsion: dict[str, Any] | None = None
     hold_lost: str | None = None
+    intervals: dict[str, Any] | None = None
+    sampling: dict[str, Any] | None = None
+    sample_tracks: list[np.ndarray] = field(default_factory=list)
 
     @property
     def kind(self) -> str:
@@ -268,6 +276,9 @@ class ManoeuvreResult(Result):
             doc["propulsion"] = self.propulsion
         if self.planar:
             doc["imo_criteria"] = self.imo()
+        if self.intervals is not None:
+            doc["intervals"] = self.intervals
+            doc["sampling"] = self.sampling
         return rounded(jsonable(doc))
 
     def summary_rows(self) -> list[tuple[str, Any]]:
