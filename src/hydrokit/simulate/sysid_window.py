@@ -129,7 +129,15 @@ def crop(prep: PreparedRun, a: float, b: float, last: bool) -> PreparedRun:
             times.append(t[keep] - a)
             values.append(y[keep])
     return PreparedRun(
-        f"{prep.name}@{a:g}s", prep.t0 + a, b - a, tab, tuple(chans), tuple(times), tuple(values), prep.dt
+        f"{prep.name}@{a:g}s",
+        prep.t0 + a,
+        b - a,
+        tab,
+        tuple(chans),
+        tuple(times),
+        tuple(values),
+        prep.dt,
+        prep.env_from(a),
     )
 
 
@@ -181,6 +189,8 @@ def _window_problem(
 ) -> Any:
     from hydrokit.simulate.sysid import _Problem, _simulate_task
 
+    split = [_split_states(prep, e) for prep, e in zip(preps, states)]
+
     class WindowProblem(_Problem):  # type: ignore[misc, valid-type]
         """Output error over windows, each window's measured initial states projected out: the
         fit sees the parameters only (module docstring). ``x0`` holds the initial states of
@@ -200,7 +210,7 @@ def _window_problem(
                     vehicles.append(with_values(self.vehicle, self.params, th))
             packs = stack_packs(vehicles)
             tasks = []
-            for prep, x, e in zip(self.preps, self.x0, states):
+            for prep, x, (e, _) in zip(self.preps, self.x0, split):
                 n_x = e.size if jac else 0
                 X0 = np.repeat(x[None], p + 1 + n_x if jac else 1, axis=0)
                 for j, i in enumerate(e[:n_x]):
@@ -212,7 +222,7 @@ def _window_problem(
                 else self.executor.map(_simulate_task, tasks)
             )
             res, blocks, new_x = [], [], []
-            for prep, x, e, (pred, done, seconds) in zip(self.preps, self.x0, states, sims):
+            for prep, x, (e, rigid), (pred, done, seconds) in zip(self.preps, self.x0, split, sims):
                 self.sim_seconds += seconds
                 if done[0] < math.ceil(prep.duration / prep.dt - 1e-9) or not np.all(np.isfinite(pred[0])):
                     return np.empty(0), None, False
@@ -223,14 +233,15 @@ def _window_problem(
                     continue
                 d = -(pred[1:] - pred[0]) * w
                 Jt = (d[:p] / 1e-6).T  # per unit of the scaled parameter
-                Jx = (d[p:] / _STATE_STEP).T  # per unit of the state (SI)
+                # per unit of the state (SI): simulated, then the rigid moves of the track
+                Jx = np.hstack([(d[p:] / _STATE_STEP).T, -_rigid_columns(prep, pred[0], x, rigid) * w[:, None]])
                 # Gauss–Newton step of the initial state, and the projection I − J_x J_x⁺
                 pinv = np.linalg.pinv(Jx)
                 dx = -pinv @ r
                 res.append(r + Jx @ dx)
                 blocks.append(Jt - Jx @ (pinv @ Jt))
                 xx = x.copy()
-                xx[e] += dx
+                xx[np.concatenate([e, rigid])] += dx
                 new_x.append(xx)
             out = np.concatenate(res)
             if jac:
@@ -244,6 +255,40 @@ def _window_problem(
             return out, (np.concatenate(blocks) if jac else None), True
 
     return WindowProblem(whole.vehicle, whole.params, preps, x0, est, whole.sigma, whole.sim_seconds, whole.executor)
+
+
+def _split_states(prep: PreparedRun, states: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """The initial states of a window whose effect needs a simulation, and those that move the
+    whole track rigidly: x and y (the forces do not depend on position) and ψ (nor on heading:
+    the track turns about its start) — ψ only when x and y are measured at the same times or
+    not at all (its column needs the predicted x and y at each other's times)."""
+    times = {c: t for c, t in zip(prep.channels, prep.times)}
+    rigid = {0, 1}
+    if ("x" in times) == ("y" in times) and ("x" not in times or np.array_equal(times["x"], times["y"])):
+        rigid.add(5)
+    return (
+        np.array([i for i in states if i not in rigid], dtype=int),
+        np.array([i for i in states if i in rigid], dtype=int),
+    )
+
+
+def _rigid_columns(prep: PreparedRun, pred: np.ndarray, x0: np.ndarray, rigid: np.ndarray) -> np.ndarray:
+    """(n, len(rigid)) derivative of the predicted samples ``pred`` (channel after channel) by
+    the rigid initial states: ∂x/∂x₀ = ∂y/∂y₀ = ∂ψ/∂ψ₀ = 1 on their own channel, and a turn of
+    the track about its start, ∂x/∂ψ₀ = −(y − y₀), ∂y/∂ψ₀ = x − x₀ (SI)."""
+    out = np.zeros((pred.size, rigid.size))
+    where, k = {}, 0
+    for c, t in zip(prep.channels, prep.times):
+        where[c] = slice(k, k + t.size)
+        k += t.size
+    for j, i in enumerate(rigid):
+        own = CHANNELS[int(i)]
+        if own in where:
+            out[where[own], j] = 1.0
+        if i == 5 and "x" in where:
+            out[where["x"], j] = -(pred[where["y"]] - x0[1])
+            out[where["y"], j] = pred[where["x"]] - x0[0]
+    return out
 
 
 def lm(
