@@ -10,7 +10,7 @@ North, the meteorological convention of the run files' ``wind_direction``) and u
 vehicle's velocity over the ground (m/s; the current does not move the air). γ_R is the angle the
 relative wind comes from, measured from the bow, positive from starboard (0 head wind, π/2 on the
 starboard beam, ±π from astern) — the same sense as the heading and β_w. The loads
-(Fossen 2011 §8.1, 2021 §10.1, eq. 10.8–10.10 of the 2nd ed.):
+(Fossen 2011 §8.1; 2021 §10.1):
 
     X = ½ ρ_a V_R² A_F C_X(γ_R),  Y = ½ ρ_a V_R² A_L C_Y(γ_R),  N = ½ ρ_a V_R² A_L L_oa C_N(γ_R)
 
