@@ -1,13 +1,18 @@
 """The pieces of system identification that touch the vehicle model (issue #44).
 
 - free parameters named as the ``uncertainty:`` block names them (``added_mass.surge``,
-  ``linear_damping.yaw``, ``quadratic_damping.heave``) or ``terms.<term>`` for a derivative term
+  ``linear_damping.yaw``, ``quadratic_damping.heave``), ``terms.<term>`` for a derivative term
   of the grammar (:mod:`hydrokit.model.terms`; added to the vehicle with value 0 when absent),
-  read from and written into a :class:`~hydrokit.model.vehicle.Vehicle`;
+  or a field of a physical surface or a thruster (``control_surfaces.rudder.lift_slope``,
+  ``thrusters.prop.wake_fraction``; :func:`hydrokit.model.uncertainty.parameter_ref`), read from
+  and written into a :class:`~hydrokit.model.vehicle.Vehicle`;
 - the generalised force of a run: thruster commands → rotor lag → thrust curve → τ = T f,
   tabulated for the compiled integrator with the zero-order hold of the commands kept exact,
-  followed by the deflections of the vehicle's control surfaces (rad, held like the commands;
-  the compiled kernels' rows [t, X, Y, Z, K, M, N, δ_1 … δ_n], issue #45);
+  followed by the vehicle's input vector: the deflections of its control surfaces (rad, held like
+  the commands), each thruster's thrust (N) and rotation rate (rev/s), read by the ``T()`` and
+  ``n()`` term factors and a race's fin (the compiled kernels' rows [t, X, Y, Z, K, M, N, δ_1 …
+  δ_ns, T_1 … T_m, n_1 … n_m], issues #45 and #48); when a thruster's field is free, each
+  candidate vehicle's table is built with its own thrusters (:func:`vehicle_tables`);
 - many vehicles over one run on the compiled batch RK4, read at each channel's sample times.
 
 Advance speed: a propeller curve (K_T(J)) is evaluated at the advance speed of the run's
@@ -32,8 +37,18 @@ import numpy as np
 from hydrokit.core.names import DOF_NAMES, POSE_SYMBOLS, VELOCITY_SYMBOLS
 from hydrokit.errors import InputError
 from hydrokit.model.dynamics import pack, stack_scal
-from hydrokit.model.terms import TermSet, parse_term
-from hydrokit.model.uncertainty import COEFFICIENTS, parameter_value, with_coefficients
+from hydrokit.model.terms import MAX_THRUSTERS, TermSet, parse_term
+from hydrokit.model.uncertainty import (
+    COEFFICIENTS,
+    SURFACE_FIELDS,
+    SURFACE_PREFIX,
+    THRUSTER_FIELDS,
+    THRUSTER_PREFIX,
+    field_unit,
+    parameter_ref,
+    parameter_value,
+    with_coefficients,
+)
 from hydrokit.model.vehicle import Vehicle
 
 #: state / channel order (m, rad, m/s, rad/s)
@@ -69,9 +84,12 @@ class RunData(Protocol):
 class Parameter:
     """One free parameter.
 
-    name : str — ``added_mass.surge`` … or ``terms.N_r|r|``; kind : coefficient name or
-    ``"term"`` / ``"accel"``; dof : DOF index of the force it enters (0–5); index : term
-    position in the TermSet, or the acceleration's velocity index (accel); unit : SI unit
+    name : str — ``added_mass.surge`` …, ``terms.N_r|r|`` or ``control_surfaces.rudder.lift_slope``;
+    kind : coefficient name, ``"term"`` / ``"accel"``, or ``"surface"`` / ``"thruster"`` (a
+    field); dof : DOF index of the force it enters (0–5; a surface's field yaw, a thruster's
+    surge); index : term position in the TermSet, the acceleration's velocity index (accel), or
+    the surface's or thruster's position (file order); unit : the unit of the value (SI; a
+    ``*_deg`` field in degrees, as the vehicle file gives it)
     """
 
     name: str
@@ -89,10 +107,23 @@ def _term_unit(term: Any) -> str:
 
 
 def valid_names(vehicle: Vehicle) -> list[str]:
-    """Every free name ``vehicle`` surely has: the diagonal coefficients of its kept DOFs and
-    its own terms (``terms.<term>``; any other term of the grammar is valid too)."""
+    """Every free name ``vehicle`` surely has: the diagonal coefficients of its kept DOFs, its
+    own terms (``terms.<term>``; any other term of the grammar is valid too), the fields of its
+    physical surfaces and of its thrusters (``control_surfaces.NAME.FIELD``,
+    ``thrusters.NAME.FIELD``)."""
     kept = [DOF_NAMES[i] for i in vehicle.dofs]
-    return [f"{c}.{d}" for c in COEFFICIENTS for d in kept] + [f"terms.{n}" for n in vehicle.terms.names]
+    out = [f"{c}.{d}" for c in COEFFICIENTS for d in kept] + [f"terms.{n}" for n in vehicle.terms.names]
+    for s in vehicle.surfaces.surfaces:
+        fin = s.fin
+        if fin is None:
+            continue
+        for fld, (_, _, need) in SURFACE_FIELDS.items():
+            race = fin.slipstream_diameter > 0
+            if not need or (need == "race" and race) or (need == "mmg" and race and fin.inflow == "mmg"):
+                out.append(f"{SURFACE_PREFIX}{s.name}.{fld}")
+    if vehicle.thrusters is not None:
+        out += [f"{THRUSTER_PREFIX}{n}.{f}" for n in vehicle.thrusters.names for f in THRUSTER_FIELDS]
+    return out
 
 
 def nearest_names(name: str, vehicle: Vehicle) -> str:
@@ -110,7 +141,9 @@ def free_parameters(vehicle: Vehicle, names: Sequence[str], source: str = "--fre
     Raises
     ------
     InputError
-        A name that is neither ``<coefficient>.<dof>`` nor ``terms.<term>``, or given twice.
+        A name that is neither ``<coefficient>.<dof>``, ``terms.<term>``,
+        ``control_surfaces.NAME.FIELD`` nor ``thrusters.NAME.FIELD`` of the vehicle (with the
+        nearest valid names), or given twice.
     """
     from hydrokit.model.terms import MAX_FACTORS
 
@@ -127,15 +160,23 @@ def free_parameters(vehicle: Vehicle, names: Sequence[str], source: str = "--fre
             i = DOF_NAMES.index(rest)
             out.append(Parameter(name, head, i, i, UNITS[head][i >= 3]))
             continue
+        if name.startswith((SURFACE_PREFIX, THRUSTER_PREFIX)):
+            try:
+                ref = parameter_ref(vehicle, name)
+            except InputError as exc:
+                raise InputError(f"{exc.detail}{nearest_names(name, vehicle)}", source) from None
+            out.append(Parameter(name, ref.kind, ref.dof, ref.index, field_unit(name)))
+            continue
         if head != "terms" or not rest:
             raise InputError(
                 f"free parameter {name[:80]!r} does not exist{nearest_names(name, vehicle)}; expected "
                 f"'<coefficient>.<dof>' with coefficient one of {', '.join(COEFFICIENTS)} and dof one of "
-                f"{', '.join(DOF_NAMES)}, or 'terms.<term>' (e.g. terms.N_r|r|)",
+                f"{', '.join(DOF_NAMES)}, 'terms.<term>' (e.g. terms.N_r|r|), "
+                "'control_surfaces.<name>.<field>' or 'thrusters.<name>.<field>'",
                 source,
             )
         try:
-            term = parse_term(rest, f"{source} {name}", vehicle.surfaces.names)
+            term = parse_term(rest, f"{source} {name}", vehicle.surfaces.names, vehicle.thruster_names)
         except InputError as exc:
             raise InputError(f"{exc.detail}{nearest_names(name, vehicle)}", exc.source) from None
         if term.acceleration is not None:
@@ -177,8 +218,8 @@ def with_values(vehicle: Vehicle, params: Sequence[Parameter], values: Any) -> V
 def force_table(
     run: RunData, thrusters: Any, dt: float, surfaces: Sequence[str] | None = None, advance: bool = True
 ) -> np.ndarray:
-    """The generalised thruster force of a run and its deflections as rows
-    [t, X, Y, Z, K, M, N, δ_1 … δ_n] (s, N, N·m, rad).
+    """The generalised thruster force of a run and its input vector as rows
+    [t, X, Y, Z, K, M, N, δ_1 … δ_ns, T_1 … T_m, n_1 … n_m] (s, N, N·m, rad, N, rev/s).
 
     Parameters
     ----------
@@ -186,8 +227,11 @@ def force_table(
     thrusters : ThrusterSet — the vehicle's thrusters
     dt : float — integration step, s
     surfaces : sequence of str or None — the vehicle's control-surface names, file order: the δ
-        columns in that order, each required in ``run.deflections``. None: the run's
-        deflections in their own order (as :func:`hydrokit.io.runlog.read_run` gives them)
+        columns in that order, each required in ``run.deflections``, then each thruster's
+        thrust T (N) and rotation rate n (rev/s) — the vehicle's input vector
+        (:func:`hydrokit.model.terms.input_layout`; up to MAX_THRUSTERS thrusters). None: the
+        run's deflections in their own order (as :func:`hydrokit.io.runlog.read_run` gives
+        them), no thrust or rate columns
     advance : bool — evaluate propeller curves at the measured advance speed (module
         docstring); False: at zero advance speed (bollard pull)
 
@@ -199,8 +243,12 @@ def force_table(
     the first row (the RK4 stages of step ``dt``, where the table is then exact) and at every
     row where an input changes, doubled there (t and t + 1e-6·dt) so that the linear
     interpolation of the compiled integrator reproduces a jump exactly. Deflections are held
-    (zero-order) the same way, without a servo: they are the surfaces' logged angles.
+    (zero-order) the same way, without a servo: they are the surfaces' logged angles. The rate
+    of a propeller is its lagged command (a measured thrust's: the curve inverted at the advance
+    speed, :meth:`~hydrokit.model.thrusters.ThrusterSet.rotation_rate`), of another thruster 0.
     """
+    from hydrokit.model.thrusters import PropellerCurve
+
     t = np.asarray(run.time, float)
     deflections: Mapping[str, np.ndarray] = getattr(run, "deflections", None) or {}
     if surfaces is None:
@@ -257,7 +305,20 @@ def force_table(
     tau = f @ thrusters.configuration_matrix().T
     d = defl[seg]
     d[jump] = defl[np.maximum(seg[jump] - 1, 0)]  # held: node t_k keeps the old deflection
-    return np.column_stack([nodes, tau, d])
+    if surfaces is None or m > MAX_THRUSTERS:
+        return np.column_stack([nodes, tau, d])
+    rate = np.zeros_like(f)
+    for i, cv in enumerate(thrusters.curves):
+        if not isinstance(cv, PropellerCurve):
+            continue
+        if not measured[i]:
+            rate[:, i] = np.clip(c[:, i], thrusters.command_min[i], thrusters.command_max[i])
+            continue
+        for k in range(nodes.size):  # a measured thrust's rate: the curve inverted at V_a
+            one = np.zeros(m)
+            one[i] = f[k, i]
+            rate[k, i] = thrusters.command_for_thrust(one, va[k])[i]
+    return np.column_stack([nodes, tau, d, f, rate])
 
 
 def _advance_speeds(run: RunData, thrusters: Any, nodes: np.ndarray) -> np.ndarray:
@@ -282,7 +343,12 @@ class PreparedRun:
     name : str; t0 : float — s; duration : float — s; table : (k, 7 + n_surfaces) force and
     deflection rows (s, N, N·m, rad), time from t0;
     channels : tuple of channel names; times : per channel sample times from t0 (s);
-    values : per channel measured values (SI); dt : float — integration step, s
+    values : per channel measured values (SI); dt : float — integration step, s;
+    env : (k, 4 or 6) the run's logged current and wind (rows [t, v_N, v_E, v_D, w_N, w_E], m/s,
+    time from t0; :meth:`hydrokit.io.runlog.RunLog.environment_table`), None: still water and air;
+    run, surfaces : the run and the surface names the table was built from (None: the table is
+    all there is); thruster_key : the thrusters' wake fractions and thrust deductions it was
+    built with (:func:`vehicle_tables` rebuilds it for a vehicle whose differ)
     """
 
     name: str
@@ -293,6 +359,18 @@ class PreparedRun:
     times: tuple[np.ndarray, ...]
     values: tuple[np.ndarray, ...]
     dt: float
+    env: np.ndarray | None = None
+    run: Any = None
+    surfaces: tuple[str, ...] | None = None
+    thruster_key: tuple[float, ...] = ()
+
+    def env_from(self, a: float) -> np.ndarray | None:
+        """The environment table with time from ``a`` s after t0 (a window's), None for none."""
+        if self.env is None:
+            return None
+        tab = self.env.copy()
+        tab[:, 0] -= a
+        return tab
 
     @property
     def n_samples(self) -> int:
@@ -330,12 +408,63 @@ def prepare_run(
             chans.append(c)
             times.append(np.asarray(ts[keep], float) - a)
             values.append(np.asarray(ys[keep], float))
-    return PreparedRun(run.name, a, b - a, table, tuple(chans), tuple(times), tuple(values), dt)
+    env = run.environment_table() if hasattr(run, "environment_table") else None
+    if env is not None:
+        env = env.copy()
+        env[:, 0] -= a
+    return PreparedRun(
+        run.name,
+        a,
+        b - a,
+        table,
+        tuple(chans),
+        tuple(times),
+        tuple(values),
+        dt,
+        env,
+        run,
+        None if surfaces is None else tuple(surfaces),
+        thruster_key(thrusters),
+    )
+
+
+def thruster_key(thrusters: Any) -> tuple[float, ...]:
+    """The thruster fields a force table depends on that a fit may free: every thruster's wake
+    fraction and thrust deduction (–)."""
+    if thrusters is None:
+        return ()
+    return tuple(float(getattr(t, f)) for t in thrusters.thrusters for f in THRUSTER_FIELDS)
+
+
+def vehicle_tables(prep: PreparedRun, vehicles: Sequence[Vehicle]) -> np.ndarray | None:
+    """Each vehicle's force table over ``prep`` (nv, k, columns) when a vehicle's thrusters
+    differ from those ``prep.table`` was built with (a free ``thrusters.NAME.FIELD``: the wake
+    fraction moves the advance speed and so the thrust, the thrust deduction the force); None
+    when all share ``prep.table`` or the run is not at hand. Vehicles with equal thrusters
+    share one build."""
+    keys = [thruster_key(v.thrusters) for v in vehicles]
+    if prep.run is None or all(k == prep.thruster_key for k in keys):
+        return None
+    a, b = prep.t0, prep.t0 + prep.duration
+    built: dict[tuple[float, ...], np.ndarray] = {prep.thruster_key: prep.table}
+    out = []
+    for v, key in zip(vehicles, keys):
+        if key not in built:
+            tab = force_table(prep.run, v.thrusters, prep.dt, prep.surfaces)
+            tab = tab[(tab[:, 0] >= a - prep.dt) & (tab[:, 0] <= b + prep.dt)].copy()
+            tab[:, 0] -= a
+            built[key] = tab
+        out.append(built[key])
+    return np.ascontiguousarray(np.stack(out))
 
 
 def stack_packs(vehicles: Sequence[Vehicle]) -> dict[str, Any]:
-    """The compiled integrator's per-vehicle arrays for ``vehicles`` (one term structure)."""
+    """The compiled integrator's per-vehicle arrays for ``vehicles`` (one term structure), and
+    the vehicles themselves (``"vehicles"``, an object array: their thrusters build the force
+    tables, :func:`vehicle_tables`)."""
     packs = [pack(v) for v in vehicles]
+    held = np.empty(len(vehicles), dtype=object)
+    held[:] = list(vehicles)
 
     def stack(name: str) -> np.ndarray:
         return np.ascontiguousarray(np.stack([getattr(p, name) for p in packs]))
@@ -350,6 +479,7 @@ def stack_packs(vehicles: Sequence[Vehicle]) -> dict[str, Any]:
         "t_coef": stack("t_coef"),
         "t_kind": packs[0].t_kind,
         "t_idx": packs[0].t_idx,
+        "vehicles": held,
     }
 
 
@@ -374,7 +504,8 @@ def simulate_run(prep: PreparedRun, packs: Mapping[str, Any], x0: np.ndarray) ->
     n_steps = max(1, int(math.ceil(prep.duration / dt - 1e-9)))
     out = np.full((nv, n_steps + 1, 12), np.nan)
     done = np.empty(nv, dtype=np.int64)
-    tab = np.ascontiguousarray(np.broadcast_to(prep.table, (nv, *prep.table.shape)))
+    own = vehicle_tables(prep, list(packs["vehicles"])) if "vehicles" in packs else None
+    tab = own if own is not None else np.ascontiguousarray(np.broadcast_to(prep.table, (nv, *prep.table.shape)))
     rk4_batch(
         x0,
         float(dt),
@@ -382,7 +513,7 @@ def simulate_run(prep: PreparedRun, packs: Mapping[str, Any], x0: np.ndarray) ->
         1,
         False,
         tab,
-        np.zeros((1, 4)),
+        np.zeros((1, 4)) if prep.env is None else np.ascontiguousarray(prep.env),
         packs["Minv"],
         packs["Mc"],
         packs["DL"],

@@ -138,6 +138,9 @@ def crop(prep: PreparedRun, a: float, b: float, last: bool) -> PreparedRun:
         tuple(values),
         prep.dt,
         prep.env_from(a),
+        prep.run,
+        prep.surfaces,
+        prep.thruster_key,
     )
 
 
@@ -297,30 +300,45 @@ def lm(
     scale: np.ndarray,
     max_iter: int,
     progress: Callable[[int, float], None] | None,
+    bounds: tuple[np.ndarray, np.ndarray] | None = None,
 ) -> tuple[np.ndarray, np.ndarray, np.ndarray, int]:
     """Levenberg–Marquardt of the windowed problem in the scaled variables z/scale (as the
     whole-run fit's), stopped when an accepted step lowers the weighted cost χ² by less than
     :data:`CHI2_TOL`: a change of χ² by 1 moves an estimate by one σ, so further digits are
     noise (the initial states, re-projected at every evaluation, would keep the cost creeping
-    down by less than that for many iterations). Returns z, residuals, Jacobian, iterations."""
+    down by less than that for many iterations). Returns z, residuals, Jacobian, iterations.
+
+    ``bounds`` (lower, upper) of the parameters (SI, ±inf where free; the physical signs,
+    :func:`hydrokit.model.uncertainty.physical_sign`) are kept during the fit as the whole-run
+    fit keeps them: a parameter on its bound whose gradient points out of the box is held there
+    for the step (active set), the others take the step of the reduced problem, and the new
+    point is projected onto the box (projected Levenberg–Marquardt; Kanzow, Yamashita &
+    Fukushima 2004, J. Comput. Appl. Math. 172)."""
     from hydrokit.simulate.sysid import RUNAWAY, _Diverged
 
-    z = z0.copy()
+    p = len(problem.params)
+    lo = np.full(z0.size, -np.inf)
+    hi = np.full(z0.size, np.inf)
+    if bounds is not None:
+        lo[:p], hi[:p] = bounds
+    z = np.clip(z0, lo, hi)
     r, J0, ok = problem.evaluate(z, scale, True)
     if not ok or J0 is None:
         raise _Diverged(z)
     J: np.ndarray = J0
     cost = float(r @ r)
     lam = 1e-3
-    p = len(problem.params)
     it = 0
     for it in range(1, max_iter + 1):
         g = J.T @ r
         A = J.T @ J
         d2 = np.clip(np.diag(A), 1e-300, None)
+        tiny = 1e-12 * scale
+        free = ~(((z <= lo + tiny) & (g > 0)) | ((z >= hi - tiny) & (g < 0)))
         while lam < 1e10:
-            step = -np.linalg.solve(A + lam * np.diag(d2), g)
-            z_new = z + step * scale
+            step = np.zeros_like(z)
+            step[free] = -np.linalg.solve(A[np.ix_(free, free)] + lam * np.diag(d2[free]), g[free])
+            z_new = np.clip(z + step * scale, lo, hi)
             r_new, J_new, ok = problem.evaluate(z_new, scale, True)
             if ok and J_new is not None and float(r_new @ r_new) < cost:
                 break
