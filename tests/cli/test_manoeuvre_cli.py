@@ -232,3 +232,24 @@ def test_samples_without_an_uncertainty_block_are_refused_before_the_run(run, tm
     assert code == 2 and "Traceback" not in err
     assert "--samples 3: vehicle 'boat' has no 'uncertainty:' block" in err
     assert not (tmp_path / "no").exists() or not any((tmp_path / "no").iterdir())
+
+
+def test_depth_change_closed_loop_keeps_the_pitch_limit_and_open_loop_is_kept(run_torpedo, tmp_path):
+    """``--depth-change 3 --max-pitch 8``: the depth reached (within 0.3 m at the end) with |θ| ≤ 8°
+    throughout; ``--open-loop`` flies the old execute (planes held at A), which pitches beyond it."""
+    out = tmp_path / "closed"
+    code, stdout, err = run_torpedo("--out", out, "--depth-change", "3/20", "--max-pitch", "8", "--no-plots")
+    assert code == 0, err
+    doc = json.loads((out / "manoeuvre.json").read_text())
+    assert doc["parameters"]["loop"] == "closed" and doc["parameters"]["max_pitch_deg"] == 8.0
+    track = np.genfromtxt(out / "trajectory.csv", delimiter=",", names=True)
+    after = track["time"] >= 0
+    assert np.degrees(np.max(np.abs(track["theta"]))) <= 8.0
+    assert track["z"][-1] - track["z"][after][0] == pytest.approx(3.0, abs=0.3)
+    assert "pitch within ±8°" in stdout and "time to settle:" in stdout
+    code, stdout, err = run_torpedo("--out", tmp_path / "open", "--depth-change", "3/20", "--open-loop", "--no-plots")
+    assert code == 0, err
+    doc = json.loads((tmp_path / "open" / "manoeuvre.json").read_text())
+    assert doc["parameters"]["loop"] == "open" and abs(doc["depth_change"]["max_pitch_deg"]) > 8.0
+    code, _, err = run_torpedo("--out", tmp_path / "bad", "--turning-circle", "10", "--open-loop")
+    assert code == 2 and "--open-loop with --turning-circle: expected it with --depth-change only" in err

@@ -226,8 +226,13 @@ def test_from_options_and_runner_input():
     assert M.from_options({"vertical_zigzag": "5/5"}).kind == "vertical_zigzag"
     assert M.from_options({"spiral": "reverse"}) == M.spiral("reverse")
     assert M.from_options({"pull_out": 15.0}) == M.pull_out(rad(15))
-    assert M.from_options({"depth_change": "3"}) == M.depth_change(3.0, rad(15))
-    assert M.from_options({"depth_change": "-2/10"}) == M.depth_change(-2.0, rad(10))
+    assert M.from_options({"depth_change": "3"}) == M.depth_change(3.0, rad(15), M.HOLD_MAX_PITCH)
+    assert M.from_options({"depth_change": "-2/10"}, 12.0) == M.depth_change(-2.0, rad(10), rad(12))
+    assert M.from_options({"depth_change": "-2/10"}, None, True) == M.depth_change(-2.0, rad(10))
+    with pytest.raises(InputError, match="--max-pitch with --zigzag: expected it with --depth-change only"):
+        M.from_options({"zigzag": "10/10"}, 10.0)
+    with pytest.raises(InputError, match="--max-pitch with --open-loop"):
+        M.from_options({"depth_change": "5"}, 10.0, True)
     with pytest.raises(InputError, match="manoeuvre option 'circle'"):
         M.from_options({"circle": 1})
     with pytest.raises(InputError, match=r"--depth-change 'x/y': expected A/B"):

@@ -15,6 +15,7 @@ from __future__ import annotations
 import math
 from pathlib import Path
 
+import numpy as np
 import pytest
 
 from hydrokit.api import load_vehicle
@@ -114,3 +115,27 @@ def test_every_manoeuvre_is_complete_refused_or_said(name, key, monkeypatch):
         assert len(res.problem) > len(label) + 20
     if name == "mariner":  # the planar ship is not being retuned: every horizontal manoeuvre completes
         assert res.problem is None, res.problem
+
+
+@pytest.mark.parametrize("depth", [5.0, -5.0])
+def test_remus100_depth_change_within_its_pitch_limit(depth):
+    """The user's ask: a 5 m depth change reached without leaving the vehicle's pitch limit (20°,
+    the depth hold's). Closed loop through the depth-to-pitch law: the depth reached within 0.5 m
+    and |θ| ≤ 20° throughout; the open-loop execute at the same planes (held until the depth is
+    reached) pitches far beyond it, which is why the closed loop is the default."""
+    vehicle = load_vehicle("remus100")
+    options = {"tau": (3.86, 0, 0, -0.543, 0, 0), "nu0": (1.5, 0, 0, 0, 0, 0), "dt": 0.05}
+    limit = M.HOLD_MAX_PITCH
+    res = M.run_manoeuvre(vehicle, M.depth_change(depth, math.radians(15), limit), **options)
+    assert res.problem is None, res.problem
+    after = res.time >= 0
+    dz = res.eta[after, 2] - res.eta[after, 2][0]
+    assert dz[-1] == pytest.approx(depth, abs=0.5)
+    assert float(np.max(np.abs(res.eta[:, 4]))) <= limit
+    m = res.metrics
+    assert m["time_to_target"] is not None and m["time_to_settle"] >= m["time_to_target"]
+    assert m["depth_overshoot"] == pytest.approx(max(float(np.max(np.sign(depth) * dz)) - abs(depth), 0.0))
+    assert abs(m["max_abs_pitch_deg"]) == pytest.approx(math.degrees(float(np.max(np.abs(res.eta[after, 4])))))
+    if depth > 0:
+        open_loop = M.run_manoeuvre(vehicle, M.depth_change(depth, math.radians(15)), **options)
+        assert float(np.max(np.abs(open_loop.eta[:, 4]))) > limit + math.radians(10)

@@ -20,7 +20,26 @@ _OPTIONS: tuple[tuple[tuple[str, ...], dict[str, Any]], ...] = (
         {"type": click.Choice(["direct", "reverse"]), "help": "Spiral: direct (Dieudonné) or reverse (Bech)."},
     ),
     (("--pull-out",), {"type": DEG, "help": "Pull-out from steady turns at ±this deflection, deg."}),
-    (("--depth-change",), {"metavar": "M[/A]", "help": "Depth change by M m (+ deeper) with planes at A deg (15)."}),
+    (
+        ("--depth-change",),
+        {
+            "metavar": "M[/A]",
+            "help": "Depth change by M m (+ deeper), planes within ±A deg (15): flown through the pitch-limited "
+            "depth-to-pitch law (see --max-pitch), or with --open-loop the planes held at A until the depth is reached.",
+        },
+    ),
+    (
+        ("--max-pitch",),
+        {
+            "type": Number("deg", at_least=0.1, at_most=89),
+            "default": None,
+            "help": "Pitch limit of the closed-loop depth change, deg (default 20).",
+        },
+    ),
+    (
+        ("--open-loop",),
+        {"is_flag": True, "default": None, "help": "Depth change: planes held at A, open loop (no unit)."},
+    ),
     (("--vertical-zigzag",), {"metavar": "A/B", "help": "Vertical zigzag on the stern planes: A, B in deg/deg."}),
     (
         ("--replay",),

@@ -25,6 +25,8 @@ def manoeuvre(
     spiral: str | None,
     pull_out: float | None,
     depth_change: str | None,
+    max_pitch: float | None,
+    open_loop: bool | None,
     vertical_zigzag: str | None,
     replay: str | None,
     surface: str | None,
@@ -70,16 +72,8 @@ def manoeuvre(
     from hydrokit.simulate.manoeuvre_samples import add_intervals, check_samples, interval_lines
 
     out = check_out_dir(out_dir)
-    m = from_options(
-        {
-            "turning_circle": turning_circle,
-            "zigzag": zigzag,
-            "spiral": spiral,
-            "pull_out": pull_out,
-            "depth_change": depth_change,
-            "vertical_zigzag": vertical_zigzag,
-        }
-    )
+    kinds = dict(turning_circle=turning_circle, zigzag=zigzag, spiral=spiral, pull_out=pull_out)
+    m = from_options(kinds | dict(depth_change=depth_change, vertical_zigzag=vertical_zigzag), max_pitch, open_loop)
     commands = None if command_text is None else commands_from_text(command_text)
     v = load_vehicle(vehicle)
     check_samples(v, samples)
@@ -137,7 +131,8 @@ def _setting(res: Any) -> str:
     if "check_angle_deg" in p:
         return f" {a:.4g}°/{p['check_angle_deg']:.4g}°"
     if "depth_change" in p:
-        return f" {p['depth_change']:+.4g} m at {abs(a):.4g}°"
+        how = f"at {abs(a):.4g}° (open loop)" if p["loop"] == "open" else f"pitch within ±{p['max_pitch_deg']:.4g}°"
+        return f" {p['depth_change']:+.4g} m {how}"
     if "mode" in p:
         return f" ({p['mode']}" + ("" if a is None else f", up to {a:.4g}°") + ")"
     return f" at ±{abs(a):.4g}°" if res.kind == "pull_out" else f" at {a:.4g}°"

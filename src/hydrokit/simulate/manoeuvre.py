@@ -102,7 +102,10 @@ class Manoeuvre:
 
     kind : one of :data:`KINDS`; deflection : A or δ, rad (signed: its sign picks the first
     side; None for a spiral: the surface's limit); check_angle : B, rad (zigzags);
-    depth : M, m (depth change, + deeper); mode : "direct" or "reverse" (spiral)
+    depth : M, m (depth change, + deeper); mode : "direct" or "reverse" (spiral);
+    max_pitch : rad or None — a depth change flown closed loop through the pitch-limited
+    depth-to-pitch law (:func:`hydrokit.model.control.depth_to_pitch`, planes within ±A); None:
+    the open-loop execute (planes held at A until the depth is reached)
     """
 
     kind: str
@@ -110,6 +113,7 @@ class Manoeuvre:
     check_angle: float = 0.0
     depth: float = 0.0
     mode: str = "direct"
+    max_pitch: float | None = None
 
     def __post_init__(self) -> None:
         if self.kind not in KINDS:
@@ -123,6 +127,9 @@ class Manoeuvre:
             )
         if self.kind == "depth_change" and not (math.isfinite(self.depth) and self.depth != 0):
             raise InputError(f"depth change {self.depth!r} m: expected a finite non-zero depth change")
+        p = self.max_pitch
+        if p is not None and not (math.isfinite(p) and 0 < p < math.pi / 2):
+            raise InputError(f"depth change: pitch limit {math.degrees(p):.4g}°: expected between 0° and 90°")
         if self.mode not in ("direct", "reverse"):
             raise InputError(f"spiral {self.mode!r}: expected direct or reverse")
 
@@ -135,6 +142,9 @@ class Manoeuvre:
             out["check_angle_deg"] = math.degrees(self.check_angle)
         if self.kind == "depth_change":
             out["depth_change"] = self.depth
+            out["loop"] = "open" if self.max_pitch is None else "closed"
+            if self.max_pitch is not None:
+                out["max_pitch_deg"] = math.degrees(self.max_pitch)
         if self.kind == "spiral":
             out["mode"] = self.mode
         return out
@@ -160,9 +170,11 @@ def pull_out(deflection: float) -> Manoeuvre:
     return Manoeuvre("pull_out", deflection)
 
 
-def depth_change(depth: float, deflection: float) -> Manoeuvre:
-    """Depth change by ``depth`` (m, + deeper) with planes at ``deflection`` (rad)."""
-    return Manoeuvre("depth_change", deflection, depth=depth)
+def depth_change(depth: float, deflection: float, max_pitch: float | None = None) -> Manoeuvre:
+    """Depth change by ``depth`` (m, + deeper): closed loop through the depth-to-pitch law with
+    the pitch within ±``max_pitch`` (rad) and the planes within ±``deflection`` (rad); open loop
+    (the planes held at ``deflection`` until the depth is reached) when ``max_pitch`` is None."""
+    return Manoeuvre("depth_change", deflection, depth=depth, max_pitch=max_pitch)
 
 
 def vertical_zigzag(deflection: float, check_angle: float) -> Manoeuvre:
@@ -621,6 +633,46 @@ class _DepthChange(_Logic):
         return self.cmd
 
 
+class _DepthPilot(_Logic):
+    """A depth change flown as an AUV flies one: the pitch set-point from the pitch-limited
+    depth-to-pitch law of the missions (:func:`hydrokit.model.control.depth_to_pitch`, gain
+    1/(5 L) rad/m, the depth hold's) and the pitch PID of :class:`_Keeper` on the planes (within
+    ±A). Executes: 0, the first time the depth is reached, the time it settled (within
+    :data:`DEPTH_BAND` of the change, at least :data:`DEPTH_BAND_MIN`, and staying there for
+    :data:`DEPTH_SETTLE` L/U, four times the depth loop's time constant)."""
+
+    angle = 4
+
+    def __init__(self, *args: Any) -> None:
+        super().__init__(*args)
+        self.sense = 1.0 if self.m.depth > 0 else -1.0
+        self.band = max(DEPTH_BAND * abs(self.m.depth), DEPTH_BAND_MIN)
+        self.reached: float | None = None
+        self.inside: float | None = None
+
+    def command(self, t: float, x: np.ndarray) -> float:
+        dz = self.sense * float(x[2] - self.x0[2])
+        if self.reached is None and dz >= abs(self.m.depth):
+            self.reached = t
+            self.executes.append(t)
+        if self.reached is not None and abs(dz - abs(self.m.depth)) <= self.band:
+            self.inside = t if self.inside is None else self.inside
+            if t - self.inside >= DEPTH_SETTLE * self.scale:
+                self.executes.append(self.inside)
+                self.done = True
+        else:
+            self.inside = None
+        return 0.0  # the planes are set by the pitch loop (:meth:`_Keeper.depth_pitch`)
+
+
+#: a closed-loop depth change has settled within this fraction of the change …
+DEPTH_BAND = 0.05
+#: … and at least this, m
+DEPTH_BAND_MIN = 0.05
+#: … for this many L/U
+DEPTH_SETTLE = 20.0
+
+
 class _Keeper:
     """Holds depth and pitch with a stern plane and the heading with a rudder, with the PID of
     :mod:`hydrokit.model.control` (an AUV's autopilot during trials at constant depth).
@@ -655,7 +707,8 @@ class _Keeper:
         self.length = length
         self.z0, self.psi0 = float(x0[2]), float(x0[5])
         self.next_probe = -math.inf
-        self.g_q = self.g_r = 0.0
+        self.g_q = self.g_r = self.kz = 0.0
+        self.trim: float | None = None  # the pitch a depth change starts from, rad
         self.depth = self.pitch = self.heading = PID(kp=0.0)
         self.s_depth = self.s_pitch = self.s_heading = PID(kp=0.0).initial_state()
 
@@ -673,6 +726,7 @@ class _Keeper:
             self.g_q = _probe(self.f, x, tau, self.n_s, self.plane, float(self.lim[self.plane]), 10)
             top = float(self.lim[self.plane]) * abs(self.g_q)
             kz = 1.0 / (5.0 * scale * speed)  # rad per m: ż ≈ −U θ closes with time constant 5 L/U
+            self.kz = kz
             self.depth = PID(kp=kz, ki=kz / (20.0 * scale), output_min=-HOLD_MAX_PITCH, output_max=HOLD_MAX_PITCH)
             self.pitch = PID(kp=w * w, ki=0.1 * w**3, kd=2.0 * w, output_min=-top, output_max=top, angle=True)
         if self.rudder is not None:
@@ -696,6 +750,20 @@ class _Keeper:
             return 0.0
         thetadot = euler_rates(x[:6], x[6:])[2]
         qdot, self.s_pitch = self.pitch.update(self.s_pitch, float(x[4]), theta, dt, thetadot)
+        return qdot / self.g_q
+
+    def depth_pitch(self, x: np.ndarray, dt: float, z_d: float, max_pitch: float) -> float:
+        """The plane command (rad) that flies to the depth ``z_d`` (m): the pitch set-point
+        θ_d = clip(k (z − z_d), ±``max_pitch``) of :func:`hydrokit.model.control.depth_to_pitch`
+        (k = 1/(5 L) rad/m), held by the pitch PID."""
+        from hydrokit.model.control import depth_to_pitch, euler_rates
+
+        if self.plane is None or self.g_q == 0.0:
+            return 0.0
+        trim = self.trim if self.trim is not None else 0.0
+        theta_d = min(max(trim + depth_to_pitch(float(x[2]), z_d, self.kz, max_pitch), -max_pitch), max_pitch)
+        thetadot = euler_rates(x[:6], x[6:])[2]
+        qdot, self.s_pitch = self.pitch.update(self.s_pitch, float(x[4]), theta_d, dt, thetadot)
         return qdot / self.g_q
 
     def command(self, t: float, x: np.ndarray, dt: float, cmd: np.ndarray, approach: bool) -> None:
@@ -1008,6 +1076,10 @@ def fly_manoeuvre(
         logic.dt = dt
     logic.start(x)
     x_exec = x.copy()
+    if isinstance(logic, _DepthPilot) and (keeper is None or keeper.plane != surface):
+        keeper = _Keeper(f, tau_of, n_s, (surface, None if keeper is None else keeper.rudder), surface, lim, length, x)
+    if isinstance(logic, _DepthPilot) and keeper is not None:
+        keeper.trim = float(x[4])
     t_start = len(rows) * dt  # the keeper's clock runs on from the approach
     if duration is None:  # the logic's own budget, scaled by the vehicle's L/U
         duration = max(logic.budget(), dt)
@@ -1028,6 +1100,10 @@ def fly_manoeuvre(
             keeper.command(t_start + t, x, dt, cmd, False)
             if isinstance(logic, _DepthChange) and logic.phase == 2 and keeper.plane == surface:
                 cmd[surface] = keeper.pitch_hold(x, dt, float(logic.x0[4]))
+            elif isinstance(logic, _DepthPilot):
+                z_d = float(logic.x0[2]) + manoeuvre.depth
+                a = abs(logic.a)
+                cmd[surface] = min(max(keeper.depth_pitch(x, dt, z_d, float(manoeuvre.max_pitch or 0.0)), -a), a)
         servo_step(delta, cmd, dt, lim, rate, tc, new)
         delta[:] = new
         states[k] = x
@@ -1063,7 +1139,7 @@ def _make_logic(m: Manoeuvre, limit: float, probe: float, scale: float) -> _Logi
         "vertical_zigzag": _Zigzag,
         "spiral": _Spiral,
         "pull_out": _PullOut,
-        "depth_change": _DepthChange,
+        "depth_change": _DepthChange if m.max_pitch is None else _DepthPilot,
     }
     logic = cls[m.kind](m, limit, probe, scale)
     if isinstance(logic, _Hold) and m.kind in VERTICAL:  # pragma: no cover - no vertical hold logic yet
@@ -1360,6 +1436,10 @@ def measure(
     elif kind == "pull_out":
         metrics = mm.pull_out_summary(logic.sides)
         problem = _pull_out_problem(logic, t[-1])
+    elif manoeuvre.max_pitch is not None:  # depth_change, closed loop
+        metrics = mm.depth_change_closed_metrics(t, x, logic.executes, manoeuvre.depth, manoeuvre.max_pitch)
+        if metrics["time_to_settle"] is None:
+            problem = _depth_change_problem(manoeuvre, t, x, logic.executes)
     else:  # depth_change
         metrics = mm.depth_change_metrics(t, x, logic.executes, manoeuvre.depth)
         if metrics["depth_overshoot"] is None:
@@ -1456,8 +1536,9 @@ def _depth_change_problem(m: Manoeuvre, t: np.ndarray, x: np.ndarray, executes: 
             "expected a larger plane angle or a longer --duration"
         )
     return (
-        f"depth change: the vehicle reached {want} at {executes[1]:.4g} s but never levelled off (it "
-        f"{_moved(dz)} in {t[-1]:.4g} s); expected a smaller plane angle or a longer --duration"
+        f"depth change: the vehicle reached {want} at {executes[1]:.4g} s but never "
+        f"{'levelled off' if m.max_pitch is None else 'settled there'} (it {_moved(dz)} in {t[-1]:.4g} s); "
+        "expected a smaller plane angle or a longer --duration"
     )
 
 
@@ -1525,10 +1606,12 @@ def _asdict(obj: Any) -> dict[str, Any]:
     return {k: (list(v) if isinstance(v, tuple) else v) for k, v in d.items()}
 
 
-def from_options(options: dict[str, Any]) -> Manoeuvre:
+def from_options(options: dict[str, Any], max_pitch: float | None = None, open_loop: bool | None = None) -> Manoeuvre:
     """The one manoeuvre of the command-line options given (the others None), degrees at this
     edge: ``turning_circle`` / ``pull_out`` a deflection (deg); ``zigzag`` / ``vertical_zigzag``
-    "A/B" (deg/deg); ``spiral`` "direct" or "reverse"; ``depth_change`` "M" or "M/A" (m/deg; A 15°).
+    "A/B" (deg/deg); ``spiral`` "direct" or "reverse"; ``depth_change`` "M" or "M/A" (m/deg; A 15°),
+    closed loop with the pitch limit ``max_pitch`` (deg; None: :data:`HOLD_MAX_PITCH`) unless
+    ``open_loop``; ``max_pitch`` and ``open_loop`` are refused with another manoeuvre.
     """
     given = {k: v for k, v in options.items() if v is not None}
     if len(given) != 1:
@@ -1536,6 +1619,11 @@ def from_options(options: dict[str, Any]) -> Manoeuvre:
         raise InputError(f"{len(given)} manoeuvres given: expected exactly one of {names}")
     kind, v = next(iter(given.items()))
     rad = math.radians
+    for name, value in (("--max-pitch", max_pitch), ("--open-loop", open_loop)):
+        if value is not None and kind != "depth_change":
+            raise InputError(f"{name} with --{kind.replace('_', '-')}: expected it with --depth-change only")
+    if open_loop and max_pitch is not None:
+        raise InputError("--max-pitch with --open-loop: an open-loop depth change holds its planes; expected one")
     if kind == "turning_circle":
         return turning_circle(rad(float(v)))
     if kind in ("zigzag", "vertical_zigzag"):
@@ -1548,7 +1636,8 @@ def from_options(options: dict[str, Any]) -> Manoeuvre:
     if kind != "depth_change":
         raise InputError(f"manoeuvre option {kind!r}: expected one of {', '.join(KINDS)}")
     depth, a = _pair(v if "/" in str(v) else f"{v}/15", "--depth-change", "m/deg")
-    return depth_change(depth, rad(a))
+    pitch = None if open_loop else (HOLD_MAX_PITCH if max_pitch is None else rad(float(max_pitch)))
+    return depth_change(depth, rad(a), pitch)
 
 
 def _pair(text: Any, option: str, unit: str) -> tuple[float, float]:

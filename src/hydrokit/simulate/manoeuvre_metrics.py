@@ -419,6 +419,32 @@ def depth_change_metrics(time: np.ndarray, x: np.ndarray, executes: Any, depth: 
     }
 
 
+def depth_change_closed_metrics(
+    time: np.ndarray, x: np.ndarray, executes: Any, depth: float, max_pitch: float
+) -> dict[str, Any]:
+    """A closed-loop depth change by ``depth`` (m, + deeper) within the pitch limit
+    ``max_pitch`` (rad), from a record starting at the execute (executes: 0, reached, settled):
+    the time to reach the depth and to settle (s), the depth overshoot past it (m, 0 without
+    one) and the largest pitch change and absolute pitch (deg)."""
+    ex = list(executes)
+    sense = 1.0 if depth > 0 else -1.0
+    dz = sense * (x[:, 2] - x[0, 2])
+    theta = x[:, 4] - x[0, 4]
+    overshoot = None
+    if len(ex) >= 2:
+        overshoot = max(float(np.max(dz[time >= ex[1]])) - abs(depth), 0.0)
+    return {
+        "target_depth_change": depth,
+        "time_to_target": ex[1] if len(ex) >= 2 else None,
+        "time_to_settle": ex[2] if len(ex) >= 3 else None,
+        "depth_overshoot": overshoot,
+        "final_depth_change": float(sense * dz[-1]),
+        "max_pitch_deg": math.degrees(float(theta[int(np.argmax(np.abs(theta)))])),
+        "max_abs_pitch_deg": math.degrees(float(np.max(np.abs(x[:, 4])))),
+        "pitch_limit_deg": math.degrees(max_pitch),
+    }
+
+
 def _limit(lv: float, low: float, high: float, a: float, b: float) -> float:
     """IMO's piecewise limit: ``low`` below L/V 10 s, ``high`` from 30 s, a + b·L/V between."""
     return low if lv < 10.0 else high if lv >= 30.0 else a + b * lv
@@ -508,6 +534,8 @@ UNITS = {
     "speed_ratio": "–",
     "yaw_rate_nondimensional": "–",
     "max_depth_rise": "m",
+    "pitch_limit_deg": "°",
+    "max_abs_pitch_deg": "°",
     "max_depth_fall": "m",
     "final_depth_change": "m",
 }
