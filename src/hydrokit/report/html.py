@@ -12,7 +12,7 @@ from collections.abc import Iterable, Sequence
 
 CSS = """
 body{font-family:system-ui,-apple-system,Segoe UI,Roboto,sans-serif;margin:2rem auto;
-max-width:1100px;color:#1b1f24;line-height:1.45;padding:0 1rem}
+max-width:1300px;color:#1b1f24;line-height:1.45;padding:0 1rem}
 h1{border-bottom:3px solid #0b5394;padding-bottom:.3rem}
 h2{color:#0b5394;margin-top:2rem}
 table{border-collapse:collapse;margin:.6rem 0 1.2rem;font-size:.92rem;display:block;max-width:100%;overflow-x:auto}
