@@ -1,247 +1,204 @@
-"""Identify a planar manoeuvring model of the Esso Osaka (3 m free-running model) from its pond
-zigzags, and predict held-out zigzags and random-input runs (issues #44, #45).
+"""Real data by hand (issue #48 item 8): identify a planar model of the Esso Osaka (3 m free-running
+model) from its pond trials and predict the held-out zigzags, as a user would — only the
+``hydrokit`` command line, called with subprocess.
 
-    python bench/esso_osaka.py PATH/TO/esso-osaka [--train 3] [--free LIST] [--dt 0.05]
+    python bench/esso_osaka.py PATH/TO/esso-osaka [--out DIR] [--train-runs N] [--max-seconds S]
+        [--test N] [--free LIST] [--dt 0.05] [--window auto] [--samples 20]
 
 PATH holds ``zigzag/*.csv`` and ``random/*.csv`` of the FRT-DS-ESSO data set (Wakita et al. 2022,
 J. Mar. Sci. Technol. 27:772; Miyauchi et al. 2022, 27:1065; CC BY-NC 4.0 — read from the path
-given, never copied). Columns used: t, x/y of midship (m, pond frame), u, v at midship (m/s),
-heading ψ (rad), r (rad/s), propeller speed n (rev/s), rudder angle (rad). The runs are
-converted into hydrokit run files and a planar (surge, sway, yaw) vehicle file in a temporary
-folder; ``hydrokit.sysid`` fits the chosen derivatives on the first ``--train`` zigzags; the
-other zigzags and the random runs are predicted open loop. Prints the NRMSE per channel and the
-identified values with σ, the correlations above 0.9 and the identifiability messages.
+given, never copied into the repository). The split: the papers' own train/test split of these
+runs was not found, so the model is trained on the random-input runs and tested on the zigzags
+(held out of the fit).
 
-The start model: the KVLCC2 MMG hull derivatives of Yasukawa & Yoshimura (2015, J. Mar. Sci.
-Technol. 20:37, Table 2 — a VLCC of the Esso Osaka's fullness, C_b 0.81 vs 0.83) made
-dimensional with ½ρLd (forces) and ½ρL²d (moments) for L = 3 m, d = 0.201 m; the rudder force
-of the MMG model, F_N = ½ρ A_R f_α U_R² δ with f_α = 6.13 Λ/(Λ + 2.25) (Fujii), Λ = 1.83,
-U_R ≈ 1.3 u, Y = (1 + a_H) F_N, N = (x_R + a_H x_H) F_N, a_H = 0.31, x_H = −0.464 L,
-x_R = −0.5 L; the surge resistance from the runs' steady speed (thrust = drag); a propeller of
-D = 0.084 m with a B-series-like K_T(J) = 0.30 − 0.27 J − 0.08 J² (our assumption: the model
-propeller's open-water curve is not in the data set), wake fraction 0.4, thrust deduction 0.2.
+Steps, each timed:
+
+1. convert: each trial becomes a hydrokit run file (docs/sysid.md, the run-file contract in
+   ``hydrokit.io.runlog``) in ``OUT/runs``: time (s, from 0), x, y (m, midship, pond frame —
+   x, y, ψ already right-handed NED-like: dx/dt = u cos ψ − v sin ψ holds to 0.02 m/s), psi (rad),
+   u, v (m/s), r (rad/s), ``prop`` (propeller rate, rev/s), ``rudder`` (rad, hydrokit's sign:
+   the log's δ > 0 turns the ship to starboard, hydrokit's to port, so δ = −logged),
+   ``wind_speed`` (m/s) and ``wind_direction`` (rad, true, from, clockwise from North — the log's
+   ``wind_dir_true``, which with the ship's velocity gives back the logged relative wind to
+   0.02 m/s and 1°). A file with NaN rows is cut at them into pieces of at least 30 s.
+2. fit: ``hydrokit sysid RUN... --holdout ZIGZAG... --vehicle START.yaml --free LIST --out OUT/fit``
+   (START: ``bench/esso_osaka_vehicle.yaml``, particulars and start derivatives written there).
+3. replay: ``hydrokit manoeuvre OUT/fit/vehicle.yaml --replay ZIGZAG.csv --samples N`` per
+   held-out zigzag: its overshoots measured vs predicted with the 95 % interval of N vehicles
+   drawn from the fit's covariance.
+
+Prints the verdict, the held-out NRMSE per channel and zigzag, each zigzag's 1st/2nd overshoot
+measured vs predicted [interval] and the wall time of each stage.
 """
 
 from __future__ import annotations
 
 import argparse
+import csv
+import json
 import math
+import shutil
+import subprocess
 import sys
 import tempfile
 import time
 from pathlib import Path
 
 import numpy as np
-import yaml
 
-RHO, L, D_DRAFT, MASS, XG = 1000.0, 3.0, 0.201, 244.6, 0.094
-PROP_D, A_R = 0.084, 0.0106
-KT = [-0.08, -0.27, 0.30]
-WAKE, THRUST_LOSS = 0.4, 0.8
+HERE = Path(__file__).resolve().parent
+START = HERE / "esso_osaka_vehicle.yaml"
 FREE = (
     "quadratic_damping.surge,terms.Y_uv,terms.Y_ur,terms.N_uv,terms.N_ur,"
     "terms.Y_uu*delta(rudder),terms.N_uu*delta(rudder)"
 )
+#: FRT-DS-ESSO columns: t, x, u, y, v, psi, r, n, delta, wind rel speed, rel dir, true speed, true dir
+T, X, U, Y, V, PSI, R, N, DELTA, _, _, WS, WD = range(13)
+CHANNELS = ("x", "y", "psi", "u", "v", "r")
 
 
-def read_esso(path: Path) -> list[tuple[str, np.ndarray]]:
-    """Rows [t, x, u, y, v, psi, r, n, delta, wind…] of a file, split at NaN rows into pieces
-    of at least 30 s (one file holds NaN rows, the time column too)."""
+def read_trial(path: Path, shortest: float = 30.0) -> list[tuple[str, np.ndarray]]:
+    """The rows of one trial, cut at NaN rows (one file has some, its time column too) into
+    pieces of at least ``shortest`` s; named after the file (``_1``, ``_2`` … when cut)."""
     d = np.genfromtxt(path, delimiter=",", skip_header=1)
-    bad = np.isnan(d[:, :9]).any(axis=1)
+    bad = np.isnan(d).any(axis=1)
     pieces, start = [], 0
     for k in [*np.nonzero(bad)[0], d.shape[0]]:
         seg = d[start:k]
-        if seg.shape[0] and seg[-1, 0] - seg[0, 0] >= 30.0:
+        if seg.shape[0] and seg[-1, T] - seg[0, T] >= shortest:
             pieces.append(seg)
         start = k + 1
-    return [(f"{path.stem}" + (f"_{i}" if len(pieces) > 1 else ""), p) for i, p in enumerate(pieces)]
+    return [(path.stem + (f"_{i + 1}" if len(pieces) > 1 else ""), p) for i, p in enumerate(pieces)]
 
 
-def segments(items: list[tuple[str, np.ndarray]], length: float, limit: int) -> list[tuple[str, np.ndarray]]:
-    """Consecutive windows of ``length`` s with the propeller ahead (n > 1 rev/s) and the ship
-    under way (u > 0.1 m/s) throughout — at most ``limit`` per piece. An open-loop simulation of
-    a course-unstable hull over minutes drifts away whatever its coefficients; short windows,
-    each with its own fitted initial state, are the multiple shooting of the issue."""
-    out = []
-    for name, rows in items:
-        k, n = 0, 0
-        t = rows[:, 0]
-        while k < rows.shape[0] and n < limit:
-            j = int(np.searchsorted(t, t[k] + length))
-            if j >= rows.shape[0]:
-                break
-            w = rows[k : j + 1]
-            if np.all(w[:, 2] > 0.1) and np.all(w[:, 7] > 1.0):
-                out.append((f"{name}@{t[k] - t[0]:.0f}s", w))
-                n += 1
-                k = j
-            else:
-                k += 10
-    return out
+def write_run(rows: np.ndarray, path: Path) -> Path:
+    """One hydrokit run file (time s; x y m; psi rad; u v m/s; r rad/s; prop rev/s; rudder rad
+    with hydrokit's sign; wind_speed m/s; wind_direction rad true from)."""
+    with path.open("w", newline="") as fh:
+        fh.write("# Esso Osaka free-running model test (FRT-DS-ESSO, CC BY-NC 4.0), converted\n")
+        w = csv.writer(fh)
+        w.writerow(["time", *CHANNELS, "prop", "rudder", "wind_speed", "wind_direction"])
+        t0 = rows[0, T]
+        for row in rows:
+            w.writerow(
+                [
+                    f"{row[T] - t0:.3f}",
+                    *(f"{row[k]:.6g}" for k in (X, Y, PSI, U, V, R, N)),
+                    f"{-row[DELTA]:.6g}",
+                    f"{row[WS]:.6g}",
+                    f"{row[WD] % (2 * math.pi):.6g}",
+                ]
+            )
+    return path
 
 
-def rudder_sign(rows: list[np.ndarray]) -> float:
-    """−1 if a positive logged rudder angle turns the ship to starboard (r > 0): hydrokit's
-    positive deflection (right-handed about +z, behind the centre) turns it to port."""
-    c = np.corrcoef(np.concatenate([r[:, 8] for r in rows]), np.concatenate([r[:, 6] for r in rows]))[0, 1]
-    return -1.0 if c > 0 else 1.0
+def hydrokit(args: list[str]) -> tuple[float, str]:
+    """Run ``hydrokit ARGS``; the wall time (s) and its output. Exits with its message on failure."""
+    exe = shutil.which("hydrokit") or str(Path(sys.executable).with_name("hydrokit"))
+    t0 = time.perf_counter()
+    p = subprocess.run([exe, *args], capture_output=True, text=True)
+    wall = time.perf_counter() - t0
+    if p.returncode != 0:
+        sys.exit(f"hydrokit {' '.join(args[:2])} … failed (exit {p.returncode}):\n{p.stderr.strip()[-2000:]}")
+    return wall, p.stdout + p.stderr
 
 
-def write_run(rows: np.ndarray, name: str, out: Path, sign: float) -> Path:
-    from hydrokit.io.runlog import run_csv
-
-    t = rows[:, 0] - rows[0, 0]
-    chans = {"x": rows[:, 1], "y": rows[:, 3], "psi": rows[:, 5], "u": rows[:, 2], "v": rows[:, 4], "r": rows[:, 6]}
-    text = run_csv(
-        t,
-        chans,
-        {"prop": rows[:, 7]},
-        comment="Esso Osaka free-running model test (FRT-DS-ESSO, CC BY-NC 4.0), converted",
-        deflections={"rudder": sign * rows[:, 8]},
-    )
-    p = out / f"{name}.csv"
-    p.write_text(text)
-    return p
-
-
-def vehicle_doc(x_uu: float) -> dict:
-    half = 0.5 * RHO
-    f, m2, m3 = half * L * D_DRAFT, half * L**2 * D_DRAFT, half * L**3 * D_DRAFT
-    m_x, m_y, j_z = 0.022 * m2, 0.223 * m2, 0.011 * half * L**4 * D_DRAFT
-    lam = 1.83
-    f_alpha = 6.13 * lam / (lam + 2.25)
-    fn = half * A_R * f_alpha * 1.3**2
-    return {
-        "name": "esso-osaka-model",
-        "description": "Esso Osaka 3 m free-running model, planar MMG-like start (bench/esso_osaka.py)",
-        "gravity": 9.81,
-        "fluid": {"density": RHO},
-        "dofs": ["surge", "sway", "yaw"],
-        "mass": MASS,
-        "volume": MASS / RHO,
-        "inertia": [MASS * (0.35 * 0.489) ** 2, MASS * (0.25 * L) ** 2, MASS * (0.25 * L) ** 2],
-        "center_of_gravity": [XG, 0, 0],
-        "center_of_buoyancy": [XG, 0, 0],
-        "added_mass": [m_x, m_y, 0, 0, 0, j_z],
-        "linear_damping": [0] * 6,
-        "quadratic_damping": [x_uu, 0, 0, 0, 0, 0],
-        # the captive-test derivatives hold the Munk moment; MMG writes (m + m_x) u r on the left
-        "added_mass_coriolis": False,
-        "control_surfaces": [{"name": "rudder", "position": [-0.5 * L, 0, 0], "max_deflection_deg": 36}],
-        "thrusters": [
-            {
-                "name": "prop",
-                "position": [-0.48 * L, 0, 0],
-                "direction": [1, 0, 0],
-                "diameter": PROP_D,
-                "kt_forward": KT,
-                "wake_fraction": WAKE,
-                "thrust_loss": {"forward": THRUST_LOSS, "reverse": THRUST_LOSS},
-                "max_rpm": 1200,
-                "max_thrust": 30,
-                "min_thrust": -30,
-            }
-        ],
-        "terms": {
-            "Y_uv": -0.315 * f,
-            "Y_ur": 0.083 * m2 - m_x,
-            "N_uv": -0.137 * m2,
-            "N_ur": -0.049 * m3,
-            "Y_uu*delta(rudder)": (1 + 0.31) * fn,
-            "N_uu*delta(rudder)": -(0.5 * L + 0.31 * 0.464 * L) * fn,
-        },
-    }
-
-
-def steady_resistance(rows: list[np.ndarray]) -> float:
-    """X_u|u| coefficient (N·s²/m²) balancing the propeller thrust at the runs' steady speeds."""
-    from hydrokit.model.thrusters import PropellerCurve
-
-    cv = PropellerCurve(PROP_D, tuple(KT), 20.0, density=RHO)
-    vals = []
-    for r in rows:
-        half = r[r.shape[0] // 2 :]
-        u, n = np.median(half[:, 2]), np.median(half[:, 7])
-        if u > 0.1 and n > 1:
-            vals.append(THRUST_LOSS * cv.thrust(n, (1 - WAKE) * u) / u**2)
-    return float(np.median(vals)) if vals else 30.0
+def fmt(v: float | None, spec: str = "6.1f") -> str:
+    return "–".rjust(int(spec.split(".")[0])) if v is None else format(v, spec)
 
 
 def main() -> int:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("folder", help="esso-osaka folder with zigzag/ and random/")
-    ap.add_argument("--train", type=int, default=3, help="zigzags used for the fit (count)")
+    ap.add_argument("--out", default=None, help="output folder (default: a temporary one, removed)")
+    ap.add_argument("--vehicle", default=str(START), help="start vehicle YAML")
     ap.add_argument("--free", default=FREE, help="free parameters (comma-separated)")
+    ap.add_argument("--train-runs", type=int, default=None, help="random-input runs fitted (count; default all)")
+    ap.add_argument("--max-seconds", type=float, default=None, help="fit only the first S s of each run, s")
+    ap.add_argument("--test", type=int, default=None, help="zigzags held out and replayed (count; default all)")
     ap.add_argument("--dt", type=float, default=0.05, help="integration step, s")
-    ap.add_argument("--random", type=int, default=3, help="random-input runs predicted (count)")
-    ap.add_argument("--segment", type=float, default=20.0, help="length of the fitted and predicted windows, s")
-    ap.add_argument("--per-run", type=int, default=6, help="windows taken from each run (count)")
+    ap.add_argument("--window", default="auto", help="sysid --window: s, 'auto' or 'none'")
+    ap.add_argument("--samples", type=int, default=20, help="vehicles drawn for the overshoot intervals (count)")
+    ap.add_argument("--workers", type=int, default=None, help="sysid threads (count)")
     a = ap.parse_args()
-    import hydrokit
-    from hydrokit.io.runlog import read_run
 
     root = Path(a.folder)
-    zig = [p for f in sorted((root / "zigzag").glob("*.csv")) for p in read_esso(f)]
-    rnd = [p for f in sorted((root / "random").glob("*.csv"))[: a.random] for p in read_esso(f)]
-    sign = rudder_sign([r for _, r in zig])
-    print(f"rudder: logged δ > 0 turns to {'starboard' if sign < 0 else 'port'}; hydrokit δ = {sign:+.0f} × logged")
-    with tempfile.TemporaryDirectory() as tmp:
-        out = Path(tmp)
-        x_uu = steady_resistance([r for _, r in zig[: a.train]])
-        doc = vehicle_doc(x_uu)
-        vpath = out / "esso.yaml"
-        vpath.write_text(yaml.safe_dump(doc, sort_keys=False))
-        base = hydrokit.load_vehicle(str(vpath))
-        names, surf = base.thrusters.names, base.surfaces.names
-        lim = base.surfaces.max_deflection
+    tmp = None if a.out else tempfile.TemporaryDirectory()
+    out = Path(a.out or tmp.name)  # type: ignore[union-attr]
+    runs = out / "runs"
+    runs.mkdir(parents=True, exist_ok=True)
+    wall: dict[str, float] = {}
 
-        def load(items: list[tuple[str, np.ndarray]]) -> list:
-            return [read_run(write_run(rows, n, out, sign), names, surf, lim) for n, rows in items]
+    t0 = time.perf_counter()
+    train, test = [], []
+    for f in sorted((root / "random").glob("*.csv"))[: a.train_runs]:
+        for name, rows in read_trial(f):
+            if a.max_seconds is not None:
+                rows = rows[rows[:, T] - rows[0, T] <= a.max_seconds]
+            train.append(write_run(rows, runs / f"{name}.csv"))
+    for f in sorted((root / "zigzag").glob("*.csv"))[: a.test]:
+        test += [write_run(rows, runs / f"{name}.csv") for name, rows in read_trial(f)]
+    wall["convert"] = time.perf_counter() - t0
+    print(f"split: train on {len(train)} random-input runs, hold out {len(test)} zigzags (the papers' split not found)")
 
-        cut = lambda items: segments(items, a.segment, a.per_run)  # noqa: E731
-        train, held_zig, held_rnd = load(cut(zig[: a.train])), load(cut(zig[a.train :])), load(cut(rnd))
-        print(f"{len(train)} training windows, {len(held_zig)} held-out zigzag and {len(held_rnd)} random windows")
-        free = [s.strip() for s in a.free.split(",")]
-        t0 = time.perf_counter()
-        res = hydrokit.sysid(train, base, free, holdout=held_zig + held_rnd, dt=a.dt, samples=0)
-        print(f"\nfit: {time.perf_counter() - t0:.1f} s, {res.iterations} iterations, condition {res.condition:.3g}")
-        print(f"{'parameter':32s} {'start':>10s} {'value':>10s} {'σ':>9s} {'σ/|v|':>7s} {'eq.-error':>10s}")
-        for n, st, v, s, e in zip(res.parameters, res.start, res.values, res.sigma, res.equation_error["values"]):
-            print(f"{n:32s} {st:10.4g} {v:10.4g} {s:9.3g} {s / abs(v):7.2f} {e:10.4g}")
-        c = res.correlation
-        pairs = [
-            (abs(c[i, j]), res.parameters[i], res.parameters[j], c[i, j])
-            for i in range(c.shape[0])
-            for j in range(i + 1, c.shape[0])
-            if abs(c[i, j]) > 0.9
-        ]
-        for _, pa, pb, rho in sorted(pairs, reverse=True):
-            print(f"  ρ({pa}, {pb}) = {rho:+.3f}")
-        print(f"\nnoise σ used: {', '.join(f'{k} {v:.3g}' for k, v in res.noise.items())}")
-        chans = ("x", "y", "psi", "u", "v", "r")
-        print(f"\n{'run':40s} " + " ".join(f"{ch:>7s}" for ch in chans) + "   (NRMSE; fit runs: residual lag-1 ρ)")
-        groups: dict[str, list[list[float]]] = {
-            "fit windows (residual lag-1 ρ, median)": [],
-            "held-out zigzag windows (NRMSE, median)": [],
-        }
-        groups["random-input windows (NRMSE, median)"] = []
-        keys = list(groups)
-        for row in res.runs:
-            ch = row["channels"]
-            if row["holdout"]:
-                vals = [ch[k].get("nrmse", math.nan) if k in ch else math.nan for k in chans]
-                groups[keys[2 if row["name"].startswith("random") else 1]].append(vals)
-            else:
-                groups[keys[0]].append([ch[k]["whiteness"]["lag1"] if k in ch else math.nan for k in chans])
-        for g, rows in groups.items():
-            if rows:
-                med = np.nanmedian(np.array(rows, float), axis=0)
-                print(f"{g[:40]:40s} " + " ".join(f"{v:7.3f}" for v in med))
-        for m in res.messages:
-            print("note:", m)
-        for w in res.warnings:
-            print("warning:", w)
+    fit = out / "fit"
+    cmd = ["sysid", *map(str, train), "--vehicle", a.vehicle, "--free", a.free, "--out", str(fit)]
+    cmd += ["--holdout", ",".join(map(str, test)), "--dt", str(a.dt), "--window", a.window, "--samples", "0"]
+    if a.workers:
+        cmd += ["--workers", str(a.workers)]
+    print("$ hydrokit " + " ".join(cmd[:1] + ["RUN…"] + cmd[1 + len(train) :]))
+    wall["sysid"], text = hydrokit(cmd)
+    res = json.loads((fit / "sysid.json").read_text())
+    verdict = res.get("verdict", {})
+    print(f"\nverdict: {'fits' if verdict.get('fits') else 'does not fit'}")
+    for reason in verdict.get("reasons", []):
+        print("  -", reason)
+    print(f"\n{'parameter':28s} {'start':>10s} {'value':>10s} {'σ':>9s}")
+    for p in res.get("parameters", []):
+        if isinstance(p, dict):
+            print(
+                f"{p['name']:28s} {fmt(p['start'], '10.4g')} {fmt(p['value'], '10.4g')} {fmt(p.get('sigma'), '9.3g')}"
+            )
+
+    print(f"\n{'held-out run (NRMSE)':34s} " + " ".join(f"{c:>6s}" for c in CHANNELS))
+    held = [r for r in res.get("runs", []) if r.get("holdout")]
+    rows_nrmse = []
+    for r in held:
+        vals = [r["channels"].get(c, {}).get("nrmse") for c in CHANNELS]
+        rows_nrmse.append([math.nan if v is None else v for v in vals])
+        print(f"{r['name'][:34]:34s} " + " ".join(fmt(v, "6.2f") for v in vals))
+    if rows_nrmse:
+        med = np.nanmedian(np.array(rows_nrmse, float), axis=0)
+        print(f"{'median':34s} " + " ".join(f"{v:6.2f}" for v in med))
+
+    print(f"\n{'zigzag':34s} {'1st overshoot, deg':>30s} {'2nd overshoot, deg':>30s}")
+    print(f"{'':34s} {'measured  predicted [95 %]':>30s} {'measured  predicted [95 %]':>30s}")
+    wall["replay"] = 0.0
+    inside = total = 0
+    for run in test:
+        dest = out / "replay" / run.stem
+        cmd = ["manoeuvre", str(fit / "vehicle.yaml"), "--replay", str(run), "--out", str(dest)]
+        cmd += ["--samples", str(a.samples), "--dt", str(a.dt)]
+        w, _ = hydrokit(cmd)
+        wall["replay"] += w
+        m = json.loads((dest / "manoeuvre.json").read_text())
+        cells = []
+        for key in ("first_overshoot_deg", "second_overshoot_deg"):
+            meas, pred = m["measured"].get(key), m["predicted"].get(key)
+            iv = (m.get("intervals") or {}).get(key) or {}
+            lo, hi = iv.get("low95"), iv.get("high95")
+            if meas is not None and lo is not None and hi is not None:
+                total += 1
+                inside += lo <= meas <= hi
+            cells.append(f"{fmt(meas)} {fmt(pred, '8.1f')} [{fmt(lo, '5.1f')},{fmt(hi, '5.1f')}]")
+        print(f"{run.stem[:34]:34s} {cells[0]:>30s} {cells[1]:>30s}")
+    print(f"measured overshoots inside the predicted 95 % interval: {inside} of {total}")
+
+    print("\nwall time, s: " + ", ".join(f"{k} {v:.1f}" for k, v in wall.items()))
+    if tmp is not None:
+        tmp.cleanup()
+    else:
+        print(f"outputs in {out}")
     return 0
 
 
