@@ -173,6 +173,50 @@ def test_stable_model_reverse_spiral_and_pull_out():
     assert pull["sides"][0]["time_to_half"] == pytest.approx(T * math.log(2), rel=0.02)  # e^(−t/T) = ½
 
 
+def biased(f, bias):
+    """``f`` with a constant yaw acceleration ``bias``/T (rad/s²): the steady rate at δ = 0 of the
+    stable model is bias/n1 (a propeller's torque that rolls an AUV into a slow turn)."""
+
+    def g(t, x, tau, d):
+        xd = f(t, x, tau, d)
+        xd[11] += bias / T
+        return xd
+
+    return g
+
+
+def test_pull_out_of_a_biased_but_stable_model_is_course_stable():
+    """Both sides settle on the same residual, bias/n1 in closed form (T ṙ + r = K δ + b), so the
+    model is course stable though neither residual is zero; the course-unstable model with the
+    same bias settles on two different residuals (the stable roots of −r + n3 r³ = b) and is not."""
+    bias = 0.004  # rad/s at n1 = 1: a fifth of the turn's rate K·0.1 = 0.02 rad/s
+    pull = fly(M.pull_out(0.1), biased(nomoto(), bias), dt=0.05).metrics
+    assert pull["residual_yaw_rate"] == pytest.approx([bias, bias], rel=1e-3)
+    assert pull["course_stable"] is True and pull["opposite"] is True
+    assert pull["residual_bias"] == pytest.approx(bias, rel=1e-3)
+    assert abs(pull["residual_difference"]) < 1e-5
+    n3 = 100.0
+    unstable = fly(M.pull_out(0.3), biased(nomoto(-1.0, n3), 0.01), duration=3000, dt=0.1).metrics
+    roots = sorted(r.real for r in np.roots([n3, 0, -1, -0.01]) if abs(r.imag) < 1e-12)
+    stable_roots = [roots[-1], roots[0]]  # the outer two of the three: −1 + 3 n3 r² > 0
+    assert unstable["residual_yaw_rate"] == pytest.approx(stable_roots, rel=1e-3)
+    assert unstable["course_stable"] is False and unstable["residual_bias"] is None
+    assert unstable["residual_difference"] == pytest.approx(stable_roots[0] - stable_roots[1], rel=1e-3)
+
+
+def test_pull_out_rule_on_given_sides():
+    side = {"deflection": 0.1, "time_to_half": 1.0, "turn_settled": True, "decay_settled": True}
+    same = [
+        side | {"yaw_rate_before": 0.2, "residual_yaw_rate": -0.022},
+        side | {"yaw_rate_before": -0.2, "residual_yaw_rate": -0.0215},
+    ]
+    assert mm.pull_out_summary(same)["course_stable"] is True  # |Δ| = 0.0005 ≤ 5 % of 0.2
+    apart = [same[0], same[1] | {"residual_yaw_rate": 0.022}]
+    assert mm.pull_out_summary(apart)["course_stable"] is False
+    locked = [same[0], same[1] | {"yaw_rate_before": 0.2}]  # both sides turned one way
+    assert mm.pull_out_summary(locked)["course_stable"] is False
+
+
 def test_depth_change():
     res = fly(M.depth_change(3.0, 0.2), nomoto(pitch=True))
     m = res.metrics

@@ -373,8 +373,14 @@ def pull_out_summary(sides: list[dict[str, Any]]) -> dict[str, Any]:
     (the steady turn's rate, rad/s), ``residual_yaw_rate`` (steady after the release, rad/s),
     ``time_to_half`` (s to half the rate, None: never), ``time_to_settle`` (s until the rate stays
     within 5 % of its change from its residual, None: never), ``turn_settled`` and
-    ``decay_settled``. Course-stable when every residual is within 5 % of the rate it started
-    from; ``opposite`` when the two sides turned opposite ways.
+    ``decay_settled``. ``opposite`` when the two sides turned opposite ways.
+
+    Course-stable (ITTC 7.5-04-02-01 §2.2.6) when the two sides turned opposite ways and came
+    back to the same residual rate, within :data:`PULL_OUT_TOLERANCE` of the mean turn rate:
+    a stable vehicle with a steady bias (a propeller's torque rolls it, a trim) settles on one
+    residual from both sides, ``residual_bias``, their mean. Different residuals mean unstable:
+    the released vehicle keeps turning the way it turned, and ``residual_difference`` (+δ side
+    minus −δ side) is the height of the spiral's loop in yaw rate.
     """
     rows = [
         {
@@ -387,14 +393,24 @@ def pull_out_summary(sides: list[dict[str, Any]]) -> dict[str, Any]:
         }
         for s in sides
     ]
-    stable = [abs(s["residual_yaw_rate"]) <= 0.05 * abs(s["yaw_rate_before"]) for s in sides]
     two = len(sides) == 2
-    return {
-        "sides": rows,
-        "residual_yaw_rate": [s["residual_yaw_rate"] for s in sides],
-        "opposite": bool(sides[0]["yaw_rate_before"] * sides[1]["yaw_rate_before"] < 0) if two else None,
-        "course_stable": all(stable) if two else None,
+    out: dict[str, Any] = {"sides": rows, "residual_yaw_rate": [s["residual_yaw_rate"] for s in sides]}
+    if not two:
+        return out | {"opposite": None, "course_stable": None, "residual_difference": None, "residual_bias": None}
+    (a, b), opposite = sides, bool(sides[0]["yaw_rate_before"] * sides[1]["yaw_rate_before"] < 0)
+    difference = float(a["residual_yaw_rate"] - b["residual_yaw_rate"])
+    scale = 0.5 * (abs(a["yaw_rate_before"]) + abs(b["yaw_rate_before"]))
+    stable = opposite and abs(difference) <= PULL_OUT_TOLERANCE * scale
+    return out | {
+        "opposite": opposite,
+        "course_stable": stable,
+        "residual_difference": difference,
+        "residual_bias": 0.5 * float(a["residual_yaw_rate"] + b["residual_yaw_rate"]) if stable else None,
     }
+
+
+#: the pull-out's two residual rates are "the same" within this fraction of the turns' mean rate
+PULL_OUT_TOLERANCE = 0.05
 
 
 def depth_change_metrics(time: np.ndarray, x: np.ndarray, executes: Any, depth: float) -> dict[str, Any]:
@@ -520,6 +536,8 @@ UNITS = {
     "distance_at_second_execute": "m",
     "yaw_rate": "rad/s",
     "residual_yaw_rate": "rad/s",
+    "residual_difference": "rad/s",
+    "residual_bias": "rad/s",
     "time_to_half": "s",
     "depth_change": "m",
     "max_depth_change": "m",
