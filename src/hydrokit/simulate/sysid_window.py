@@ -69,7 +69,7 @@ from hydrokit.simulate.sysid_model import (
 #: window length chosen by ``auto`` when a run drifts, s (20–30 s: what ship-model trials use)
 DEFAULT_WINDOW = 30.0
 #: a run drifts when an error of its initial velocity grows more than this over the run (–)
-DRIFT_GROWTH = 10.0
+DRIFT_GROWTH = 3.0
 #: the perturbation of an initial velocity that measures its growth, m/s or rad/s
 _PROBE = 1e-6
 #: an accepted step that lowers the weighted cost χ² by less than this ends the fit (–)
