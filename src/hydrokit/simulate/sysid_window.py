@@ -262,12 +262,15 @@ def _window_problem(
 
 def _split_states(prep: PreparedRun, states: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """The initial states of a window whose effect needs a simulation, and those that move the
-    whole track rigidly: x and y (the forces do not depend on position) and ψ (nor on heading:
-    the track turns about its start) — ψ only when x and y are measured at the same times or
-    not at all (its column needs the predicted x and y at each other's times)."""
+    whole track rigidly: x and y (the forces do not depend on position; a logged current or
+    wind is uniform) and ψ (nor on heading: the track turns about its start) — ψ only in still
+    water and air, and when x and y are measured at the same times or not at all (its column
+    needs the predicted x and y at each other's times)."""
     times = {c: t for c, t in zip(prep.channels, prep.times)}
     rigid = {0, 1}
-    if ("x" in times) == ("y" in times) and ("x" not in times or np.array_equal(times["x"], times["y"])):
+    # a logged current or wind (NED, uniform) makes the forces depend on the heading
+    still = prep.env is None or not np.any(prep.env[:, 1:])
+    if still and ("x" in times) == ("y" in times) and ("x" not in times or np.array_equal(times["x"], times["y"])):
         rigid.add(5)
     return (
         np.array([i for i in states if i not in rigid], dtype=int),
