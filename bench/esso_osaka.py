@@ -148,6 +148,7 @@ def main() -> int:
         cmd += ["--workers", str(a.workers)]
     print("$ hydrokit " + " ".join(cmd[:1] + ["RUN…"] + cmd[1 + len(train) :]))
     wall["sysid"], text = hydrokit(cmd)
+    (out / "sysid.log").write_text(text)
     res = json.loads((fit / "sysid.json").read_text())
     verdict = res.get("verdict", {})
     print(f"\nverdict: {'fits' if verdict.get('fits') else 'does not fit'}")
