@@ -131,8 +131,8 @@ def _setting(res: Any) -> str:
     if "check_angle_deg" in p:
         return f" {a:.4g}°/{p['check_angle_deg']:.4g}°"
     if "depth_change" in p:
-        how = f"at {abs(a):.4g}° (open loop)" if p["loop"] == "open" else f"pitch within ±{p['max_pitch_deg']:.4g}°"
-        return f" {p['depth_change']:+.4g} m {how}"
+        how = f" at {abs(a):.4g}° (open loop)" if p["loop"] == "open" else f", pitch within ±{p['max_pitch_deg']:.4g}°"
+        return f" {p['depth_change']:+.4g} m{how}"
     if "mode" in p:
         return f" ({p['mode']}" + ("" if a is None else f", up to {a:.4g}°") + ")"
     return f" at ±{abs(a):.4g}°" if res.kind == "pull_out" else f" at {a:.4g}°"
