@@ -103,3 +103,24 @@ def test_intervals_of_draws_that_missed_a_metric_and_the_refusals(mariner):
         add_intervals(None, mariner, 4, 1, fly)
     with pytest.raises(InputError, match="--samples 1: expected a whole number ≥ 2"):
         add_intervals(None, with_sigma(mariner, 0.1), 1, 1, fly)
+
+
+def test_a_draw_that_diverges_is_counted_not_fatal(mariner, nominal):
+    """A drawn vehicle whose flight fails (here every other one, by a stand-in flight) is left out
+    of the intervals and said in a warning; the others still give them."""
+    from hydrokit.errors import SimulationError
+
+    calls = []
+
+    def flaky(vehicle):
+        calls.append(vehicle)
+        if len(calls) % 2:
+            raise SimulationError("the state became non-finite at t = 1 s")
+        return nominal
+
+    res = replace(nominal, warnings=[])
+    add_intervals(res, with_sigma(mariner, 0.1), 4, 1, flaky)
+    assert res.intervals["advance"]["samples"] == 2
+    assert res.intervals["advance"]["median"] == pytest.approx(nominal.metrics["advance"])
+    assert res.sampling["failed"] == 2
+    assert any("2 of 4 drawn vehicle(s) could not fly" in w for w in res.warnings)

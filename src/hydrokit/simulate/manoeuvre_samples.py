@@ -16,7 +16,7 @@ from typing import Any
 
 import numpy as np
 
-from hydrokit.errors import InputError
+from hydrokit.errors import InputError, SimulationError
 
 #: the central interval reported, as a fraction
 COVERAGE = 0.95
@@ -75,7 +75,8 @@ class SampledManoeuvres:
     metrics : list of dict — each draw's metrics (SI; ``*_deg`` in degrees)
     tracks : list of (k, 4) arrays — time (s, 0 at the execute), x, y, z (m) of the first
         :data:`SHOWN_TRACKS` draws (positions from the execute point)
-    failed : list of str — why a draw flew nothing (a vehicle the dynamics refused)
+    failed : list of str — why a draw flew nothing (a vehicle the dynamics refused, or whose
+        state became non-finite)
     incomplete : int — draws with a ``problem`` (some of their metrics are None)
     clipped : int — drawn entries below zero, set to 0
     seed : int
@@ -148,7 +149,7 @@ def fly_samples(
     for k, v in enumerate(vehicles):
         try:
             res = fly(v)
-        except InputError as exc:  # a drawn vehicle the dynamics refuse (e.g. a singular mass)
+        except (InputError, SimulationError) as exc:  # refused (a singular mass) or diverged
             out.failed.append(f"sample {k}: {exc}")
             out.metrics.append({})
         else:
