@@ -130,7 +130,7 @@ def test_force_table_holds_deflections_and_thrust_at_the_measured_advance_speed(
     u = 0.3 + 0.1 * t  # measured surge speed at the rows
     run = RunLog("r", "r", t, {"u": (t, u)}, {"prop": np.full(t.size, N_PROP)}, deflections={"rudder": rudder})
     tab = force_table(run, th, 0.02, ["rudder"])
-    assert tab.shape[1] == 8  # [t, X..N, δ]
+    assert tab.shape[1] == 10  # [t, X..N, δ, T, n]: the vehicle's input vector follows the forces
     at = lambda tq, j: float(np.interp(tq, tab[:, 0], tab[:, j]))  # noqa: E731
     # held deflection: the old value up to the row, the new one right after (zero-order hold)
     assert at(0.3, 7) == pytest.approx(-0.1) and at(0.3 + 1e-7, 7) == pytest.approx(0.2)
@@ -143,8 +143,10 @@ def test_force_table_holds_deflections_and_thrust_at_the_measured_advance_speed(
     # without the advance speed: bollard pull, K_T(0)
     bollard = force_table(run, th, 0.02, ["rudder"], advance=False)
     assert bollard[0, 1] == pytest.approx(0.33 * 1000.0 * N_PROP**2 * 0.084**4, rel=1e-9)
-    # the surfaces taken from the run when not named; a named surface the run lacks is an error
-    np.testing.assert_array_equal(force_table(run, th, 0.02), tab)
+    assert at(0.5, 8) == pytest.approx(thrust, rel=1e-9) and at(0.5, 9) == N_PROP  # T(prop), n(prop)
+    # the surfaces taken from the run when not named (no input vector then); a named surface the
+    # run lacks is an error
+    np.testing.assert_array_equal(force_table(run, th, 0.02), tab[:, :8])
     with pytest.raises(InputError, match=r"run r: no deflection for control surface 'flap'"):
         prepare_run(run, th, 0.02, surfaces=["rudder", "flap"])
 
@@ -164,7 +166,7 @@ def test_equation_error_with_delta_terms_on_a_short_run() -> None:
     tab = prep.table.copy()
     tab[:, 0] += prep.t0
     taus = [tau_on_grid(tab, sm.time)]
-    assert taus[0].shape == (sm.time.size, 7)  # forces and the rudder
+    assert taus[0].shape == (sm.time.size, 9)  # forces, the rudder, T(prop) and n(prop)
     true = values_of(truth, params)
     ee = equation_error(veh, params, [sm], taus)
     assert ee.dofs == (1, 5)  # sway and yaw: the only equations these terms enter (planar)

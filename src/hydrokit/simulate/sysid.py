@@ -674,7 +674,7 @@ def _identify(
         try:
             for _ in range(3):  # re-weight: σ of each channel from its residuals
                 if cut:
-                    z, r, _, its = cut.lm(problem, z, scale, max_iter, progress)
+                    z, r, _, its = cut.lm(problem, z, scale, max_iter, progress, (lower, upper))
                 else:
                     z, r, _, its = _lm(problem, z, scale, max_iter, progress, (lower, upper))
                 iterations += its
@@ -688,7 +688,8 @@ def _identify(
     else:
         z = z0.copy()
         z[:p] = ee.values
-    # the windowed and equation-error fits are projected onto the bounds at the end
+    # the equation-error fit is projected onto the bounds at the end (the output-error fits
+    # keep them throughout; the projection then changes nothing)
     moved = not np.array_equal(np.clip(z[:p], lower, upper), z[:p])
     z[:p] = np.clip(z[:p], lower, upper)
     if method != "output-error" or moved:
@@ -728,6 +729,8 @@ def _identify(
             est,
             problem.sigma,
         )
+        if cut is not None:  # the windows' initial states projected out at dt/2 too
+            half = cut.projected(half)
         r2, J2, ok2 = half.evaluate(z, scale, True)
         if ok2 and J2 is not None:
             dz = -np.linalg.lstsq(J2, r2, rcond=None)[0][:p] * scale[:p]
@@ -800,19 +803,42 @@ def _identify(
     )
 
 
+#: the range a surface's or thruster's free field must keep for the model to accept it (the
+#: vehicle file's own checks: 0 ≤ w, t < 1; a size or slope is not negative), in its unit
+FIELD_RANGE: dict[str, tuple[float, float]] = {
+    "wake_fraction": (0.0, 0.99),
+    "thrust_deduction": (0.0, 0.99),
+    "lift_slope": (0.0, math.inf),
+    "area": (0.0, math.inf),
+    "diameter": (0.0, math.inf),
+    "drag_coefficient": (0.0, math.inf),
+}
+
+
 def _bounds(vehicle: Vehicle, params: Sequence[Parameter]) -> tuple[np.ndarray, np.ndarray]:
     """Lower and upper bounds of the parameters (SI): 0 on the side where a damping would feed
-    energy in (:func:`hydrokit.model.uncertainty.physical_sign`), ±inf elsewhere."""
+    energy in (:func:`hydrokit.model.uncertainty.physical_sign`), a surface's or thruster's
+    field within :data:`FIELD_RANGE`, ±inf elsewhere."""
     from hydrokit.model.uncertainty import parameter_ref, physical_sign
 
     signs = np.array([physical_sign(parameter_ref(vehicle, q.name)) for q in params], dtype=float)
-    return np.where(signs > 0, 0.0, -np.inf), np.where(signs < 0, 0.0, np.inf)
+    lower, upper = np.where(signs > 0, 0.0, -np.inf), np.where(signs < 0, 0.0, np.inf)
+    for k, q in enumerate(params):
+        if q.kind in ("surface", "thruster"):
+            lower[k], upper[k] = FIELD_RANGE.get(q.name.rpartition(".")[2], (-math.inf, math.inf))
+    return lower, upper
 
 
 def _bound_messages(params: Sequence[Parameter], theta: np.ndarray, lower: np.ndarray, upper: np.ndarray) -> list[str]:
     """One message per parameter held on its physical bound."""
     out = []
     for q, v, lo, hi in zip(params, theta, lower, upper):
+        if q.kind in ("surface", "thruster") and v in (lo, hi):
+            out.append(
+                f"{q.name} is held at the end of its range [{lo:g}, {hi:g}] {q.unit}: these runs push it past — "
+                "the model misses something (see the verdict) or the runs do not determine it"
+            )
+            continue
         if v == lo or v == hi:
             side = (
                 "≥ 0: a negative damping feeds energy in" if v == lo else "≤ 0 (SNAME): a positive one feeds energy in"

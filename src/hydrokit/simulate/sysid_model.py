@@ -251,6 +251,7 @@ def force_table(
 
     t = np.asarray(run.time, float)
     deflections: Mapping[str, np.ndarray] = getattr(run, "deflections", None) or {}
+    inputs = surfaces is not None  # the vehicle's layout is known: its input vector follows
     if surfaces is None:
         surfaces = list(deflections)
     for s_name in surfaces:
@@ -305,7 +306,7 @@ def force_table(
     tau = f @ thrusters.configuration_matrix().T
     d = defl[seg]
     d[jump] = defl[np.maximum(seg[jump] - 1, 0)]  # held: node t_k keeps the old deflection
-    if surfaces is None or m > MAX_THRUSTERS:
+    if not inputs or m > MAX_THRUSTERS:
         return np.column_stack([nodes, tau, d])
     rate = np.zeros_like(f)
     for i, cv in enumerate(thrusters.curves):

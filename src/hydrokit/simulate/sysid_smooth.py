@@ -242,8 +242,9 @@ def model_force(vehicles: Sequence[Vehicle], states: np.ndarray, inputs: np.ndar
     ----------
     vehicles : Vehicles sharing one term structure
     states : (n, 12) — η, ν (m, rad, m/s, rad/s)
-    inputs : (n, 6 + n_surfaces) or None — per row the thruster force X..N (N, N·m) and the
-        deflections (rad, the vehicle's surface order); None: no force, no deflection
+    inputs : (n, 6 + n_inputs) or None — per row the thruster force X..N (N, N·m) and the
+        vehicle's input vector (deflections, rad, in the vehicle's surface order, then thrusts,
+        N, and rotation rates, rev/s); None: no force, no input
     """
     p = stack_packs(vehicles)
     out = np.empty((len(vehicles), states.shape[0], 6))
@@ -299,8 +300,9 @@ def equation_error(
     vehicle : Vehicle — the base (values of every parameter not free)
     params : the free parameters
     smoothed : per run, its :class:`Smoothed` states
-    taus : per run, (n, 6 + n_surfaces) thruster force on the smoothed grid, N and N·m, then the
-        control surfaces' deflections, rad (:func:`tau_on_grid` of the force table)
+    taus : per run, (n, 6 + n_inputs) thruster force on the smoothed grid, N and N·m, then the
+        vehicle's input vector: the control surfaces' deflections, rad, and each thruster's
+        thrust, N, and rotation rate, rev/s (:func:`tau_on_grid` of the force table)
     trim : float — s cut from each end of a run (at most a tenth of it; smoother ends are the
         least certain)
     window : float — s; the equations are integrated over consecutive windows of this length,
@@ -314,6 +316,11 @@ def equation_error(
     p = len(params)
     theta0 = values_of(vehicle, params)
     step = np.maximum(np.abs(theta0), 1.0)
+    # a surface's or thruster's field enters nonlinearly and within limits (a wake fraction
+    # below 1): a small step linearises it where it is (a thruster's field moves the thrust,
+    # which these equations take as given, so its column is 0 here: its start is its base value)
+    fields = np.array([q.kind in ("surface", "thruster") for q in params], dtype=bool)
+    step[fields] = 0.05 * np.maximum(np.abs(theta0[fields]), 0.1)
     vehicles = [with_values(vehicle, params, theta0)]
     for k in range(p):
         th = theta0.copy()
@@ -382,8 +389,8 @@ def equation_error(
 
 
 def tau_on_grid(table: np.ndarray, time: np.ndarray) -> np.ndarray:
-    """The force table (rows [t, X..N, δ_1 … δ_n]) interpolated at ``time`` (s): (n, 6 + n)
-    — forces in N, N·m, deflections in rad."""
+    """The force table (rows [t, X..N, δ…, T…, n…]) interpolated at ``time`` (s): (n, columns − 1)
+    — forces in N, N·m, deflections in rad, thrusts in N, rotation rates in rev/s."""
     return np.stack([np.interp(time, table[:, 0], table[:, 1 + j]) for j in range(table.shape[1] - 1)], axis=1)
 
 
