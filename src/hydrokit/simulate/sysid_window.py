@@ -166,6 +166,12 @@ class Windows:
         """The fit of the windowed problem (:func:`lm`)."""
         return lm
 
+    def projected(self, problem: Any) -> Any:
+        """``problem`` (a ``_Problem`` of these windows, e.g. prepared at another step) with each
+        window's measured initial states projected out, from its own ``x0``."""
+        states = [np.array([i for i in range(12) if s.known[i]], dtype=int) for s in self.smoothed]
+        return _window_problem(problem, problem.preps, [x.copy() for x in problem.x0], problem.est, states)
+
     def problem(self, whole: Any) -> Any:
         """The whole-run problem of :mod:`hydrokit.simulate.sysid` (its ``_Problem``) on the
         windows, with every measured initial state projected out (module docstring)."""
