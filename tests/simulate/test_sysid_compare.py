@@ -90,6 +90,17 @@ def test_candidates_that_predict_equally_keep_the_lowest_bic() -> None:
     assert keep == "B"
 
 
+def test_a_lower_bic_that_does_not_predict_is_said() -> None:
+    # the real-data case (Esso Osaka zigzags): the most flexible structure fits the training runs
+    # best but predicts worse than two that predict equally
+    ranking, keep, text = choose(
+        [_scored("A", 7, 0.742, -1255.0), _scored("B", 8, 0.750, -1132.0), _scored("C", 9, 0.925, -1390.0)]
+    )
+    assert keep == "A" and ranking == ("A", "B", "C")
+    assert "keep the simpler A" in text
+    assert "C has a lower BIC (by 135) but predicts the held-out runs worse (0.93)" in text
+
+
 def test_a_kept_candidate_that_does_not_fit_is_said() -> None:
     _, _, text = choose([_scored("A", 3, 0.6, -10.0, fits=False), _scored("B", 3, 0.9, -5.0, fits=False)])
     assert text.endswith("but even A does not describe the runs (its verdict): try another structure.")

@@ -342,6 +342,11 @@ def choose(scores: Sequence[Scored], equivalent: float = EQUIVALENT) -> tuple[tu
             )
         else:
             text = f"{head}: keep {keep.name}, lowest BIC (ΔBIC {nxt.bic - keep.bic:.0f} to {nxt.name})"
+        if low_bic not in tie:
+            text += (
+                f"; {low_bic.name} has a lower BIC (by {keep.bic - low_bic.bic:.0f}) but predicts the held-out runs "
+                f"worse ({_num(low_bic.heldout)}): its closer fit to the training runs does not carry over"
+            )
     if not keep.verdict["fits"]:
         text += f"; but even {keep.name} does not describe the runs (its verdict): try another structure"
     return tuple(s.name for s in ranked), keep.name, text + "."
