@@ -169,7 +169,8 @@ class ForceSpec:
 class SysidSpec:
     """The ``sysid:`` section: identification from the vehicle's own free-running runs
     (``hydrokit sysid``, docs/sysid.md). runs, holdout : run files (sorted per glob);
-    free : parameter names (``<coefficient>.<dof>`` or ``terms.<term>``); method : output-error
+    free : parameter names (``<coefficient>.<dof>``, ``terms.<term>``,
+    ``control_surfaces.<name>.<field>`` or ``thrusters.<name>.<field>``); method : output-error
     or equation-error; dt : integration step, s; truth : name → hidden value (SI) of virtual
     dives (``truth.json`` of ``hydrokit sysid generate``), or None; truth_file : its path."""
 
@@ -388,7 +389,7 @@ def parse_project(data: dict[str, Any], path: Path) -> Project:
         virtual=f.virtual,
         description=f.description,
         cfd=cfd,
-        sysid=_sysid(f.sysid, root, source),
+        sysid=_sysid(f.sysid, root, source, _file(root, f.vehicle, "vehicle", source)),
     )
 
 
@@ -403,8 +404,32 @@ def _file_list(root: Path, value: Any, field_name: str, source: str) -> tuple[Pa
     return _launches(root, value, field_name, source, "run files")
 
 
-def _free_names(value: Any, source: str) -> tuple[str, ...]:
-    """The free names of ``sysid.free`` (a list or comma-separated text), each checked."""
+def _vehicle_names(path: Path) -> tuple[tuple[str, ...], tuple[str, ...]]:
+    """The control-surface and thruster names of the vehicle file ``path`` (file order), as far
+    as it can be read here: a free ``control_surfaces.NAME.FIELD``, ``thrusters.NAME.FIELD``,
+    ``delta(NAME)`` or ``T(NAME)`` is checked against them (the whole vehicle is checked when it
+    is loaded; an unreadable file gives no names and its own error there)."""
+    try:
+        data = read_yaml(path)
+    except (InputError, OSError):
+        return (), ()
+
+    def names(block: Any) -> tuple[str, ...]:
+        items = block if isinstance(block, list) else []
+        return tuple(str(e["name"]) for e in items if isinstance(e, dict) and isinstance(e.get("name"), str))
+
+    if not isinstance(data, dict):
+        return (), ()
+    return names(data.get("control_surfaces")), names(data.get("thrusters"))
+
+
+def _free_names(
+    value: Any, source: str, surfaces: tuple[str, ...] = (), thrusters: tuple[str, ...] = ()
+) -> tuple[str, ...]:
+    """The free names of ``sysid.free`` (a list or comma-separated text), each checked;
+    ``surfaces`` and ``thrusters``: the vehicle's control-surface and thruster names (file order)
+    that a field name (``control_surfaces.rudder.lift_slope``, ``thrusters.prop.wake_fraction``)
+    or a ``delta(NAME)`` / ``T(NAME)`` / ``n(NAME)`` factor may use."""
     from hydrokit.model.uncertainty import check_parameter, location
 
     if isinstance(value, str):
@@ -423,7 +448,7 @@ def _free_names(value: Any, source: str) -> tuple[str, ...]:
         )
     seen: dict[Any, str] = {}
     for k, name in enumerate(names):
-        where = location(check_parameter(name, f"field 'sysid.free[{k}]' =", source))
+        where = location(check_parameter(name, f"field 'sysid.free[{k}]' =", source, surfaces, thrusters))
         if where in seen:
             also = "" if seen[where] == name else f" (as {seen[where]!r}: the same coefficient)"
             raise InputError(
@@ -433,7 +458,7 @@ def _free_names(value: Any, source: str) -> tuple[str, ...]:
     return tuple(names)
 
 
-def _sysid(s: _Sysid | None, root: Path, source: str) -> SysidSpec | None:
+def _sysid(s: _Sysid | None, root: Path, source: str, vehicle: Path) -> SysidSpec | None:
     if s is None:
         return None
     runs = _file_list(root, s.runs, "sysid.runs", source)
@@ -450,7 +475,8 @@ def _sysid(s: _Sysid | None, root: Path, source: str) -> SysidSpec | None:
     if truth_file is not None:
         truth = _sysid_truth(truth_file, source)
     pattern = s.runs if isinstance(s.runs, str) else ", ".join(map(str, s.runs))
-    return SysidSpec(runs, holdout, _free_names(s.free, source), s.method, float(s.dt), pattern, truth, truth_file)
+    free = _free_names(s.free, source, *_vehicle_names(vehicle))
+    return SysidSpec(runs, holdout, free, s.method, float(s.dt), pattern, truth, truth_file)
 
 
 def _sysid_truth(path: Path, source: str) -> dict[str, float]:
