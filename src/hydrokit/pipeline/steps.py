@@ -16,6 +16,11 @@ from hydrokit.pipeline.cache import StepCache, digest, file_digest, run_key
 
 CONTROLLERS = ("pid", "s-plane")
 
+#: version of the sysid step's cached result: raised when what the step returns changes (2: the
+#: verdict, the physical-sign bounds and free surface and thruster fields), so results cached
+#: before are computed again rather than read
+SYSID_STEP_VERSION = 2
+
 
 def _png64(png: bytes) -> str:
     return base64.b64encode(png).decode("ascii")
@@ -136,6 +141,7 @@ class Runner:
         vehicle, from_tank = start_vehicle(self.base, tank)
         key = digest(
             "sysid",
+            SYSID_STEP_VERSION,
             self.digests[str(self.p.vehicle)],
             from_tank,
             [(p.name, self.digests[str(p)]) for p in spec.runs],
