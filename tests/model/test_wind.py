@@ -49,7 +49,7 @@ def _ship(tmp_path: Path, wind: str = BLENDERMANN, name: str = "ship.yaml") -> P
 
 
 def test_blendermann_by_hand_at_a_few_angles() -> None:
-    """Blendermann (1994) as in Fossen (2021) Table 10.1, loaded tanker: CD_t 0.70, CD_l,AF 0.90
+    """Blendermann (1994) as tabulated in MSS blendermann94.m (Fossen 2021 §10.1), loaded tanker: CD_t 0.70, CD_l,AF 0.90
     (bow) and 0.55 (stern), δ 0.40; each coefficient written out by hand for one side (γ = 0, 45°,
     90°, 135°, 180°), mirrored for the other."""
     w = make_wind(A_F, A_L, L, model="blendermann1994", vessel="tanker_loaded", s_L=0.3)

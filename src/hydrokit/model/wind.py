@@ -26,7 +26,8 @@ The coefficients C_X, C_Y, C_N come from either
 ``blendermann1994``
     Blendermann's parameter set for merchant ships (W. Blendermann 1994, *Parameter
     identification of wind loads on ships*, J. Wind Eng. Ind. Aerodyn. 51, 339–351; tabulated in
-    Fossen 2021 Table 10.1 and in the MSS toolbox's blendermann94.m). With a = |γ_R|,
+    Fossen's Handbook, 2nd ed. 2021, §10.1, and in the MSS toolbox's blendermann94.m, whose
+    table this is). With a = |γ_R|,
     CD_l,AF = CD_l,AF(0) for a ≤ π/2 and CD_l,AF(π) beyond, CD_l = CD_l,AF A_F / A_L:
 
         den = 1 − ½ δ (1 − CD_l / CD_t) sin²(2a)
@@ -60,8 +61,9 @@ AIR_DENSITY = 1.225
 WIND_HEAD = 12
 KIND_NONE, KIND_BLENDERMANN, KIND_TABLE = 0.0, 1.0, 2.0
 
-#: Blendermann (1994) via Fossen (2021) Table 10.1: CD_t, CD_l,AF(0), CD_l,AF(π), δ (κ, the roll
-#: factor, is not used: the wind model gives surge, sway and yaw). The drilling vessel's published
+#: Blendermann (1994) as the MSS toolbox's blendermann94.m tabulates it (after Fossen, §10.1):
+#: CD_t, CD_l,AF(0), CD_l,AF(π), δ (κ, the roll factor, is not used: the wind model gives surge,
+#: sway and yaw). The drilling vessel's published
 #: ranges 0.70–1.00 and 0.75–1.10 are taken at their middle, as in the MSS toolbox.
 BLENDERMANN_1994: dict[str, tuple[float, float, float, float]] = {
     "car_carrier": (0.95, 0.55, 0.60, 0.80),
