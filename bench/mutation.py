@@ -1406,7 +1406,8 @@ class Worker:
     ) -> tuple[str, str, float]:
         env = dict(os.environ, PYTHONPATH=os.pathsep.join([str(self.root / "src"), str(self.root)]))
         env.update(PYTHONDONTWRITEBYTECODE="1", NUMBA_CACHE_DIR=str(self.root / ".numba_cache"), **(extra_env or {}))
-        cmd = [sys.executable, "-m", "pytest", "-q", "-p", "no:cacheprovider", "--no-header", "-n", "0", *options]  # in-process: its own plugin traces the tests
+        # in-process (-n 0, not pyproject's xdist workers): its own plugin traces the tests
+        cmd = [sys.executable, "-m", "pytest", "-q", "-p", "no:cacheprovider", "--no-header", "-n", "0", *options]
         cmd += ["-x"] if stop else []
         cmd += ["--", *tests]  # node ids, a few thousand at most: well inside the argv limit
         t0 = time.perf_counter()
