@@ -186,7 +186,10 @@ def test_dask_tests_skip_with_a_reason_where_dask_is_missing() -> None:
         "test_unreachable_scheduler_is_one_line_input_error",
     ]
     tests = [f"{__file__}::{n}" for n in names]
-    code = f"{hide}; import pytest; sys.exit(pytest.main({tests!r} + ['-q', '-rs', '-p', 'no:cacheprovider']))"
+    # in-process (-n 0): xdist workers would not inherit the hidden modules
+    code = (
+        f"{hide}; import pytest; sys.exit(pytest.main({tests!r} + ['-q', '-rs', '-p', 'no:cacheprovider', '-n', '0']))"
+    )
     proc = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=120)
     assert proc.returncode == 0, proc.stdout[-2000:]
     assert f"{len(names)} skipped" in proc.stdout, proc.stdout[-2000:]

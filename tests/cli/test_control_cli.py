@@ -128,16 +128,16 @@ def test_allocate_bad_input_one_line_exit_2(run_cli, tmp_path: Path, thrusters, 
     assert not out.exists()
 
 
-def test_allocate_missing_vehicle(run_cli, tmp_path: Path) -> None:
-    code, _, err = run_cli("allocate", tmp_path / "nope.yaml", "--tau", "1,0,0,0,0,0")
+def test_allocate_missing_vehicle(run_cli, tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    # a relative path: a long temporary folder (xdist workers nest one level deeper) would be shortened in the message
+    monkeypatch.chdir(tmp_path)
+    code, _, err = run_cli("allocate", "nope.yaml", "--tau", "1,0,0,0,0,0")
     assert code == 2
     from hydrokit.io.vehicle import bundled_vehicles
 
     names = bundled_vehicles()
     assert {"bluerov2-heavy", "lingyun", "minerva", "remus100", "mariner", "udrobot"} <= set(names)
-    assert err.splitlines() == [
-        f"error: no such file or bundled vehicle '{tmp_path / 'nope.yaml'}' (bundled: {', '.join(names)})"
-    ]
+    assert err.splitlines() == [f"error: no such file or bundled vehicle 'nope.yaml' (bundled: {', '.join(names)})"]
 
 
 # --------------------------------------------------------------------------- mission
