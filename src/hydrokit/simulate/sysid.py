@@ -34,6 +34,8 @@ import numpy as np
 from hydrokit._result import Result, jsonable
 from hydrokit.errors import InputError
 from hydrokit.model.vehicle import Vehicle
+from hydrokit.simulate.sysid_lm import Diverged as _Diverged
+from hydrokit.simulate.sysid_lm import projected_lm
 from hydrokit.simulate.sysid_model import (
     CHANNELS,
     Parameter,
@@ -59,8 +61,6 @@ from hydrokit.simulate.sysid_stats import (
 METHODS = ("output-error", "equation-error")
 #: |ρ| above which two parameters are said to move together
 CORRELATION_LIMIT = 0.95
-#: a parameter this many (scaled) units from its start has run away: the fit diverged
-RUNAWAY = 1e3
 #: feedback is said detected when a DOF's command correlates with the sensor noise of that
 #: DOF's channels beyond this many times the 1/√n band (open-loop generated dives: below 3)
 FEEDBACK_Z = 5.0
@@ -225,17 +225,22 @@ class _Problem:
             k += e.size
         return theta, x0s
 
+    def packs(self, theta: np.ndarray, scale: np.ndarray, jac: bool) -> dict[str, Any]:
+        """The compiled tables of the vehicle at ``theta`` (SI) and, if ``jac``, of one vehicle
+        per parameter nudged by 1e-6 of its ``scale`` (the forward differences)."""
+        vehicles = [with_values(self.vehicle, self.params, theta)]
+        if jac:
+            for k in range(len(self.params)):
+                th = theta.copy()
+                th[k] += 1e-6 * scale[k]
+                vehicles.append(with_values(self.vehicle, self.params, th))
+        return stack_packs(vehicles)
+
     def evaluate(self, z: np.ndarray, scale: np.ndarray, jac: bool) -> tuple[np.ndarray, np.ndarray | None, bool]:
         """Weighted residuals (and Jacobian w.r.t. z/scale) of every run."""
         p = len(self.params)
         theta, x0s = self.unpack(z)
-        vehicles = [with_values(self.vehicle, self.params, theta)]
-        if jac:
-            for k in range(p):
-                th = theta.copy()
-                th[k] += 1e-6 * scale[k]
-                vehicles.append(with_values(self.vehicle, self.params, th))
-        packs = stack_packs(vehicles)
+        packs = self.packs(theta, scale, jac)
         res, blocks = [], []
         n_cols = p + self.n_nuisance
         col = p
@@ -286,73 +291,9 @@ def _series(problem: _Problem) -> list[tuple[int, int]]:
     return out
 
 
-def _lm(
-    problem: _Problem,
-    z0: np.ndarray,
-    scale: np.ndarray,
-    max_iter: int,
-    progress: Callable[[int, float], None] | None,
-    bounds: tuple[np.ndarray, np.ndarray] | None = None,
-) -> tuple[np.ndarray, np.ndarray, np.ndarray, int]:
-    """Levenberg–Marquardt in the scaled variables z/scale; returns z, residuals, J, iterations.
-
-    ``bounds`` (lower, upper) of the parameters (SI, ±inf where free) keep them feasible: a
-    parameter on its bound whose gradient points out of the box is held there for that step
-    (active set), the others take the Levenberg–Marquardt step of the reduced problem, and the
-    new point is projected onto the box (projected Levenberg–Marquardt; Kanzow, Yamashita &
-    Fukushima 2004, J. Comput. Appl. Math. 172)."""
-    p = len(problem.params)
-    lo = np.full(z0.size, -np.inf)
-    hi = np.full(z0.size, np.inf)
-    if bounds is not None:
-        lo[:p], hi[:p] = bounds
-    z = np.clip(z0, lo, hi)
-    r, J0, ok = problem.evaluate(z, scale, True)
-    if not ok or J0 is None:
-        raise _Diverged(z)
-    J: np.ndarray = J0
-    cost = float(r @ r)
-    lam = 1e-3
-    it = 0
-    for it in range(1, max_iter + 1):
-        g = J.T @ r
-        A = J.T @ J
-        d = np.sqrt(np.clip(np.diag(A), 1e-300, None))
-        tiny = 1e-12 * scale
-        held = ((z <= lo + tiny) & (g > 0)) | ((z >= hi - tiny) & (g < 0))
-        free = ~held
-        accepted = False
-        while lam < 1e10:
-            step = np.zeros_like(z)
-            Af = A[np.ix_(free, free)]
-            step[free] = -np.linalg.solve(Af + lam * np.diag(d[free] ** 2), g[free])
-            z_new = np.clip(z + step * scale, lo, hi)
-            step = (z_new - z) / scale
-            r_new, J_new, ok = problem.evaluate(z_new, scale, True)
-            if ok and J_new is not None and float(r_new @ r_new) < cost:
-                accepted = True
-                break
-            lam *= 10.0
-        if not accepted or J_new is None:
-            break
-        lam = max(lam / 10.0, 1e-9)
-        rel = (cost - float(r_new @ r_new)) / cost
-        z, r, J, cost = z_new, r_new, J_new, float(r_new @ r_new)
-        if np.any(np.abs(z[:p] - z0[:p]) / scale[:p] > RUNAWAY):
-            raise _Diverged(z)
-        if progress:
-            progress(it, cost)
-        # converged: the step is far below the statistical resolution, or the cost is flat
-        with np.errstate(divide="ignore", invalid="ignore"):
-            res_sd = np.sqrt(np.clip(np.diag(np.linalg.pinv(A)), 0, None))
-        if rel < 1e-9 or np.all(np.abs(step) <= 1e-3 * np.maximum(res_sd, 1e-300)):
-            break
-    return z, r, J, it
-
-
-class _Diverged(Exception):
-    def __init__(self, z: np.ndarray):
-        self.z = z
+#: the whole-run fit: projected Levenberg–Marquardt in the scaled variables z/scale, stopped
+#: when the step is far below the statistical resolution (the windows' stops on χ²)
+_lm = projected_lm
 
 
 def _runaway_message(problem: _Problem, z: np.ndarray, z0: np.ndarray, scale: np.ndarray) -> str:

@@ -46,6 +46,7 @@ and the growth (runs shorter than 1.5 windows are fitted whole without looking).
 
 from __future__ import annotations
 
+import functools
 import math
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
@@ -55,6 +56,7 @@ import numpy as np
 
 from hydrokit.errors import InputError
 from hydrokit.model.vehicle import Vehicle
+from hydrokit.simulate.sysid_lm import projected_lm
 from hydrokit.simulate.sysid_model import (
     CHANNELS,
     Parameter,
@@ -163,8 +165,13 @@ class Windows:
 
     @property
     def lm(self) -> Callable[..., tuple[np.ndarray, np.ndarray, np.ndarray, int]]:
-        """The fit of the windowed problem (:func:`lm`)."""
-        return lm
+        """The fit of the windowed problem: the whole-run fit's projected Levenberg–Marquardt
+        (:func:`~hydrokit.simulate.sysid_lm.projected_lm`, bounds kept the same way), stopped
+        when an accepted step lowers the weighted cost χ² by less than :data:`CHI2_TOL`: a
+        change of χ² by 1 moves an estimate by one σ, so further digits are noise (the initial
+        states, re-projected at every evaluation, would keep the cost creeping down by less
+        than that for many iterations)."""
+        return functools.partial(projected_lm, chi2_tol=CHI2_TOL)
 
     def projected(self, problem: Any) -> Any:
         """``problem`` (a ``_Problem`` of these windows, e.g. prepared at another step) with each
@@ -210,21 +217,15 @@ def _window_problem(
 
         def evaluate(self, z: np.ndarray, scale: np.ndarray, jac: bool) -> tuple[np.ndarray, np.ndarray | None, bool]:
             p = len(self.params)
-            theta = z[:p]
-            vehicles = [with_values(self.vehicle, self.params, theta)]
-            if jac:
-                for k in range(p):
-                    th = theta.copy()
-                    th[k] += 1e-6 * scale[k]
-                    vehicles.append(with_values(self.vehicle, self.params, th))
-            packs = stack_packs(vehicles)
+            packs = self.packs(z[:p], scale, jac)
+            n_veh = p + 1 if jac else 1
             tasks = []
             for prep, x, (e, _) in zip(self.preps, self.x0, split):
                 n_x = e.size if jac else 0
                 X0 = np.repeat(x[None], p + 1 + n_x if jac else 1, axis=0)
                 for j, i in enumerate(e[:n_x]):
                     X0[p + 1 + j, i] += _STATE_STEP
-                tasks.append((prep, _take(packs, list(range(len(vehicles))) + [0] * n_x), X0))
+                tasks.append((prep, _take(packs, list(range(n_veh)) + [0] * n_x), X0))
             sims = (
                 [_simulate_task(t) for t in tasks]
                 if self.executor is None
@@ -301,69 +302,6 @@ def _rigid_columns(prep: PreparedRun, pred: np.ndarray, x0: np.ndarray, rigid: n
             out[where["x"], j] = -(pred[where["y"]] - x0[1])
             out[where["y"], j] = pred[where["x"]] - x0[0]
     return out
-
-
-def lm(
-    problem: Any,
-    z0: np.ndarray,
-    scale: np.ndarray,
-    max_iter: int,
-    progress: Callable[[int, float], None] | None,
-    bounds: tuple[np.ndarray, np.ndarray] | None = None,
-) -> tuple[np.ndarray, np.ndarray, np.ndarray, int]:
-    """Levenberg–Marquardt of the windowed problem in the scaled variables z/scale (as the
-    whole-run fit's), stopped when an accepted step lowers the weighted cost χ² by less than
-    :data:`CHI2_TOL`: a change of χ² by 1 moves an estimate by one σ, so further digits are
-    noise (the initial states, re-projected at every evaluation, would keep the cost creeping
-    down by less than that for many iterations). Returns z, residuals, Jacobian, iterations.
-
-    ``bounds`` (lower, upper) of the parameters (SI, ±inf where free; the physical signs,
-    :func:`hydrokit.model.uncertainty.physical_sign`) are kept during the fit as the whole-run
-    fit keeps them: a parameter on its bound whose gradient points out of the box is held there
-    for the step (active set), the others take the step of the reduced problem, and the new
-    point is projected onto the box (projected Levenberg–Marquardt; Kanzow, Yamashita &
-    Fukushima 2004, J. Comput. Appl. Math. 172)."""
-    from hydrokit.simulate.sysid import RUNAWAY, _Diverged
-
-    p = len(problem.params)
-    lo = np.full(z0.size, -np.inf)
-    hi = np.full(z0.size, np.inf)
-    if bounds is not None:
-        lo[:p], hi[:p] = bounds
-    z = np.clip(z0, lo, hi)
-    r, J0, ok = problem.evaluate(z, scale, True)
-    if not ok or J0 is None:
-        raise _Diverged(z)
-    J: np.ndarray = J0
-    cost = float(r @ r)
-    lam = 1e-3
-    it = 0
-    for it in range(1, max_iter + 1):
-        g = J.T @ r
-        A = J.T @ J
-        d2 = np.clip(np.diag(A), 1e-300, None)
-        tiny = 1e-12 * scale
-        free = ~(((z <= lo + tiny) & (g > 0)) | ((z >= hi - tiny) & (g < 0)))
-        while lam < 1e10:
-            step = np.zeros_like(z)
-            step[free] = -np.linalg.solve(A[np.ix_(free, free)] + lam * np.diag(d2[free]), g[free])
-            z_new = np.clip(z + step * scale, lo, hi)
-            r_new, J_new, ok = problem.evaluate(z_new, scale, True)
-            if ok and J_new is not None and float(r_new @ r_new) < cost:
-                break
-            lam *= 10.0
-        else:
-            break
-        lam = max(lam / 10.0, 1e-9)
-        drop = cost - float(r_new @ r_new)
-        z, r, J, cost = z_new, r_new, J_new, float(r_new @ r_new)
-        if np.any(np.abs(z[:p] - z0[:p]) / scale[:p] > RUNAWAY):
-            raise _Diverged(z)
-        if progress:
-            progress(it, cost)
-        if drop < CHI2_TOL:
-            break
-    return z, r, J, it
 
 
 def _take(packs: Any, index: list[int]) -> Any:
