@@ -570,7 +570,7 @@ def _identify(
         )
     preps = [prepare_run(r, th, dt, surfaces=veh.surfaces.names) for r in runs]
     taus = [tau_on_grid(_abs_table(pr), s.time) for pr, s in zip(preps, smoothed)]
-    ee = equation_error(veh, params, smoothed, taus)
+    ee = equation_error(veh, params, smoothed, taus, envs=[_abs_env(pr) for pr in preps])
     warnings: list[str] = []
     for run in runs:
         warnings += [f"{run.name}: {w}" for w in getattr(run, "warnings", ())]
@@ -799,6 +799,15 @@ def _abs_table(prep: PreparedRun) -> np.ndarray:
     tab = prep.table.copy()
     tab[:, 0] += prep.t0
     return tab
+
+
+def _abs_env(prep: PreparedRun) -> np.ndarray | None:
+    """The run's current and wind table with the run's own time (s), None for none."""
+    if prep.env is None:
+        return None
+    env = prep.env.copy()
+    env[:, 0] += prep.t0
+    return env
 
 
 def _channel_rms(problem: _Problem, r: np.ndarray) -> dict[str, float]:

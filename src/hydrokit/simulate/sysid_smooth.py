@@ -13,7 +13,9 @@ free coefficient (added mass enters M and the Coriolis matrix linearly; a deriva
 e(θ) = M(θ) ν̇ − F(x, τ, δ; θ) has exact regressor columns e(θ + δ e_k) − e(θ), computed with the
 compiled right-hand side itself (no second copy of the model): F = M ν̇₀ with ν̇₀ the compiled
 :func:`~hydrokit.simulate.compiled.deriv` at the run's thruster force τ and deflections δ (so
-physical fins, whose force depends on both, and ``delta()`` terms are in it). Only the
+physical fins, whose force depends on both, and ``delta()`` terms are in it) and in the run's
+logged current and wind (the vehicle's ``wind:`` model at the wind relative to the vehicle: a
+wind force left out would be fitted as damping). Only the
 vehicle's kept DOF (``dofs``) give equations. Weighted least squares per DOF equation (weights
 from the residual RMS of a first pass) gives the start of the output-error fit and an
 independent estimate.
@@ -201,11 +203,10 @@ _BUF = _compiled.BUF_SIZE
 
 
 @numba.njit(cache=True)
-def _accelerations(X, U, Minv, Mc, DL, DQ, scal, t_dof, t_coef, t_kind, t_idx, out):  # noqa: ANN001, ANN202
-    """ν̇ for every vehicle k and state row i at input row U[i] = [X..N, δ_1 … δ_n] (the compiled
-    right-hand side)."""
+def _accelerations(T, X, U, env, Minv, Mc, DL, DQ, scal, t_dof, t_coef, t_kind, t_idx, out):  # noqa: ANN001, ANN202
+    """ν̇ for every vehicle k and state row i at time T[i] and input row U[i] = [X..N, δ_1 … δ_n]
+    in the current and wind of ``env`` at T[i] (the compiled right-hand side)."""
     tau = np.zeros((1, 1 + U.shape[1]))
-    cur = np.zeros((1, 4))
     buf = np.empty(_BUF)
     xd = np.empty(12)
     for k in range(Minv.shape[0]):
@@ -213,11 +214,11 @@ def _accelerations(X, U, Minv, Mc, DL, DQ, scal, t_dof, t_coef, t_kind, t_idx, o
             for j in range(U.shape[1]):
                 tau[0, 1 + j] = U[i, j]
             deriv(
-                0.0,
+                T[i],
                 X[i],
                 False,
                 tau,
-                cur,
+                env,
                 Minv[k],
                 Mc[k],
                 DL[k],
@@ -234,7 +235,13 @@ def _accelerations(X, U, Minv, Mc, DL, DQ, scal, t_dof, t_coef, t_kind, t_idx, o
                 out[k, i, j] = xd[6 + j]
 
 
-def model_force(vehicles: Sequence[Vehicle], states: np.ndarray, inputs: np.ndarray | None = None) -> np.ndarray:
+def model_force(
+    vehicles: Sequence[Vehicle],
+    states: np.ndarray,
+    inputs: np.ndarray | None = None,
+    times: np.ndarray | None = None,
+    env: np.ndarray | None = None,
+) -> np.ndarray:
     """F(x, τ, δ) = M ν̇, the whole right-hand side force (N, N·m) of each vehicle at each state
     row: (nv, n, 6).
 
@@ -245,13 +252,20 @@ def model_force(vehicles: Sequence[Vehicle], states: np.ndarray, inputs: np.ndar
     inputs : (n, 6 + n_inputs) or None — per row the thruster force X..N (N, N·m) and the
         vehicle's input vector (deflections, rad, in the vehicle's surface order, then thrusts,
         N, and rotation rates, rev/s); None: no force, no input
+    times : (n,) or None — time of each row, s, on the clock of ``env`` (None: 0)
+    env : (k, 4 or 6) or None — the logged current and wind, rows [t, v_N, v_E, v_D, w_N, w_E]
+        (s, m/s; :func:`hydrokit.model.dynamics.environment_table`): the forces are those at
+        the velocity relative to the water and the air; None: still water and air
     """
     p = stack_packs(vehicles)
-    out = np.empty((len(vehicles), states.shape[0], 6))
-    U = np.zeros((states.shape[0], 6)) if inputs is None else np.asarray(inputs, float)
+    n = states.shape[0]
+    out = np.empty((len(vehicles), n, 6))
+    U = np.zeros((n, 6)) if inputs is None else np.asarray(inputs, float)
     _accelerations(
+        np.zeros(n) if times is None else np.ascontiguousarray(times, float),
         np.ascontiguousarray(states, float),
         np.ascontiguousarray(U),
+        np.zeros((1, 4)) if env is None else np.ascontiguousarray(env, float),
         p["Minv"],
         p["Mc"],
         p["DL"],
@@ -291,6 +305,7 @@ def equation_error(
     taus: Sequence[np.ndarray],
     trim: float = 1.0,
     window: float = 2.0,
+    envs: Sequence[np.ndarray | None] | None = None,
 ) -> EquationError:
     """Weighted least squares on the equations of motion (module docstring), integrated over
     windows.
@@ -310,6 +325,11 @@ def equation_error(
         jump (a rudder's deflection, a measured thrust) while the smoother, which assumes a
         continuous acceleration, smears ν̇ over a few samples — the integral needs ν only, and
         takes the jump exactly. 0: the equations at every grid point, with the smoothed ν̇
+    envs : per run, its logged current and wind (rows [t, v_N, v_E, v_D, w_N, w_E], s on the
+        clock of its smoothed time, m/s; :meth:`hydrokit.io.runlog.RunLog.environment_table`)
+        or None (still water and air); None: none for any run. The current's and the wind's
+        forces (the vehicle's ``wind:`` model) enter F as in the simulation, so a wind-blown
+        run does not bias the damping the regression returns
     """
     from hydrokit.simulate.sysid_stats import sandwich
 
@@ -329,12 +349,13 @@ def equation_error(
     Ms = np.stack([v.M for v in vehicles])
     rows_e: list[np.ndarray] = []
     rows_phi: list[np.ndarray] = []
-    for sm, tau in zip(smoothed, taus):
+    for sm, tau, env in zip(smoothed, taus, [None] * len(smoothed) if envs is None else envs):
         cut = min(trim, 0.1 * float(sm.time[-1] - sm.time[0]))
         keep = (sm.time >= sm.time[0] + cut) & (sm.time <= sm.time[-1] - cut)
         if not np.any(keep):
             keep[:] = True
-        f = model_force(vehicles, sm.states[keep], tau[keep])  # (p+1, n, 6), thrust and fins included
+        # (p+1, n, 6), thrust, fins, current and wind included
+        f = model_force(vehicles, sm.states[keep], tau[keep], sm.time[keep], env)
         t = sm.time[keep]
         w = int(round(window / float(sm.time[1] - sm.time[0]))) if window > 0 and sm.time.size > 1 else 0
         if w >= 1 and t.size > w:
