@@ -142,22 +142,33 @@ class PID:
         state : AxisState — the new state
         """
         e, rate = _error_and_rate(state, measurement, setpoint, dt, rate, self.angle)
-        integral = state.integral + e * dt
-        if self.ki > 0:
-            bound = max(abs(self.output_min), abs(self.output_max)) / self.ki
-            integral = min(max(integral, -bound), bound)
-        pd = -self.kp * e - self.kd * rate
-        raw = pd - self.ki * integral
-        if self.ki > 0 and raw > self.output_max and e < 0:
-            # integrate only up to the value that puts the output exactly at the limit
-            at_limit = (pd - self.output_max) / self.ki
-            integral = max(integral, min(state.integral, at_limit))
-        elif self.ki > 0 and raw < self.output_min and e > 0:
-            at_limit = (pd - self.output_min) / self.ki
-            integral = min(integral, max(state.integral, at_limit))
-        raw = pd - self.ki * integral
-        out = min(max(raw, self.output_min), self.output_max)
+        out, integral = pid_law(
+            self.kp, self.ki, self.kd, self.output_min, self.output_max, state.integral, e, rate, dt
+        )
         return out, AxisState(integral=integral, previous=float(measurement))
+
+
+def pid_law(kp, ki, kd, output_min, output_max, integral0, e, rate, dt):  # noqa: ANN001, ANN201
+    """One step of :class:`PID` on plain floats: (output, new integral) from the gains, the output
+    limits, the integral ∫e dt so far, the error e = y − y_d (already wrapped for an angle), the
+    measured rate ẏ and the step ``dt`` (s). The law of :meth:`PID.update` (its Notes), written
+    once: the manoeuvre hold calls it as Python and compiles it (``compile_law``)."""
+    integral = integral0 + e * dt
+    if ki > 0:
+        bound = max(abs(output_min), abs(output_max)) / ki
+        integral = min(max(integral, -bound), bound)
+    pd = -kp * e - kd * rate
+    raw = pd - ki * integral
+    if ki > 0 and raw > output_max and e < 0:
+        # integrate only up to the value that puts the output exactly at the limit
+        at_limit = (pd - output_max) / ki
+        integral = max(integral, min(integral0, at_limit))
+    elif ki > 0 and raw < output_min and e > 0:
+        at_limit = (pd - output_min) / ki
+        integral = min(integral, max(integral0, at_limit))
+    raw = pd - ki * integral
+    out = min(max(raw, output_min), output_max)
+    return out, integral
 
 
 @dataclass(frozen=True)

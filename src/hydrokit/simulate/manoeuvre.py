@@ -52,42 +52,26 @@ import numpy as np
 
 from hydrokit._result import Result, jsonable
 from hydrokit.core.kinematics import rotation_zyx
-from hydrokit.core.kinematics import wrap_angle as wrap
 from hydrokit.core.names import DOF_NAMES, STATE_COLUMNS
 from hydrokit.errors import InputError, SimulationError
+from hydrokit.simulate import manoeuvre_laws as L
 from hydrokit.simulate import manoeuvre_metrics as mm
 
 KINDS = ("turning_circle", "zigzag", "spiral", "pull_out", "depth_change", "vertical_zigzag")
 VERTICAL = ("depth_change", "vertical_zigzag")
-#: heading change held in a turning circle, rad (the steady part is the last 360°)
-TURN_TARGET = mm.STEADY_START + mm.STEADY_WINDOW + math.radians(1.0)
-#: the turn is steady when yaw rate and speed vary by at most this fraction over the last 360°
-TURN_STEADY = 0.01
-#: the longest turn flown while waiting for it to become steady, rad (10 turns)
-TURN_MAX = 20.0 * math.pi
 #: spiral steps as fractions of the largest deflection (direct) or yaw rate (reverse)
 SPIRAL_FRACTIONS = (1.0, 0.75, 0.5, 0.3, 0.15, 0.08, 0.04, 0.0)
 #: non-dimensional yaw rates r L / U held by the reverse spiral (times SPIRAL_FRACTIONS)
 REVERSE_SPIRAL_RATE = 0.5
-#: a spiral or pull-out step is judged steady over windows of this many L/U (U the speed now)
-STEADY_WINDOW = 5.0
-#: … steady when the rate's means over the last two windows differ by at most this many U/L (rad/s)
-STEADY_DRIFT_ABS = 1e-5
-#: … plus this fraction of the rate
-STEADY_DRIFT_REL = 1e-3
-#: a step not steady after this many L/U ends unsettled (its row says settled = false)
-STEADY_MAX_HOLD = 100.0
 #: the longest turning circle, zigzag, depth change or vertical zigzag, in L/U at the approach speed
 #: (each ends as soon as it is measured; the spiral and pull-out budget their steps instead)
 BUDGET = {"turning_circle": 2000.0, "zigzag": 500.0, "depth_change": 500.0, "vertical_zigzag": 500.0}
-#: largest pitch set-point of the depth hold, rad (20°)
-HOLD_MAX_PITCH = math.radians(20.0)
-#: time between the depth/heading hold's probes of the surfaces' effect, s
-HOLD_PERIOD = 0.5
-#: below this speed (m/s) the hold leaves its surfaces at zero (they have no grip)
-HOLD_MIN_SPEED = 0.05
-#: the approach is steady when the held depth (m) and heading (rad) are this close to their set-points
-HOLD_TOLERANCE = 1e-3
+# the thresholds of the logics and the hold live with their laws (manoeuvre_laws); named here too
+TURN_TARGET, TURN_STEADY, TURN_MAX = L.TURN_TARGET, L.TURN_STEADY, L.TURN_MAX
+STEADY_WINDOW, STEADY_DRIFT_ABS, STEADY_DRIFT_REL = L.STEADY_WINDOW, L.STEADY_DRIFT_ABS, L.STEADY_DRIFT_REL
+STEADY_MAX_HOLD, HOLD_MAX_PITCH, HOLD_PERIOD = L.STEADY_MAX_HOLD, L.HOLD_MAX_PITCH, L.HOLD_PERIOD
+HOLD_MIN_SPEED, HOLD_TOLERANCE = L.HOLD_MIN_SPEED, L.HOLD_TOLERANCE
+DEPTH_BAND, DEPTH_BAND_MIN, DEPTH_SETTLE = L.DEPTH_BAND, L.DEPTH_BAND_MIN, L.DEPTH_SETTLE
 
 #: significant digits of the floats in manoeuvre.json (the trajectory CSV keeps 9 too)
 JSON_DIGITS = 9
@@ -319,363 +303,156 @@ def rounded(obj: Any, digits: int = JSON_DIGITS) -> Any:
 
 # --------------------------------------------------------------------------------------------
 # manoeuvre logics: read the state each step, return the surface command (rad)
+#
+# The logics and the hold are laws written once on plain floats in
+# :mod:`hydrokit.simulate.manoeuvre_laws`; the classes below hold their arrays and read the
+# results out of them. The Python loop calls the laws as Python, the compiled loop
+# (:mod:`hydrokit.simulate.manoeuvre_compiled`) the same functions compiled.
+
+_CODES = {
+    "turning_circle": L.TURN,
+    "zigzag": L.ZIGZAG,
+    "vertical_zigzag": L.ZIGZAG,
+    "spiral": L.SPIRAL,
+    "pull_out": L.PULL_OUT,
+}
 
 
 class _Logic:
-    """A manoeuvre's state machine. ``angle`` is the state index it measures (ψ 5, θ 4)."""
+    """A manoeuvre's state machine: settings ``P``, memory ``S``, record ``H`` and rows ``R``
+    (:mod:`hydrokit.simulate.manoeuvre_laws`); ``angle`` is the state index it measures (ψ 5, θ 4).
 
-    angle = 5
+    Parameters
+    ----------
+    m : Manoeuvre; limit : the steering surface's limit, rad; probe : ∂(angular acceleration)/∂δ
+    at the execute, 1/s² per rad; time_scale : L/U at the execute, s; dt : the step, s
+    """
 
-    def __init__(self, m: Manoeuvre, limit: float, probe: float, time_scale: float) -> None:
+    def __init__(self, m: Manoeuvre, limit: float, probe: float, time_scale: float, dt: float = 0.0) -> None:
         self.m = m
         self.limit = limit
         self.probe = probe  # sign and size of d(angular acceleration)/dδ at the execute
         self.scale = time_scale
         self.a = m.deflection if m.deflection is not None else limit
-        self.done = False
-        self.executes: list[float] = [0.0]
+        self.code = _CODES.get(m.kind, L.DEPTH_CHANGE if m.max_pitch is None else L.DEPTH_PILOT)
+        self.angle = 4 if m.kind in VERTICAL else 5
+        self.targets: list[float] = []
+        if m.kind == "spiral":
+            top = abs(self.a)
+            fr = [*SPIRAL_FRACTIONS, *(-f for f in reversed(SPIRAL_FRACTIONS[:-1]))]
+            levels = fr + fr[-2::-1]  # down from +1 to −1 and back up to +1
+            if m.mode == "direct":
+                self.targets = [top * f for f in levels]
+            else:  # one pass: δ(r) is single-valued
+                self.targets = [REVERSE_SPIRAL_RATE / time_scale * f for f in fr]
+        P = np.zeros(L.P_SIZE)
+        P[L.P_KIND], P[L.P_A], P[L.P_LIMIT], P[L.P_PROBE], P[L.P_SCALE] = self.code, self.a, limit, probe, time_scale
+        P[L.P_CHECK], P[L.P_DEPTH], P[L.P_ANGLE] = m.check_angle, m.depth, self.angle
+        P[L.P_REVERSE], P[L.P_DT], P[L.P_RATE] = float(m.mode == "reverse"), dt, 11
+        P[L.P_NT], P[L.P_MAXPITCH] = len(self.targets), m.max_pitch or 0.0
+        P[L.P_TARGETS : L.P_TARGETS + len(self.targets)] = self.targets
+        self.P = P
+        self.S = np.zeros(L.S_SIZE)
+        self.H = np.zeros((1024, L.H_COLS))
+        self.R = np.zeros((L.MAX_ROWS, L.R_COLS))
         self.x0: np.ndarray = np.zeros(12)
-        self.notes: list[str] = []
 
     def start(self, x0: np.ndarray) -> None:
         self.x0 = x0.copy()
+        L.helm_init(self.P, self.S, self.x0)
 
-    def change(self, x: np.ndarray) -> float:
-        return float(x[self.angle] - self.x0[self.angle])
+    def reserve(self, rows: int) -> None:
+        """Room for ``rows`` rows in the record ``H`` (grown by doubling)."""
+        if rows > self.H.shape[0]:
+            grown = np.zeros((max(rows, 2 * self.H.shape[0]), L.H_COLS))
+            grown[: self.H.shape[0]] = self.H
+            self.H = grown
 
-    def command(self, t: float, x: np.ndarray) -> float:  # pragma: no cover - every logic defines it
-        raise NotImplementedError
+    def command(self, t: float, x: np.ndarray) -> float:
+        """The steering surface's command (rad) at ``t`` (s, 0 at the execute) in the state ``x``."""
+        self.reserve(int(self.S[L.S_NH]) + 1)
+        return float(L.helm_command(self.P, self.S, self.H, self.R, t, x))
+
+    @property
+    def done(self) -> bool:
+        return bool(self.S[L.S_DONE])
+
+    @property
+    def executes(self) -> list[float]:
+        return [float(v) for v in self.S[L.S_EXEC : L.S_EXEC + int(self.S[L.S_NEXEC])]]
+
+    @property
+    def phase(self) -> int:
+        return int(self.S[L.S_PHASE])
+
+    @property
+    def notes(self) -> list[str]:
+        if not self.S[L.S_NOTE]:
+            return []
+        return [
+            f"turning circle: the yaw rate or speed still changed by more than {TURN_STEADY:.1%} over the "
+            f"last 360° after {math.degrees(self.S[L.S_NOTE_A]):.0f}°; the steady values are those of the last 360°"
+        ]
+
+    @property
+    def points(self) -> list[dict[str, Any]]:
+        """A spiral's steps: mean deflection (rad), yaw rate (rad/s), speed (m/s), settled, target, held (s)."""
+        rows = self.R[: int(self.S[L.S_NROWS])] if self.code == L.SPIRAL else self.R[:0]
+        return [
+            {
+                "deflection": float(r[0]),
+                "yaw_rate": float(r[1]),
+                "speed": float(r[2]),
+                "settled": bool(r[3]),
+                "target": float(r[4]),
+                "held": float(r[5]),
+            }
+            for r in rows
+        ]
+
+    @property
+    def sides(self) -> list[dict[str, Any]]:
+        """A pull-out's sides (ITTC 2.2.6): the turn released, its residual rate and decay times."""
+        rows = self.R[: int(self.S[L.S_NROWS])] if self.code == L.PULL_OUT else self.R[:0]
+        out = []
+        for r in rows:
+            h = self.H[int(r[6]) : int(r[7])]
+            ok = bool(r[5])
+            out.append(
+                {
+                    "deflection": float(r[0]),
+                    "yaw_rate_before": float(r[1]),
+                    "time": float(r[2]),
+                    "turn_settled": bool(r[3]),
+                    "residual_yaw_rate": float(r[4]),
+                    "decay_settled": ok,
+                    "time_to_half": _half_time(h[:, 0], h[:, 1], float(r[1])),
+                    "time_to_settle": _settle_time(h[:, 0], h[:, 1], float(r[1]), float(r[4])) if ok else None,
+                }
+            )
+        return out
+
+    @property
+    def straight(self) -> bool | None:
+        """Pull-out: whether the vehicle was brought back to a straight course between the sides."""
+        s = self.S[L.S_STRAIGHT]
+        return None if s < 0 else bool(s)
+
+    def steps(self) -> int:
+        return len(self.targets) if self.code == L.SPIRAL else L.PULL_OUT_PHASES
 
     def budget(self) -> float:
-        """The longest the manoeuvre may take, s (:data:`BUDGET` L/U at the approach speed)."""
+        """The longest the manoeuvre may take, s: :data:`BUDGET` L/U at the approach speed, or,
+        for a spiral or pull-out, every step held to :data:`STEADY_MAX_HOLD` L/U at a tenth of
+        the approach speed (it ends as soon as every step is steady)."""
+        if self.code in (L.SPIRAL, L.PULL_OUT):
+            return self.steps() * STEADY_MAX_HOLD * 10.0 * self.scale
         return BUDGET[self.m.kind] * self.scale
 
 
-class _Turn(_Logic):
-    """The surface held until the heading has changed :data:`TURN_TARGET` and the yaw rate and
-    the speed over the last 360° are steady (spread within :data:`TURN_STEADY` of their mean, as
-    ITTC asks of the steady turn), or :data:`TURN_MAX` at most."""
-
-    def __init__(self, *args: Any) -> None:
-        super().__init__(*args)
-        self.turn: list[float] = []
-        self.rate: list[float] = []
-        self.speed: list[float] = []
-        self.next_check = TURN_TARGET
-
-    def command(self, t: float, x: np.ndarray) -> float:
-        a = abs(self.change(x))
-        self.turn.append(a)
-        self.rate.append(float(x[11]))
-        self.speed.append(math.hypot(float(x[6]), float(x[7])))
-        if a >= self.next_check:
-            k = int(np.argmax(np.asarray(self.turn) >= a - mm.STEADY_WINDOW))
-            r, u = np.asarray(self.rate[k:]), np.asarray(self.speed[k:])
-            steady = np.ptp(r) <= TURN_STEADY * abs(float(np.mean(r))) and np.ptp(u) <= TURN_STEADY * float(np.mean(u))
-            self.done = bool(steady) or a >= TURN_MAX
-            if self.done and not steady:
-                self.notes.append(
-                    f"turning circle: the yaw rate or speed still changed by more than {TURN_STEADY:.1%} over the "
-                    f"last 360° after {math.degrees(a):.0f}°; the steady values are those of the last 360°"
-                )
-            self.next_check = a + math.radians(10.0)
-        return self.a
-
-
-class _Zigzag(_Logic):
-    def __init__(self, *args: Any) -> None:
-        super().__init__(*args)
-        self.angle = 4 if self.m.kind == "vertical_zigzag" else 5
-        self.sign = 0.0
-        self.cmd = self.a
-        self.prev = 0.0
-        self.peak_at: float | None = None
-
-    def command(self, t: float, x: np.ndarray) -> float:
-        b = self.m.check_angle
-        a = self.change(x)
-        if self.sign == 0.0:
-            if abs(a) >= b:
-                self.sign = 1.0 if a > 0 else -1.0
-                self._execute(t)
-        elif len(self.executes) < 4:
-            s = self.sign * a
-            odd = len(self.executes) % 2 == 0  # after the 2nd execute the turn goes back
-            if (odd and s <= -b) or (not odd and s >= b):
-                self._execute(t)
-        else:
-            s = self.sign * a
-            # after the 4th execute: stop once the heading has peaked (the third overshoot)
-            if self.peak_at is None and s < self.sign * self.prev and t > self.executes[-1]:
-                self.peak_at = t
-            if self.peak_at is not None and t >= self.peak_at + 0.25 * (self.peak_at - self.executes[-1]) + 1e-9:
-                self.done = True
-        self.prev = a
-        return self.cmd
-
-    def _execute(self, t: float) -> None:
-        self.cmd = -self.cmd
-        self.executes.append(t)
-
-
-class _Hold(_Logic):
-    """Helper for logics that hold a setting until the yaw (or pitch) rate is steady.
-
-    A step is steady when the means of the rate over the last two windows of :data:`STEADY_WINDOW`
-    L/U differ by at most :data:`STEADY_DRIFT_ABS` U/L + :data:`STEADY_DRIFT_REL` of the rate
-    (U the speed now: a vehicle slowed in a tight turn answers more slowly), after at least two
-    windows; a step not steady after :data:`STEADY_MAX_HOLD` L/U ends unsettled. The means of two
-    windows, not the spread, so that a rate that ripples (a hold's corrections, roll coupling)
-    but no longer drifts counts as steady; its value is the last window's mean.
-    """
-
-    rate = 11
-
-    def __init__(self, *args: Any) -> None:
-        super().__init__(*args)
-        self.hist_t: list[float] = []
-        self.hist_r: list[float] = []
-        self.hist_u: list[float] = []
-        self.hist_d: list[float] = []
-        self.step_start = 0.0
-        self.next_check = 0.0
-        self.u0 = 0.0
-        self.integral = 0.0
-        self.dt = 0.0
-        self.last: tuple[float, float, float, bool] = (0.0, 0.0, 0.0, False)
-
-    def start(self, x0: np.ndarray) -> None:
-        super().start(x0)
-        self.u0 = math.hypot(float(x0[6]), float(x0[7]))
-
-    def scale_now(self, x: np.ndarray) -> float:
-        """L/U at the speed now, s (the speed floored at a tenth of the approach speed)."""
-        u = math.hypot(float(x[6]), float(x[7]))
-        return self.scale * self.u0 / max(u, 0.1 * self.u0) if self.u0 > 0 else self.scale
-
-    def _record(self, t: float, x: np.ndarray, cmd: float) -> bool:
-        """Append the sample; True when the step is over (steady, or held for the longest time).
-        :attr:`last` holds the last window's (rate, speed, deflection) means and whether steady."""
-        self.hist_t.append(t)
-        self.hist_r.append(float(x[self.rate]))
-        self.hist_u.append(math.hypot(float(x[6]), float(x[7])))
-        self.hist_d.append(cmd)
-        held = t - self.step_start
-        scale = self.scale_now(x)
-        window = STEADY_WINDOW * scale
-        if held < 2.0 * window or t < self.next_check:
-            return False
-        self.next_check = t + 0.1 * window  # judged ten times a window, not every step
-        ts = np.asarray(self.hist_t)
-        rs = np.asarray(self.hist_r)
-        k1 = int(np.searchsorted(ts, t - window))
-        k0 = int(np.searchsorted(ts, t - 2.0 * window))
-        r1 = float(np.mean(rs[k1:]))
-        r0 = float(np.mean(rs[k0:k1])) if k1 > k0 else math.inf
-        steady = abs(r1 - r0) <= STEADY_DRIFT_ABS / scale + STEADY_DRIFT_REL * abs(r1)
-        self.last = (r1, float(np.mean(self.hist_u[k1:])), float(np.mean(self.hist_d[k1:])), steady)
-        return steady or held >= STEADY_MAX_HOLD * scale
-
-    def _reset(self, t: float) -> None:
-        self.hist_t, self.hist_r, self.hist_u, self.hist_d = [], [], [], []
-        self.step_start = t
-        self.next_check = t
-        self.integral = 0.0
-
-    def _rate_pilot(self, target: float, x: np.ndarray) -> float:
-        """The surface command (rad) of a yaw-rate autopilot holding ``target`` (rad/s): PI on r
-        with natural frequency U/L, its gains over |∂ṙ/∂δ| (probed at the execute, scaled by
-        (U/U₀)² as fin forces go), the integral held while the surface is at its limit."""
-        scale = self.scale_now(x)
-        w = 1.0 / scale
-        u = math.hypot(float(x[6]), float(x[7]))
-        g = (abs(self.probe) or 1.0) * (max(u, 0.1 * self.u0) / self.u0) ** 2 if self.u0 > 0 else 1.0
-        e = target - float(x[self.rate])
-        s = 1.0 if self.probe >= 0 else -1.0
-        self.integral += e * self.dt
-        cmd = s * (2.0 * w * e + w * w * self.integral) / g
-        if abs(cmd) > self.limit:  # anti-windup: hold the integral where the surface saturates
-            cmd = math.copysign(self.limit, cmd)
-            self.integral -= e * self.dt
-        return cmd
-
-    def budget(self) -> float:
-        """The longest the logic may take, s: every step held to :data:`STEADY_MAX_HOLD` L/U at a
-        tenth of the approach speed (it ends as soon as every step is steady)."""
-        return self.steps() * STEADY_MAX_HOLD * 10.0 * self.scale
-
-    def steps(self) -> int:  # pragma: no cover - every holding logic defines it
-        raise NotImplementedError
-
-
-class _Spiral(_Hold):
-    def __init__(self, *args: Any) -> None:
-        super().__init__(*args)
-        top = abs(self.a)
-        fr = [*SPIRAL_FRACTIONS, *(-f for f in reversed(SPIRAL_FRACTIONS[:-1]))]
-        levels = fr + fr[-2::-1]  # down from +1 to −1 and back up to +1
-        if self.m.mode == "direct":
-            self.targets = [top * f for f in levels]
-        else:
-            self.targets = [REVERSE_SPIRAL_RATE / self.scale * f for f in fr]  # one pass: δ(r) is single-valued
-        self.k = 0
-        self.points: list[dict[str, Any]] = []
-
-    def steps(self) -> int:
-        return len(self.targets)
-
-    def command(self, t: float, x: np.ndarray) -> float:
-        target = self.targets[self.k]
-        cmd = target if self.m.mode == "direct" else self._rate_pilot(target, x)
-        if self._record(t, x, cmd):
-            r, u, d, ok = self.last
-            self.points.append(
-                {
-                    "deflection": d,
-                    "yaw_rate": r,
-                    "speed": u,
-                    "settled": ok,
-                    "target": target,
-                    "held": t - self.step_start,
-                }
-            )
-            self.k += 1
-            self._reset(t)
-            self.done = self.k >= len(self.targets)
-        return cmd
-
-
-class _PullOut(_Hold):
-    """ITTC 2.2.6: a steady turn at +δ, the surface to zero until the yaw rate is steady (the
-    residual rate), then back to a straight course (a yaw-rate autopilot to r = 0, skipped when the
-    residual is already within the steady tolerance), a steady turn at −δ and its release. Each side
-    thus starts from a straight course, as in a trial, and its turn is the vehicle's answer to the
-    deflection's sign, whatever the other side left behind."""
-
-    PHASES = ("turn", "release", "straighten", "turn", "release")
-
-    def __init__(self, *args: Any) -> None:
-        super().__init__(*args)
-        self.phase = 0
-        self.sides: list[dict[str, Any]] = []
-        self.release: dict[str, Any] = {}
-        self.straight: bool | None = None
-
-    def steps(self) -> int:
-        return len(self.PHASES)
-
-    def command(self, t: float, x: np.ndarray) -> float:
-        what = self.PHASES[self.phase]
-        if what == "turn":
-            cmd = self.a if self.phase == 0 else -self.a
-        elif what == "straighten":
-            cmd = self._rate_pilot(0.0, x)
-        else:
-            cmd = 0.0
-        if not self._record(t, x, cmd):
-            return cmd
-        r, _, _, ok = self.last
-        if what == "turn":
-            self.release = {"deflection": cmd, "yaw_rate_before": r, "time": t, "turn_settled": ok}
-        elif what == "release":
-            hist_t, hist_r = np.asarray(self.hist_t), np.asarray(self.hist_r)
-            r_rel = self.release["yaw_rate_before"]
-            self.sides.append(
-                {
-                    **self.release,
-                    "residual_yaw_rate": r,
-                    "decay_settled": ok,
-                    "time_to_half": _half_time(hist_t, hist_r, r_rel),
-                    "time_to_settle": _settle_time(hist_t, hist_r, r_rel, r) if ok else None,
-                }
-            )
-        else:
-            self.straight = ok and abs(r) <= STEADY_DRIFT_ABS / self.scale_now(x)
-        self.phase += 1
-        if self.phase == 2 and abs(r) <= STEADY_DRIFT_ABS / self.scale_now(x) and ok:
-            self.phase, self.straight = 3, True  # already straight: no autopilot needed
-        self.done = self.phase >= len(self.PHASES)
-        if not self.done:
-            self.executes.append(t)
-        self._reset(t)
-        return cmd
-
-
-class _DepthChange(_Logic):
-    angle = 4
-
-    def __init__(self, *args: Any) -> None:
-        super().__init__(*args)
-        dive = self.m.depth > 0
-        # nose down (q̇ < 0) dives: choose the sign of A that pitches the nose the right way
-        s = -1.0 if self.probe > 0 else 1.0
-        self.cmd = abs(self.a) * (s if dive else -s)
-        self.phase = 0
-        self.sense = 1.0 if dive else -1.0
-        self.prev = 0.0
-        self.peak: float | None = None
-
-    def command(self, t: float, x: np.ndarray) -> float:
-        dz = self.sense * float(x[2] - self.x0[2])
-        if self.phase == 0 and dz >= abs(self.m.depth):
-            self.phase, self.cmd = 1, -self.cmd
-            self.executes.append(t)
-        elif self.phase == 1 and self.sense * self.change(x) >= 0.0:
-            # pitch back to its original value (diving pitched the nose down: θ − θ0 < 0 until now)
-            self.phase, self.cmd = 2, 0.0
-            self.executes.append(t)
-        elif self.phase == 2:
-            if self.peak is None and dz < self.prev:
-                self.peak = t
-            if self.peak is not None and t >= self.peak + 0.25 * (self.peak - self.executes[-1]) + 1e-9:
-                self.done = True
-        self.prev = dz
-        return self.cmd
-
-
-class _DepthPilot(_Logic):
-    """A depth change flown as an AUV flies one: the pitch set-point from the pitch-limited
-    depth-to-pitch law of the missions (:func:`hydrokit.model.control.depth_to_pitch`, gain
-    1/(5 L) rad/m, the depth hold's) and the pitch PID of :class:`_Keeper` on the planes (within
-    ±A). Executes: 0, the first time the depth is reached, the time it settled (within
-    :data:`DEPTH_BAND` of the change, at least :data:`DEPTH_BAND_MIN`, and staying there for
-    :data:`DEPTH_SETTLE` L/U, four times the depth loop's time constant)."""
-
-    angle = 4
-
-    def __init__(self, *args: Any) -> None:
-        super().__init__(*args)
-        self.sense = 1.0 if self.m.depth > 0 else -1.0
-        self.band = max(DEPTH_BAND * abs(self.m.depth), DEPTH_BAND_MIN)
-        self.reached: float | None = None
-        self.inside: float | None = None
-
-    def command(self, t: float, x: np.ndarray) -> float:
-        dz = self.sense * float(x[2] - self.x0[2])
-        if self.reached is None and dz >= abs(self.m.depth):
-            self.reached = t
-            self.executes.append(t)
-        if self.reached is not None and abs(dz - abs(self.m.depth)) <= self.band:
-            self.inside = t if self.inside is None else self.inside
-            if t - self.inside >= DEPTH_SETTLE * self.scale:
-                self.executes.append(self.inside)
-                self.done = True
-        else:
-            self.inside = None
-        return 0.0  # the planes are set by the pitch loop (:meth:`_Keeper.depth_pitch`)
-
-
-#: a closed-loop depth change has settled within this fraction of the change …
-DEPTH_BAND = 0.05
-#: … and at least this, m
-DEPTH_BAND_MIN = 0.05
-#: … for this many L/U
-DEPTH_SETTLE = 20.0
-
-
 class _Keeper:
-    """Holds depth and pitch with a stern plane and the heading with a rudder, with the PID of
-    :mod:`hydrokit.model.control` (an AUV's autopilot during trials at constant depth).
+    """Holds depth and pitch with a stern plane and the heading with a rudder, with the PID law
+    of :mod:`hydrokit.model.control` (an AUV's autopilot during trials at constant depth).
 
     Depth: an outer PID on z gives the pitch set-point θ_d (rad, within ±:data:`HOLD_MAX_PITCH`),
     with the time constant 5 L/U (ż ≈ −U θ); pitch and heading: a PID on the angle (rate from the
@@ -683,7 +460,8 @@ class _Keeper:
     acceleration (rad/s²) turned into a deflection by dividing it by ∂q̇/∂δ (or ∂ṙ/∂δ), probed
     on the vehicle's own right-hand side every :data:`HOLD_PERIOD` s (gain scheduling: fin
     forces grow as U²). Set-points: the depth and heading at the start of the approach. The
-    surface that steers the manoeuvre holds only until the execute.
+    surface that steers the manoeuvre holds only until the execute. The law is
+    :func:`hydrokit.simulate.manoeuvre_laws.keeper_command` on the array ``K``.
     """
 
     def __init__(
@@ -697,95 +475,56 @@ class _Keeper:
         length: float | None,
         x0: np.ndarray,
     ) -> None:
-        from hydrokit.model.control import PID
-
-        self.PID = PID
         self.f, self.tau_of, self.n_s = f, tau_of, n_s
         self.plane, self.rudder = hold
-        self.steering = steering
         self.lim = lim
-        self.length = length
-        self.z0, self.psi0 = float(x0[2]), float(x0[5])
-        self.next_probe = -math.inf
-        self.g_q = self.g_r = self.kz = 0.0
-        self.trim: float | None = None  # the pitch a depth change starts from, rad
-        self.depth = self.pitch = self.heading = PID(kp=0.0)
-        self.s_depth = self.s_pitch = self.s_heading = PID(kp=0.0).initial_state()
+        self.K = np.zeros(L.K_SIZE)
+        p = -1 if self.plane is None else self.plane
+        r = -1 if self.rudder is None else self.rudder
+        L.keeper_init(
+            self.K,
+            p,
+            r,
+            steering,
+            float(lim[p]) if p >= 0 else 0.0,
+            float(lim[r]) if r >= 0 else 0.0,
+            length or 0.0,
+            x0,
+        )
 
-    def _tune(self, t: float, x: np.ndarray) -> None:
-        speed = math.sqrt(float(x[6] ** 2 + x[7] ** 2 + x[8] ** 2))
-        self.next_probe = t + HOLD_PERIOD
-        if speed < HOLD_MIN_SPEED:
-            self.g_q = self.g_r = 0.0
-            return
-        scale = self.length / speed if self.length else 1.0
-        w = 1.0 / scale
+    @property
+    def trim(self) -> float | None:
+        """The pitch a closed-loop depth change starts from, rad (None: 0)."""
+        v = float(self.K[L.K_TRIM])
+        return None if math.isnan(v) else v
+
+    @trim.setter
+    def trim(self, value: float) -> None:
+        self.K[L.K_TRIM] = value
+
+    def tune(self, t: float, x: np.ndarray) -> None:
+        """Probe the holding surfaces' effect in the state ``x`` and schedule the gains (t in s)."""
         tau = self.tau_of(x)
-        PID = self.PID
-        if self.plane is not None:
-            self.g_q = _probe(self.f, x, tau, self.n_s, self.plane, float(self.lim[self.plane]), 10)
-            top = float(self.lim[self.plane]) * abs(self.g_q)
-            kz = 1.0 / (5.0 * scale * speed)  # rad per m: ż ≈ −U θ closes with time constant 5 L/U
-            self.kz = kz
-            self.depth = PID(kp=kz, ki=kz / (20.0 * scale), output_min=-HOLD_MAX_PITCH, output_max=HOLD_MAX_PITCH)
-            self.pitch = PID(kp=w * w, ki=0.1 * w**3, kd=2.0 * w, output_min=-top, output_max=top, angle=True)
-        if self.rudder is not None:
-            self.g_r = _probe(self.f, x, tau, self.n_s, self.rudder, float(self.lim[self.rudder]), 11)
-            top = float(self.lim[self.rudder]) * abs(self.g_r)
-            self.heading = PID(kp=w * w, ki=0.1 * w**3, kd=2.0 * w, output_min=-top, output_max=top, angle=True)
+        g_q = (
+            0.0 if self.plane is None else _probe(self.f, x, tau, self.n_s, self.plane, float(self.lim[self.plane]), 10)
+        )
+        g_r = (
+            0.0
+            if self.rudder is None
+            else _probe(self.f, x, tau, self.n_s, self.rudder, float(self.lim[self.rudder]), 11)
+        )
+        L.keeper_tune(self.K, t, x, g_q, g_r)
 
     def settled(self, x: np.ndarray) -> bool:
         """True when the held depth and heading are within :data:`HOLD_TOLERANCE` (m, rad) of their
         set-points (the approach is steady only then)."""
-        depth_ok = self.plane is None or abs(float(x[2]) - self.z0) <= HOLD_TOLERANCE
-        heading_ok = self.rudder is None or abs(wrap(float(x[5]) - self.psi0)) <= HOLD_TOLERANCE
-        return depth_ok and heading_ok
-
-    def pitch_hold(self, x: np.ndarray, dt: float, theta: float) -> float:
-        """The plane command (rad) that holds the pitch ``theta`` (rad): a depth change's last
-        phase, where a pitch-unstable vehicle cannot fly with its planes at zero."""
-        from hydrokit.model.control import euler_rates
-
-        if self.plane is None or self.g_q == 0.0:
-            return 0.0
-        thetadot = euler_rates(x[:6], x[6:])[2]
-        qdot, self.s_pitch = self.pitch.update(self.s_pitch, float(x[4]), theta, dt, thetadot)
-        return qdot / self.g_q
-
-    def depth_pitch(self, x: np.ndarray, dt: float, z_d: float, max_pitch: float) -> float:
-        """The plane command (rad) that flies to the depth ``z_d`` (m): the pitch set-point
-        θ_d = clip(k (z − z_d), ±``max_pitch``) of :func:`hydrokit.model.control.depth_to_pitch`
-        (k = 1/(5 L) rad/m), held by the pitch PID."""
-        from hydrokit.model.control import depth_to_pitch, euler_rates
-
-        if self.plane is None or self.g_q == 0.0:
-            return 0.0
-        trim = self.trim if self.trim is not None else 0.0
-        theta_d = min(max(trim + depth_to_pitch(float(x[2]), z_d, self.kz, max_pitch), -max_pitch), max_pitch)
-        thetadot = euler_rates(x[:6], x[6:])[2]
-        qdot, self.s_pitch = self.pitch.update(self.s_pitch, float(x[4]), theta_d, dt, thetadot)
-        return qdot / self.g_q
+        return bool(L.keeper_settled(self.K, x))
 
     def command(self, t: float, x: np.ndarray, dt: float, cmd: np.ndarray, approach: bool) -> None:
         """Set the holding surfaces' commands in ``cmd`` (rad) for the state ``x`` at ``t`` (s)."""
-        from hydrokit.model.control import euler_rates
-
-        if t >= self.next_probe:
-            self._tune(t, x)
-        zdot, _, thetadot, psidot = euler_rates(x[:6], x[6:])
-        if self.plane is not None and (approach or self.plane != self.steering):
-            if self.g_q != 0.0:
-                theta_d, self.s_depth = self.depth.update(self.s_depth, -float(x[2]), -self.z0, dt, -zdot)
-                qdot, self.s_pitch = self.pitch.update(self.s_pitch, float(x[4]), theta_d, dt, thetadot)
-                cmd[self.plane] = qdot / self.g_q
-            else:
-                cmd[self.plane] = 0.0
-        if self.rudder is not None and (approach or self.rudder != self.steering):
-            if self.g_r != 0.0:
-                rdot, self.s_heading = self.heading.update(self.s_heading, float(x[5]), self.psi0, dt, psidot)
-                cmd[self.rudder] = rdot / self.g_r
-            else:
-                cmd[self.rudder] = 0.0
+        if L.keeper_due(self.K, t):
+            self.tune(t, x)
+        L.keeper_command(self.K, x, dt, cmd, approach)
 
 
 def _settle_time(t: np.ndarray, r: np.ndarray, r0: float, r_end: float) -> float | None:
@@ -955,6 +694,7 @@ def fly_manoeuvre(
     servo_step: Servo | None = None,
     hold: tuple[int | None, int | None] | None = None,
     progress: Callable[[float, float], None] | None = None,
+    engine: Any = None,
 ) -> tuple[np.ndarray, np.ndarray, np.ndarray, _Logic, list[str]]:
     """Approach, execute and fly ``manoeuvre`` with the dynamics ``f(t, x, τ, δ) → ẋ``.
 
@@ -980,13 +720,16 @@ def fly_manoeuvre(
         heading (either None), with :class:`_Keeper`; the steering surface holds only until the
         execute
     progress : callable(simulated seconds, longest seconds) or None
+    engine : None (the Python loop around ``f``) or a
+        :class:`hydrokit.simulate.manoeuvre_compiled.Engine` built on the same vehicle as ``f``
+        and with constant ``tau``: the same laws flown by the compiled loop
 
     Returns
     -------
     (time, states (n, 12), deflections (n, n_surfaces), logic, warnings), time 0 at the execute.
     """
-    from hydrokit.simulate.integrators import rk4_step
-
+    if engine is not None and (callable(tau) or servo_step is not None):
+        raise InputError("the compiled manoeuvre loop takes a constant force and the servo law; expected engine=None")
     if servo_step is None:
         from hydrokit.model.surfaces import servo_step as law
 
@@ -1020,67 +763,45 @@ def fly_manoeuvre(
             if h is not None and not (0 <= h < n_s):
                 raise InputError(f"hold surface index {h}: expected 0 … {n_s - 1}")
         keeper = _Keeper(f, tau_of, n_s, hold, surface, lim, length, x)
-    delta = np.zeros(n_s)
-    cmd = np.zeros(n_s)
-    new = np.zeros(n_s)
-
-    def g(t: float, y: np.ndarray, u: np.ndarray) -> np.ndarray:
-        return f(t, y, u[:6], u[6:])
-
-    begin_step = getattr(tau, "begin_step", None)  # a ThrusterDrive: rotor lag, step by step
-
-    def step(t: float, y: np.ndarray) -> np.ndarray:
-        if begin_step is not None:
-            begin_step(t, dt)
-        y = rk4_step(g, t, y, dt, u=np.concatenate([tau_of(y), delta]))
-        if not np.all(np.isfinite(y)):
-            raise SimulationError(f"the state became non-finite at t = {t + dt:.6g} s; check the coefficients and dt")
-        return y
+    loop = engine if engine is not None else _PythonLoop(f, tau, tau_of, servo_step)
+    sv = _Servo(lim, rate, tc, np.zeros(n_s), np.zeros(n_s), np.zeros(n_s))
 
     # the approach: straight, surfaces at zero, until ν is steady over a window
     window = max(int(round(2.0 / dt)), 10)
-    rows: list[np.ndarray] = [x.copy()]
-    used: list[np.ndarray] = []  # the deflections held over each approach step
     n_app = max(int(approach / dt), window + 1)
-    steady = False
-    for k in range(n_app):
-        if keeper is not None:
-            keeper.command(k * dt, x, dt, cmd, True)
-        servo_step(delta, cmd, dt, lim, rate, tc, new)
-        delta[:] = new
-        used.append(delta.copy())
-        x = step(k * dt, x)
-        rows.append(x.copy())
-        if k >= window and k % window == 0:
-            span = np.ptp(np.asarray(rows[-window:])[:, 6:], axis=0)
-            speed = max(math.hypot(x[6], x[7]), 1e-3)
-            if np.all(span[:3] <= 1e-4 * speed) and np.all(span[3:] <= 1e-5):
-                if keeper is None or keeper.settled(x):
-                    steady = True
-                    break
-    if not steady:
+    rows = np.empty((n_app + 1, 12))
+    rows[0] = x
+    used = np.empty((n_app, n_s))  # the deflections held over each approach step
+    k_app, status = loop.approach(x, n_app, window, dt, keeper, sv, rows, used)
+    if status < 0:
+        raise SimulationError(
+            f"the state became non-finite at t = {(k_app + 1) * dt:.6g} s; check the coefficients and dt"
+        )
+    if status == 0:
         warnings.append(
             f"the approach was not steady after {approach:g} s (velocities still changing); the manoeuvre "
             "starts from the state reached"
         )
-    keep = min(len(rows) - 1, int(keep_approach / dt))
-    app = np.asarray(rows[len(rows) - 1 - keep :])
+    n_rows = k_app + 2
+    x = rows[n_rows - 1].copy()
+    keep = min(n_rows - 1, int(keep_approach / dt))
+    app = rows[n_rows - 1 - keep : n_rows]
     t_app = (np.arange(app.shape[0]) - keep) * dt
     # the execute
     u_exec = math.sqrt(float(x[6] ** 2 + x[7] ** 2 + x[8] ** 2))
     time_scale = length / u_exec if length and u_exec > 1e-6 else 1.0
     limit = float(lim[surface])
     probe = _probe(f, x, tau_of(x), n_s, surface, limit, 10 if manoeuvre.kind in VERTICAL else 11)
-    logic = _make_logic(manoeuvre, limit, probe, time_scale)
-    if isinstance(logic, _Hold):
-        logic.dt = dt
+    logic = _make_logic(manoeuvre, limit, probe, time_scale, dt)
     logic.start(x)
     x_exec = x.copy()
-    if isinstance(logic, _DepthPilot) and (keeper is None or keeper.plane != surface):
-        keeper = _Keeper(f, tau_of, n_s, (surface, None if keeper is None else keeper.rudder), surface, lim, length, x)
-    if isinstance(logic, _DepthPilot) and keeper is not None:
+    if logic.code == L.DEPTH_PILOT:
+        if keeper is None or keeper.plane != surface:
+            keeper = _Keeper(
+                f, tau_of, n_s, (surface, None if keeper is None else keeper.rudder), surface, lim, length, x
+            )
         keeper.trim = float(x[4])
-    t_start = len(rows) * dt  # the keeper's clock runs on from the approach
+    t_start = n_rows * dt  # the keeper's clock runs on from the approach
     if duration is None:  # the logic's own budget, scaled by the vehicle's L/U
         duration = max(logic.budget(), dt)
     n_max = int(math.floor(duration / dt + 1e-9))
@@ -1088,40 +809,129 @@ def fly_manoeuvre(
     states = np.empty((size, 12))
     defl = np.empty((size, n_s))
     report = max(1, n_max // 100)
-    k = 0
-    for k in range(n_max + 1):
-        if k == states.shape[0]:
-            size = min(2 * size, n_max + 1)
-            states = np.concatenate([states, np.empty((size - k, 12))])
-            defl = np.concatenate([defl, np.empty((size - k, n_s))])
-        t = k * dt
-        cmd[surface] = logic.command(t, x)
-        if keeper is not None:
-            keeper.command(t_start + t, x, dt, cmd, False)
-            if isinstance(logic, _DepthChange) and logic.phase == 2 and keeper.plane == surface:
-                cmd[surface] = keeper.pitch_hold(x, dt, float(logic.x0[4]))
-            elif isinstance(logic, _DepthPilot):
-                z_d = float(logic.x0[2]) + manoeuvre.depth
-                a = abs(logic.a)
-                cmd[surface] = min(max(keeper.depth_pitch(x, dt, z_d, float(manoeuvre.max_pitch or 0.0)), -a), a)
-        servo_step(delta, cmd, dt, lim, rate, tc, new)
-        delta[:] = new
-        states[k] = x
-        defl[k] = delta
-        if logic.done or k == n_max:
+    k0 = 0
+    while True:
+        logic.reserve(states.shape[0])
+        k_end = min(states.shape[0], k0 + report) if progress is not None else states.shape[0]
+        k, status = loop.fly(x, k0, k_end, n_max, dt, t_start, surface, logic, keeper, sv, states, defl)
+        if status < 0:
+            raise SimulationError(
+                f"the state became non-finite at t = {(k + 1) * dt:.6g} s; check the coefficients and dt"
+            )
+        if status > 0:
             break
-        x = step(t, x)
-        if progress is not None and k % report == 0:
-            progress(t, duration)
+        if progress is not None:
+            progress(k_end * dt, duration)
+        if k_end == states.shape[0]:
+            size = min(2 * size, n_max + 1)
+            states = np.concatenate([states, np.empty((size - k_end, 12))])
+            defl = np.concatenate([defl, np.empty((size - k_end, n_s))])
+        k0 = k_end
     if progress is not None:
         progress(k * dt, k * dt)
     n = k + 1
     time = np.concatenate([t_app[:-1], np.arange(n) * dt])
     all_states = np.concatenate([app[:-1], states[:n]])
     all_states[:, :2] -= x_exec[:2]
-    app_defl = np.asarray(used[len(used) - keep :]).reshape(keep, n_s) if keep else np.zeros((0, n_s))
+    app_defl = used[k_app + 1 - keep : k_app + 1] if keep else np.zeros((0, n_s))
     all_defl = np.concatenate([app_defl, defl[:n]])
     return time, all_states, all_defl, logic, warnings
+
+
+@dataclass
+class _Servo:
+    """The surfaces' servo settings (max deflection rad, rate limit rad/s, time constant s) and
+    its state: deflections, commands, scratch (rad)."""
+
+    lim: np.ndarray
+    rate: np.ndarray
+    tc: np.ndarray
+    delta: np.ndarray
+    cmd: np.ndarray
+    new: np.ndarray
+
+
+class _PythonLoop:
+    """The manoeuvre loop in Python around any right-hand side ``f(t, x, τ, δ)``: the laws of
+    :mod:`hydrokit.simulate.manoeuvre_laws` called as Python, RK4 by
+    :func:`hydrokit.simulate.integrators.rk4_step` (the compiled loop,
+    :mod:`hydrokit.simulate.manoeuvre_compiled`, wires the same laws). Both methods advance ``x``
+    in place and return (last step index, status: 1 done, 0 not yet, −1 non-finite)."""
+
+    def __init__(self, f: Dynamics, tau: Any, tau_of: Callable[[np.ndarray], np.ndarray], servo_step: Servo) -> None:
+        self.f, self.tau_of, self.servo_step = f, tau_of, servo_step
+        self.begin_step = getattr(tau, "begin_step", None)  # a ThrusterDrive: rotor lag, step by step
+
+    def _step(self, t: float, x: np.ndarray, dt: float, delta: np.ndarray) -> bool:
+        from hydrokit.simulate.integrators import rk4_step
+
+        f = self.f
+        if self.begin_step is not None:
+            self.begin_step(t, dt)
+        y = rk4_step(lambda s, y, u: f(s, y, u[:6], u[6:]), t, x, dt, u=np.concatenate([self.tau_of(x), delta]))
+        x[:] = y
+        return bool(np.all(np.isfinite(y)))
+
+    def approach(
+        self,
+        x: np.ndarray,
+        n_app: int,
+        window: int,
+        dt: float,
+        keeper: Any,
+        sv: _Servo,
+        rows: np.ndarray,
+        used: np.ndarray,
+    ) -> tuple[int, int]:
+        for k in range(n_app):
+            if keeper is not None:
+                keeper.command(k * dt, x, dt, sv.cmd, True)
+            self.servo_step(sv.delta, sv.cmd, dt, sv.lim, sv.rate, sv.tc, sv.new)
+            sv.delta[:] = sv.new
+            used[k] = sv.delta
+            if not self._step(k * dt, x, dt, sv.delta):
+                return k, -1
+            rows[k + 1] = x
+            if k >= window and k % window == 0 and L.approach_steady(rows, k + 2, window, x):
+                if keeper is None or keeper.settled(x):
+                    return k, 1
+        return n_app - 1, 0
+
+    def fly(
+        self,
+        x: np.ndarray,
+        k0: int,
+        k_end: int,
+        n_max: int,
+        dt: float,
+        t_start: float,
+        surface: int,
+        logic: _Logic,
+        keeper: Any,
+        sv: _Servo,
+        states: np.ndarray,
+        defl: np.ndarray,
+    ) -> tuple[int, int]:
+        K = keeper.K if keeper is not None else _NO_KEEPER
+        P, S, H, R = logic.P, logic.S, logic.H, logic.R
+        for k in range(k0, k_end):
+            t = k * dt
+            if keeper is not None and L.keeper_due(K, t_start + t):
+                keeper.tune(t_start + t, x)
+            L.manoeuvre_command(P, S, H, R, K, t, x, dt, sv.cmd, surface)
+            self.servo_step(sv.delta, sv.cmd, dt, sv.lim, sv.rate, sv.tc, sv.new)
+            sv.delta[:] = sv.new
+            states[k] = x
+            defl[k] = sv.delta
+            if S[L.S_DONE] or k == n_max:
+                return k, 1
+            if not self._step(t, x, dt, sv.delta):
+                return k, -1
+        return k_end - 1, 0
+
+
+#: the hold of a manoeuvre flown without one (K_ON = 0)
+_NO_KEEPER = np.zeros(L.K_SIZE)
 
 
 def _probe(f: Dynamics, x: np.ndarray, tau: np.ndarray, n_s: int, surface: int, limit: float, index: int) -> float:
@@ -1132,19 +942,8 @@ def _probe(f: Dynamics, x: np.ndarray, tau: np.ndarray, n_s: int, surface: int, 
     return float((f(0.0, x, tau, d)[index] - f(0.0, x, tau, np.zeros(n_s))[index]) / eps)
 
 
-def _make_logic(m: Manoeuvre, limit: float, probe: float, scale: float) -> _Logic:
-    cls: dict[str, type[_Logic]] = {
-        "turning_circle": _Turn,
-        "zigzag": _Zigzag,
-        "vertical_zigzag": _Zigzag,
-        "spiral": _Spiral,
-        "pull_out": _PullOut,
-        "depth_change": _DepthChange if m.max_pitch is None else _DepthPilot,
-    }
-    logic = cls[m.kind](m, limit, probe, scale)
-    if isinstance(logic, _Hold) and m.kind in VERTICAL:  # pragma: no cover - no vertical hold logic yet
-        logic.rate = 10
-    return logic
+def _make_logic(m: Manoeuvre, limit: float, probe: float, scale: float, dt: float = 0.0) -> _Logic:
+    return _Logic(m, limit, probe, scale, dt)
 
 
 # --------------------------------------------------------------------------------------------
@@ -1250,6 +1049,7 @@ def run_manoeuvre(
     hold: bool | None = None,
     commands: Any = None,
     progress: Callable[[float, float], None] | None = None,
+    compiled_loop: bool = True,
 ) -> ManoeuvreResult:
     """Fly ``manoeuvre`` with ``vehicle`` (module docstring) and measure it.
 
@@ -1279,6 +1079,11 @@ def run_manoeuvre(
         rotors spin up from rest with their lag during the approach and the commands are held
         through the manoeuvre; the thrust follows each thruster's advance speed step by step
     progress : callable(simulated seconds, longest seconds) or None
+    compiled_loop : bool — with ``loop="compiled"``, a constant ``tau`` and no ``commands``: the
+        whole manoeuvre loop (logic, hold, servo, RK4) compiled
+        (:mod:`hydrokit.simulate.manoeuvre_compiled`, about 50× faster); False: the same laws in
+        the Python loop around the compiled right-hand side (the reference the compiled loop is
+        tested against). Thruster commands and a ``tau(x)`` always fly in the Python loop.
 
     Returns
     -------
@@ -1321,6 +1126,11 @@ def run_manoeuvre(
         from hydrokit.model.dynamics import vehicle_dynamics
 
         f = vehicle_dynamics(vehicle, current_ned)
+    engine = None
+    if loop == "compiled" and drive is None and not callable(tau) and compiled_loop:
+        from hydrokit.simulate.manoeuvre_compiled import Engine
+
+        engine = Engine(vehicle, tau, current_ned)
     s = vehicle.surfaces
     held = holding_surfaces(f, tuple(vehicle.dofs), len(names), manoeuvre.kind, idx, hold)
     time, states, defl, logic, warnings = fly_manoeuvre(
@@ -1336,6 +1146,7 @@ def run_manoeuvre(
         length=vehicle.reference_length,
         hold=held,
         progress=progress,
+        engine=engine,
     )
     res = measure(
         manoeuvre,
