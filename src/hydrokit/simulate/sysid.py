@@ -94,6 +94,9 @@ class SysidResult(Result):
         the sensor noise and their whiteness)
     method : str; iterations : int; step_check : float — max |Δθ|/σ on halving the step
     timing : dict — seconds: total, simulation
+    windows : dict — of a windowed fit: ``count``, ``length_s`` (s), ``continuity`` (–) and
+        ``largest_jump_sigma``, the largest jump of a measured state at a join in σ of its
+        channel's noise; {} for whole runs
     """
 
     vehicle: Vehicle
@@ -118,6 +121,7 @@ class SysidResult(Result):
     iterations: int = 0
     step_check: float = float("nan")
     timing: dict[str, float] = field(default_factory=dict)
+    windows: dict[str, Any] = field(default_factory=dict)
 
     def interval(self, level: float = 0.95) -> np.ndarray:
         """(p, 2) two-sided normal interval of each parameter (SI)."""
@@ -168,6 +172,7 @@ class SysidResult(Result):
                 "messages": list(self.messages),
                 "warnings": list(self.warnings),
                 "timing_s": self.timing,
+                "windows": self.windows,
             }
         )
 
@@ -489,6 +494,7 @@ def identify(
     scheduler: str | None = None,
     window: float | str | None = None,
     bounds: bool = True,
+    window_continuity: float = 0.0,
 ) -> SysidResult:
     """Identify the ``free`` coefficients of ``vehicle`` from ``runs`` (module docstring).
 
@@ -515,6 +521,10 @@ def identify(
         ≥ 0, an own-DOF damping derivative such as N_r|r| ≤ 0:
         :func:`hydrokit.model.uncertainty.physical_sign`), so the fitted vehicle is one that
         hydrokit loads; a parameter held on its bound is said in the messages. False: unbounded
+    window_continuity : float — with windows, the weight (dimensionless) of each measured
+        state's jump between a window's simulated end and the next window's start, in σ of its
+        channel's noise (:func:`hydrokit.simulate.sysid_window.cut_runs`); 0 (default): windows
+        not tied. The largest jump is in the result's ``windows``
 
     Raises
     ------
@@ -528,11 +538,11 @@ def identify(
         numba.set_num_threads(min(int(workers), numba.config.NUMBA_NUM_THREADS))  # type: ignore[attr-defined]
     args = (vehicle, runs, free, holdout, method, dt, max_iter, check_step, samples, seed, progress)
     if scheduler is None:
-        return _identify(*args, None, window, bounds)
+        return _identify(*args, None, window, bounds, window_continuity)
     from hydrokit._parallel import Executor
 
     with Executor(scheduler=scheduler) as executor:
-        return _identify(*args, executor, window, bounds)
+        return _identify(*args, executor, window, bounds, window_continuity)
 
 
 def _identify(
@@ -550,6 +560,7 @@ def _identify(
     executor: Any,
     window: float | str | None = None,
     bounds: bool = True,
+    window_continuity: float = 0.0,
 ) -> SysidResult:
     """:func:`identify` with the runs' simulations on ``executor`` (None: in this process)."""
     from hydrokit.simulate.sysid_smooth import equation_error, initial_noise, smooth_run, tau_on_grid
@@ -596,7 +607,7 @@ def _identify(
     if window is not None:  # windowed output error (issue #48): the windows replace the runs
         from hydrokit.simulate.sysid_window import cut_runs, parse_window
 
-        cut = cut_runs(parse_window(window), veh, params, start, runs, smoothed, preps)
+        cut = cut_runs(parse_window(window), veh, params, start, runs, smoothed, preps, window_continuity)
     if cut is not None:
         preps, smoothed, est = cut.preps, cut.smoothed, cut.est
         problem = cut.problem(problem)
@@ -741,6 +752,7 @@ def _identify(
         iterations=iterations,
         step_check=step_check,
         timing={"total": _time.perf_counter() - t_start, "simulation": problem.sim_seconds},
+        windows=_window_summary(cut, problem),
     )
 
 
@@ -799,6 +811,20 @@ def _abs_table(prep: PreparedRun) -> np.ndarray:
     tab = prep.table.copy()
     tab[:, 0] += prep.t0
     return tab
+
+
+def _window_summary(cut: Any, problem: Any) -> dict[str, Any]:
+    """The windows of a windowed fit: count, length (s), continuity weight (–) and the largest
+    jump of a measured state at a join, in σ of its channel's noise; {} for whole runs."""
+    if cut is None:
+        return {}
+    jumps = getattr(problem, "jumps", np.zeros(0))
+    return {
+        "count": len(cut.preps),
+        "length_s": cut.length,
+        "continuity": cut.continuity,
+        "largest_jump_sigma": float(np.max(jumps)) if jumps.size else 0.0,
+    }
 
 
 def _abs_env(prep: PreparedRun) -> np.ndarray | None:

@@ -46,6 +46,7 @@ and the growth (runs shorter than 1.5 windows are fitted whole without looking).
 
 from __future__ import annotations
 
+import dataclasses
 import functools
 import math
 from collections.abc import Callable, Sequence
@@ -153,7 +154,8 @@ class Windows:
     length : float — requested window length, s; preps : the windows (PreparedRun, time from
     each window's start); x0 : (12,) initial state of each window (SI); est : empty index
     arrays (no initial state estimated); smoothed : the smoothed run of each window's run;
-    note : str — what was done and why, for the warnings
+    note : str — what was done and why, for the warnings; owner : the run of each window
+    (index); continuity : float — weight of the joins (–, :func:`cut_runs`), 0: not tied
     """
 
     length: float
@@ -162,6 +164,8 @@ class Windows:
     est: list[np.ndarray]
     smoothed: list[Any]
     note: str
+    owner: tuple[int, ...] = ()
+    continuity: float = 0.0
 
     @property
     def lm(self) -> Callable[..., tuple[np.ndarray, np.ndarray, np.ndarray, int]]:
@@ -177,13 +181,17 @@ class Windows:
         """``problem`` (a ``_Problem`` of these windows, e.g. prepared at another step) with each
         window's measured initial states projected out, from its own ``x0``."""
         states = [np.array([i for i in range(12) if s.known[i]], dtype=int) for s in self.smoothed]
-        return _window_problem(problem, problem.preps, [x.copy() for x in problem.x0], problem.est, states)
+        return _window_problem(
+            problem, problem.preps, [x.copy() for x in problem.x0], problem.est, states, self.owner, self.continuity
+        )
 
     def problem(self, whole: Any) -> Any:
         """The whole-run problem of :mod:`hydrokit.simulate.sysid` (its ``_Problem``) on the
         windows, with every measured initial state projected out (module docstring)."""
         states = [np.array([i for i in range(12) if s.known[i]], dtype=int) for s in self.smoothed]
-        return _window_problem(whole, self.preps, [x.copy() for x in self.x0], self.est, states)
+        return _window_problem(
+            whole, self.preps, [x.copy() for x in self.x0], self.est, states, self.owner, self.continuity
+        )
 
     def prepare(self, runs: Sequence[RunData], thrusters: Any, dt: float, surfaces: Sequence[str]) -> list[PreparedRun]:
         """The same windows prepared with the integration step ``dt`` (s)."""
@@ -201,28 +209,48 @@ class Windows:
 
 
 def _window_problem(
-    whole: Any, preps: list[PreparedRun], x0: list[np.ndarray], est: list[np.ndarray], states: list[np.ndarray]
+    whole: Any,
+    preps: list[PreparedRun],
+    x0: list[np.ndarray],
+    est: list[np.ndarray],
+    states: list[np.ndarray],
+    owner: Sequence[int] = (),
+    continuity: float = 0.0,
 ) -> Any:
     from hydrokit.simulate.sysid import _Problem, _simulate_task
 
     split = [_split_states(prep, e) for prep, e in zip(preps, states)]
+    # the windows of one run, in order: tied by continuity, their initial states projected out together
+    owner = list(owner) if len(owner) == len(preps) else list(range(len(preps)))
+    groups: list[list[int]] = []
+    for i, o in enumerate(owner):
+        if groups and owner[groups[-1][-1]] == o:
+            groups[-1].append(i)
+        else:
+            groups.append([i])
+    # the states tied at a join: the measured ones (a channel, hence a noise σ, of their own)
+    tied = [np.array([i for i in st if CHANNELS[int(i)] in whole.sigma], dtype=int) for st in states]
+    sims_of = [_with_end(prep, t) for prep, t in zip(preps, tied)]
+    root = math.sqrt(max(float(continuity), 0.0))
 
     class WindowProblem(_Problem):  # type: ignore[misc, valid-type]
         """Output error over windows, each window's measured initial states projected out: the
         fit sees the parameters only (module docstring). ``x0`` holds the initial states of
-        the best evaluation so far (the point Levenberg–Marquardt last accepted)."""
+        the best evaluation so far (the point Levenberg–Marquardt last accepted); ``jumps``
+        the jumps at the joins of that evaluation, in σ of each state's channel."""
 
         best: float = math.inf
         weights_at_best: tuple[float, ...] = ()
+        jumps: np.ndarray = np.zeros(0)
 
         def evaluate(self, z: np.ndarray, scale: np.ndarray, jac: bool) -> tuple[np.ndarray, np.ndarray | None, bool]:
             p = len(self.params)
             packs = self.packs(z[:p], scale, jac)
             n_veh = p + 1 if jac else 1
             tasks = []
-            for prep, x, (e, _) in zip(self.preps, self.x0, split):
+            for prep, x, (e, _) in zip(sims_of, self.x0, split):
                 n_x = e.size if jac else 0
-                X0 = np.repeat(x[None], p + 1 + n_x if jac else 1, axis=0)
+                X0 = np.repeat(x[None], n_veh + n_x, axis=0)
                 for j, i in enumerate(e[:n_x]):
                     X0[p + 1 + j, i] += _STATE_STEP
                 tasks.append((prep, _take(packs, list(range(n_veh)) + [0] * n_x), X0))
@@ -231,29 +259,92 @@ def _window_problem(
                 if self.executor is None
                 else self.executor.map(_simulate_task, tasks)
             )
-            res, blocks, new_x = [], [], []
-            for prep, x, (e, rigid), (pred, done, seconds) in zip(self.preps, self.x0, split, sims):
-                self.sim_seconds += seconds
-                if done[0] < math.ceil(prep.duration / prep.dt - 1e-9) or not np.all(np.isfinite(pred[0])):
-                    return np.empty(0), None, False
-                w = self.weights(prep)
-                r = (prep.measured - pred[0]) * w
+            res: list[np.ndarray] = [np.empty(0)] * len(self.preps)
+            blocks: list[np.ndarray] = [np.empty((0, p))] * len(self.preps)
+            tails, tail_blocks, jumps = [], [], []
+            new_x = [x.copy() for x in self.x0]
+            for group in groups:
+                rows, rows_t, rows_x, ends, cols = [], [], [], [], [0]
+                for i in group:
+                    prep, sim, x, (e, rigid) = self.preps[i], sims_of[i], self.x0[i], split[i]
+                    pred, done, seconds = sims[i]
+                    self.sim_seconds += seconds
+                    if done[0] < math.ceil(prep.duration / prep.dt - 1e-9) or not np.all(np.isfinite(pred[0])):
+                        return np.empty(0), None, False
+                    m = prep.measured.size
+                    w = np.concatenate([self.weights(prep), 1.0 / np.array([self.sigma[CHANNELS[k]] for k in tied[i]])])
+                    r = (np.concatenate([prep.measured, np.zeros(tied[i].size)]) - pred[0]) * w
+                    rows.append(r[:m])
+                    ends.append((-r[m:], tied[i]))  # the end state's tied values, in σ
+                    if not jac:
+                        continue
+                    d = -(pred[1:] - pred[0]) * w
+                    # per unit of the state (SI): simulated, then the rigid moves of the track
+                    Jx = np.hstack([(d[p:] / _STATE_STEP).T, -_rigid_columns(sim, pred[0], x, rigid) * w[:, None]])
+                    rows_t.append((d[:p] / 1e-6).T)  # per unit of the scaled parameter
+                    rows_x.append(Jx)
+                    cols.append(cols[-1] + Jx.shape[1])
+                # the joins: the end of each window against the start of the next (in σ)
+                join, join_t, join_x = [], [], []
+                for k in range(len(group) - 1):
+                    i, j = group[k], group[k + 1]
+                    end, at = ends[k]
+                    start = self.x0[j][at] / np.array([self.sigma[CHANNELS[q]] for q in at])
+                    join.append(end - start)
+                    if not jac:
+                        continue
+                    m = self.preps[i].measured.size
+                    jx = np.zeros((at.size, cols[-1]))
+                    jx[:, cols[k] : cols[k + 1]] = -rows_x[k][m:]
+                    order = list(np.concatenate(split[j]))
+                    for row, q in enumerate(at):
+                        jx[row, cols[k + 1] + order.index(q)] = -1.0 / self.sigma[CHANNELS[q]]
+                    join_t.append(-rows_t[k][m:])
+                    join_x.append(jx)
                 if not jac:
-                    res.append(r)
+                    for i, r in zip(group, rows):
+                        res[i] = r
+                    tails += [root * c for c in join] if root > 0 else []
                     continue
-                d = -(pred[1:] - pred[0]) * w
-                Jt = (d[:p] / 1e-6).T  # per unit of the scaled parameter
-                # per unit of the state (SI): simulated, then the rigid moves of the track
-                Jx = np.hstack([(d[p:] / _STATE_STEP).T, -_rigid_columns(prep, pred[0], x, rigid) * w[:, None]])
-                # Gauss–Newton step of the initial state, and the projection I − J_x J_x⁺
-                pinv = np.linalg.pinv(Jx)
-                dx = -pinv @ r
-                res.append(r + Jx @ dx)
-                blocks.append(Jt - Jx @ (pinv @ Jt))
-                xx = x.copy()
-                xx[np.concatenate([e, rigid])] += dx
-                new_x.append(xx)
-            out = np.concatenate(res)
+                m_rows = [self.preps[i].measured.size for i in group]
+                JX = np.zeros((sum(m_rows), cols[-1]))
+                at_row = 0
+                for k, n in enumerate(m_rows):
+                    JX[at_row : at_row + n, cols[k] : cols[k + 1]] = rows_x[k][:n]
+                    at_row += n
+                R = np.concatenate(rows)
+                JT = np.concatenate([t[:n] for t, n in zip(rows_t, m_rows)])
+                C = np.concatenate(join) if join else np.zeros(0)
+                CX = np.concatenate(join_x) if join_x else np.zeros((0, cols[-1]))
+                CT = np.concatenate(join_t) if join_t else np.zeros((0, p))
+                # Gauss–Newton step of the initial states, and the projection I − J_x J_x⁺: of the
+                # run's windows together when the joins tie them, else window by window
+                if root > 0:
+                    A_x = np.vstack([JX, root * CX])
+                    A_r = np.concatenate([R, root * C])
+                    A_t = np.vstack([JT, root * CT])
+                    pinv = np.linalg.pinv(A_x)
+                    dx = -pinv @ A_r
+                    pr = A_r + A_x @ dx
+                    pt = A_t - A_x @ (pinv @ A_t)
+                else:
+                    parts = [_project(r, x[:n], t[:n]) for r, x, t, n in zip(rows, rows_x, rows_t, m_rows)]
+                    dx = np.concatenate([q[0] for q in parts])
+                    pr = np.concatenate([q[1] for q in parts])
+                    pt = np.concatenate([q[2] for q in parts])
+                jumps.append(C + CX @ dx)
+                at_row = 0
+                for k, (i, n) in enumerate(zip(group, m_rows)):
+                    res[i] = pr[at_row : at_row + n]
+                    blocks[i] = pt[at_row : at_row + n]
+                    at_row += n
+                    e, rigid = split[i]
+                    new_x[i][np.concatenate([e, rigid])] += dx[cols[k] : cols[k + 1]]
+                if root > 0:
+                    tails.append(pr[at_row:])
+                    tail_blocks.append(pt[at_row:])
+            # the joins' rows (when tied) after every window's, so the windows' series stay in place
+            out = np.concatenate(res + tails)
             if jac:
                 cost = float(out @ out)
                 key = tuple(self.sigma.values())
@@ -262,9 +353,33 @@ def _window_problem(
                 if cost < self.best:  # the point the fit will accept: its initial states move on
                     self.best = cost
                     self.x0 = new_x
-            return out, (np.concatenate(blocks) if jac else None), True
+                    self.jumps = np.abs(np.concatenate(jumps)) if jumps else np.zeros(0)
+            return out, (np.concatenate(blocks + tail_blocks) if jac else None), True
 
     return WindowProblem(whole.vehicle, whole.params, preps, x0, est, whole.sigma, whole.sim_seconds, whole.executor)
+
+
+def _project(r: np.ndarray, Jx: np.ndarray, Jt: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """The Gauss–Newton step δx = −J_x⁺ r of one window's initial states, and the residual and
+    parameters' Jacobian projected by I − J_x J_x⁺."""
+    pinv = np.linalg.pinv(Jx)
+    dx = -pinv @ r
+    return dx, r + Jx @ dx, Jt - Jx @ (pinv @ Jt)
+
+
+def _with_end(prep: PreparedRun, tied: np.ndarray) -> PreparedRun:
+    """``prep`` with one more sample of each ``tied`` state at the window's end (what the
+    simulation must also give for the joins)."""
+    if tied.size == 0:
+        return prep
+    names = tuple(CHANNELS[int(i)] for i in tied)
+    end = np.array([prep.duration])
+    return dataclasses.replace(
+        prep,
+        channels=prep.channels + names,
+        times=prep.times + (end,) * len(names),
+        values=prep.values + (np.full(1, np.nan),) * len(names),
+    )
 
 
 def _split_states(prep: PreparedRun, states: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -286,21 +401,23 @@ def _split_states(prep: PreparedRun, states: np.ndarray) -> tuple[np.ndarray, np
 
 
 def _rigid_columns(prep: PreparedRun, pred: np.ndarray, x0: np.ndarray, rigid: np.ndarray) -> np.ndarray:
-    """(n, len(rigid)) derivative of the predicted samples ``pred`` (channel after channel) by
-    the rigid initial states: ∂x/∂x₀ = ∂y/∂y₀ = ∂ψ/∂ψ₀ = 1 on their own channel, and a turn of
-    the track about its start, ∂x/∂ψ₀ = −(y − y₀), ∂y/∂ψ₀ = x − x₀ (SI)."""
+    """(n, len(rigid)) derivative of the predicted samples ``pred`` (channel after channel; a
+    channel may come more than once) by the rigid initial states: ∂x/∂x₀ = ∂y/∂y₀ = ∂ψ/∂ψ₀ = 1
+    on their own channel, and a turn of the track about its start, ∂x/∂ψ₀ = −(y − y₀),
+    ∂y/∂ψ₀ = x − x₀ (SI)."""
     out = np.zeros((pred.size, rigid.size))
-    where, k = {}, 0
+    where: dict[str, list[slice]] = {}
+    k = 0
     for c, t in zip(prep.channels, prep.times):
-        where[c] = slice(k, k + t.size)
+        where.setdefault(c, []).append(slice(k, k + t.size))
         k += t.size
     for j, i in enumerate(rigid):
-        own = CHANNELS[int(i)]
-        if own in where:
-            out[where[own], j] = 1.0
-        if i == 5 and "x" in where:
-            out[where["x"], j] = -(pred[where["y"]] - x0[1])
-            out[where["y"], j] = pred[where["x"]] - x0[0]
+        for sl in where.get(CHANNELS[int(i)], []):
+            out[sl, j] = 1.0
+        if i == 5:
+            for sx, sy in zip(where.get("x", []), where.get("y", [])):
+                out[sx, j] = -(pred[sy] - x0[1])
+                out[sy, j] = pred[sx] - x0[0]
     return out
 
 
@@ -400,6 +517,7 @@ def cut_runs(
     runs: Sequence[RunData],
     smoothed: Sequence[Any],
     preps: Sequence[PreparedRun],
+    continuity: float = 0.0,
 ) -> Windows | None:
     """The training runs cut into windows (:class:`Windows`), or None to fit whole runs.
 
@@ -410,12 +528,18 @@ def cut_runs(
     vehicle : Vehicle with the free terms; params : the free parameters; start : (p,) their
         start values (SI)
     runs, smoothed, preps : the training runs, their smoothed states and prepared runs
+    continuity : float — weight (–) of the joins between consecutive windows of a run: each
+        measured state's jump from a window's simulated end to the next window's start, in σ of
+        its channel's noise, is one more residual times √continuity (1: a jump of one σ costs
+        what a measurement one σ off costs); 0 (default): the windows are independent
 
     Raises
     ------
     InputError
-        A window longer than a run (naming the run and both lengths).
+        A window longer than a run (naming the run and both lengths), a negative or non-finite
+        ``continuity``.
     """
+    continuity = check_continuity(continuity)
     if window is None:
         return None
     x0 = [s.at(float(p.t0)) for s, p in zip(smoothed, preps)]
@@ -433,10 +557,12 @@ def cut_runs(
         why = "as asked"
     dt = preps[0].dt
     cut, owner = _cut_preps(preps, length, dt)
-    note = (
-        f"windowed output error: {len(cut)} windows of about {length:g} s ({why}), each started from the smoothed "
-        "state; predictions and residuals are per window"
+    tie = (
+        f", tied at their joins by continuity (weight {continuity:g})"
+        if continuity > 0
+        else ", each started from the smoothed state"
     )
+    note = f"windowed output error: {len(cut)} windows of about {length:g} s ({why}){tie}; predictions and residuals are per window"
     return Windows(
         length,
         cut,
@@ -444,13 +570,35 @@ def cut_runs(
         [np.zeros(0, dtype=int) for _ in cut],
         [smoothed[i] for i in owner],
         note,
+        tuple(owner),
+        continuity,
     )
+
+
+def check_continuity(value: Any, source: str = "--window-continuity") -> float:
+    """The continuity weight as a float ≥ 0 (dimensionless).
+
+    Raises
+    ------
+    InputError
+        Anything else, naming the value and what was expected.
+    """
+    try:
+        w = float(value)
+    except (TypeError, ValueError):
+        w = math.nan
+    if not (math.isfinite(w) and w >= 0):
+        raise InputError(
+            f"window continuity {value!r}: expected a weight ≥ 0 (dimensionless; 0: windows not tied)", source
+        )
+    return w
 
 
 __all__ = [
     "DEFAULT_WINDOW",
     "DRIFT_GROWTH",
     "Windows",
+    "check_continuity",
     "check_window",
     "crop",
     "cut_runs",
