@@ -18,7 +18,12 @@ the same vehicles on any machine). A parameter is named
   ``l_R`` m, the rest –); the MMG fields need ``inflow: mmg``, the race fields a ``slipstream``;
 - ``"thrusters.<NAME>.<FIELD>"``: FIELD ``wake_fraction`` or ``thrust_deduction`` (–) of a
   thruster of the vehicle's ``thrusters:`` block (a race that names the thruster follows its wake
-  fraction). These names are frozen.
+  fraction);
+- ``"wind.<FIELD>"``: a numeric field of the vehicle's wind-load model (:mod:`hydrokit.model.wind`,
+  :data:`~hydrokit.model.wind.WIND_FIELDS`): ``frontal_area``, ``lateral_area`` (m²), and of the
+  Blendermann set ``CD_t``, ``CD_l_AF_bow``, ``CD_l_AF_stern``, ``delta`` (–) and ``s_L`` (m); of
+  a table, one coefficient ``wind.coefficients.C_Y.<angle_deg>`` (–, the row at that angle in
+  degrees, as the file gives it). These names are frozen.
 
 Drawn diagonal coefficients below zero are set to 0 (and counted); a term's coefficient keeps
 its sign, which the grammar does not fix (X_u|u| < 0 is drag, a cross term may be either).
@@ -35,6 +40,16 @@ import numpy as np
 from hydrokit.core.names import DOF_NAMES
 from hydrokit.errors import InputError
 from hydrokit.model.terms import ABS, VEL, Term, TermSet, parse_term
+from hydrokit.model.wind import (
+    WIND_FIELDS,
+    WIND_POSITIVE,
+    WIND_TABLE_FIELDS,
+    parse_wind_field,
+    table_row,
+    wind_field,
+    wind_field_names,
+    with_wind_field,
+)
 
 #: the diagonal coefficients an uncertainty block may name
 COEFFICIENTS = ("added_mass", "linear_damping", "quadratic_damping")
@@ -42,6 +57,8 @@ COEFFICIENTS = ("added_mass", "linear_damping", "quadratic_damping")
 TERM_PREFIX = "terms."
 #: the prefixes of a surface's and a thruster's field (``control_surfaces.rudder.lift_slope``)
 SURFACE_PREFIX, THRUSTER_PREFIX = "control_surfaces.", "thrusters."
+#: the prefix of a wind-load model's field (``wind.CD_t``, ``wind.coefficients.C_Y.90``)
+WIND_PREFIX = "wind."
 #: a surface's free fields → (the :class:`~hydrokit.model.surfaces.Fin` attribute, file unit →
 #: SI factor, what the fin needs: "" any fin, "race" a slipstream, "mmg" the MMG inflow)
 SURFACE_FIELDS: dict[str, tuple[str, float, str]] = {
@@ -72,10 +89,11 @@ class ParameterRef:
 
     kind : one of :data:`COEFFICIENTS` (diagonal entry ``dof``), ``"accel"`` (−M_A[dof, index]),
     ``"term"`` (the velocity term ``term``), ``"surface"`` or ``"thruster"`` (field ``field`` of
-    the surface or thruster ``index``, file order); dof : DOF index 0–5 of the force (a surface's
-    field is reported under yaw, a thruster's under surge); index : the acceleration's velocity
-    index (accel), the surface's or thruster's (surface, thruster), else ``dof``; term : the
-    parsed term
+    the surface or thruster ``index``, file order), ``"wind"`` (field ``field`` of the wind model,
+    without ``wind.``; ``index`` the table row, −1 until checked against a vehicle); dof : DOF
+    index 0–5 of the force (a surface's field is reported under yaw, a thruster's under surge);
+    index : the acceleration's velocity index (accel), the surface's or thruster's (surface,
+    thruster), else ``dof``; term : the parsed term
     """
 
     kind: str
@@ -86,8 +104,14 @@ class ParameterRef:
 
 
 def field_unit(name: str) -> str:
-    """The unit of a ``control_surfaces.NAME.FIELD`` or ``thrusters.NAME.FIELD`` parameter (as the
-    vehicle file gives it), "" for another name."""
+    """The unit of a ``control_surfaces.NAME.FIELD``, ``thrusters.NAME.FIELD`` or ``wind.FIELD``
+    parameter (as the vehicle file gives it), "" for another name."""
+    if name.startswith(WIND_PREFIX):
+        try:
+            field, _ = parse_wind_field(name[len(WIND_PREFIX) :])
+        except ValueError:
+            return ""
+        return "–" if field in WIND_TABLE_FIELDS else WIND_FIELDS[field][0]
     field = name.rpartition(".")[2]
     if name.startswith(THRUSTER_PREFIX):
         return "–" if field in THRUSTER_FIELDS else ""
@@ -134,6 +158,14 @@ def check_parameter(
         field_ref = _field_parameter(text, what, source, tuple(surfaces), tuple(thrusters))
         if field_ref is not None:
             return field_ref  # type: ignore[no-any-return]
+        if text.startswith(WIND_PREFIX):
+            try:
+                field, _ = parse_wind_field(text[len(WIND_PREFIX) :])
+            except ValueError as exc:
+                raise InputError(f"{what} {text[:80]!r}: {exc}", source) from None
+            # the force it enters first: X for the frontal area and C_X, N for C_N and s_L, else Y
+            force = 0 if field in ("frontal_area", "C_X", "CD_l_AF_bow", "CD_l_AF_stern") else 1
+            return ParameterRef("wind", 5 if field in ("C_N", "s_L") else force, -1, None, text[len(WIND_PREFIX) :])
     if isinstance(name, str) and text.startswith(TERM_PREFIX) and text[len(TERM_PREFIX) :].strip():
         try:
             term = parse_term(text[len(TERM_PREFIX) :], "", surfaces, thrusters)
@@ -147,7 +179,7 @@ def check_parameter(
         raise InputError(
             f"{what} {text[:80]!r}: expected '<coefficient>.<dof>' with coefficient one of "
             f"{', '.join(COEFFICIENTS)} and dof one of {', '.join(DOF_NAMES)}, 'terms.<term>' (e.g. terms.N_r|r|), "
-            "'control_surfaces.<name>.<field>' or 'thrusters.<name>.<field>'",
+            "'control_surfaces.<name>.<field>', 'thrusters.<name>.<field>' or 'wind.<field>'",
             source,
         )
     i = DOF_NAMES.index(dof)
@@ -185,6 +217,8 @@ def _ref(vehicle: Any, name: str, what: str = "parameter") -> tuple[ParameterRef
                 f"{what} {name[:80]!r}: control surface {vehicle.surfaces.names[ref.index]!r} has no {ref.field}; "
                 f"expected a surface with {said}"
             )
+    if ref.kind == "wind":
+        return _wind_ref(vehicle, ref, name, what), -1
     if ref.kind == "thruster" and getattr(vehicle, "thrusters", None) is None:
         raise InputError(f"{what} {name[:80]!r}: the vehicle {vehicle.name!r} was loaded without its thrusters")
     k = -1
@@ -198,6 +232,33 @@ def _ref(vehicle: Any, name: str, what: str = "parameter") -> tuple[ParameterRef
             )
         k = found
     return ref, k
+
+
+def _wind_ref(vehicle: Any, ref: ParameterRef, name: str, what: str) -> ParameterRef:
+    """``ref`` of a ``wind.FIELD`` checked against the vehicle's wind model, a table row's index
+    set (errors start with ``what``)."""
+    model = getattr(vehicle, "wind", None)
+    if model is None:
+        raise InputError(
+            f"{what} {name[:80]!r}: the vehicle {vehicle.name!r} has no wind model; expected a 'wind:' block"
+        )
+    field, angle = parse_wind_field(ref.field)
+    valid = wind_field_names(model)
+    if (angle is None and field not in valid) or (angle is not None and model.model != "table"):
+        raise InputError(
+            f"{what} {name[:80]!r}: the wind model is {model.model!r}, which has no "
+            f"{field if angle is None else 'table'}; expected one of "
+            f"{', '.join(WIND_PREFIX + v for v in valid[:8])}{' …' if len(valid) > 8 else ''}"
+        )
+    if angle is None:
+        return ref
+    row = table_row(model, angle)
+    if row is None:
+        rows = ", ".join(f"{math.degrees(a):g}" for a in model.angles)
+        raise InputError(
+            f"{what} {name[:80]!r}: no row of the wind table at {angle:g}°; expected one of its angle_deg: {rows}"
+        )
+    return replace(ref, index=row)
 
 
 def parameter_ref(vehicle: Any, name: str, what: str = "free parameter") -> ParameterRef:
@@ -223,6 +284,8 @@ def parameter_value(vehicle: Any, name: str) -> float:
         return float(getattr(vehicle.surfaces.surfaces[ref.index].fin, attr)) / to_si
     if ref.kind == "thruster":
         return float(getattr(vehicle.thrusters.thrusters[ref.index], ref.field))
+    if ref.kind == "wind":
+        return wind_field(vehicle.wind, parse_wind_field(ref.field)[0], ref.index)
     return float(vehicle.terms.coef[k])
 
 
@@ -237,8 +300,12 @@ def _with(vehicle: Any, refs: list[tuple[ParameterRef, int]], values: Any) -> An
     M_A, D_L, D_Q = vehicle.M_A.copy(), vehicle.D_L.copy(), np.array(vehicle.D_Q, float)
     coef = None
     fields = [(ref, float(v)) for (ref, _), v in zip(refs, values) if ref.kind in ("surface", "thruster")]
+    wind: Any = vehicle.wind if any(ref.kind == "wind" for ref, _ in refs) else None
     for (ref, k), v in zip(refs, values):
         if ref.kind in ("surface", "thruster"):
+            continue
+        if ref.kind == "wind":
+            wind = with_wind_field(wind, parse_wind_field(ref.field)[0], float(v), ref.index)
             continue
         if ref.kind == "added_mass":
             M_A[ref.dof, ref.dof] = v
@@ -252,6 +319,7 @@ def _with(vehicle: Any, refs: list[tuple[ParameterRef, int]], values: Any) -> An
             coef = vehicle.terms.coef.copy() if coef is None else coef
             coef[k] = v
     out = replace(vehicle, M_A=M_A, D_L=D_L, D_Q=D_Q)
+    out = out if wind is None else replace(out, wind=wind)
     out = out if coef is None else replace(out, terms=replace(vehicle.terms, coef=coef))
     return _with_fields(out, fields) if fields else out
 
@@ -316,7 +384,13 @@ class Uncertainty:
         x = rng.multivariate_normal(np.asarray(mean, float), self.covariance, size=n, method="eigh")
         # a term keeps its sign, and so do a neutral deflection and l_R; the rest are ≥ 0
         signed = (".neutral_deflection_deg", ".l_R")
-        clip = np.array([not (str(p).startswith(TERM_PREFIX) or str(p).endswith(signed)) for p in self.parameters])
+
+        def clipped(p: str) -> bool:
+            if p.startswith(WIND_PREFIX):  # a table's C_X, C_Y, C_N and s_L take either sign
+                return p[len(WIND_PREFIX) :] in WIND_POSITIVE
+            return not (p.startswith(TERM_PREFIX) or p.endswith(signed))
+
+        clip = np.array([clipped(str(p)) for p in self.parameters])
         below = (x < 0) & clip
         x[below] = 0.0
         return x, int(np.sum(below))
@@ -370,6 +444,9 @@ def location(ref: ParameterRef) -> tuple[Any, ...]:
         return ("term", _signature(one.dof[0], one.kinds[0], one.idx[0]))
     if ref.kind in ("surface", "thruster"):
         return (ref.kind, ref.index, ref.field)
+    if ref.kind == "wind":
+        field, angle = parse_wind_field(ref.field)
+        return (ref.kind, field, angle)
     return (ref.kind, ref.dof)
 
 

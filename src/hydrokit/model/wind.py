@@ -49,6 +49,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
 
@@ -316,3 +317,95 @@ def make_wind(
         tuple(float(x) for x in cols["C_Y"]),
         tuple(float(x) for x in cols["C_N"]),
     )
+
+
+# ------------------------------------------------------------------ free fields (issue #48 item 4)
+#: the numeric fields of a wind model that ``hydrokit sysid --free wind.FIELD`` may fit (frozen):
+#: name → (unit, the models that have it). The table's coefficients are named by their row,
+#: ``coefficients.C_X.<angle_deg>`` (:data:`WIND_TABLE_FIELDS`, dimensionless)
+WIND_FIELDS: dict[str, tuple[str, tuple[str, ...]]] = {
+    "frontal_area": ("m²", MODELS),
+    "lateral_area": ("m²", MODELS),
+    "CD_t": ("–", ("blendermann1994",)),
+    "CD_l_AF_bow": ("–", ("blendermann1994",)),
+    "CD_l_AF_stern": ("–", ("blendermann1994",)),
+    "delta": ("–", ("blendermann1994",)),
+    "s_L": ("m", ("blendermann1994",)),
+}
+#: the table's coefficient columns a free name may pick a row of (``coefficients.C_Y.90``)
+WIND_TABLE_FIELDS = ("C_X", "C_Y", "C_N")
+#: the fields that stay ≥ 0 when drawn from a covariance (an area, a drag coefficient, δ)
+WIND_POSITIVE = ("frontal_area", "lateral_area", "CD_t", "CD_l_AF_bow", "CD_l_AF_stern", "delta")
+_BLENDERMANN_INDEX = {"CD_t": 0, "CD_l_AF_bow": 1, "CD_l_AF_stern": 2, "delta": 3}
+
+
+def parse_wind_field(field: str) -> tuple[str, float | None]:
+    """``(field, angle_deg)`` of a wind field name: ``CD_t`` → ("CD_t", None),
+    ``coefficients.C_Y.90`` → ("C_Y", 90.0) (the row's angle, degrees as the file gives it).
+
+    Raises
+    ------
+    ValueError
+        Not a field of :data:`WIND_FIELDS` nor ``coefficients.C_X|C_Y|C_N.<angle_deg>``.
+    """
+    if field in WIND_FIELDS:
+        return field, None
+    head, _, rest = field.partition(".")
+    col, _, angle = rest.partition(".")
+    if head == "coefficients" and col in WIND_TABLE_FIELDS:
+        try:
+            value = float(angle)
+        except ValueError:
+            value = math.nan
+        if math.isfinite(value):
+            return col, value
+    raise ValueError(
+        f"expected 'wind.<field>' with field one of {', '.join(WIND_FIELDS)} or "
+        "'wind.coefficients.C_X|C_Y|C_N.<angle_deg>' (a row of the table)"
+    )
+
+
+def wind_field_names(model: WindModel) -> list[str]:
+    """Every free field of ``model`` (without the ``wind.`` prefix), table rows by their angle in
+    degrees."""
+    out = [f for f, (_, models) in WIND_FIELDS.items() if model.model in models]
+    if model.model == "table":
+        out += [f"coefficients.{c}.{math.degrees(a):g}" for c in WIND_TABLE_FIELDS for a in model.angles]
+    return out
+
+
+def table_row(model: WindModel, angle_deg: float) -> int | None:
+    """The row of ``model``'s table at ``angle_deg`` (degrees, within 1e-6°), or None."""
+    for k, a in enumerate(model.angles):
+        if abs(math.degrees(a) - angle_deg) <= 1e-6:
+            return k
+    return None
+
+
+def wind_field(model: WindModel, field: str, row: int = -1) -> float:
+    """The value of a free field of ``model`` (:data:`WIND_FIELDS` in its unit, or the table's
+    ``C_X``/``C_Y``/``C_N`` at ``row``)."""
+    if field in WIND_TABLE_FIELDS:
+        return float(getattr(model, field)[row])
+    if field in _BLENDERMANN_INDEX:
+        return float(model.parameters[_BLENDERMANN_INDEX[field]])
+    return float(getattr(model, field))
+
+
+def with_wind_field(model: WindModel, field: str, value: float, row: int = -1) -> WindModel:
+    """``model`` with one free field set (:func:`wind_field`'s names; the model's own ranges are
+    not re-checked here: a fit keeps them by its bounds, a draw by clipping at 0)."""
+    from dataclasses import replace
+
+    v = float(value)
+    if field in WIND_TABLE_FIELDS:
+        col = list(getattr(model, field))
+        col[row] = v
+        changes: dict[str, Any] = {field: tuple(col)}
+        return replace(model, **changes)
+    if field in _BLENDERMANN_INDEX:
+        par = list(model.parameters)
+        par[_BLENDERMANN_INDEX[field]] = v
+        return replace(model, parameters=tuple(par), vessel=None)
+    size: dict[str, Any] = {field: v}
+    return replace(model, **size)

@@ -4,7 +4,8 @@
   ``linear_damping.yaw``, ``quadratic_damping.heave``), ``terms.<term>`` for a derivative term
   of the grammar (:mod:`hydrokit.model.terms`; added to the vehicle with value 0 when absent),
   or a field of a physical surface or a thruster (``control_surfaces.rudder.lift_slope``,
-  ``thrusters.prop.wake_fraction``; :func:`hydrokit.model.uncertainty.parameter_ref`), read from
+  ``thrusters.prop.wake_fraction``) or of the wind-load model (``wind.CD_t``,
+  ``wind.coefficients.C_Y.90``; :func:`hydrokit.model.uncertainty.parameter_ref`), read from
   and written into a :class:`~hydrokit.model.vehicle.Vehicle`;
 - the generalised force of a run: thruster commands → rotor lag → thrust curve → τ = T f,
   tabulated for the compiled integrator with the zero-order hold of the commands kept exact,
@@ -44,6 +45,7 @@ from hydrokit.model.uncertainty import (
     SURFACE_PREFIX,
     THRUSTER_FIELDS,
     THRUSTER_PREFIX,
+    WIND_PREFIX,
     field_unit,
     parameter_ref,
     parameter_value,
@@ -110,7 +112,7 @@ def valid_names(vehicle: Vehicle) -> list[str]:
     """Every free name ``vehicle`` surely has: the diagonal coefficients of its kept DOFs, its
     own terms (``terms.<term>``; any other term of the grammar is valid too), the fields of its
     physical surfaces and of its thrusters (``control_surfaces.NAME.FIELD``,
-    ``thrusters.NAME.FIELD``)."""
+    ``thrusters.NAME.FIELD``) and of its wind model (``wind.FIELD``)."""
     kept = [DOF_NAMES[i] for i in vehicle.dofs]
     out = [f"{c}.{d}" for c in COEFFICIENTS for d in kept] + [f"terms.{n}" for n in vehicle.terms.names]
     for s in vehicle.surfaces.surfaces:
@@ -123,6 +125,10 @@ def valid_names(vehicle: Vehicle) -> list[str]:
                 out.append(f"{SURFACE_PREFIX}{s.name}.{fld}")
     if vehicle.thrusters is not None:
         out += [f"{THRUSTER_PREFIX}{n}.{f}" for n in vehicle.thrusters.names for f in THRUSTER_FIELDS]
+    if vehicle.wind is not None:
+        from hydrokit.model.wind import wind_field_names
+
+        out += [WIND_PREFIX + f for f in wind_field_names(vehicle.wind)]
     return out
 
 
@@ -142,8 +148,8 @@ def free_parameters(vehicle: Vehicle, names: Sequence[str], source: str = "--fre
     ------
     InputError
         A name that is neither ``<coefficient>.<dof>``, ``terms.<term>``,
-        ``control_surfaces.NAME.FIELD`` nor ``thrusters.NAME.FIELD`` of the vehicle (with the
-        nearest valid names), or given twice.
+        ``control_surfaces.NAME.FIELD``, ``thrusters.NAME.FIELD`` nor ``wind.FIELD`` of the
+        vehicle (with the nearest valid names), or given twice.
     """
     from hydrokit.model.terms import MAX_FACTORS
 
@@ -160,7 +166,7 @@ def free_parameters(vehicle: Vehicle, names: Sequence[str], source: str = "--fre
             i = DOF_NAMES.index(rest)
             out.append(Parameter(name, head, i, i, UNITS[head][i >= 3]))
             continue
-        if name.startswith((SURFACE_PREFIX, THRUSTER_PREFIX)):
+        if name.startswith((SURFACE_PREFIX, THRUSTER_PREFIX, WIND_PREFIX)):
             try:
                 ref = parameter_ref(vehicle, name)
             except InputError as exc:
@@ -172,7 +178,7 @@ def free_parameters(vehicle: Vehicle, names: Sequence[str], source: str = "--fre
                 f"free parameter {name[:80]!r} does not exist{nearest_names(name, vehicle)}; expected "
                 f"'<coefficient>.<dof>' with coefficient one of {', '.join(COEFFICIENTS)} and dof one of "
                 f"{', '.join(DOF_NAMES)}, 'terms.<term>' (e.g. terms.N_r|r|), "
-                "'control_surfaces.<name>.<field>' or 'thrusters.<name>.<field>'",
+                "'control_surfaces.<name>.<field>', 'thrusters.<name>.<field>' or 'wind.<field>'",
                 source,
             )
         try:

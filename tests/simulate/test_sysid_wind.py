@@ -1,0 +1,104 @@
+"""Free coefficients of a vehicle's wind-load model (issue #48 item 4, ``--free wind.FIELD``): the
+names, their units and values, a bad name's one-line error with the nearest names, a draw that
+keeps a table coefficient's sign, and the recovery of Blendermann's CD_t from generated runs in a
+logged wind."""
+
+from __future__ import annotations
+
+import copy
+import math
+from typing import Any
+
+import numpy as np
+import pytest
+from tests.simulate.test_acceptance_race_rudder import wind_ship, wind_ship_runs
+
+from hydrokit.errors import InputError
+from hydrokit.model.uncertainty import make_uncertainty, parameter_value, with_coefficients
+from hydrokit.simulate.sysid_model import free_parameters
+
+#: a wind table of our own (rows at 0, 90, 180°: the port side mirrors), dimensionless
+TABLE: dict[str, Any] = {
+    "frontal_area": 0.06,
+    "lateral_area": 0.4,
+    "length": 3.0,
+    "coefficients": {
+        "angle_deg": [0, 90, 180],
+        "C_X": [-0.6, 0.05, 0.5],
+        "C_Y": [0.0, -0.8, 0.0],
+        "C_N": [0.0, -0.05, 0.0],
+    },
+}
+
+
+def test_wind_fields_are_free_names_with_their_units_and_values() -> None:
+    v = wind_ship()
+    names = ["wind.CD_t", "wind.lateral_area", "wind.s_L", "wind.CD_l_AF_bow", "wind.delta"]
+    _, params = free_parameters(v, names)
+    assert [p.kind for p in params] == ["wind"] * 5
+    assert [p.unit for p in params] == ["–", "m²", "m", "–", "–"]
+    # Blendermann's loaded tanker, as the MSS toolbox's blendermann94.m tabulates it
+    assert [parameter_value(v, n) for n in names] == [0.70, 0.4, 0.1, 0.90, 0.40]
+    moved = with_coefficients(v, {"wind.CD_t": 0.8, "wind.s_L": -0.2})
+    assert moved.wind.parameters == (0.8, 0.90, 0.55, 0.40) and moved.wind.s_L == -0.2
+    assert moved.wind.vessel is None  # no longer Blendermann's tanker
+    assert v.wind.parameters[0] == 0.70  # the base is not changed
+    # the new CD_t acts: the beam-wind side force scales with it (C_Y = −CD_t at 90°, den = 1)
+    assert moved.wind.coefficients(math.pi / 2)[1] == pytest.approx(-0.8, rel=1e-12)
+
+    t = wind_ship(wind=copy.deepcopy(TABLE))
+    _, params = free_parameters(t, ["wind.coefficients.C_Y.90", "wind.coefficients.C_N.90", "wind.frontal_area"])
+    assert [p.unit for p in params] == ["–", "–", "m²"]
+    assert parameter_value(t, "wind.coefficients.C_Y.90.0") == -0.8  # the angle as any number
+    moved = with_coefficients(t, {"wind.coefficients.C_Y.90": -1.1})
+    assert moved.wind.C_Y == (0.0, -1.1, 0.0)
+    assert moved.wind.coefficients(math.pi / 4)[1] == pytest.approx(-0.55, rel=1e-12)  # halfway to the row
+
+
+def test_a_bad_wind_name_is_one_line_with_the_nearest_names() -> None:
+    v = wind_ship()
+    with pytest.raises(InputError, match=r"'wind.CD_T'.*\(nearest: wind.CD_t") as exc:
+        free_parameters(v, ["wind.CD_T"])
+    assert "\n" not in str(exc.value)
+    with pytest.raises(InputError, match=r"wind model is 'blendermann1994', which has no table"):
+        free_parameters(v, ["wind.coefficients.C_Y.90"])
+    t = wind_ship(wind=copy.deepcopy(TABLE))
+    with pytest.raises(InputError, match=r"no row of the wind table at 45°; expected one of its angle_deg: 0, 90, 180"):
+        free_parameters(t, ["wind.coefficients.C_Y.45"])
+    with pytest.raises(InputError, match=r"'table', which has no CD_t"):
+        free_parameters(t, ["wind.CD_t"])
+    no_wind = wind_ship(wind=None)
+    with pytest.raises(InputError, match=r"has no wind model; expected a 'wind:' block"):
+        free_parameters(no_wind, ["wind.CD_t"])
+    with pytest.raises(InputError, match=r"names 'wind.coefficients.C_Y.90.0' twice \(as 'wind.coefficients.C_Y.90'\)"):
+        make_uncertainty(["wind.coefficients.C_Y.90", "wind.coefficients.C_Y.90.0"], np.eye(2), {}, "v.yaml")
+
+
+def test_a_draw_keeps_a_table_coefficients_sign_and_clips_an_area_at_zero() -> None:
+    t = wind_ship(wind=copy.deepcopy(TABLE))
+    unc = make_uncertainty(["wind.coefficients.C_Y.90", "wind.frontal_area"], np.diag([0.01, 0.01]), {}, "v.yaml")
+    assert unc is not None
+    _, values, clipped = unc.sample_vehicles(t, 400, 1)
+    assert np.all(values[:, 0] < 0)  # −0.8 ± 0.1: never clipped at 0
+    assert np.min(values[:, 1]) == 0.0 and clipped > 0  # 0.06 ± 0.1: below 0 set to 0
+
+
+@pytest.mark.needs_jit(reason="two 30 s runs fitted by output error")
+def test_blendermann_cd_t_is_recovered_from_runs_in_a_logged_wind() -> None:
+    """Two 30 s zigzag-like runs in a logged 2.5 m/s wind (:func:`wind_ship_runs`), fitted from
+    CD_t 30 % low and Y_uv 30 % low: both within 3σ of the truth, σ(CD_t) under 10 % of it, and
+    CD_t moved from its start by more than 3σ (the runs, not the start, decide it)."""
+    from hydrokit.simulate.sysid import identify
+
+    truth = wind_ship()
+    runs = wind_ship_runs(truth, 2, 30.0, seed=3)
+    assert runs[0].environment_table() is not None  # the wind is in the runs, logged
+    free = ["wind.CD_t", "terms.Y_uv"]
+    start = with_coefficients(truth, {n: 0.7 * parameter_value(truth, n) for n in free})
+    res = identify(start, runs, free, dt=0.02, samples=0, check_step=False, window=None)
+    for name, value, sigma in zip(res.parameters, res.values, res.sigma):
+        true = parameter_value(truth, name)
+        assert abs(value - true) < 3 * sigma, (name, value, sigma, true)
+        assert abs(value - parameter_value(start, name)) > 3 * sigma, (name, value, sigma)
+    assert 0 < res.sigma[0] < 0.1 * parameter_value(truth, "wind.CD_t")
+    assert parameter_value(res.vehicle, "wind.CD_t") == pytest.approx(res.values[0], rel=1e-12)
