@@ -8,18 +8,79 @@ triangle surface and takes the 3-D path.
 
 from __future__ import annotations
 
+import hashlib
 import math
+from dataclasses import dataclass, field
 from typing import Any
 
 import numpy as np
 
-from hydrokit.cfd.case import Body
 from hydrokit.errors import InputError
 
 #: segments around the axis when a profile is revolved into a surface
 REVOLVE_SEGMENTS = 48
 #: pixels per side of the raster that measures a projected (frontal) area
 _RASTER = 256
+
+
+@dataclass(frozen=True)
+class Body:
+    """The body as OpenFOAM meets it.
+
+    kind : str — ``mesh`` (a closed triangle surface, ``triangles`` (k, 3, 3) m) or ``profile``
+        (a body of revolution about the x axis, ``profile`` (n, 2) of x, r in m)
+    name : str — for messages and reports
+    length : float — reference length L, m (the body's extent along x)
+    area : float — reference area for C_D, m² (frontal area unless given)
+    """
+
+    kind: str
+    name: str
+    length: float
+    area: float
+    triangles: np.ndarray = field(default_factory=lambda: np.zeros((0, 3, 3)), repr=False)
+    profile: np.ndarray = field(default_factory=lambda: np.zeros((0, 2)), repr=False)
+    part_sizes: tuple[int, ...] = ()
+
+    def surfaces(self) -> list[np.ndarray]:
+        """The closed surfaces of the body, one per part (triangles (k, 3, 3) each); a profile
+        is revolved into one (the 3-D path of a body of revolution at incidence)."""
+        if self.kind == "profile":
+            tri = revolve(self.profile)
+            tri[..., 0] = self.centre_of_buoyancy - tri[..., 0]
+            return [tri[:, ::-1].copy()]  # the mirror in x turns the faces inside out: reverse them
+        if not self.part_sizes:
+            return [self.triangles]
+        ends = np.cumsum(self.part_sizes)[:-1]
+        return list(np.split(self.triangles, ends))
+
+    def bounds(self) -> tuple[np.ndarray, np.ndarray]:
+        """(min, max) corners of the body's bounding box, m."""
+        if self.kind == "mesh":
+            pts = self.triangles.reshape(-1, 3)
+            return pts.min(axis=0), pts.max(axis=0)
+        x, r = self.profile[:, 0], self.profile[:, 1]
+        R, c = float(r.max()), self.centre_of_buoyancy
+        return np.array([c - x.max(), -R, -R]), np.array([c - x.min(), R, R])
+
+    @property
+    def centre_of_buoyancy(self) -> float:
+        """A profile's volume centroid, m along its x (from the nose): x_B = ∫x r² dx / ∫r² dx
+        (trapezoids). A profile body's origin — its moment reference point — is there, on the
+        axis, and body x points to the nose: x_body = x_B − x_profile."""
+        x, r2 = self.profile[:, 0], self.profile[:, 1] ** 2
+        dx = np.diff(x)
+        vol = float(np.sum(dx * (r2[1:] + r2[:-1]) / 2))
+        first = float(np.sum(dx * (x[1:] * r2[1:] + x[:-1] * r2[:-1]) / 2))
+        return first / vol if vol > 0 else float(x.mean())
+
+    def digest(self) -> str:
+        """SHA-256 of the geometry rounded to 1 nm (a re-export's round-off keeps the cache)."""
+        h = hashlib.sha256(self.kind.encode())
+        data = self.triangles if self.kind == "mesh" else self.profile
+        h.update(np.ascontiguousarray(np.round(np.asarray(data, float), 9)).tobytes())
+        h.update(repr(self.part_sizes).encode())
+        return h.hexdigest()
 
 
 def check_profile(x: np.ndarray, r: np.ndarray, source: str = "profile") -> None:

@@ -11,11 +11,13 @@ from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
 from typing import Any, cast
 
-import numpy as np
-
 from hydrokit._result import Result, html_table, jsonable
 from hydrokit.errors import InputError
 from hydrokit.identify.campaign import SUMMARY_FIELDS, consistency, group_by_amplitude, rank_sum_pairs, summarize
+
+# IdentifiedLaunch and predict moved to hydrokit.identify.fitted (plot/ reads a fit from there
+# without importing this module); ``predict`` is re-exported here for one release.
+from hydrokit.identify.fitted import IdentifiedLaunch, predict  # noqa: F401
 from hydrokit.identify.scaling import scale_coefficients
 from hydrokit.identify.types import METHODS, Launch, LaunchResult, Rig, rig_document
 
@@ -44,20 +46,6 @@ def coefficient_units(rig: Rig) -> dict[str, str]:
         "amplitude": sig,
         "rms_residual": sig,
     }
-
-
-@dataclass
-class IdentifiedLaunch:
-    """One launch: the trimmed record, its result and the fitted estimator (``predict(t)``).
-
-    ``prediction`` (m or rad at the launch's own sample times) stands in for the estimator when
-    the fit ran elsewhere (a worker process) and only its numbers came back.
-    """
-
-    launch: Launch
-    result: LaunchResult
-    estimator: Any
-    prediction: np.ndarray | None = None
 
 
 @dataclass
@@ -326,10 +314,3 @@ def summarize_campaign(rig: Rig, method: str, items: Sequence[IdentifiedLaunch])
     return CampaignResult(
         rig, method, items, summary, pairwise, {k: [r.file for r in g] for k, g in groups.items()}, full, warnings
     )
-
-
-def predict(item: IdentifiedLaunch) -> np.ndarray:
-    """The fitted signal of one launch at its own sample times (m or rad)."""
-    if item.prediction is not None:
-        return np.asarray(item.prediction, float)
-    return np.asarray(item.estimator.predict(np.asarray(item.launch.t, float)))

@@ -204,7 +204,7 @@ def read_log_channels(path: str | os.PathLike[str], *, baro: int | None = None) 
 
     Returns
     -------
-    hydrokit.io.runfile.LogChannels — attitude (rad), gyro (rad/s), DVL body velocity (m/s) when
+    hydrokit.io.channels.LogChannels — attitude (rad), gyro (rad/s), DVL body velocity (m/s) when
     logged, depth-sensor pressure (Pa), servo outputs (µs) and parameters, on the autopilot's clock (s)
 
     Notes
@@ -217,7 +217,7 @@ def read_log_channels(path: str | os.PathLike[str], *, baro: int | None = None) 
     ``press_abs`` (hPa → Pa), ``SERVO_OUTPUT_RAW`` (µs; ``time_usec`` unwrapped at 2³² µs),
     ``VISION_POSITION_DELTA`` (placed on the autopilot's clock by the tlog receive stamps), PARAM_VALUE.
     """
-    from hydrokit.io.runfile import LogChannels, Stream, clean_stream
+    from hydrokit.io.channels import LogChannels, Stream, clean_stream
 
     p = Path(path)
     src = str(p)

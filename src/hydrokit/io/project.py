@@ -51,9 +51,12 @@ from hydrokit.identify.tare import TARE_CONVENTIONS
 from hydrokit.identify.types import METHODS
 from hydrokit.io.yamlfile import pydantic_error_line, read_yaml
 
+# the coefficient names are the one table of hydrokit.model.uncertainty; re-exported here for
+# one release (pipeline/compare.py still imports them from here)
+from hydrokit.model.uncertainty import COEFFICIENTS  # noqa: F401
+
 #: sources a coefficient can be chosen from
 SOURCES = ("tank", "geometry", "bem", "cfd", "sysid")
-COEFFICIENTS = ("added_mass", "linear_damping", "quadratic_damping")
 PROJECTS_DIR = Path(__file__).resolve().parents[1] / "data" / "projects"
 
 

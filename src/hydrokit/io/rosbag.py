@@ -194,9 +194,9 @@ def read_bag_channels(path: str | os.PathLike[str], *, topics: dict[str, str | N
 
     Returns
     -------
-    hydrokit.io.runfile.LogChannels — time from ``header.stamp`` where set, else the record time, s
+    hydrokit.io.channels.LogChannels — time from ``header.stamp`` where set, else the record time, s
     """
-    from hydrokit.io.runfile import LogChannels, Stream, clean_stream
+    from hydrokit.io.channels import LogChannels, Stream, clean_stream
 
     if frame not in ("enu", "ned"):
         raise InputError(f"--ros-frame {frame!r}: expected enu or ned")

@@ -20,15 +20,19 @@ from __future__ import annotations
 import json
 import math
 import os
-from collections.abc import Mapping, Sequence
-from dataclasses import dataclass, field
+from collections.abc import Mapping
+from dataclasses import dataclass
 from pathlib import Path
-from typing import Any, Literal
+from typing import Any
 
 import numpy as np
 
 from hydrokit.core.names import POSE_SYMBOLS, VELOCITY_SYMBOLS
 from hydrokit.errors import InputError
+
+# Stream, LogChannels and clean_stream moved to hydrokit.io.channels (the readers import them
+# from there); re-exported here for one release.
+from hydrokit.io.channels import LogChannels, Stream, clean_stream
 from hydrokit.model.thrusters import IdealCurve, PropellerCurve, TableCurve, Thruster, ThrusterSet
 
 __all__ = ["LogChannels", "RunOutput", "Stream", "log_to_run", "pwm_to_level", "read_channels"]
@@ -41,46 +45,6 @@ MOTOR_FUNCTIONS = {**{n: 32 + n for n in range(1, 9)}, **{n: 73 + n for n in ran
 PWM_NEUTRAL, PWM_MIN, PWM_MAX = 1500.0, 1100.0, 1900.0
 #: seconds of pressure at the start of a log averaged for the surface pressure
 SURFACE_WINDOW = 1.0
-
-
-@dataclass(frozen=True)
-class Stream:
-    """One channel's samples: ``t`` in s (the log's clock, strictly increasing), ``y`` in SI."""
-
-    t: np.ndarray
-    y: np.ndarray
-    source: str
-
-    @property
-    def rate(self) -> float:
-        """Median sample rate, Hz (0 for a single sample)."""
-        return float(1.0 / np.median(np.diff(self.t))) if self.t.size > 1 else 0.0
-
-
-@dataclass(frozen=True)
-class LogChannels:
-    """What a vehicle log holds, in SI on the log's own clock.
-
-    motion : channel (``phi``, ``p``, ``u``, ``z`` …) → samples (rad, rad/s, m/s, m)
-    pressure : absolute pressure of the depth sensor, Pa, or None
-    outputs : output number (1-based), or a thruster's name (one topic per thruster) → samples:
-        PWM in µs (``output_unit`` ``"pwm"``) or a command already in the thruster's unit
-        (``"command"``, e.g. a ROS command array)
-    params : autopilot parameters found in the log (``MOT_1_DIRECTION``, ``SERVO1_FUNCTION`` …)
-    notes, warnings : what was chosen and what looks odd, for the summary
-    corrupt : corrupt packets skipped by the reader (−1: not counted)
-    """
-
-    source: str
-    motion: Mapping[str, Stream]
-    pressure: Stream | None
-    outputs: Mapping[int | str, Stream]
-    output_unit: Literal["pwm", "command"] = "pwm"
-    params: Mapping[str, float] = field(default_factory=dict)
-    notes: tuple[str, ...] = ()
-    warnings: tuple[str, ...] = ()
-    corrupt: int = -1
-    output_source: str = ""
 
 
 @dataclass(frozen=True)
@@ -99,18 +63,6 @@ class RunOutput:
         p = Path(run_out)
         doc = json.dumps(self.summary, indent=2, allow_nan=False, ensure_ascii=False) + "\n"
         return {p: self.csv, p.with_suffix(".json"): doc}
-
-
-def clean_stream(t: Sequence[float] | np.ndarray, y: Sequence[float] | np.ndarray, source: str) -> Stream:
-    """Samples sorted by time, repeated stamps dropped (the first kept), non-finite values dropped."""
-    ta = np.asarray(t, float)
-    ya = np.asarray(y, float)
-    ok = np.isfinite(ta) & np.isfinite(ya)
-    ta, ya = ta[ok], ya[ok]
-    order = np.argsort(ta, kind="stable")
-    ta, ya = ta[order], ya[order]
-    keep = np.concatenate([[True], np.diff(ta) > 0]) if ta.size else np.zeros(0, bool)
-    return Stream(ta[keep], ya[keep], source)
 
 
 def pwm_to_level(pwm: np.ndarray, pwm_min: float = PWM_MIN, pwm_max: float = PWM_MAX) -> np.ndarray:

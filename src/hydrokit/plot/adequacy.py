@@ -182,10 +182,10 @@ def launch_adequacy(item: Any, unit: str, title: str = "", fig: Any = None) -> A
     """The adequacy figure of one identified launch (an ``IdentifiedLaunch``).
 
     The residual is recomputed as the record minus the fitted signal at the launch's own
-    samples (:func:`hydrokit.identify.result.predict`), which is the residual the ``adequacy``
+    samples (:func:`hydrokit.identify.fitted.predict`), which is the residual the ``adequacy``
     numbers were computed from; period (s) and noise floor (m or rad) come from the result.
     """
-    from hydrokit.identify.result import predict
+    from hydrokit.identify.fitted import predict
 
     t = np.asarray(item.launch.t, float)
     residual = np.asarray(item.launch.y, float) - predict(item)

@@ -264,7 +264,7 @@ def campaign_figures(campaign: Any, per_launch: bool = True) -> dict[str, tuple[
     """
     from pathlib import Path
 
-    from hydrokit.identify.result import predict
+    from hydrokit.identify.fitted import predict
     from hydrokit.plot._mpl import to_png
 
     rig, method, items = campaign.rig, campaign.method, campaign.launches

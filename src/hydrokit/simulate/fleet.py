@@ -23,6 +23,10 @@ from hydrokit._result import Result, html_table, jsonable
 from hydrokit.errors import InputError
 from hydrokit.model.dynamics import stack_scal
 from hydrokit.model.mission import CONTROLLER_KINDS, Mission
+
+# the coefficient names a variations mapping accepts ("<name>.<dof>", SI) are the one table of
+# hydrokit.model.uncertainty; re-exported here for one release
+from hydrokit.model.uncertainty import COEFFICIENTS  # noqa: F401
 from hydrokit.model.vehicle import Vehicle
 from hydrokit.simulate.budget import check_memory
 from hydrokit.simulate.mission import CONTROLLER_LABEL, METRIC_UNITS
@@ -39,8 +43,6 @@ FLEET_METRICS = (
     "saturation_time",
     "saturation_fraction",
 )
-#: coefficient names accepted in a variations mapping ("<name>.<dof>", SI)
-COEFFICIENTS = ("added_mass", "linear_damping", "quadratic_damping")
 
 
 @dataclass(frozen=True)
