@@ -30,6 +30,7 @@ if TYPE_CHECKING:  # pragma: no cover - imports for annotations only
     from hydrokit.simulate.driver import Trajectory
     from hydrokit.simulate.fleet import FleetResult
     from hydrokit.simulate.mission import MissionResult
+    from hydrokit.simulate.sysid import SysidResult
     from hydrokit.simulate.transport import TransportResult
 
 PathLike = str | os.PathLike[str]
@@ -312,16 +313,13 @@ def sysid(
     SysidResult — values, σ, covariance, correlations, condition number, residuals, warnings;
     ``to_dict()``, ``plot()``
     """
-    from hydrokit.io.runlog import read_runs
-    from hydrokit.simulate.sysid import identify
-
     v = _as_vehicle(vehicle)
     listed = [n.strip() for n in free.split(",")] if isinstance(free, str) else list(free)
-    return identify(
+    return identify_runs(
         v,
-        read_runs(runs, v),
+        runs,
         listed,
-        read_runs(holdout, v),
+        holdout,
         method=method,
         dt=dt,
         samples=samples,
@@ -330,6 +328,93 @@ def sysid(
         scheduler=scheduler,
         window=window,
     )
+
+
+def identify_runs(
+    vehicle: Vehicle,
+    runs: Any,
+    free: Sequence[str],
+    holdout: Any = (),
+    *,
+    method: str = "output-error",
+    dt: float = 0.01,
+    on_read: Callable[[list[Any], list[Any]], None] | None = None,
+    **options: Any,
+) -> SysidResult:
+    """Read the run files and identify: the one path of :func:`sysid`, ``hydrokit sysid`` and the
+    main job's ``sysid:`` source.
+
+    Every option is checked before a run is read (a bad free name or method costs no reading),
+    then the runs are read with the vehicle's thrusters and surfaces
+    (:func:`hydrokit.io.runlog.read_runs`), a ``window`` longer than a run is refused, and
+    :func:`hydrokit.simulate.sysid.identify` fits.
+
+    Parameters
+    ----------
+    vehicle : Vehicle — the base, with its ``thrusters:``
+    runs, holdout : run CSV paths or RunLog objects — training and validation runs
+    free : the free parameter names (``added_mass.surge``, ``terms.<term>`` …)
+    method : "output-error" or "equation-error"
+    dt : float — integration step, s
+    on_read : callable(training, holdout) or None — called with the runs once they are read and
+        checked, before the fit (the CLI prints them)
+    **options : the rest of :func:`hydrokit.simulate.sysid.identify`'s keywords (samples, seed,
+        progress, workers, scheduler, window — s, "auto" or None …)
+
+    Returns
+    -------
+    SysidResult
+    """
+    from hydrokit.io.runlog import read_runs
+    from hydrokit.simulate.sysid import check_options, identify
+    from hydrokit.simulate.sysid_window import check_window
+
+    names = list(free)
+    check_options(vehicle, names, method, dt)  # every option before a run is read
+    train, held = read_runs(runs, vehicle), read_runs(holdout, vehicle)
+    check_window(options.get("window"), train)  # a window longer than a run: refused before the fit
+    if on_read is not None:
+        on_read(list(train), list(held))
+    return identify(vehicle, train, names, held, method=method, dt=dt, **options)
+
+
+def sysid_dive_files(
+    base: Vehicle, out_dir: str, n_runs: int, duration: float, seed: int, spread: float, amplitude: float, noise: float
+) -> dict[str, str]:
+    """Virtual dives of ``base`` with hidden coefficients, as the texts ``hydrokit sysid generate`` writes.
+
+    Parameters
+    ----------
+    base : Vehicle — with its thrusters; the hidden coefficients are drawn around its own
+    out_dir : str — the folder the file names are in
+    n_runs : int — number of dives
+    duration : float — length of each dive, s
+    seed : int — seed of the hidden coefficients, the commands and the noise
+    spread : float — hidden coefficients = base × uniform(1 − spread, 1 + spread) (fraction)
+    amplitude : float — largest fraction of a thrust limit used (0–1)
+    noise : float — multiplier of every sensor σ (0: noise-free logs)
+
+    Returns
+    -------
+    dict — DIR/diveN.csv run files (:func:`hydrokit.io.runlog.run_csv`) and DIR/truth.json (the
+    hidden values, SI), path → text (:mod:`hydrokit.simulate.sysid_data` generates them)
+    """
+    import json
+    from pathlib import Path
+
+    from hydrokit.io.runlog import run_csv
+    from hydrokit.simulate.sysid_data import HIDDEN, generate_runs, hidden_vehicle
+    from hydrokit.simulate.sysid_model import free_parameters, values_of
+
+    truth = hidden_vehicle(base, seed, spread)
+    dives = generate_runs(truth, n_runs, duration, seed, amplitude, noise)
+    _, params = free_parameters(truth, HIDDEN)
+    note = f"virtual dive of {base.name} with hidden coefficients (seed {seed})"
+    files = {str(Path(out_dir) / f"{d.name}.csv"): run_csv(d.time, d.rows(), d.commands, comment=note) for d in dives}
+    hidden = {p.name: float(v) for p, v in zip(params, values_of(truth, params))}
+    doc = {"vehicle": base.name, "seed": seed, "spread": spread, "hidden": hidden}
+    files[str(Path(out_dir) / "truth.json")] = json.dumps(doc, indent=2) + "\n"
+    return files
 
 
 def simulate_batch(

@@ -43,10 +43,9 @@ def generate(
 ) -> None:
     """Write virtual pool dives of VEHICLE with hidden added mass and damping (surge, sway, heave,
     yaw): attitude and gyro at 50 Hz, depth at 10 Hz, DVL at 5 Hz, commands at 50 Hz."""
-    from hydrokit.api import load_vehicle
+    from hydrokit.api import load_vehicle, sysid_dive_files
     from hydrokit.cli._common import check_out_dir, write_all
-    from hydrokit.report.sysid import dive_files
 
     check_out_dir(out_dir)
-    write_all(dive_files(load_vehicle(vehicle), out_dir, n_runs, duration, seed, spread, amplitude, noise))
+    write_all(sysid_dive_files(load_vehicle(vehicle), out_dir, n_runs, duration, seed, spread, amplitude, noise))
     click.echo(f"wrote {n_runs} dive(s) of {duration:g} s and truth.json to {out_dir}", err=True)

@@ -82,31 +82,31 @@ sysid.add_command(compare)
 def fit(runs: tuple[str, ...], vehicle: str, free: str, out_dir: str, holdout: tuple[str, ...], **opts: Any) -> None:
     """Identify the --free coefficients of --vehicle from the run files RUN... (CSV: time s; x y z m,
     phi theta psi rad, u v w m/s, p q r rad/s, empty = no sample; one command column per thruster)."""
-    from hydrokit.api import load_vehicle
+    from hydrokit.api import identify_runs, load_vehicle
     from hydrokit.cli._common import check_out_dir, progress_bar, write_all
-    from hydrokit.io.runlog import read_runs
     from hydrokit.io.vehicle import resolve_vehicle
     from hydrokit.io.yamlfile import read_yaml
     from hydrokit.report.sysid import describe_runs, output_files, verdict_lines
-    from hydrokit.simulate.sysid import check_options, identify
 
     check_out_dir(out_dir)
     base = load_vehicle(vehicle)
-    names = _names((free,))
-    check_options(base, names, opts["method"], opts["dt"])  # every option before a run is read or printed
-    train, held = read_runs(runs, base), read_runs(_names(holdout), base)
-    from hydrokit.simulate.sysid_window import check_window
 
-    check_window(opts["window"], train)  # a window longer than a run: refused before the fit
-    for line in describe_runs(train, held):
-        click.echo(line, err=True)
-    for r in (*train, *held):
-        for w in r.warnings:
-            click.echo(f"warning: {r.source}: {w}", err=True)
-    with progress_bar() as bar:
-        task = bar.add_task("output-error fit", total=None)
-        step = lambda it, cost: bar.update(task, advance=1, description=f"iteration {it}: cost {cost:.6g}")  # noqa: E731
-        result = identify(base, train, names, held, progress=step, **opts)
+    bar = progress_bar()
+    task = bar.add_task("output-error fit", total=None)
+
+    def said(train: list[Any], held: list[Any]) -> None:  # the runs as read, then the fit's bar
+        for line in describe_runs(train, held):
+            click.echo(line, err=True)
+        for r in (*train, *held):
+            for w in r.warnings:
+                click.echo(f"warning: {r.source}: {w}", err=True)
+        bar.start()
+
+    step = lambda it, cost: bar.update(task, advance=1, description=f"iteration {it}: cost {cost:.6g}")  # noqa: E731
+    try:
+        result = identify_runs(base, runs, _names((free,)), _names(holdout), on_read=said, progress=step, **opts)
+    finally:
+        bar.stop()
     files = output_files(result, read_yaml(resolve_vehicle(vehicle)), out_dir)
     write_all(files)
     for line in verdict_lines(result):

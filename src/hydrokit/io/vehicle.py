@@ -53,11 +53,18 @@ drag strips and viscous lift of a body of revolution from its profile) is read b
 (6 numbers ≥ 0 each, SI), ``parameters`` (``<coefficient>.<dof>`` or ``terms.<term>``) and their
 ``covariance``; the ``--samples`` option of the simulate and mission commands draws
 vehicles from it.
+
+Writing: :func:`vehicle_text` is the one writer of vehicle files (``hydrokit sysid``, ``sysid
+compare`` and ``hydrokit run`` all write through it); :func:`identified_vehicle_document` builds
+the document of an identified vehicle and :func:`write_terms` puts identified ``terms.<term>``
+values into one.
 """
 
 from __future__ import annotations
 
+import math
 import os
+from collections.abc import Mapping, Sequence
 from pathlib import Path
 from typing import Any
 
@@ -65,10 +72,12 @@ import numpy as np
 
 from hydrokit.core.constants import GRAVITY, SEAWATER_DENSITY
 from hydrokit.core.drag import DragElement
+from hydrokit.core.names import DOF_NAMES
 from hydrokit.core.validate import body_quantity, cut, cut_repr, mapping, matrix, number, vector
 from hydrokit.errors import InputError
 from hydrokit.io.yamlfile import check_keys, read_yaml
 from hydrokit.model.terms import TermSet, parse_term
+from hydrokit.model.uncertainty import COEFFICIENTS, TERM_PREFIX, check_parameter, location
 from hydrokit.model.vehicle import Vehicle, make_vehicle
 
 VEHICLES_DIR = Path(__file__).resolve().parents[1] / "data" / "vehicles"
@@ -129,7 +138,7 @@ FLUID_KEYS = ("density", "kinematic_viscosity")
 #: the keys of one ``drag_elements`` entry (frozen, issue #11)
 DRAG_ELEMENT_KEYS = ("name", "position", "linear", "quadratic")
 #: the keys of the ``uncertainty`` block
-UNCERTAINTY_KEYS = ("description", "added_mass", "linear_damping", "quadratic_damping", "parameters", "covariance")
+UNCERTAINTY_KEYS = ("description", *COEFFICIENTS, "parameters", "covariance")
 TERM_KEYS = {"value", "nondimensional", "printed", "note", "suspect", "factors", "source"}
 
 
@@ -511,3 +520,124 @@ def parse_vehicle(data: dict[str, Any], source: str) -> Vehicle:
         thrusters,
         _wind(data["wind"], source) if data.get("wind") is not None else None,
     )
+
+
+#: how every vehicle file is dumped: keys in the document's order, rows of numbers on one line,
+#: lines up to 120 characters, non-ASCII names kept
+_DUMP_OPTIONS: dict[str, Any] = {"sort_keys": False, "allow_unicode": True, "width": 120, "default_flow_style": None}
+
+
+def vehicle_text(doc: Mapping[str, Any], header: str = "") -> str:
+    """The text of a vehicle file: ``header`` as comment lines, then ``doc`` as YAML.
+
+    Parameters
+    ----------
+    doc : mapping — the vehicle document (plain lists, numbers and strings; see the module docstring)
+    header : str — comment lines; a line not starting with ``#`` gets ``# `` put before it, so no
+        header text (a project's name) can be read as YAML
+
+    Returns
+    -------
+    str — the file's text, which :func:`load_vehicle` reads back into the same vehicle
+    """
+    import yaml
+
+    lines = [ln if ln.startswith("#") else f"# {ln}" for ln in header.splitlines()]
+    head = "".join(f"{ln}\n" for ln in lines)
+    return head + yaml.safe_dump(dict(doc), **_DUMP_OPTIONS)
+
+
+def identified_vehicle_document(result: Any, base_data: Mapping[str, Any]) -> dict[str, Any]:
+    """The base vehicle file's fields with the identified values and an ``uncertainty:`` block.
+
+    Parameters
+    ----------
+    result : a sysid result (:class:`hydrokit.simulate.sysid.SysidResult`): ``parameters``
+        (names), ``values`` (SI), ``covariance`` (SI², in ``parameters`` order), ``method`` and
+        ``runs`` (dicts with ``name`` and ``holdout``)
+    base_data : mapping — the base vehicle file's fields, as read
+
+    Returns
+    -------
+    dict — diagonal coefficients written into ``added_mass`` / ``linear_damping`` /
+    ``quadratic_damping`` (6 numbers or a 6×6 matrix, as the base has them); ``terms.<term>``
+    into ``terms`` as dimensional values (:func:`write_terms`). The ``uncertainty`` block holds
+    the σ of the diagonal coefficients and the full covariance (SI²) over every free parameter,
+    ``terms.*`` included, which ``simulate --samples`` and ``mission --samples`` read.
+    """
+    doc = {k: v for k, v in base_data.items() if k != "uncertainty"}
+    names = list(result.parameters)
+    for coef in COEFFICIENTS:
+        values = doc.get(coef)
+        matrix = isinstance(values, list) and bool(values) and all(isinstance(r, list) for r in values)
+        vals: Any = [list(map(float, r)) for r in values] if matrix else [float(x) for x in values]  # type: ignore[union-attr]
+        for i, dof in enumerate(DOF_NAMES):
+            name = f"{coef}.{dof}"
+            if name in names:
+                v = float(result.values[names.index(name)])
+                if matrix:
+                    vals[i][i] = v
+                else:
+                    vals[i] = v
+        doc[coef] = vals
+    write_terms(doc, [(n, float(v)) for n, v in zip(names, result.values) if n.startswith(TERM_PREFIX)])
+    cov = np.asarray(result.covariance, float)
+    se = {c: [0.0] * 6 for c in COEFFICIENTS}
+    for k, name in enumerate(names):
+        coef, _, dof = name.partition(".")
+        if coef in COEFFICIENTS:
+            se[coef][DOF_NAMES.index(dof)] = math.sqrt(max(float(cov[k, k]), 0.0))
+    doc["uncertainty"] = {
+        "description": f"hydrokit sysid ({result.method}): standard errors (SI) and covariance (SI²) of the "
+        "identified parameters, inflated for coloured residuals",
+        **se,
+        "parameters": names,
+        "covariance": (0.5 * (cov + cov.T)).tolist(),
+    }
+    runs = ", ".join(r["name"] for r in result.runs if not r["holdout"])
+    sources = [str(s) for s in (doc.get("sources") or [])] if isinstance(doc.get("sources"), list) else []
+    doc["sources"] = sources + [f"hydrokit sysid ({result.method}) from runs {runs}; free: {', '.join(names)}"]
+    doc["name"] = f"{base_data.get('name', 'vehicle')}-sysid"
+    return doc
+
+
+def doc_surfaces(doc: Mapping[str, Any]) -> tuple[str, ...]:
+    """The control-surface names of a vehicle document (its ``control_surfaces:`` entries)."""
+    entries = doc.get("control_surfaces") or []
+    return tuple(str(e["name"]) for e in entries if isinstance(e, Mapping) and "name" in e)
+
+
+def write_terms(doc: dict[str, Any], values: Sequence[tuple[str, float]]) -> dict[str, Any]:
+    """Write identified ``terms.<term>`` values (SI, as :mod:`hydrokit.model.uncertainty` names
+    them) into the vehicle document ``doc`` (changed in place and returned).
+
+    ``delta(NAME)`` factors name the document's ``control_surfaces``. A velocity term replaces
+    the file's entry of the same term (however spelt) with its SI
+    value; an acceleration term (``terms.Y_vdot``, value −M_A[dof, acceleration]) is written as
+    the file term that, with the document's ``added_mass`` entry, gives that M_A entry:
+    term = added_mass[dof][acceleration] + value (the file subtracts a term from M_A).
+    """
+    terms = dict(doc.get("terms") or {})
+    surfaces = doc_surfaces(doc)
+    spelt = {}
+    for key in terms:
+        try:
+            spelt[location(check_parameter(TERM_PREFIX + str(key), "term", "", surfaces))] = key
+        except InputError:  # not a term this document's vehicle could load: never a free one
+            continue
+    for name, v in values:
+        ref = check_parameter(name, "parameter", "", surfaces)
+        key = spelt.get(location(ref), name[len(TERM_PREFIX) :])
+        value = float(v)
+        if ref.kind == "accel":
+            am = doc.get("added_mass")
+            a = 0.0
+            if isinstance(am, list) and am and isinstance(am[0], list):
+                a = float(am[ref.dof][ref.index])
+            elif isinstance(am, list) and ref.dof == ref.index:
+                a = float(am[ref.dof])
+            value = a + value
+        terms[key] = {"value": value, "nondimensional": False}
+    if terms:
+        doc["terms"] = terms
+    return doc

@@ -11,7 +11,8 @@ from typing import Any
 
 from hydrokit._result import jsonable
 from hydrokit.errors import InputError
-from hydrokit.io.project import COEFFICIENTS, Project
+from hydrokit.io.project import Project
+from hydrokit.model.uncertainty import COEFFICIENTS
 from hydrokit.pipeline.cache import StepCache, digest, file_digest, run_key
 
 CONTROLLERS = ("pid", "s-plane")
@@ -256,8 +257,7 @@ class Runner:
         return self._result(tank, others, rows, chosen, vdoc, flights, mc)
 
     def _result(self, tank, others, rows, chosen, vdoc, flights, mc) -> Any:  # noqa: ANN001
-        import yaml
-
+        from hydrokit.io.vehicle import vehicle_text
         from hydrokit.pipeline.result import RunResult, rounded
 
         warnings: list[str] = []
@@ -320,10 +320,7 @@ class Runner:
             f"# {self.p.name}: identified vehicle written by hydrokit run from {self.p.source.name}.\n"
             "# Coefficients: chosen per DOF (see project.sources); uncertainty: standard errors (SI).\n"
         )
-        files = {
-            "vehicle.yaml": header
-            + yaml.safe_dump(vdoc, sort_keys=False, allow_unicode=True, width=120, default_flow_style=None)
-        }
+        files = {"vehicle.yaml": vehicle_text(vdoc, header)}
         if flights is not None:
             for name, text in flights["csv"].items():
                 files[f"mission/{name}"] = text

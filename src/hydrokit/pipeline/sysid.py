@@ -1,7 +1,7 @@
 """The ``sysid`` source of ``hydrokit run``: a vehicle's coefficients from its own dives.
 
 The project's ``sysid:`` section names run files (docs/sysid.md), the free parameters and the
-method; :func:`sysid_step` identifies them with :func:`hydrokit.simulate.sysid.identify`
+method; :func:`sysid_step` identifies them with :func:`hydrokit.api.identify_runs`
 and returns a JSON-ready document (value, σ and covariance per parameter, the identifiability
 messages, per-run residuals and held-out NRMSE, figures) that the comparison reads as one more
 source, beside tank, geometry, BEM and CFD.
@@ -17,15 +17,18 @@ energy in); the base's value stays.
 from __future__ import annotations
 
 import math
-from collections.abc import Callable, Mapping, Sequence
+from collections.abc import Callable, Mapping
 from typing import Any
 
 import numpy as np
 
 from hydrokit.core.names import DOF_NAMES
-from hydrokit.errors import InputError
-from hydrokit.io.project import COEFFICIENTS, SysidSpec
-from hydrokit.model.uncertainty import TERM_PREFIX, check_parameter, location
+from hydrokit.io.project import SysidSpec
+
+# write_terms and doc_surfaces moved to hydrokit.io.vehicle (writing a vehicle document is the io
+# layer's job); re-exported here for one release.
+from hydrokit.io.vehicle import doc_surfaces, write_terms  # noqa: F401
+from hydrokit.model.uncertainty import COEFFICIENTS, check_parameter
 
 #: Monte Carlo draws of the prediction band in the run's sysid figures
 BAND_SAMPLES = 40
@@ -81,16 +84,13 @@ def sysid_step(
     (SI², in ``names`` order), ``result`` (sysid.json without the prediction series),
     ``figures`` (base64 PNG), ``warnings`` (the verdict's reasons first when it does not fit).
     """
-    from hydrokit.io.runlog import read_runs
-    from hydrokit.simulate.sysid import check_options, identify
+    from hydrokit.api import identify_runs
 
-    check_options(vehicle, list(spec.free), spec.method, spec.dt)  # a bad free name before any run is read
-    runs, holdout = read_runs(spec.runs, vehicle), read_runs(spec.holdout, vehicle)
-    result = identify(
+    result = identify_runs(
         vehicle,
-        runs,
+        spec.runs,
         list(spec.free),
-        holdout,
+        spec.holdout,
         method=spec.method,
         dt=spec.dt,
         samples=BAND_SAMPLES,
@@ -186,49 +186,7 @@ def _named_surfaces(name: str) -> tuple[str, ...]:
     return tuple(re.findall(r"delta\(\s*([^()\s]+)\s*\)", name))
 
 
-def doc_surfaces(doc: Mapping[str, Any]) -> tuple[str, ...]:
-    """The control-surface names of a vehicle document (its ``control_surfaces:`` entries)."""
-    entries = doc.get("control_surfaces") or []
-    return tuple(str(e["name"]) for e in entries if isinstance(e, Mapping) and "name" in e)
-
-
 def term_dof(name: str) -> str:
     """The DOF whose force a ``terms.<term>`` parameter enters (``terms.N_r|r|`` → yaw;
     ``terms.N_uu*delta(rudder)`` → yaw)."""
     return DOF_NAMES[check_parameter(name, "parameter", "", _named_surfaces(name)).dof]
-
-
-def write_terms(doc: dict[str, Any], values: Sequence[tuple[str, float]]) -> dict[str, Any]:
-    """Write identified ``terms.<term>`` values (SI, as :mod:`hydrokit.model.uncertainty` names
-    them) into the vehicle document ``doc`` (changed in place and returned).
-
-    ``delta(NAME)`` factors name the document's ``control_surfaces``. A velocity term replaces
-    the file's entry of the same term (however spelt) with its SI
-    value; an acceleration term (``terms.Y_vdot``, value −M_A[dof, acceleration]) is written as
-    the file term that, with the document's ``added_mass`` entry, gives that M_A entry:
-    term = added_mass[dof][acceleration] + value (the file subtracts a term from M_A).
-    """
-    terms = dict(doc.get("terms") or {})
-    surfaces = doc_surfaces(doc)
-    spelt = {}
-    for key in terms:
-        try:
-            spelt[location(check_parameter(TERM_PREFIX + str(key), "term", "", surfaces))] = key
-        except InputError:  # not a term this document's vehicle could load: never a free one
-            continue
-    for name, v in values:
-        ref = check_parameter(name, "parameter", "", surfaces)
-        key = spelt.get(location(ref), name[len(TERM_PREFIX) :])
-        value = float(v)
-        if ref.kind == "accel":
-            am = doc.get("added_mass")
-            a = 0.0
-            if isinstance(am, list) and am and isinstance(am[0], list):
-                a = float(am[ref.dof][ref.index])
-            elif isinstance(am, list) and ref.dof == ref.index:
-                a = float(am[ref.dof])
-            value = a + value
-        terms[key] = {"value": value, "nondimensional": False}
-    if terms:
-        doc["terms"] = terms
-    return doc

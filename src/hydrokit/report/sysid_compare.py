@@ -9,8 +9,8 @@ from collections.abc import Mapping
 from pathlib import Path
 from typing import Any
 
+from hydrokit.io.vehicle import identified_vehicle_document, vehicle_text
 from hydrokit.report.html import esc, figure, page, table, warnings_block
-from hydrokit.report.sysid import vehicle_document
 from hydrokit.simulate.sysid_compare import EQUIVALENT, Comparison
 
 _SYMBOL = {"phi": "φ", "theta": "θ", "psi": "ψ"}
@@ -107,8 +107,6 @@ def output_files(comparison: Comparison, base_data: Mapping[str, Mapping[str, An
     base_data : candidate name → its base vehicle file's fields (for vehicle.yaml)
     out_dir : the output folder
     """
-    import yaml
-
     d = Path(out_dir)
     files = {
         str(d / "compare.json"): json.dumps(comparison.to_dict(), indent=2, allow_nan=False, ensure_ascii=False) + "\n",
@@ -116,9 +114,8 @@ def output_files(comparison: Comparison, base_data: Mapping[str, Mapping[str, An
     }
     head = "# identified by hydrokit sysid compare; uncertainty: σ and covariance of the free coefficients (SI)\n"
     for c in comparison.candidates:
-        doc = vehicle_document(c.result, base_data[c.name])
-        files[str(d / c.name / "vehicle.yaml")] = head + yaml.safe_dump(
-            doc, sort_keys=False, allow_unicode=True, width=120, default_flow_style=None
+        files[str(d / c.name / "vehicle.yaml")] = vehicle_text(
+            identified_vehicle_document(c.result, base_data[c.name]), head
         )
         files[str(d / c.name / "sysid.json")] = (
             json.dumps(c.result.to_dict(), indent=2, allow_nan=False, ensure_ascii=False) + "\n"
