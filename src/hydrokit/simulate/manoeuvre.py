@@ -39,6 +39,14 @@ port: Prestero's N_uuδr < 0), never assumed. Commands reach the surfaces throug
 :func:`hydrokit.model.surfaces.servo_step` (instant without rate limit or lag). Metrics are
 extracted by :mod:`hydrokit.simulate.manoeuvre_metrics`; the record's time is 0 at the execute
 and its positions are relative to the execute point.
+
+**The loop.** The logics, the hold and the approach's steadiness test are laws written once on
+plain floats over small arrays (:mod:`hydrokit.simulate.manoeuvre_laws`). With a vehicle and a
+constant force, :func:`run_manoeuvre` flies them in the compiled loop
+(:mod:`hydrokit.simulate.manoeuvre_compiled`: the same laws compiled by ``compile_law``, RK4 at
+the manoeuvre's step); :func:`fly_manoeuvre` with any Python right-hand side, a force ``tau(x)``
+or thruster commands calls the same laws as Python (:class:`_PythonLoop`). The two agree to
+rounding (tests/simulate/test_manoeuvre_compiled.py).
 """
 
 from __future__ import annotations

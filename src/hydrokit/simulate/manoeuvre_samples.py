@@ -4,8 +4,10 @@ N vehicles are drawn from the vehicle file's ``uncertainty:`` block (the sysid c
 :meth:`hydrokit.model.uncertainty.Uncertainty.sample_vehicles`, one seeded generator, the draw
 ``simulate --samples`` and ``mission --samples`` use), each flies the same manoeuvre, and every
 numeric metric gets its median and 95 % interval (the 2.5 and 97.5 % points of the draws that
-reached it). The manoeuvre's loop (its logic, the holds, the servo) runs in Python around the
-compiled right-hand side, so the draws are flown one after the other, not as a compiled fleet.
+reached it). Each draw flies through the compiled manoeuvre loop
+(:mod:`hydrokit.simulate.manoeuvre_compiled`: logic, holds, servo and RK4 compiled) when the
+propulsion is a constant force, one draw after the other (not yet as a parallel fleet); thruster
+commands fly in the Python loop.
 """
 
 from __future__ import annotations
