@@ -4,8 +4,10 @@ depth manoeuvres), or — when the vehicle itself cannot fly it (a course it can
 its planes cannot keep) — incomplete with a problem that names the manoeuvre and says what
 happened, ``complete`` false. Nothing is ever ``complete`` with a metric missing.
 
-The REMUS models are being retuned, so no REMUS number is asserted; the planar Mariner (not being
-retuned) must complete every horizontal manoeuvre. Steps: Mariner dt = 0.5 s (L/U = 21 s, rudder
+No REMUS number is asserted here (tests/simulate/test_spiral_bundled.py checks the spirals'
+physics); every bundled vehicle must complete every manoeuvre it is not refused, the REMUS models
+on their propeller at fixed rpm (under a constant thrust they slow in a tight turn until the planes
+cannot carry their 7 N of buoyancy: docs/manoeuvre.md). Steps: Mariner dt = 0.5 s (L/U = 21 s, rudder
 rate 2.3°/s: the manoeuvre's time scale is hundreds of steps), REMUS dt = 0.05 s (L/U ≈ 0.9 s);
 the spirals (thousands of L/U) are marked slow.
 """
@@ -23,11 +25,14 @@ from hydrokit.errors import InputError
 from hydrokit.simulate import manoeuvre as M
 
 VEHICLES = Path(__file__).resolve().parents[2] / "src" / "hydrokit" / "data" / "vehicles"
-#: propulsion: Mariner's 15 kn (docs/manoeuvre.md), Prestero's REMUS thrust and propeller torque
+#: REMUS propulsion: its propeller held at the speed that gives Prestero's 3.86 N at 1.54 m/s
+#: (the vehicle files' header), plus his propeller torque as a constant force
+REMUS = {"tau": (0, 0, 0, -0.543, 0, 0), "commands": {"propeller": 11.567}, "nu0": (1.5, 0, 0, 0, 0, 0), "dt": 0.05}
+#: propulsion: Mariner's 15 kn (docs/manoeuvre.md), the REMUS propeller at fixed rpm
 RUNS = {
     "mariner": ({"tau": (727000.0, 0, 0, 0, 0, 0), "nu0": (7.7, 0, 0, 0, 0, 0), "dt": 0.5}, 35.0, 20.0),
-    "remus100": ({"tau": (3.86, 0, 0, -0.543, 0, 0), "nu0": (1.5, 0, 0, 0, 0, 0), "dt": 0.05}, 15.0, 15.0),
-    "remus100-fins": ({"tau": (3.86, 0, 0, -0.543, 0, 0), "nu0": (1.5, 0, 0, 0, 0, 0), "dt": 0.05}, 15.0, 15.0),
+    "remus100": (REMUS, 15.0, 15.0),
+    "remus100-fins": (REMUS, 15.0, 15.0),
 }
 #: metrics that may be None in a complete run, and why: a residual turn that never halves
 OPTIONAL = {"time_to_half", "residual_bias"}  # residual_bias: only a course-stable pull-out has one
@@ -113,8 +118,8 @@ def test_every_manoeuvre_is_complete_refused_or_said(name, key, monkeypatch):
         label = "pull-out" if m.kind == "pull_out" else m.kind.replace("_", " ")
         assert res.problem.startswith(label + ":"), res.problem
         assert len(res.problem) > len(label) + 20
-    if name == "mariner":  # the planar ship is not being retuned: every horizontal manoeuvre completes
-        assert res.problem is None, res.problem
+    # the planar ship completes every horizontal manoeuvre, the REMUS models (on their propeller) all
+    assert res.problem is None, res.problem
 
 
 @pytest.mark.parametrize("depth", [5.0, -5.0])
