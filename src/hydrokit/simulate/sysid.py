@@ -219,6 +219,10 @@ class _Problem:
     def weights(self, prep: PreparedRun) -> np.ndarray:
         return np.concatenate([np.full(t.size, 1.0 / self.sigma[c]) for c, t in zip(prep.channels, prep.times)])
 
+    def row_weights(self) -> np.ndarray:
+        """The weight (1/σ of its channel, 1/SI) of every residual row, run after run."""
+        return np.concatenate([self.weights(prep) for prep in self.preps])
+
     def unpack(self, z: np.ndarray) -> tuple[np.ndarray, list[np.ndarray]]:
         p = len(self.params)
         theta = z[:p]
@@ -624,17 +628,27 @@ def _identify(
             z0[:p] = start
         z = z0
         try:
+            # whole runs: the residuals and Jacobian at the fit's end are re-weighted in place of
+            # simulating the runs again (rows scale with their weights); windows re-project their
+            # initial states with the new weights, so they are evaluated again
+            prior: tuple[np.ndarray, np.ndarray] | None = None
             for _ in range(3):  # re-weight: σ of each channel from its residuals
                 if cut:
-                    z, r, _, its = cut.lm(problem, z, scale, max_iter, progress, (lower, upper))
+                    z, r, J, its = cut.lm(problem, z, scale, max_iter, progress, (lower, upper))
                 else:
-                    z, r, _, its = _lm(problem, z, scale, max_iter, progress, (lower, upper))
+                    z, r, J, its = _lm(problem, z, scale, max_iter, progress, (lower, upper), prior)
                 iterations += its
                 sig = _channel_rms(problem, r)
                 if all(abs(sig[c] / problem.sigma[c] - 1) < 0.02 for c in sig):
                     break
+                old = problem.row_weights()
                 problem.sigma.update(sig)
-            r, J, _ok = problem.evaluate(z, scale, True)
+                if cut is None:
+                    f = problem.row_weights() / old
+                    r, J = r * f, J * f[:, None]
+                    prior = (r, J)
+            if cut is not None:
+                r, J, _ok = problem.evaluate(z, scale, True)
         except _Diverged as exc:
             raise InputError(_runaway_message(problem, exc.z, z0, scale)) from None
     else:
@@ -685,7 +699,9 @@ def _identify(
             half = cut.projected(half)
         r2, J2, ok2 = half.evaluate(z, scale, True)
         if ok2 and J2 is not None:
-            dz = -np.linalg.lstsq(J2, r2, rcond=None)[0][:p] * scale[:p]
+            # the Gauss–Newton step by the normal equations (min-norm, as lstsq; the Jacobian has
+            # few columns and very many rows, and its QR would cost more than the fit's steps)
+            dz = -(np.linalg.pinv(J2.T @ J2) @ (J2.T @ r2))[:p] * scale[:p]
             step_check = float(np.max(np.abs(dz) / np.maximum(sigma, 1e-300)))
         problem.sim_seconds += half.sim_seconds
     _, x0s = problem.unpack(z)

@@ -46,6 +46,7 @@ def projected_lm(
     max_iter: int,
     progress: Callable[[int, float], None] | None,
     bounds: tuple[np.ndarray, np.ndarray] | None = None,
+    start: tuple[np.ndarray, np.ndarray] | None = None,
     chi2_tol: float | None = None,
 ) -> tuple[np.ndarray, np.ndarray, np.ndarray, int]:
     """Levenberg–Marquardt with bounds (module docstring); returns z, residuals, J, iterations.
@@ -59,6 +60,8 @@ def projected_lm(
     max_iter : int — accepted iterations at most
     progress : callable(iteration, cost) or None — called after every accepted iteration
     bounds : (lower, upper), each (p,) SI, or None — the parameters' box
+    start : (residuals, Jacobian) at ``z0`` (already inside the box), or None — spares the
+        first evaluation
     chi2_tol : float or None — stop when an accepted step lowers the weighted cost χ² by less
         than this (–; a change of χ² by 1 moves an estimate by one σ); None: stop when the
         relative drop is below 1e-9 or every step is below 1e-3 of its standard error
@@ -75,7 +78,7 @@ def projected_lm(
     if bounds is not None:
         lo[:p], hi[:p] = bounds
     z = np.clip(z0, lo, hi)
-    r, J0, ok = problem.evaluate(z, scale, True)
+    r, J0, ok = (start[0], start[1], True) if start is not None else problem.evaluate(z, scale, True)
     if not ok or J0 is None:
         raise Diverged(z)
     J: np.ndarray = J0

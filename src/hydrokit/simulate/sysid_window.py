@@ -19,6 +19,14 @@ The windows of a run are equal, ``duration / round(duration / S)`` long (the nea
 ``S``), their edges on the integration grid; a sample on an inner edge belongs to the later
 window.
 
+**Continuity** (``window_continuity`` w, dimensionless, default 0): the windows of a run may
+be tied at their joins. Each measured state's jump from a window's simulated end to the next
+window's start, in σ of its channel's noise, becomes one more residual times √w (w = 1: a jump
+of one σ costs what a measurement one σ off costs; w → ∞: one trajectory per run, the
+whole-run fit). The initial states of a run's windows are then projected out together (their
+Jacobian couples neighbours through the joins); the joins' rows are not a series of the
+coloured-residual covariance (they act as a prior).
+
 **Initial states by variable projection.** The smoothed state is a good start but not good
 enough to hold fixed (at a run's ends the smoother is one-sided: a heading error of a few
 mrad puts the position residuals of the first window at several σ). Every measured state of
@@ -39,7 +47,10 @@ open loop from its smoothed first state with the start values (equation error), 
 is and once with each measured initial velocity perturbed; a run drifts when such an initial
 error grows more than :data:`DRIFT_GROWTH` times over the run (an unstable mode — a
 course-unstable hull's sway–yaw — amplifies it; a stable vehicle forgets its initial state)
-or the simulation diverges. If any run drifts, every run is cut into windows of
+or the simulation diverges, or when such an error, though its velocities settle, turns the
+heading more than :data:`DRIFT_GROWTH` times as much over the run as over its first
+:data:`DEFAULT_WINDOW` s (a slow heading and track drift: a yaw mode near its stability limit
+whose heading keeps integrating the error). If any run drifts, every run is cut into windows of
 :data:`DEFAULT_WINDOW` seconds, and the result's warnings say so, naming the run, the velocity
 and the growth (runs shorter than 1.5 windows are fitted whole without looking).
 """
@@ -474,17 +485,47 @@ def drift(
         if done[0] < math.ceil(prep.duration / prep.dt - 1e-9) or not np.all(np.isfinite(pred[0])):
             out.append(f"{prep.name} diverged at t = {int(done[0]) * prep.dt:.1f} s")
             continue
-        worst = (0.0, "")
+        worst, turn = (0.0, ""), (0.0, "")
         for j, i in enumerate(probe):
-            k = prep.channels.index(CHANNELS[i])
-            a = sum(t.size for t in prep.times[:k])
-            b = a + prep.times[k].size
-            delta = pred[1 + j, a:b] - pred[0, a:b]
+            delta = _channel(prep, pred[1 + j], CHANNELS[i]) - _channel(prep, pred[0], CHANNELS[i])
             grow = float(np.max(np.abs(delta)) / _PROBE) if np.all(np.isfinite(delta)) else math.inf
             worst = max(worst, (grow, VELOCITY_SYMBOLS[i - 6]))
+            turn = max(turn, (_heading_turn(prep, pred[0], pred[1 + j]), VELOCITY_SYMBOLS[i - 6]))
         if worst[0] > threshold:
             out.append(f"{prep.name} (an error in its initial {worst[1]} grows {worst[0]:.3g}×)")
+        elif turn[0] > threshold:
+            out.append(
+                f"{prep.name} (an error in its initial {turn[1]} turns its heading {turn[0]:.3g}× more over the "
+                f"run than over its first {DEFAULT_WINDOW:g} s)"
+            )
     return out
+
+
+def _channel(prep: PreparedRun, pred: np.ndarray, name: str) -> np.ndarray:
+    """The samples of channel ``name`` in a run's predicted samples ``pred`` (channel after channel)."""
+    k = prep.channels.index(name)
+    a = sum(t.size for t in prep.times[:k])
+    return pred[a : a + prep.times[k].size]
+
+
+def _heading_turn(prep: PreparedRun, nominal: np.ndarray, probed: np.ndarray) -> float:
+    """How much more the heading error of a probed simulation grows over the run than over its
+    first :data:`DEFAULT_WINDOW` s (–): about 1 when a stable yaw mode lets it settle within a
+    window, the run's length in windows when the heading only integrates the error (a slow
+    drift the velocities do not show); 0 when the heading is not measured, the run is shorter
+    than two windows or the probe does not turn the heading."""
+    if "psi" not in prep.channels or prep.duration < 2 * DEFAULT_WINDOW:
+        return 0.0
+    t = prep.times[prep.channels.index("psi")]
+    dpsi = np.abs(_channel(prep, probed, "psi") - _channel(prep, nominal, "psi"))
+    early = dpsi[t <= DEFAULT_WINDOW]
+    if not np.all(np.isfinite(dpsi)) or early.size == 0:
+        return math.inf if not np.all(np.isfinite(dpsi)) else 0.0
+    late = float(np.max(dpsi))
+    # below this the probe does not turn the heading (rounding of the simulation), rad
+    if late < 1e-3 * _PROBE * 1.0:
+        return 0.0
+    return late / max(float(np.max(early)), 1e-300)
 
 
 def check_window(window: Any, runs: Sequence[RunData]) -> float | str | None:
