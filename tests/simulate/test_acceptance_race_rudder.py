@@ -17,11 +17,11 @@ covariance (``manoeuvre --samples``' :func:`~hydrokit.simulate.manoeuvre_samples
 the truth's advance and tactical diameter must lie inside the draws' 95 % interval, which must
 be narrower than 30 % of the value.
 
-On seeds 11–14 the largest miss of a parameter was 2.9σ (N_ur, seed 11; the lift slope came out
-high on all four, +0.1…+2.5σ), and on seed 12 the truth's turns fell just outside the intervals
-(tactical diameter 18.18 m against 18.21–18.52 m): the stated σ look about 1.5× too small on
-this ship, which the test does not hide — it runs seed 13 (largest miss 1.3σ), and a change that
-widens the misses will fail it.
+Over seeds 11–20 (``bench/race_rudder_acceptance.py``) every parameter was within 3σ (the
+largest miss 2.9σ, N_ur on seed 11) but the RMS miss was 1.4σ for each parameter, and the truth's
+turns fell just outside the intervals on seeds 12 and 15 (tactical diameter 18.18 m against
+18.21–18.52 m on seed 12): the stated σ are about 1.4× too small on this ship. The test does not
+hide it — it runs seed 13 (largest miss 1.3σ) — and a change that widens the misses fails it.
 """
 
 from __future__ import annotations
