@@ -46,3 +46,19 @@ def test_a_bad_window_is_one_line_exit_2_and_nothing_written(
     assert len(lines) == 1 and message in lines[0], err
     assert "Traceback" not in err and text == ""
     assert not out.exists()
+
+
+@pytest.mark.parametrize("weight", ["-1", "abc", "nan"])
+def test_a_bad_window_continuity_is_one_line_exit_2_and_nothing_written(
+    run_cli: Any, tmp_path: Path, weight: str
+) -> None:
+    run, vehicle = _files(tmp_path)
+    out = tmp_path / "fit"
+    code, text, err = run_cli(
+        "sysid", run, "--vehicle", vehicle, "--free", "terms.N_uv", "--out", out, "--window-continuity", weight
+    )
+    assert code == 2
+    lines = [line for line in err.splitlines() if line.strip()]
+    assert len(lines) == 1 and "--window-continuity" in lines[0] and weight in lines[0], err
+    assert "Traceback" not in err and text == ""
+    assert not out.exists()

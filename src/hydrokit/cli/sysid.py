@@ -11,7 +11,7 @@ import click
 from hydrokit.cli._sysid_compare import compare
 from hydrokit.cli._sysid_generate import generate
 from hydrokit.cli._sysid_plan import _names, plan
-from hydrokit.cli._types import SECONDS, SEED, Count
+from hydrokit.cli._types import NON_NEGATIVE, SECONDS, SEED, Count
 
 SUBCOMMANDS = ("fit", "generate", "plan", "compare")
 
@@ -78,6 +78,15 @@ sysid.add_command(compare)
     help="Fit windows of about this length, s, each started from its smoothed state (for runs that drift open "
     "loop, e.g. a course-unstable hull); 'auto': 30 s windows only when a run drifts at the start values; "
     "'none': whole runs.",
+)
+@click.option(
+    "--window-continuity",
+    "window_continuity",
+    type=NON_NEGATIVE,
+    default=0.0,
+    show_default=True,
+    help="With windows: weight (dimensionless) of each measured state's jump between a window's end and the next "
+    "window's start, in σ of its channel's noise (1: a jump of one σ costs one measurement σ; 0: windows not tied).",
 )
 def fit(runs: tuple[str, ...], vehicle: str, free: str, out_dir: str, holdout: tuple[str, ...], **opts: Any) -> None:
     """Identify the --free coefficients of --vehicle from the run files RUN... (CSV: time s; x y z m,

@@ -568,8 +568,10 @@ def _identify(
 ) -> SysidResult:
     """:func:`identify` with the runs' simulations on ``executor`` (None: in this process)."""
     from hydrokit.simulate.sysid_smooth import equation_error, initial_noise, smooth_run, tau_on_grid
+    from hydrokit.simulate.sysid_window import check_continuity
 
     t_start = _time.perf_counter()
+    window_continuity = check_continuity(window_continuity)
     if not runs:
         raise InputError("no training run; expected at least one run file")
     veh, params = check_options(vehicle, free, method, dt)
