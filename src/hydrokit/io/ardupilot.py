@@ -21,6 +21,7 @@ import numpy as np
 
 from hydrokit._quiet import quiet
 from hydrokit.errors import InputError, MissingExtraError
+from hydrokit.io.channels import LogChannels, Stream, clean_stream
 from hydrokit.io.recording import TIME_UNITS, Recording
 
 #: DataFlash FMTU unit names → factor to SI
@@ -191,7 +192,7 @@ def _check_clock(t: list[float], what: str, src: str) -> None:
         )
 
 
-def read_log_channels(path: str | os.PathLike[str], *, baro: int | None = None) -> Any:
+def read_log_channels(path: str | os.PathLike[str], *, baro: int | None = None) -> LogChannels:
     """Everything a run file needs from a DataFlash (``.bin``) or MAVLink (``.tlog``) log.
 
     Parameters
@@ -217,7 +218,6 @@ def read_log_channels(path: str | os.PathLike[str], *, baro: int | None = None) 
     ``press_abs`` (hPa → Pa), ``SERVO_OUTPUT_RAW`` (µs; ``time_usec`` unwrapped at 2³² µs),
     ``VISION_POSITION_DELTA`` (placed on the autopilot's clock by the tlog receive stamps), PARAM_VALUE.
     """
-    from hydrokit.io.channels import LogChannels, Stream, clean_stream
 
     p = Path(path)
     src = str(p)

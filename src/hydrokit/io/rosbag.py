@@ -20,6 +20,7 @@ import numpy as np
 
 from hydrokit._quiet import quiet
 from hydrokit.errors import InputError, MissingExtraError
+from hydrokit.io.channels import LogChannels, Stream, clean_stream
 from hydrokit.io.recording import TIME_UNITS, Recording
 
 IMU = "sensor_msgs/msg/Imu"
@@ -174,7 +175,9 @@ ARRAYS = ("std_msgs/msg/Float64MultiArray", "std_msgs/msg/Float32MultiArray")
 RCOUT = "mavros_msgs/msg/RCOut"
 
 
-def read_bag_channels(path: str | os.PathLike[str], *, topics: dict[str, str | None], frame: str = "enu") -> Any:
+def read_bag_channels(
+    path: str | os.PathLike[str], *, topics: dict[str, str | None], frame: str = "enu"
+) -> LogChannels:
     """Everything a run file needs from a ROS bag, by topic.
 
     Parameters
@@ -196,7 +199,6 @@ def read_bag_channels(path: str | os.PathLike[str], *, topics: dict[str, str | N
     -------
     hydrokit.io.channels.LogChannels — time from ``header.stamp`` where set, else the record time, s
     """
-    from hydrokit.io.channels import LogChannels, Stream, clean_stream
 
     if frame not in ("enu", "ned"):
         raise InputError(f"--ros-frame {frame!r}: expected enu or ned")
