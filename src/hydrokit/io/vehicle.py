@@ -75,6 +75,7 @@ from hydrokit.core.drag import DragElement
 from hydrokit.core.names import DOF_NAMES
 from hydrokit.core.validate import body_quantity, cut, cut_repr, mapping, matrix, number, vector
 from hydrokit.errors import InputError
+from hydrokit.io.fields import is_field, write_fields
 from hydrokit.io.yamlfile import check_keys, read_yaml
 from hydrokit.model.terms import TermSet, parse_term
 from hydrokit.model.uncertainty import COEFFICIENTS, TERM_PREFIX, check_parameter, location
@@ -561,7 +562,9 @@ def identified_vehicle_document(result: Any, base_data: Mapping[str, Any]) -> di
     -------
     dict — diagonal coefficients written into ``added_mass`` / ``linear_damping`` /
     ``quadratic_damping`` (6 numbers or a 6×6 matrix, as the base has them); ``terms.<term>``
-    into ``terms`` as dimensional values (:func:`write_terms`). The ``uncertainty`` block holds
+    into ``terms`` as dimensional values (:func:`write_terms`); surface, thruster and wind fields
+    (``control_surfaces.NAME.FIELD`` …) where the file keeps them (:func:`hydrokit.io.fields.write_fields`,
+    in the file's units). The ``uncertainty`` block holds
     the σ of the diagonal coefficients and the full covariance (SI²) over every free parameter,
     ``terms.*`` included, which ``simulate --samples`` and ``mission --samples`` read.
     """
@@ -581,6 +584,9 @@ def identified_vehicle_document(result: Any, base_data: Mapping[str, Any]) -> di
                     vals[i] = v
         doc[coef] = vals
     write_terms(doc, [(n, float(v)) for n, v in zip(names, result.values) if n.startswith(TERM_PREFIX)])
+    # surface, thruster and wind fields where the file keeps them, so the written vehicle flies
+    # the fitted values and its uncertainty block is centred on them
+    write_fields(doc, [(n, float(v)) for n, v in zip(names, result.values) if is_field(n)])
     cov = np.asarray(result.covariance, float)
     se = {c: [0.0] * 6 for c in COEFFICIENTS}
     for k, name in enumerate(names):
