@@ -24,7 +24,8 @@ from typing import Any
 import numpy as np
 
 from hydrokit.core.names import DOF_NAMES
-from hydrokit.io.project import COEFFICIENTS, Project
+from hydrokit.io.project import Project
+from hydrokit.model.uncertainty import COEFFICIENTS
 
 FALLBACK = ("tank", "sysid", "cfd", "bem", "geometry")
 #: sources that measure a coefficient (any finite value counts; the estimates' 0 means "none")
@@ -301,7 +302,7 @@ def vehicle_document(
     the free terms it writes, keep their joint covariance from the fit).
 
     ``sysid`` is the sysid step document: its free ``terms.*`` are written into ``terms`` (as
-    :func:`hydrokit.pipeline.sysid.write_terms`) when their DOF's rule is sysid
+    :func:`hydrokit.io.vehicle.write_terms`) when their DOF's rule is sysid
     (:func:`sysid_terms`), with their σ under ``uncertainty.parameters``.
     """
     doc = {k: v for k, v in base_data.items()}
