@@ -37,13 +37,15 @@ from hydrokit.core.drag import add_drag_wrench
 from hydrokit.model.surfaces import FIN_WIDTH, MAX_SURFACES, fin_wrench, servo_step, steer_surfaces
 from hydrokit.model.terms import MAX_THRUSTERS, add_term_forces
 from hydrokit.model.wind import wind_coefficients, wind_wrench
+from hydrokit.simulate._cache import njit
 
 #: ``numba.njit`` for kernels that allocate nothing: compiled without numba's reference
 #: counting, which otherwise updates every array argument's count atomically on entry and exit
 #: (with ~60 array arguments per closed-loop step this was a fifth of the step). Such a kernel
 #: may call only kernels of the same kind (numba passes the setting on to callees, and
-#: allocation needs it), so code that allocates stays in ordinary ``numba.njit`` kernels.
-njit_noalloc = numba.njit(cache=True, _nrt=False)  # type: ignore[call-overload]
+#: allocation needs it), so code that allocates stays in ordinary ``njit`` kernels. Both cache
+#: on disk keyed on the source of every law they reach (:mod:`hydrokit.simulate._cache`).
+njit_noalloc = njit(_nrt=False)
 
 #: scratch length of :func:`deriv` (40 numbers, then the force table's values and slopes:
 #: 6 forces and an input vector of up to MAX_SURFACES deflections, MAX_THRUSTERS thrusts and as
@@ -55,7 +57,8 @@ def compile_law(func, **callees):  # noqa: ANN001, ANN003, ANN201
     """``njit_noalloc`` of a law written once on plain floats in core/ or model/, with the laws it
     calls (``callees``: name → their compiled dispatchers) bound in its globals — numba calls
     only compiled functions, the Python original keeps calling the Python ones. Not a copy: the
-    same code object."""
+    same code object. Its disk cache is keyed on the law's source and its callees' (transitively),
+    so a changed law is recompiled in the next process (:class:`hydrokit.simulate._cache.LawCache`)."""
     scope = dict(func.__globals__)
     scope.update(callees)
     bound = types.FunctionType(func.__code__, scope, func.__name__, func.__defaults__, func.__closure__)
@@ -74,7 +77,7 @@ steer_surfaces_compiled = compile_law(
 )
 
 
-@numba.njit(cache=True, inline="always")
+@njit(inline="always")
 def _interp(tab, t, val, slope):  # noqa: ANN001, ANN202
     n = tab.shape[0]
     m = tab.shape[1] - 1
@@ -244,7 +247,7 @@ def deriv(t, x, quat, tau_tab, cur_tab, Minv, Mc, DL, DQ, scal, t_dof, t_coef, t
         out[5] = (sf * q + cf * r) / ct * scal[om + 5]
 
 
-@numba.njit(cache=True)
+@njit
 def rk4_run(
     x0, t0, dt, n_steps, every, quat, tau_tab, cur_tab, Minv, Mc, DL, DQ, scal, t_dof, t_coef, t_kind, t_idx, out
 ):  # noqa: ANN001, ANN201
@@ -289,7 +292,7 @@ def rk4_run(
     return n_steps
 
 
-@numba.njit(cache=True, parallel=True)
+@njit(parallel=True)
 def rk4_batch(
     x0, dt, n_steps, every, quat, tau_tab, cur_tab, Minv, Mc, DL, DQ, scal, t_dof, t_coef, t_kind, t_idx, out, done
 ):  # noqa: ANN001, ANN201

@@ -52,6 +52,7 @@ from hydrokit.model.allocation import Allocator, _ConstrainedSolver
 from hydrokit.model.control import PID, Autopilot, SPlane, depth_to_pitch
 from hydrokit.model.guidance import _HORIZONTAL_EPS, Path
 from hydrokit.model.thrusters import IdealCurve, PropellerCurve, TableCurve, ThrusterSet
+from hydrokit.simulate._cache import njit
 from hydrokit.simulate.budget import check_memory
 from hydrokit.simulate.closed_loop import ClosedLoopResult
 from hydrokit.simulate.compiled import BUF_SIZE, compile_law, deriv, njit_noalloc, steer_surfaces_compiled
@@ -63,12 +64,12 @@ _RUNNING, _DONE, _DIVERGED = 0, 1, 2
 
 
 # ============================================================================ small helpers
-@numba.njit(cache=True, inline="always")
+@njit(inline="always")
 def _wrap(a):  # noqa: ANN001, ANN202
     return (a + math.pi) % (2.0 * math.pi) - math.pi
 
 
-@numba.njit(cache=True, inline="always")
+@njit(inline="always")
 def _horner(k, row, x):  # noqa: ANN001, ANN202
     y = 0.0
     for i in range(k.shape[1]):
@@ -76,7 +77,7 @@ def _horner(k, row, x):  # noqa: ANN001, ANN202
     return y
 
 
-@numba.njit(cache=True, inline="always")
+@njit(inline="always")
 def _interp(x, xp, fp, n):  # noqa: ANN001, ANN202
     """np.interp(x, xp[:n], fp[:n]) for one x."""
     if x <= xp[0]:
@@ -181,7 +182,7 @@ def _command(i, f, va, kind, tab_c, tab_f, tab_n, prop, kf, kr):  # noqa: ANN001
 
 
 # ============================================================================ BVLS (scipy port)
-@numba.njit(cache=True)
+@njit
 def _cols(A, idx, nf):  # noqa: ANN001, ANN202
     out = np.empty((A.shape[0], nf))
     for jj in range(nf):
@@ -190,7 +191,7 @@ def _cols(A, idx, nf):  # noqa: ANN001, ANN202
     return out
 
 
-@numba.njit(cache=True)
+@njit
 def _on_bound_part(x, on_bound):  # noqa: ANN001, ANN202
     out = np.zeros_like(x)
     for i in range(x.shape[0]):
@@ -199,7 +200,7 @@ def _on_bound_part(x, on_bound):  # noqa: ANN001, ANN202
     return out
 
 
-@numba.njit(cache=True, inline="always")
+@njit(inline="always")
 def _mv(A, x, out):  # noqa: ANN001, ANN202
     for i in range(A.shape[0]):
         s = 0.0
@@ -208,7 +209,7 @@ def _mv(A, x, out):  # noqa: ANN001, ANN202
         out[i] = s
 
 
-@numba.njit(cache=True)
+@njit
 def _kkt(g, on_bound):  # noqa: ANN001, ANN202
     best = -np.inf
     for i in range(g.shape[0]):
@@ -218,7 +219,7 @@ def _kkt(g, on_bound):  # noqa: ANN001, ANN202
     return best
 
 
-@numba.njit(cache=True)
+@njit
 def _lstsq(A, b, rcond):  # noqa: ANN001, ANN202
     """np.linalg.lstsq(A, b, rcond)[0] for the allocation's small matrices.
 
@@ -280,7 +281,7 @@ def _lstsq(A, b, rcond):  # noqa: ANN001, ANN202
     return x
 
 
-@numba.njit(cache=True)
+@njit
 def _lsq_bvls(A, b, lb, ub, tol):  # noqa: ANN001, ANN202
     """scipy.optimize.lsq_linear(A, b, bounds=(lb, ub), method="bvls", tol=tol).x"""
     m, n = A.shape
@@ -413,7 +414,7 @@ def _lsq_bvls(A, b, lb, ub, tol):  # noqa: ANN001, ANN202
     return x
 
 
-@numba.njit(cache=True)
+@njit
 def _clip_vec(x, lo, hi):  # noqa: ANN001, ANN202
     out = np.empty_like(x)
     for i in range(x.shape[0]):
@@ -421,7 +422,7 @@ def _clip_vec(x, lo, hi):  # noqa: ANN001, ANN202
     return out
 
 
-@numba.njit(cache=True)
+@njit
 def _norm_diff(a, b):  # noqa: ANN001, ANN202
     s = 0.0
     for i in range(a.shape[0]):
@@ -429,7 +430,7 @@ def _norm_diff(a, b):  # noqa: ANN001, ANN202
     return math.sqrt(s)
 
 
-@numba.njit(cache=True)
+@njit
 def _polish(T, target, f, lo, hi, tol):  # noqa: ANN001, ANN202
     m = f.shape[0]
     active = np.empty(m, dtype=np.bool_)
@@ -463,7 +464,7 @@ def _polish(T, target, f, lo, hi, tol):  # noqa: ANN001, ANN202
     return f
 
 
-@numba.njit(cache=True)
+@njit
 def _constrained(tau, T, lo, hi, lo_s, hi_s, Q, QT, A2, scale, thrust_scale, q_max, ptol):  # noqa: ANN001, ANN202
     """_ConstrainedSolver.solve(tau)[0]."""
     m = T.shape[1]
@@ -485,7 +486,7 @@ def _constrained(tau, T, lo, hi, lo_s, hi_s, Q, QT, A2, scale, thrust_scale, q_m
     return f1
 
 
-@numba.njit(cache=True)
+@njit
 def _allocate_limited(tau_d, A, f_cmd):  # noqa: ANN001, ANN202
     """f_cmd ← the constrained allocation of τ_d (its unactuated DOFs zeroed). The one part of
     a step that allocates memory, so kept out of _control, which is compiled without numba's
@@ -502,7 +503,7 @@ def _allocate_limited(tau_d, A, f_cmd):  # noqa: ANN001, ANN202
 
 
 # ============================================================================ the loop
-@numba.njit(cache=True)
+@njit
 def _work(m, ns):  # noqa: ANN001, ANN202
     """Scratch arrays of one flight (one set per fleet member); ``ns`` control surfaces, whose
     deflections (rad, the servo's state) live in tau_tab[0, 7:]."""
@@ -541,9 +542,8 @@ def _work(m, ns):  # noqa: ANN001, ANN202
 #   V vehicle: current table, Minv, Mc, DL, DQ, scal (with the drag elements and fins, see
 #     model.dynamics.Packed), t_dof, t_coef, t_kind, t_idx, and the control surfaces' limits smax
 #     (rad), rate limits srate (rad/s), servo lags stc (s) and sfin [first fin index in scal, fins]
-# numba's on-disk cache of these kernels holds its own copy of compiled.deriv and is keyed on
-# this file's time stamp only: after a change to compiled.py, touch this file (or clear its
-# __pycache__), else the closed loop keeps flying the old right-hand side.
+# numba's on-disk cache of these kernels holds its own copy of compiled.deriv and of the laws;
+# it is keyed on their sources too (simulate/_cache.py), so a change there recompiles them.
 #   state (in/out): x (12), c (m), fstate [heading, integral×5, previous×5], istate
 #     [leg, j, limited_any, has_prev×5], arrivals (N,)
 #   W scratch (_work)
@@ -774,7 +774,7 @@ def _integrate(t, dt, x, c, T, decay, V, W):  # noqa: ANN001, ANN202
     return finite
 
 
-@numba.njit(cache=True)
+@njit
 def _loop(
     k0, k1, n_steps, dt, every, stop_when_done, G, A, H, ctl, ctl_angle, vc, V, x, c, fstate, istate, arrivals, R
 ):  # noqa: ANN001, ANN201, E501
@@ -844,7 +844,7 @@ def _loop(
 N_ACC = 14
 
 
-@numba.njit(cache=True)
+@njit
 def _path_distance(px, py, pz, pts):  # noqa: ANN001, ANN202
     """hydrokit.model.guidance.path_distance for one position."""
     best = np.inf
@@ -861,7 +861,7 @@ def _path_distance(px, py, pz, pts):  # noqa: ANN001, ANN202
     return best
 
 
-@numba.njit(cache=True)
+@njit
 def _fleet_member(
     n_steps, dt, every, stop_when_done, path_every, G, A, H, ctl, ctl_angle, vc, V, x, edenom, acc, arrivals, p_eta
 ):  # noqa: ANN001, ANN201, E501
@@ -925,7 +925,7 @@ def _fleet_member(
     return _DONE, n_steps
 
 
-@numba.njit(cache=True)
+@njit
 def _fcopy(a):  # noqa: ANN001, ANN202
     """A Fortran-ordered copy of a 2-D Fortran-ordered array."""
     out = np.empty((a.shape[1], a.shape[0])).T
@@ -933,7 +933,7 @@ def _fcopy(a):  # noqa: ANN001, ANN202
     return out
 
 
-@numba.njit(cache=True)
+@njit
 def _own_g(G):  # noqa: ANN001, ANN202
     return (
         G[0].copy(),
@@ -949,7 +949,7 @@ def _own_g(G):  # noqa: ANN001, ANN202
     )
 
 
-@numba.njit(cache=True)
+@njit
 def _own_a(A):  # noqa: ANN001, ANN202
     return (
         A[0].copy(),
@@ -967,7 +967,7 @@ def _own_a(A):  # noqa: ANN001, ANN202
     )
 
 
-@numba.njit(cache=True)
+@njit
 def _own_h(H):  # noqa: ANN001, ANN202
     return (
         H[0].copy(),
@@ -987,7 +987,7 @@ def _own_h(H):  # noqa: ANN001, ANN202
     )
 
 
-@numba.njit(cache=True, parallel=True)
+@njit(parallel=True)
 def _fleet(
     n_steps,
     dt,

@@ -37,13 +37,13 @@ import math
 from dataclasses import dataclass, field
 from typing import Any
 
-import numba
 import numpy as np
 
 from hydrokit._result import Result, html_table, jsonable
 from hydrokit.errors import InputError
 from hydrokit.model.assembly import Assembly, check_model
 from hydrokit.model.dynamics import stack_scal
+from hydrokit.simulate._cache import njit
 from hydrokit.simulate.compiled import BUF_SIZE, deriv
 from hydrokit.simulate.compiled_loop import _pack_thrusters, _thrust
 
@@ -52,7 +52,7 @@ LOAD_COLUMNS = ("time", "joint", "fx", "fy", "fz", "mx", "my", "mz")
 
 
 # ============================================================================ kernels
-@numba.njit(cache=True)
+@njit
 def _thrusts(nu, owner, body, cmd, P, E, TH, out):  # noqa: ANN001, ANN202
     """Thrust (N) of every thruster of ``body`` (−1: all) at body velocity ``nu`` (6)."""
     wake, cmin, cmax, fmin, fmax, kind, tab_c, tab_f, tab_n, prop, kf, kr = TH
@@ -69,7 +69,7 @@ def _thrusts(nu, owner, body, cmd, P, E, TH, out):  # noqa: ANN001, ANN202
         out[i] = min(max(f, fmin[i]), fmax[i])
 
 
-@numba.njit(cache=True)
+@njit
 def _config(P, E, T):  # noqa: ANN001, ANN202
     for i in range(P.shape[0]):
         T[0, i], T[1, i], T[2, i] = E[i, 0], E[i, 1], E[i, 2]
@@ -78,7 +78,7 @@ def _config(P, E, T):  # noqa: ANN001, ANN202
         T[5, i] = P[i, 0] * E[i, 1] - P[i, 1] * E[i, 0]
 
 
-@numba.njit(cache=True)
+@njit
 def _rigid(x0, dt, n_steps, every, cmd, sel, P, E, TH, tau_ext, V, SJ, out_x, out_f, out_l):  # noqa: ANN001, ANN201
     """One rigid body under held thrust; records state, thrust and subtree loads every
     ``every`` steps (and the last). ``sel`` masks the thrusters this body carries. Returns
@@ -179,7 +179,7 @@ def _rigid(x0, dt, n_steps, every, cmd, sel, P, E, TH, tau_ext, V, SJ, out_x, ou
     return n_steps, row
 
 
-@numba.njit(cache=True)
+@njit
 def _rot(phi, theta, psi, R):  # noqa: ANN001, ANN202
     cf, sf = math.cos(phi), math.sin(phi)
     ct, st = math.cos(theta), math.sin(theta)
@@ -195,7 +195,7 @@ def _rot(phi, theta, psi, R):  # noqa: ANN001, ANN202
     R[2, 2] = ct * cf
 
 
-@numba.njit(cache=True)
+@njit
 def _mb_rhs(t, X, TAU, par, a_p, a_c, K, C, B, W, OUT, JW, SEP):  # noqa: ANN001, ANN201
     """ẋ of every body (OUT) with the joint wrenches on each child (JW: force, moment on the
     child at the joint point, parent axes) and the joint-point mismatches (SEP, m)."""
@@ -292,7 +292,7 @@ def _mb_rhs(t, X, TAU, par, a_p, a_c, K, C, B, W, OUT, JW, SEP):  # noqa: ANN001
         )  # noqa: E501
 
 
-@numba.njit(cache=True)
+@njit
 def _multibody(
     X0, dt, n_steps, every, n_sub, cmd, owner, P, E, TH, ext, par, a_p, a_c, K, C, B, out_x, out_f, out_l, out_s
 ):  # noqa: ANN001, ANN201, E501
