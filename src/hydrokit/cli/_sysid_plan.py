@@ -18,8 +18,9 @@ def _names(values: tuple[str, ...]) -> list[str]:
 @click.argument("vehicle", metavar="BASE.yaml")
 @click.option(
     "--free",
+    multiple=True,
     required=True,
-    help="Comma-separated free parameters, as for 'sysid fit' (added_mass.surge, linear_damping.yaw, …; SI).",
+    help="Free parameters (repeat or comma-separate), as for 'sysid fit' (added_mass.surge, linear_damping.yaw, …; SI).",
 )
 @click.option("--duration", type=Number("s", at_least=2, at_most=3600), required=True, help="Schedule length, s.")
 @click.option(
@@ -53,7 +54,7 @@ def _names(values: tuple[str, ...]) -> list[str]:
 )
 @click.option("--dt", type=SECONDS, default=0.01, show_default=True, help="Integration step of the prediction, s.")
 @click.option("--seed", type=SEED, default=0, show_default=True, help="Seed of the search and references (integer).")
-def plan(vehicle: str, free: str, duration: float, out_dir: str, **opts: object) -> None:
+def plan(vehicle: str, free: tuple[str, ...], duration: float, out_dir: str, **opts: object) -> None:
     """Design multi-sine thruster commands that maximise the Fisher information's determinant
     of the --free coefficients (D-optimal) within the thrust limits; write DIR/schedule.csv
     (time s, one command column per thruster, held) and DIR/plan.json (Cramér–Rao σ, SI)."""
@@ -76,7 +77,7 @@ def plan(vehicle: str, free: str, duration: float, out_dir: str, **opts: object)
     sensors = {c: (SENSORS[c][0], scale * SENSORS[c][1]) for c in chans}
     opts["band"] = tuple(opts["band"])  # type: ignore[arg-type]
     dofs = _names((str(opts.pop("dofs")),)) or None
-    names = _names((free,))
+    names = _names(free)
     total = int(opts["evaluations"])  # type: ignore[call-overload]
     with progress_bar() as bar:
         task = bar.add_task("designing", total=total)

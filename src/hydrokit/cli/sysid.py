@@ -41,8 +41,9 @@ sysid.add_command(compare)
 @click.option("--vehicle", required=True, help="Base vehicle YAML (or bundled name) with its thrusters.")
 @click.option(
     "--free",
+    multiple=True,
     required=True,
-    help="Comma-separated free parameters: added_mass.surge, linear_damping.yaw, "
+    help="Free parameters (repeat or comma-separate): added_mass.surge, linear_damping.yaw, "
     "quadratic_damping.heave (SI: kg, N·s/m, N·s²/m²; rotations kg·m², N·m·s/rad, N·m·s²/rad²), terms.<term>.",
 )
 @click.option(
@@ -88,7 +89,9 @@ sysid.add_command(compare)
     help="With windows: weight (dimensionless) of each measured state's jump between a window's end and the next "
     "window's start, in σ of its channel's noise (1: a jump of one σ costs one measurement σ; 0: windows not tied).",
 )
-def fit(runs: tuple[str, ...], vehicle: str, free: str, out_dir: str, holdout: tuple[str, ...], **opts: Any) -> None:
+def fit(
+    runs: tuple[str, ...], vehicle: str, free: tuple[str, ...], out_dir: str, holdout: tuple[str, ...], **opts: Any
+) -> None:
     """Identify the --free coefficients of --vehicle from the run files RUN... (CSV: time s; x y z m,
     phi theta psi rad, u v w m/s, p q r rad/s, empty = no sample; one command column per thruster)."""
     from hydrokit.api import identify_runs, load_vehicle
@@ -113,7 +116,7 @@ def fit(runs: tuple[str, ...], vehicle: str, free: str, out_dir: str, holdout: t
 
     step = lambda it, cost: bar.update(task, advance=1, description=f"iteration {it}: cost {cost:.6g}")  # noqa: E731
     try:
-        result = identify_runs(base, runs, _names((free,)), _names(holdout), on_read=said, progress=step, **opts)
+        result = identify_runs(base, runs, _names(free), _names(holdout), on_read=said, progress=step, **opts)
     finally:
         bar.stop()
     files = output_files(result, read_yaml(resolve_vehicle(vehicle)), out_dir)
