@@ -58,16 +58,54 @@ class Smoothed:
 
 
 @numba.njit(cache=True)
+def _mm3(A, B, out):  # noqa: ANN001, ANN202
+    """out = A B for 3 × 3 arrays (no allocation: the filter's steps are many and tiny)."""
+    for i in range(3):
+        for j in range(3):
+            out[i, j] = A[i, 0] * B[0, j] + A[i, 1] * B[1, j] + A[i, 2] * B[2, j]
+
+
+@numba.njit(cache=True)
+def _mm3t(A, B, out):  # noqa: ANN001, ANN202
+    """out = A Bᵀ for 3 × 3 arrays."""
+    for i in range(3):
+        for j in range(3):
+            out[i, j] = A[i, 0] * B[j, 0] + A[i, 1] * B[j, 1] + A[i, 2] * B[j, 2]
+
+
+@numba.njit(cache=True)
+def _inv3(A, out):  # noqa: ANN001, ANN202
+    """out = A⁻¹ of a 3 × 3 array by its cofactors (A a covariance: symmetric positive definite)."""
+    c00 = A[1, 1] * A[2, 2] - A[1, 2] * A[2, 1]
+    c01 = A[1, 2] * A[2, 0] - A[1, 0] * A[2, 2]
+    c02 = A[1, 0] * A[2, 1] - A[1, 1] * A[2, 0]
+    det = A[0, 0] * c00 + A[0, 1] * c01 + A[0, 2] * c02
+    if det == 0.0:  # singular to rounding (a flat channel): LAPACK's LU decides, as before
+        out[:, :] = np.linalg.inv(A)
+        return
+    out[0, 0] = c00 / det
+    out[1, 0] = c01 / det
+    out[2, 0] = c02 / det
+    out[0, 1] = (A[0, 2] * A[2, 1] - A[0, 1] * A[2, 2]) / det
+    out[1, 1] = (A[0, 0] * A[2, 2] - A[0, 2] * A[2, 0]) / det
+    out[2, 1] = (A[0, 1] * A[2, 0] - A[0, 0] * A[2, 1]) / det
+    out[0, 2] = (A[0, 1] * A[1, 2] - A[0, 2] * A[1, 1]) / det
+    out[1, 2] = (A[0, 2] * A[1, 0] - A[0, 0] * A[1, 2]) / det
+    out[2, 2] = (A[0, 0] * A[1, 1] - A[0, 1] * A[1, 0]) / det
+
+
+@numba.njit(cache=True)
 def _rts(times, values, measured, q, r, smooth, out):  # noqa: ANN001, ANN202
     """Kalman filter (and RTS smoother if ``smooth``) of the white-jerk kinematic model
     s = [y, ẏ, ÿ] over ``times`` (values used where ``measured``); returns the log-likelihood,
     writes the smoothed [y, ẏ, ÿ] rows into ``out``."""
     n = times.shape[0]
-    m_f = np.zeros((n, 3))
-    P_f = np.zeros((n, 3, 3))
-    m_p = np.zeros((n, 3))
-    P_p = np.zeros((n, 3, 3))
-    F_all = np.zeros((n, 3, 3))
+    keep = 1 if not smooth else n  # the filter's history is needed by the smoother only
+    m_f = np.zeros((keep, 3))
+    P_f = np.zeros((keep, 3, 3))
+    m_p = np.zeros((keep, 3))
+    P_p = np.zeros((keep, 3, 3))
+    F_all = np.zeros((keep, 3, 3))
     first = 0
     while first < n and not measured[first]:
         first += 1
@@ -77,44 +115,65 @@ def _rts(times, values, measured, q, r, smooth, out):  # noqa: ANN001, ANN202
     P[0, 0] = 10.0 * r
     P[1, 1] = 1e2
     P[2, 2] = 1e4
+    F = np.eye(3)
+    FP = np.empty((3, 3))
+    K = np.empty(3)
     ll = 0.0
     for i in range(n):
         if i > 0:
             h = times[i] - times[i - 1]
-            F = np.eye(3)
             F[0, 1] = h
             F[0, 2] = 0.5 * h * h
             F[1, 2] = h
-            Q = np.empty((3, 3))
-            Q[0, 0] = h**5 / 20.0
-            Q[0, 1] = Q[1, 0] = h**4 / 8.0
-            Q[0, 2] = Q[2, 0] = h**3 / 6.0
-            Q[1, 1] = h**3 / 3.0
-            Q[1, 2] = Q[2, 1] = h**2 / 2.0
-            Q[2, 2] = h
-            m = F @ m
-            P = F @ P @ F.T + q * Q
-            F_all[i] = F
-        m_p[i] = m
-        P_p[i] = P
+            m0 = m[0] + F[0, 1] * m[1] + F[0, 2] * m[2]
+            m1 = m[1] + F[1, 2] * m[2]
+            m[0], m[1] = m0, m1
+            _mm3(F, P, FP)
+            _mm3t(FP, F, P)
+            P[0, 0] += q * h**5 / 20.0
+            P[0, 1] += q * h**4 / 8.0
+            P[1, 0] += q * h**4 / 8.0
+            P[0, 2] += q * h**3 / 6.0
+            P[2, 0] += q * h**3 / 6.0
+            P[1, 1] += q * h**3 / 3.0
+            P[1, 2] += q * h**2 / 2.0
+            P[2, 1] += q * h**2 / 2.0
+            P[2, 2] += q * h
+            if smooth:
+                F_all[i] = F
+        if smooth:
+            m_p[i] = m
+            P_p[i] = P
         if measured[i]:
             S = P[0, 0] + r
             v = values[i] - m[0]
-            K = P[:, 0] / S
-            m = m + K * v
-            P = P - np.outer(K, P[0, :])
+            for j in range(3):
+                K[j] = P[j, 0] / S
+            for j in range(3):
+                m[j] += K[j] * v
+            for j in range(3):
+                for k in range(3):
+                    FP[j, k] = P[j, k] - K[j] * P[0, k]
+            P[:, :] = FP
             ll += -0.5 * (math.log(2 * math.pi * S) + v * v / S)
-        m_f[i] = m
-        P_f[i] = P
+        if smooth:
+            m_f[i] = m
+            P_f[i] = P
     if smooth:
+        # the smoothed means need the gains C only (the smoothed covariances are not used)
         ms = m_f[n - 1].copy()
-        Ps = P_f[n - 1].copy()
         out[n - 1] = ms
+        Pinv = np.empty((3, 3))
+        C = np.empty((3, 3))
+        d = np.empty(3)
         for i in range(n - 2, -1, -1):
-            F = F_all[i + 1]
-            C = P_f[i] @ F.T @ np.linalg.inv(P_p[i + 1])
-            ms = m_f[i] + C @ (ms - m_p[i + 1])
-            Ps = P_f[i] + C @ (Ps - P_p[i + 1]) @ C.T
+            _inv3(P_p[i + 1], Pinv)
+            _mm3t(P_f[i], F_all[i + 1], FP)
+            _mm3(FP, Pinv, C)
+            for j in range(3):
+                d[j] = ms[j] - m_p[i + 1, j]
+            for j in range(3):
+                ms[j] = m_f[i, j] + C[j, 0] * d[0] + C[j, 1] * d[1] + C[j, 2] * d[2]
             out[i] = ms
     return ll
 
