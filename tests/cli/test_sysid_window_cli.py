@@ -1,5 +1,6 @@
-"""``hydrokit sysid --window`` (issue #48 items 3 and 9): a bad or too-long window is refused
-in one line with exit 2 and nothing written."""
+"""``hydrokit sysid --window`` and ``--window-continuity`` (issue #48 items 3 and 9): a bad or
+too-long window, or a bad continuity weight, is refused in one line with exit 2 and nothing
+written."""
 
 from __future__ import annotations
 
@@ -26,39 +27,24 @@ def _files(tmp_path: Path) -> tuple[Path, Path]:
 
 
 @pytest.mark.parametrize(
-    ("window", "message"),
+    ("option", "value", "message"),
     [
-        ("30", "--window: window 30 s is longer than run run1 (20 s); expected a window ≤ 20 s, or 'none'"),
-        ("abc", "--window: window 'abc': expected a length in seconds (e.g. 30), 'auto' or 'none'"),
-        ("-5", "--window: window -5.0: expected a length > 0 s, 'auto' or 'none'"),
+        ("--window", "30", "--window: window 30 s is longer than run run1 (20 s); expected a window ≤ 20 s, or 'none'"),
+        ("--window", "abc", "--window: window 'abc': expected a length in seconds (e.g. 30), 'auto' or 'none'"),
+        ("--window", "-5", "--window: window -5.0: expected a length > 0 s, 'auto' or 'none'"),
+        ("--window-continuity", "-1", "--window-continuity '-1': expected a finite number ≥ 0"),
+        ("--window-continuity", "abc", "--window-continuity 'abc': expected a finite number ≥ 0"),
+        ("--window-continuity", "nan", "--window-continuity 'nan': expected a finite number ≥ 0"),
     ],
 )
 def test_a_bad_window_is_one_line_exit_2_and_nothing_written(
-    run_cli: Any, tmp_path: Path, window: str, message: str
+    run_cli: Any, tmp_path: Path, option: str, value: str, message: str
 ) -> None:
     run, vehicle = _files(tmp_path)
     out = tmp_path / "fit"
-    code, text, err = run_cli(
-        "sysid", run, "--vehicle", vehicle, "--free", "terms.N_uv", "--out", out, "--window", window
-    )
+    code, text, err = run_cli("sysid", run, "--vehicle", vehicle, "--free", "terms.N_uv", "--out", out, option, value)
     assert code == 2
     lines = [line for line in err.splitlines() if line.strip()]
     assert len(lines) == 1 and message in lines[0], err
-    assert "Traceback" not in err and text == ""
-    assert not out.exists()
-
-
-@pytest.mark.parametrize("weight", ["-1", "abc", "nan"])
-def test_a_bad_window_continuity_is_one_line_exit_2_and_nothing_written(
-    run_cli: Any, tmp_path: Path, weight: str
-) -> None:
-    run, vehicle = _files(tmp_path)
-    out = tmp_path / "fit"
-    code, text, err = run_cli(
-        "sysid", run, "--vehicle", vehicle, "--free", "terms.N_uv", "--out", out, "--window-continuity", weight
-    )
-    assert code == 2
-    lines = [line for line in err.splitlines() if line.strip()]
-    assert len(lines) == 1 and "--window-continuity" in lines[0] and weight in lines[0], err
     assert "Traceback" not in err and text == ""
     assert not out.exists()
