@@ -9,8 +9,11 @@
 2. The planar ship ``mariner``'s direct spiral (15 kn, dt = 0.1 s, the default budget: every step
    until steady), wall time of ``run_manoeuvre`` — the first call in the process (numba's cache
    loaded) and the next one; ``--python`` flies it in the Python loop too (about two minutes).
+3. Steps/s of a REMUS 100 turning circle flown on its propeller (``--command propeller=11.567``,
+   the rotor lag and K_T(J) at the advance speed: ``ThrusterDrive``), compiled loop (since issue
+   #50's thruster laws) against the Python loop it flew in before.
 
-    .venv/bin/python bench/manoeuvre_speed.py [--python] [--seconds S]
+    .venv/bin/python bench/manoeuvre_speed.py [--python] [--seconds S] [--command-only]
 
 Prints the date and the commit; docs/validation/manoeuvre.md records its output.
 """
@@ -26,6 +29,8 @@ from typing import Any
 
 APPROACH = (1.5, 0, 0, 0, 0, 0)
 PROPULSION = (3.86, 0.0, 0.0, -0.543, 0.0, 0.0)  # Prestero (2001): N, N·m
+COMMAND = {"propeller": 11.567}  # rev/s: the bundled REMUS 100's propeller at 694 rpm
+ROLL_TORQUE = (0.0, 0.0, 0.0, -0.543, 0.0, 0.0)  # the propeller's torque K, N·m (Prestero 2001)
 MARINER = {"tau": (727_000.0, 0, 0, 0, 0, 0), "nu0": (7.7, 0, 0, 0, 0, 0), "dt": 0.1}
 
 
@@ -108,6 +113,63 @@ def loop_speed(seconds: float = 2000.0, python_seconds: float = 20.0, dt: float 
     return out
 
 
+def _command_turn(v: Any, seconds: float, dt: float, compiled: bool) -> tuple[int, float]:
+    """(steps, wall s) of an approach of seconds/2 and a 15° turn of seconds/2 on the propeller."""
+    import numpy as np
+
+    from hydrokit.simulate.compiled import make_dynamics
+    from hydrokit.simulate.manoeuvre import (
+        ThrusterDrive,
+        fly_manoeuvre,
+        holding_surfaces,
+        thruster_commands,
+        turning_circle,
+    )
+    from hydrokit.simulate.manoeuvre_compiled import Engine
+
+    s = v.surfaces
+    f = make_dynamics(v)
+    hold = holding_surfaces(f, v.dofs, len(s), "turning_circle", 0)
+    x0 = np.zeros(12)
+    x0[6:] = APPROACH
+    servo = (s.max_deflection, s.rate_limit, s.time_constant)
+    m = turning_circle(math.radians(15))
+    command = thruster_commands(v, COMMAND)
+
+    def run(approach: float, duration: float, keep: float) -> int:
+        drive = ThrusterDrive(v.thrusters, command, ROLL_TORQUE)
+        engine = Engine(v, ROLL_TORQUE, drive=drive) if compiled else None
+        t, *_ = fly_manoeuvre(
+            f, m, 0, servo, tau=drive, x0=x0, dt=dt, length=v.reference_length, hold=hold,
+            approach=approach, duration=duration, keep_approach=keep, engine=engine,
+        )  # fmt: skip
+        return int(t.size - 1)
+
+    run(0.5, 0.5, 10.0)  # warm-up
+    t0 = time.perf_counter()
+    steps = run(seconds / 2, seconds / 2, seconds)
+    return steps, time.perf_counter() - t0
+
+
+def command_speed(seconds: float = 2000.0, python_seconds: float = 20.0, dt: float = 0.02) -> dict[str, float]:
+    """Steps/s of the manoeuvre loop flying thruster commands: compiled and Python."""
+    from hydrokit.io.vehicle import load_vehicle
+
+    out: dict[str, float] = {}
+    print(f"== --command propeller=11.567: approach, then a turning circle at 15°, depth held, dt = {dt} s ==")
+    v = load_vehicle("remus100")
+    best = 0.0
+    for _ in range(3):  # best of three: the machine is shared
+        steps, wall = _command_turn(v, seconds, dt, True)
+        best = max(best, steps / wall)
+    out["remus100 --command compiled"] = best
+    print(f"{'remus100':14s} compiled loop  {steps:8d} steps: {best:11,.0f} steps/s (best of 3)")
+    steps, wall = _command_turn(v, python_seconds, dt, False)
+    out["remus100 --command python"] = steps / wall
+    print(f"{'remus100':14s} python loop    {steps:8d} steps: {steps / wall:11,.0f} steps/s (before: every --command)")
+    return out
+
+
 def mariner_spiral(python: bool = False) -> dict[str, float]:
     """Wall time (s) of the Mariner's direct spiral: first call, second call, and the Python loop."""
     from hydrokit.io.vehicle import load_vehicle
@@ -134,9 +196,15 @@ def main(argv: list[str]) -> None:
     seconds = float(argv[argv.index("--seconds") + 1]) if "--seconds" in argv else 2000.0
     print(f"bench/manoeuvre_speed.py, {datetime.date.today().isoformat()}, commit {_commit()}\n")
     t0 = time.perf_counter()
+    if "--command-only" in argv:
+        command_speed(seconds)
+        print(f"\nbench/manoeuvre_speed.py done in {time.perf_counter() - t0:.1f} s")
+        return
     mariner_spiral("--python" in argv)  # first: its first call loads numba's cache
     print()
     loop_speed(seconds)
+    print()
+    command_speed(seconds)
     print(f"\nbench/manoeuvre_speed.py done in {time.perf_counter() - t0:.1f} s")
 
 

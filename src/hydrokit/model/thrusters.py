@@ -70,6 +70,131 @@ def _pad_cubic(coeffs: tuple[float, ...]) -> tuple[float, ...]:
     return (0.0,) * (4 - len(coeffs)) + tuple(coeffs) if len(coeffs) <= 4 else tuple(coeffs)
 
 
+# ============================================================================== the laws
+# Plain floats (and a sequence of polynomial coefficients): called as Python by the curves and
+# the thruster set below, compiled by ``compile_law`` (hydrokit.simulate.compiled) for the
+# compiled manoeuvre loop. One implementation of each law.
+
+
+def propeller_thrust(
+    n: float,
+    va: float,
+    D: float,
+    rho: float,
+    j_lo: float,
+    j_hi: float,
+    kt_forward: Any,
+    kt_reverse: Any,
+    loss_forward: float,
+    loss_reverse: float,
+) -> float:
+    """Open-water propeller thrust ``loss · K_T(J) ρ D⁴ |n| n``, N (REHMAN eq. 1.12).
+
+    Parameters
+    ----------
+    n : float — propeller speed, rev/s
+    va : float — advance speed V_a, m/s
+    D : float — diameter, m; rho : float — water density, kg/m³
+    j_lo, j_hi : float — validity range of the K_T polynomials, – (J is clamped to it)
+    kt_forward, kt_reverse : sequence of float — K_T(J) for n > 0 and n < 0, highest power
+        first, – (in the compiled loop: arrays padded to one length with leading zeros)
+    loss_forward, loss_reverse : float — thrust-loss factors, –
+
+    Notes
+    -----
+    ``J = V_a / (n D)``; where ``|n D| · 1e6 ≤ |V_a|`` J is far outside any curve's range and
+    only the signs matter (J at the range's end). K_T is clamped at ≥ 0 (NaN kept).
+    """
+    if n == 0.0:
+        return 0.0
+    nD = n * D
+    if abs(nD) * 1e6 > abs(va):
+        J = va / nD
+        J = j_lo if j_lo > J else J  # max(J, j_lo)
+        J = j_hi if j_hi < J else J  # min(J, j_hi)
+    else:  # |J| > 1e6
+        J = j_hi if (va > 0) == (n > 0) else j_lo
+    k = kt_forward if n > 0 else kt_reverse
+    kt = 0.0
+    for c in k:  # Horner, highest power first (np.polyval's order)
+        kt = kt * J + c
+    kt = 0.0 if kt < 0.0 else kt  # max(kt, 0.0), NaN kept
+    loss = loss_forward if n > 0 else loss_reverse
+    return loss * kt * rho * D**4 * abs(n) * n
+
+
+def propeller_speed(
+    f: float,
+    va: float,
+    n_max: float,
+    D: float,
+    rho: float,
+    j_lo: float,
+    j_hi: float,
+    kt_forward: Any,
+    kt_reverse: Any,
+    loss_forward: float,
+    loss_reverse: float,
+) -> float:
+    """The propeller speed n (rev/s, within ±``n_max``, rev/s) giving thrust ``f`` (N) at V_a =
+    ``va`` (m/s): the inverse of :func:`propeller_thrust` (the same parameters after ``n_max``).
+
+    Closed form ``n = sign(f) √(|f| / (loss K_T(0) ρ D⁴))`` at V_a = 0; otherwise a bracketed
+    root search (regula falsi, Illinois; bisection after 20 steps) on [0, n_max] or [−n_max, 0]
+    (the sense follows the sign of f). A demand beyond what the curve gives at the speed limit
+    returns the speed limit.
+    """
+    if f == 0.0:
+        return 0.0
+    fwd = f > 0
+    if va == 0.0:
+        k = kt_forward if fwd else kt_reverse
+        kt0 = 0.0
+        for c in k:
+            kt0 = kt0 * 0.0 + c
+        loss = loss_forward if fwd else loss_reverse
+        n = math.sqrt(abs(f) / (loss * kt0 * rho * D**4))
+        return min(n, n_max) if fwd else -min(n, n_max)
+    lo, hi = (0.0, n_max) if fwd else (-n_max, 0.0)
+    g_lo = propeller_thrust(lo, va, D, rho, j_lo, j_hi, kt_forward, kt_reverse, loss_forward, loss_reverse) - f
+    g_hi = propeller_thrust(hi, va, D, rho, j_lo, j_hi, kt_forward, kt_reverse, loss_forward, loss_reverse) - f
+    if g_hi <= 0.0:  # even the speed limit does not give f (forward)
+        return hi
+    if g_lo >= 0.0:  # (reverse)
+        return lo
+    # thrust − f changes sign on [lo, hi] (thrust(0) = 0 and grows with n in both senses):
+    # superlinear, never leaves the bracket
+    side = 0
+    n = lo  # (set by the first step: the loop runs at least once)
+    for it in range(_BISECTION_STEPS):
+        # after 20 false-position steps (flat stretches of the clamped curve slow it down)
+        # bisection halves the bracket every step
+        n = (lo * g_hi - hi * g_lo) / (g_hi - g_lo) if it < 20 else 0.5 * (lo + hi)
+        g = propeller_thrust(n, va, D, rho, j_lo, j_hi, kt_forward, kt_reverse, loss_forward, loss_reverse) - f
+        if abs(g) <= 1e-12 * abs(f) or hi - lo <= 1e-12 * n_max:
+            break
+        if g < 0.0:
+            lo, g_lo = n, g
+            if side == -1:
+                g_hi *= 0.5
+            side = -1
+        else:
+            hi, g_hi = n, g
+            if side == 1:
+                g_lo *= 0.5
+            side = 1
+    return n
+
+
+def rotor_lag(c: float, target: float, dt: float, time_constant: float) -> float:
+    """The rotor state (command unit) after ``dt`` (s) of the first-order lag τ ċ = c_t − c
+    from ``c`` towards the held ``target``, exactly: ``c_t + (c − c_t) e^(−dt/τ)``; τ =
+    ``time_constant`` (s) = 0 follows the target at once."""
+    if time_constant > 0.0:
+        return target + (c - target) * math.exp(-dt / time_constant)
+    return target
+
+
 # =========================================================================== thrust curves
 class ThrustCurve(abc.ABC):
     """Command ↔ thrust of one thruster (steady state, no rotor lag).
@@ -307,12 +432,14 @@ class PropellerCurve(ThrustCurve):
             )
         put("advance_ratio_range", rng)
         put("density", quantity(self.density, f"{label} density", positive=True, unit="kg/m³"))
-        # Per-curve constants of the batch methods (not fields: no effect on == or repr).
-        # Each is computed with the same expression, in the same order, as in thrust() and
-        # command(), so the batch methods reproduce them bit for bit.
+        # the arguments of the laws after (n or f, V_a) (not fields: no effect on == or repr)
+        put(
+            "_law",
+            (self.diameter, self.density, rng[0], rng[1], kf, kr, self.thrust_loss_forward, self.thrust_loss_reverse),
+        )
+        # the same constants as simulate/compiled_loop.py packs them (cubics padded with leading
+        # zeros, which keep Horner's value bit for bit; D⁴ and the bollard denominators)
         D4 = self.diameter**4
-        den_f = self.thrust_loss_forward * _horner(kf, 0.0) * self.density * D4
-        den_r = self.thrust_loss_reverse * _horner(kr, 0.0) * self.density * D4
         put(
             "_fast",
             (
@@ -326,83 +453,31 @@ class PropellerCurve(ThrustCurve):
                 self.thrust_loss_forward,
                 self.thrust_loss_reverse,
                 self.max_speed,
-                den_f,
-                den_r,
+                self.thrust_loss_forward * _horner(kf, 0.0) * self.density * D4,
+                self.thrust_loss_reverse * _horner(kr, 0.0) * self.density * D4,
             ),
         )
+
+    @property
+    def law_args(self) -> tuple[Any, ...]:
+        """The arguments of :func:`propeller_thrust` and :func:`propeller_speed` after (n or f,
+        V_a): (D m, ρ kg/m³, J_lo, J_hi, K_T forward, K_T reverse, loss forward, loss reverse)."""
+        return cast("tuple[Any, ...]", self._law)  # type: ignore[attr-defined]
 
     def in_fluid(self, density: float) -> PropellerCurve:
         """This curve with ρ = ``density`` (kg/m³)."""
         return self if density == self.density else dataclasses.replace(self, density=density)
 
     def thrust(self, command: float, advance_speed: float = 0.0) -> float:
-        """Thrust at propeller speed ``command`` (n, rev/s) and V_a (m/s), N.
-
-        Plain floats, no arrays: it runs inside the root search of :meth:`command`.
-        """
-        n, va = float(command), float(advance_speed)
-        if n == 0.0:
-            return 0.0
-        D = self.diameter
-        lo, hi = self.advance_ratio_range
-        nD = n * D
-        if abs(nD) * 1e6 > abs(va):
-            J = min(max(va / nD, lo), hi)
-        else:  # |J| > 1e6: far outside any curve's range, only its sign matters
-            J = hi if (va > 0) == (n > 0) else lo
-        kt = _horner(self.kt_forward if n > 0 else self.kt_reverse, J)  # type: ignore[arg-type]
-        loss = self.thrust_loss_forward if n > 0 else self.thrust_loss_reverse
-        return loss * max(kt, 0.0) * self.density * D**4 * abs(n) * n
+        """Thrust at propeller speed ``command`` (n, rev/s) and V_a (m/s), N
+        (:func:`propeller_thrust`)."""
+        return propeller_thrust(float(command), float(advance_speed), *self.law_args)
 
     def command(self, thrust: float, advance_speed: float = 0.0) -> float:
-        """Propeller speed n (rev/s, within ±max_speed) giving ``thrust`` (N) at V_a (m/s).
-
-        Closed form ``n = sign(f) √(|f| / (loss K_T(0) ρ D⁴))`` at V_a = 0; otherwise a
-        bracketed root search (regula falsi, Illinois) on [0, n_max] or [−n_max, 0] (the
-        sense follows the sign of f). A demand beyond what the curve gives at the speed
-        limit returns the speed limit.
-        """
-        f, va = float(thrust), float(advance_speed)
-        if f == 0.0:
-            return 0.0
-        n_max = self.max_speed
-        D = self.diameter
-        fwd = f > 0
-        if va == 0.0:
-            kt0 = _horner(self.kt_forward if fwd else self.kt_reverse, 0.0)  # type: ignore[arg-type]
-            loss = self.thrust_loss_forward if fwd else self.thrust_loss_reverse
-            n = math.sqrt(abs(f) / (loss * kt0 * self.density * D**4))
-            return min(n, n_max) if fwd else -min(n, n_max)
-        lo, hi = (0.0, n_max) if fwd else (-n_max, 0.0)
-        g_lo = self.thrust(lo, va) - f
-        g_hi = self.thrust(hi, va) - f
-        if g_hi <= 0.0:  # even the speed limit does not give f (forward)
-            return hi
-        if g_lo >= 0.0:  # (reverse)
-            return lo
-        # Regula falsi with the Illinois modification on the bracket [lo, hi] where
-        # thrust − f changes sign (thrust(0) = 0 and grows with n in both senses);
-        # converges superlinearly and never leaves the bracket.
-        side = 0
-        n = lo  # (set by the first step: the loop runs at least once)
-        for it in range(_BISECTION_STEPS):
-            # after 20 false-position steps (flat stretches of the clamped curve slow it
-            # down) plain bisection guarantees the bracket halves every step
-            n = (lo * g_hi - hi * g_lo) / (g_hi - g_lo) if it < 20 else 0.5 * (lo + hi)
-            g = self.thrust(n, va) - f
-            if abs(g) <= 1e-12 * abs(f) or hi - lo <= 1e-12 * n_max:
-                break
-            if g < 0.0:
-                lo, g_lo = n, g
-                if side == -1:
-                    g_hi *= 0.5
-                side = -1
-            else:
-                hi, g_hi = n, g
-                if side == 1:
-                    g_lo *= 0.5
-                side = 1
-        return n
+        """Propeller speed n (rev/s, within ±max_speed) giving ``thrust`` (N) at V_a (m/s)
+        (:func:`propeller_speed`: closed form at V_a = 0, a bracketed root search otherwise;
+        a demand beyond what the curve gives at the speed limit returns the speed limit)."""
+        return propeller_speed(float(thrust), float(advance_speed), self.max_speed, *self.law_args)
 
     def limits(self) -> tuple[float, float]:
         """Static (V_a = 0) thrust at −n_max and +n_max, N."""
@@ -414,113 +489,31 @@ class PropellerCurve(ThrustCurve):
 
     @classmethod
     def thrust_batch(cls, curves: Sequence[ThrustCurve], command: Array, advance_speed: Array) -> Array:
-        """:meth:`thrust` of each curve, N (same values, less overhead)."""
+        """:meth:`thrust` of each curve, N."""
         props = cast("Sequence[PropellerCurve]", curves)
         return np.array(
-            [cv._thrust_fast(c, v) for cv, c, v in zip(props, command.tolist(), advance_speed.tolist())], dtype=float
+            [propeller_thrust(c, v, *cv.law_args) for cv, c, v in zip(props, command.tolist(), advance_speed.tolist())],
+            dtype=float,
         )
 
     @classmethod
     def command_batch(cls, curves: Sequence[ThrustCurve], thrust: Array, advance_speed: Array) -> Array:
-        """:meth:`command` of each curve, rev/s (same values, less overhead)."""
+        """:meth:`command` of each curve, rev/s."""
         props = cast("Sequence[PropellerCurve]", curves)
         return np.array(
-            [cv._command_fast(f, v) for cv, f, v in zip(props, thrust.tolist(), advance_speed.tolist())], dtype=float
+            [
+                propeller_speed(f, v, cv.max_speed, *cv.law_args)
+                for cv, f, v in zip(props, thrust.tolist(), advance_speed.tolist())
+            ],
+            dtype=float,
         )
 
+    # the names the batch paths had before the laws above (kept for their callers): the laws
     def _thrust_fast(self, n: float, va: float) -> float:
-        """:meth:`thrust` for plain floats, with the constants precomputed; the same
-        operations in the same order, so the same value bit for bit."""
-        if n == 0.0:
-            return 0.0
-        D, D4, rho, jlo, jhi, kf, kr, lf, lr = self._fast[:9]  # type: ignore[attr-defined]
-        k, loss = (kf, lf) if n > 0 else (kr, lr)
-        if len(k) != 4:  # beyond a cubic: the reference method
-            return self.thrust(n, va)
-        nD = n * D
-        if abs(nD) * 1e6 > abs(va):
-            J = va / nD
-            J = jlo if jlo > J else J  # max(J, jlo)
-            J = jhi if jhi < J else J  # min(J, jhi)
-        else:
-            J = jhi if (va > 0) == (n > 0) else jlo
-        kt = ((k[0] * J + k[1]) * J + k[2]) * J + k[3]  # _horner, unrolled (its 0.0 · J + k[0] is k[0]: J is finite)
-        kt = 0.0 if kt < 0.0 else kt  # max(kt, 0.0), NaN kept
-        return loss * kt * rho * D4 * abs(n) * n
+        return self.thrust(n, va)
 
     def _command_fast(self, f: float, va: float) -> float:
-        """:meth:`command` for plain floats: the same closed form and the same regula-falsi
-        (Illinois) iterations, with :meth:`thrust` written inline (as in
-        :meth:`_thrust_fast`); the same value bit for bit."""
-        if f == 0.0:
-            return 0.0
-        D, D4, rho, jlo, jhi, kf, kr, lf, lr, n_max, den_f, den_r = self._fast  # type: ignore[attr-defined]
-        fwd = f > 0
-        if va == 0.0:
-            n = math.sqrt(abs(f) / (den_f if fwd else den_r))
-            return min(n, n_max) if fwd else -min(n, n_max)
-        if fwd:
-            lo, hi, k, loss = 0.0, n_max, kf, lf
-        else:
-            lo, hi, k, loss = -n_max, 0.0, kr, lr
-        if len(k) != 4:  # beyond a cubic: the reference method
-            return self.command(f, va)
-        k0, k1, k2, k3 = k
-        va_abs = abs(va)
-        # J where |n D| · 1e6 ≤ |V_a| (far outside the range: only the signs matter)
-        j_far = jhi if (va > 0) == fwd else jlo
-        # thrust at the end of the bracket away from 0 (thrust(0) = 0)
-        n = hi if fwd else lo
-        nD = n * D
-        if abs(nD) * 1e6 > va_abs:
-            J = va / nD
-            J = jlo if jlo > J else J
-            J = jhi if jhi < J else J
-        else:
-            J = j_far
-        kt = ((k0 * J + k1) * J + k2) * J + k3
-        kt = 0.0 if kt < 0.0 else kt
-        t_end = loss * kt * rho * D4 * abs(n) * n
-        if fwd:
-            g_lo, g_hi = 0.0 - f, t_end - f
-        else:
-            g_lo, g_hi = t_end - f, 0.0 - f
-        if g_hi <= 0.0:  # even the speed limit does not give f (forward)
-            return hi
-        if g_lo >= 0.0:  # (reverse)
-            return lo
-        tol_g = 1e-12 * abs(f)
-        tol_n = 1e-12 * n_max
-        side = 0
-        n = lo  # (set by the first step: the loop runs at least once)
-        for it in range(_BISECTION_STEPS):
-            n = (lo * g_hi - hi * g_lo) / (g_hi - g_lo) if it < 20 else 0.5 * (lo + hi)
-            if n == 0.0:
-                g = 0.0 - f
-            else:
-                nD = n * D
-                if abs(nD) * 1e6 > va_abs:
-                    J = va / nD
-                    J = jlo if jlo > J else J
-                    J = jhi if jhi < J else J
-                else:
-                    J = j_far
-                kt = ((k0 * J + k1) * J + k2) * J + k3
-                kt = 0.0 if kt < 0.0 else kt
-                g = loss * kt * rho * D4 * abs(n) * n - f
-            if abs(g) <= tol_g or hi - lo <= tol_n:
-                break
-            if g < 0.0:
-                lo, g_lo = n, g
-                if side == -1:
-                    g_hi *= 0.5
-                side = -1
-            else:
-                hi, g_hi = n, g
-                if side == 1:
-                    g_lo *= 0.5
-                side = 1
-        return n
+        return self.command(f, va)
 
 
 # =============================================================================== thruster
@@ -891,7 +884,7 @@ class ThrusterSet:
         """
         c = np.asarray(command, dtype=float)
         ct = np.clip(np.asarray(target, dtype=float), self.command_min, self.command_max)
-        tc = self.time_constants
-        with np.errstate(divide="ignore", over="ignore"):
-            decay = np.where(tc > 0, np.exp(-dt / np.where(tc > 0, tc, 1.0)), 0.0)
-        return ct + (c - ct) * decay
+        return np.array(
+            [rotor_lag(a, b, dt, tau) for a, b, tau in zip(c.tolist(), ct.tolist(), self.time_constants.tolist())],
+            dtype=float,
+        )

@@ -736,8 +736,11 @@ def fly_manoeuvre(
     -------
     (time, states (n, 12), deflections (n, n_surfaces), logic, warnings), time 0 at the execute.
     """
-    if engine is not None and (callable(tau) or servo_step is not None):
-        raise InputError("the compiled manoeuvre loop takes a constant force and the servo law; expected engine=None")
+    if engine is not None and ((callable(tau) and tau is not getattr(engine, "drive", None)) or servo_step is not None):
+        raise InputError(
+            "the compiled manoeuvre loop takes a constant force or its own thruster drive and the servo law; "
+            "expected engine=None"
+        )
     if servo_step is None:
         from hydrokit.model.surfaces import servo_step as law
 
@@ -797,6 +800,12 @@ def fly_manoeuvre(
     t_app = (np.arange(app.shape[0]) - keep) * dt
     # the execute
     u_exec = math.sqrt(float(x[6] ** 2 + x[7] ** 2 + x[8] ** 2))
+    if u_exec < HOLD_MIN_SPEED:
+        # nothing to steer: a manoeuvre at (nearly) no way would idle to its longest budget
+        raise InputError(
+            f"manoeuvre: speed at the execute {u_exec:.3g} m/s after a {(k_app + 1) * dt:.4g} s approach, below "
+            f"the hold's minimum {HOLD_MIN_SPEED:g} m/s; expected more propulsion (--force X, N, or --command)"
+        )
     time_scale = length / u_exec if length and u_exec > 1e-6 else 1.0
     limit = float(lim[surface])
     probe = _probe(f, x, tau_of(x), n_s, surface, limit, 10 if manoeuvre.kind in VERTICAL else 11)
@@ -1003,6 +1012,18 @@ def check_settings(manoeuvre: Manoeuvre, limit: float, dt: float, duration: floa
         )
 
 
+def check_propulsion(force: Any, u0: float) -> None:
+    """Refuse a manoeuvre with nothing to drive it ahead: a constant ``force`` (N, N·m) with no
+    forward X (X ≤ 0 N), no thruster commands and an initial surge speed ``u0`` ≤ 0 m/s — its
+    approach would never gain way and the manoeuvre would idle to its longest budget (InputError)."""
+    X = np.asarray(force, float).reshape(-1)[:1]
+    if X.size and math.isfinite(float(X[0])) and float(X[0]) <= 0.0 and u0 <= 0.0:
+        raise InputError(
+            f"manoeuvre: no propulsion (force X = {float(X[0]):g} N, initial surge speed {u0:g} m/s) — expected "
+            "--force with a forward X (N) or --command NAME=VALUE for the vehicle's thrusters (rev/s)"
+        )
+
+
 def holding_surfaces(
     f: Dynamics, dofs: tuple[int, ...], n_s: int, kind: str, steering: int, hold: bool | None = None
 ) -> tuple[int | None, int | None]:
@@ -1087,11 +1108,12 @@ def run_manoeuvre(
         rotors spin up from rest with their lag during the approach and the commands are held
         through the manoeuvre; the thrust follows each thruster's advance speed step by step
     progress : callable(simulated seconds, longest seconds) or None
-    compiled_loop : bool — with ``loop="compiled"``, a constant ``tau`` and no ``commands``: the
-        whole manoeuvre loop (logic, hold, servo, RK4) compiled
+    compiled_loop : bool — with ``loop="compiled"`` and a constant ``tau``: the whole manoeuvre
+        loop (logic, hold, servo, thruster drive, RK4) compiled
         (:mod:`hydrokit.simulate.manoeuvre_compiled`, about 50× faster); False: the same laws in
         the Python loop around the compiled right-hand side (the reference the compiled loop is
-        tested against). Thruster commands and a ``tau(x)`` always fly in the Python loop.
+        tested against). A ``tau(x)``, and ``commands`` with a table-curve thruster or in a
+        current, fly in the Python loop.
 
     Returns
     -------
@@ -1126,6 +1148,8 @@ def run_manoeuvre(
         tau_c = np.asarray(tau, float)
         if tau_c.shape != (6,) or not np.all(np.isfinite(tau_c)):
             raise InputError(f"force {_shown(tau)}: expected 6 finite numbers (N, N·m)")
+        if commands is None:
+            check_propulsion(tau_c, float(x0[6]))
     if loop == "compiled":
         from hydrokit.simulate.compiled import make_dynamics
 
@@ -1135,10 +1159,13 @@ def run_manoeuvre(
 
         f = vehicle_dynamics(vehicle, current_ned)
     engine = None
-    if loop == "compiled" and drive is None and not callable(tau) and compiled_loop:
-        from hydrokit.simulate.manoeuvre_compiled import Engine
+    if loop == "compiled" and not callable(tau) and compiled_loop:
+        from hydrokit.simulate.manoeuvre_compiled import Engine, drive_compiles
 
-        engine = Engine(vehicle, tau, current_ned)
+        if drive is None:
+            engine = Engine(vehicle, tau, current_ned)
+        elif drive_compiles(drive):
+            engine = Engine(vehicle, tau, current_ned, drive=drive)
     s = vehicle.surfaces
     held = holding_surfaces(f, tuple(vehicle.dofs), len(names), manoeuvre.kind, idx, hold)
     time, states, defl, logic, warnings = fly_manoeuvre(

@@ -10,8 +10,11 @@ laws, the same order of operations: the two loops agree to rounding).
 
 :class:`Engine` is what :func:`hydrokit.simulate.manoeuvre.fly_manoeuvre` takes as ``engine``: a
 vehicle with a constant force (N, N·m) and an optional current, its approach and its manoeuvre.
-Thruster commands (:class:`~hydrokit.simulate.manoeuvre.ThrusterDrive`) and a force that is a
-function of the state fly in the Python loop.
+With thruster commands it also flies :class:`~hydrokit.simulate.manoeuvre.ThrusterDrive`'s law:
+the rotor lag, each propeller's K_T(J) thrust at its advance speed (the laws of
+:mod:`hydrokit.model.thrusters`, compiled) and the configuration matrix, step by step, for
+propeller and ideal thrusters in still water (:func:`drive_compiles`); a table curve, a current
+with thrusters or a force that is a function of the state fly in the Python loop.
 """
 
 from __future__ import annotations
@@ -22,7 +25,9 @@ from typing import Any
 import numpy as np
 
 from hydrokit.core.kinematics import wrap_angle
+from hydrokit.errors import InputError
 from hydrokit.model.control import _euler_rates, depth_to_pitch, pid_law
+from hydrokit.model.thrusters import IdealCurve, PropellerCurve, propeller_thrust, rotor_lag
 from hydrokit.simulate import manoeuvre_laws as L
 from hydrokit.simulate.compiled import BUF_SIZE, compile_law, deriv, njit_noalloc, servo_step_compiled
 
@@ -72,6 +77,8 @@ _keeper_command = _LAWS["keeper_command"]
 _keeper_settled = _LAWS["keeper_settled"]
 _manoeuvre_command = _LAWS["manoeuvre_command"]
 _approach_steady = _LAWS["approach_steady"]
+_propeller_thrust = compile_law(propeller_thrust)
+_rotor_lag = compile_law(rotor_lag)
 
 # status of the loops: done, not yet (the record is full or the chunk ended), non-finite
 _DONE, _RUNNING, _DIVERGED = 1, 0, -1
@@ -137,13 +144,56 @@ def _set_inputs(tau_tab, delta):  # noqa: ANN001, ANN202
 
 
 @njit_noalloc
-def _approach(x, n_app, window, dt, K, lim, rate, tc, delta, cmd, new, rows, used, tau_tab, ctab, V, buf, W):  # noqa: ANN001, ANN202
+def _drive_tau(x, tau_tab, Dr):  # noqa: ANN001, ANN202
+    """τ = force + T f(c_step, V_a(ν)) of :class:`hydrokit.simulate.manoeuvre.ThrusterDrive` in
+    the state ``x`` (still water), written to the force columns of ``tau_tab`` (N, N·m)."""
+    kind, prop, kf, kr, lim, tc, wake, dirs, arms, T, force, target, c, c_step, f = Dr
+    m = kind.shape[0]
+    for j in range(m):
+        # ThrusterSet.thrust: the command clipped to its limits, the thrust to the thrust limits
+        cj = c_step[j]
+        cj = lim[j, 0] if cj < lim[j, 0] else (lim[j, 1] if cj > lim[j, 1] else cj)
+        if kind[j] == 2:
+            va = wake[j] * (
+                (dirs[j, 0] * x[6] + dirs[j, 1] * x[7] + dirs[j, 2] * x[8])
+                + (arms[j, 0] * x[9] + arms[j, 1] * x[10] + arms[j, 2] * x[11])
+            )
+            fj = _propeller_thrust(
+                cj, va, prop[j, 0], prop[j, 1], prop[j, 2], prop[j, 3], kf[j], kr[j], prop[j, 4], prop[j, 5]
+            )
+        else:  # ideal: the command is the thrust
+            fj = cj
+        f[j] = lim[j, 2] if fj < lim[j, 2] else (lim[j, 3] if fj > lim[j, 3] else fj)
+    for i in range(6):
+        s = 0.0
+        for j in range(m):
+            s += T[i, j] * f[j]
+        tau_tab[0, 1 + i] = force[i] + s
+
+
+@njit_noalloc
+def _drive_begin(dt, Dr):  # noqa: ANN001, ANN202
+    """ThrusterDrive.begin_step: the rotors over the step of ``dt`` (s), the step's thrust at
+    their midpoint (c_step); in place."""
+    kind, prop, kf, kr, lim, tc, wake, dirs, arms, T, force, target, c, c_step, f = Dr
+    for j in range(kind.shape[0]):
+        ct = target[j]
+        ct = lim[j, 0] if ct < lim[j, 0] else (lim[j, 1] if ct > lim[j, 1] else ct)
+        c_step[j] = _rotor_lag(c[j], ct, 0.5 * dt, tc[j])
+        c[j] = _rotor_lag(c[j], ct, dt, tc[j])
+
+
+@njit_noalloc
+def _approach(x, n_app, window, dt, K, lim, rate, tc, delta, cmd, new, rows, used, tau_tab, ctab, V, buf, W, Dr):  # noqa: ANN001, ANN202
     """The straight approach (see :meth:`hydrokit.simulate.manoeuvre._PythonLoop.approach`)."""
     n_s = delta.shape[0]
+    drive = Dr[0].shape[0] > 0
     for k in range(n_app):
         t = k * dt
         if K[L.K_ON] > 0:
             if _keeper_due(K, t):
+                if drive:
+                    _drive_tau(x, tau_tab, Dr)
                 _tune(K, t, x, lim, tau_tab, ctab, V, buf, W[5])
             _keeper_command(K, x, dt, cmd, True)
         servo_step_compiled(delta, cmd, dt, lim, rate, tc, new)
@@ -151,6 +201,9 @@ def _approach(x, n_app, window, dt, K, lim, rate, tc, delta, cmd, new, rows, use
             delta[j] = new[j]
             used[k, j] = new[j]
         _set_inputs(tau_tab, delta)
+        if drive:
+            _drive_begin(dt, Dr)
+            _drive_tau(x, tau_tab, Dr)
         if not _rk4(t, x, dt, tau_tab, ctab, V, buf, W):
             return k, _DIVERGED
         for i in range(12):
@@ -188,12 +241,16 @@ def _fly(
     V,
     buf,
     W,
+    Dr,
 ):  # noqa: ANN001, ANN202
     """Steps k0 … k_end − 1 of the manoeuvre (see :meth:`hydrokit.simulate.manoeuvre._PythonLoop.fly`)."""
     n_s = delta.shape[0]
+    drive = Dr[0].shape[0] > 0
     for k in range(k0, k_end):
         t = k * dt
         if _keeper_due(K, t_start + t):
+            if drive:
+                _drive_tau(x, tau_tab, Dr)
             _tune(K, t_start + t, x, lim, tau_tab, ctab, V, buf, W[5])
         _manoeuvre_command(P, S, H, R, K, t, x, dt, cmd, surface)
         servo_step_compiled(delta, cmd, dt, lim, rate, tc, new)
@@ -205,18 +262,69 @@ def _fly(
         if S[L.S_DONE] > 0 or k == n_max:
             return k, _DONE
         _set_inputs(tau_tab, delta)
+        if drive:
+            _drive_begin(dt, Dr)
+            _drive_tau(x, tau_tab, Dr)
         if not _rk4(t, x, dt, tau_tab, ctab, V, buf, W):
             return k, _DIVERGED
     return k_end - 1, _RUNNING
+
+
+def drive_compiles(drive: Any) -> bool:
+    """Whether the compiled loop flies ``drive`` (a
+    :class:`~hydrokit.simulate.manoeuvre.ThrusterDrive`): propeller and ideal curves, in still
+    water (a table curve or a current: the Python loop)."""
+    cur = np.asarray(drive.current, float)
+    still = cur.shape[0] == 1 and not np.any(cur[0, 1:])
+    return still and all(isinstance(cv, (PropellerCurve, IdealCurve)) for cv in drive.thrusters.curves)
+
+
+def _pack_drive(drive: Any) -> tuple[np.ndarray, ...]:
+    """The drive group of the kernels: (kind 0 ideal / 2 propeller, propeller constants
+    [D, ρ, J_lo, J_hi, loss_f, loss_r], K_T forward and reverse padded with leading zeros to one
+    length, limits [c_min, c_max, f_min, f_max], τ (s), 1 − w, e_i, r_i × e_i, T (6 × m), force,
+    target, rotor state c and c_step (the drive's own arrays, advanced in place), scratch)."""
+    ts = drive.thrusters
+    m = len(ts)
+    kind = np.zeros(m, dtype=np.int64)
+    prop = np.zeros((m, 6))
+    curves = ts.curves
+    props = [cv for cv in curves if isinstance(cv, PropellerCurve)]
+    n_poly = max([len(cv.law_args[4]) for cv in props] + [len(cv.law_args[5]) for cv in props] + [1])
+    kf, kr = np.zeros((m, n_poly)), np.zeros((m, n_poly))
+    for j, cv in enumerate(curves):
+        if isinstance(cv, PropellerCurve):
+            kind[j] = 2
+            D, rho, jlo, jhi, k_f, k_r, lf, lr = cv.law_args
+            prop[j] = (D, rho, jlo, jhi, lf, lr)
+            # leading zeros keep Horner's value bit for bit
+            kf[j, n_poly - len(k_f) :] = k_f
+            kr[j, n_poly - len(k_r) :] = k_r
+    lim = np.column_stack([ts.command_min, ts.command_max, ts.f_min, ts.f_max]).astype(float)
+    drive.c = np.ascontiguousarray(drive.c, dtype=float)
+    drive.c_step = np.ascontiguousarray(drive.c_step, dtype=float)
+    return (
+        kind, prop, kf, kr, np.ascontiguousarray(lim), np.asarray(ts.time_constants, float),
+        np.asarray(ts._wake_factor, float), np.ascontiguousarray(ts.directions, dtype=float),
+        np.ascontiguousarray(ts._moment_arms, dtype=float), np.ascontiguousarray(drive.T, dtype=float),
+        np.asarray(drive.force, float), np.asarray(drive.target, float), drive.c, drive.c_step, np.zeros(m),
+    )  # fmt: skip
+
+
+def _no_drive() -> tuple[np.ndarray, ...]:
+    e1, e2 = np.zeros(0), np.zeros((0, 1))
+    return (np.zeros(0, dtype=np.int64), e2, e2, e2, e2, e1, e1, e2, e2, np.zeros((6, 0)), np.zeros(6), e1, e1, e1, e1)
 
 
 class Engine:
     """The compiled manoeuvre loop of ``vehicle`` pushed by the constant force ``tau`` (6 floats,
     N, N·m, body axes) in the current ``current_ned`` (None, 3 floats m/s NED, or rows [t, v_N,
     v_E, v_D]); pass it as ``engine`` to :func:`hydrokit.simulate.manoeuvre.fly_manoeuvre`
-    with ``f = make_dynamics(vehicle, current_ned)``."""
+    with ``f = make_dynamics(vehicle, current_ned)``. With ``drive`` (a
+    :class:`~hydrokit.simulate.manoeuvre.ThrusterDrive` that :func:`drive_compiles`) the force is
+    the drive's, step by step, and its rotor state is advanced in place (``tau`` is then unused)."""
 
-    def __init__(self, vehicle: Any, tau: Any, current_ned: Any = None) -> None:
+    def __init__(self, vehicle: Any, tau: Any, current_ned: Any = None, drive: Any = None) -> None:
         from hydrokit.model.dynamics import check_wind, current_table, pack
         from hydrokit.model.terms import MAX_THRUSTERS
 
@@ -230,6 +338,10 @@ class Engine:
         self.V = (p.Minv, p.Mc, p.DL, p.DQ, p.scal, p.t_dof, p.t_coef, p.t_kind, p.t_idx)
         self.buf = np.empty(BUF_SIZE)
         self.W = np.empty((6, 12))
+        if drive is not None and not drive_compiles(drive):
+            raise InputError("the compiled manoeuvre loop flies propeller and ideal thrusters in still water")
+        self.drive = drive
+        self.Dr = _no_drive() if drive is None else _pack_drive(drive)
 
     def approach(
         self,
@@ -246,7 +358,7 @@ class Engine:
         K = keeper.K if keeper is not None else np.zeros(L.K_SIZE)
         k, status = _approach(
             x, n_app, window, float(dt), K, sv.lim, sv.rate, sv.tc, sv.delta, sv.cmd, sv.new, rows, used,
-            self.tau_tab, self.ctab, self.V, self.buf, self.W,
+            self.tau_tab, self.ctab, self.V, self.buf, self.W, self.Dr,
         )  # fmt: skip
         return int(k), int(status)
 
@@ -270,6 +382,6 @@ class Engine:
         k, status = _fly(
             x, k0, k_end, n_max, float(dt), float(t_start), surface, logic.P, logic.S, logic.H, logic.R, K,
             sv.lim, sv.rate, sv.tc, sv.delta, sv.cmd, sv.new, states, defl, self.tau_tab, self.ctab, self.V,
-            self.buf, self.W,
+            self.buf, self.W, self.Dr,
         )  # fmt: skip
         return int(k), int(status)

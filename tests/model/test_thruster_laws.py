@@ -1,0 +1,79 @@
+"""The plain-float thruster laws of model/thrusters.py against independent references: the
+open-water curve evaluated by numpy's polyval, the bollard closed form, the inverse by a root
+finder of scipy, and the exact first-order lag."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+from hydrokit.model.thrusters import PropellerCurve, propeller_speed, propeller_thrust, rotor_lag
+
+KF = (-0.05, -0.1, -0.25, 0.42)
+KR = (0.02, 0.05, 0.3, 0.3)
+ARGS = (0.12, 1025.0, -0.5, 1.0, KF, KR, 0.9, 0.8)  # D m, ρ kg/m³, J range, K_T, losses
+
+
+@pytest.mark.parametrize("n, va", [(17.5, 0.4), (5.0, 0.0), (-12.0, 0.3), (30.0, -0.2), (2.0, 1.5)])
+def test_propeller_thrust_is_the_open_water_curve(n, va):
+    D, rho, lo, hi = 0.12, 1025.0, -0.5, 1.0
+    J = min(max(va / (n * D), lo), hi)
+    kt = max(float(np.polyval(KF if n > 0 else KR, J)), 0.0)
+    loss = 0.9 if n > 0 else 0.8
+    # polyval's Horner is the law's operation order: rel 1e-14 covers the product's rounding
+    assert propeller_thrust(n, va, *ARGS) == pytest.approx(loss * kt * rho * D**4 * abs(n) * n, rel=1e-14)
+
+
+@pytest.mark.parametrize("f", [3.0, -2.0])
+def test_propeller_speed_at_rest_is_the_bollard_closed_form(f):
+    kt0, loss = (0.42, 0.9) if f > 0 else (0.3, 0.8)
+    n = math.copysign(math.sqrt(abs(f) / (loss * kt0 * 1025.0 * 0.12**4)), f)
+    assert propeller_speed(f, 0.0, 40.0, *ARGS) == pytest.approx(n, rel=1e-14)
+
+
+@pytest.mark.parametrize("f, va", [(3.0, 0.5), (-2.0, 0.3), (10.0, 1.2)])
+def test_propeller_speed_inverts_the_thrust_as_brentq_does(f, va):
+    from scipy.optimize import brentq
+
+    n_max = 40.0
+    lo, hi = (0.0, n_max) if f > 0 else (-n_max, 0.0)
+    ref = brentq(lambda n: propeller_thrust(n, va, *ARGS) - f, lo, hi, xtol=1e-14, rtol=1e-14)
+    n = propeller_speed(f, va, n_max, *ARGS)
+    assert n == pytest.approx(ref, rel=1e-9)
+    assert propeller_thrust(n, va, *ARGS) == pytest.approx(f, rel=1e-10)
+
+
+def test_propeller_speed_beyond_the_curve_is_the_speed_limit():
+    big = 10 * propeller_thrust(40.0, 0.5, *ARGS)
+    assert propeller_speed(big, 0.5, 40.0, *ARGS) == 40.0
+
+
+def test_the_curve_calls_the_laws():
+    p = PropellerCurve(0.12, KF, 40.0, KR, 0.9, 0.8, density=1025.0)
+    assert p.thrust(17.5, 0.4) == propeller_thrust(17.5, 0.4, *ARGS)
+    assert p.command(3.0, 0.5) == propeller_speed(3.0, 0.5, 40.0, *ARGS)
+
+
+def test_rotor_lag_is_the_exact_first_order_response():
+    # τ ċ = c_t − c from c = 2 to c_t = 10 with τ = 0.5 s: c(t) = 10 − 8 e^(−t/τ); two half steps
+    # give one whole step (the law is exact for a held target)
+    c1 = rotor_lag(2.0, 10.0, 0.3, 0.5)
+    assert c1 == pytest.approx(10.0 - 8.0 * math.exp(-0.6), rel=1e-15)
+    assert rotor_lag(rotor_lag(2.0, 10.0, 0.15, 0.5), 10.0, 0.15, 0.5) == pytest.approx(c1, rel=1e-14)
+    assert rotor_lag(2.0, 10.0, 0.3, 0.0) == 10.0
+
+
+def test_the_laws_compile_to_the_same_values():
+    # compile_law (the numba path of the compiled loops) on the same code objects: the compiled
+    # inversion gives the Python one's value (same operations; rel 1e-12 allows a fused multiply-add)
+    from hydrokit.simulate.compiled import compile_law
+
+    thrust = compile_law(propeller_thrust)
+    speed = compile_law(propeller_speed, propeller_thrust=thrust)
+    kf, kr = np.array(KF), np.array(KR)
+    args = (0.12, 1025.0, -0.5, 1.0, kf, kr, 0.9, 0.8)
+    for f, va in ((3.0, 0.5), (-2.0, 0.3), (3.0, 0.0)):
+        assert speed(f, va, 40.0, *args) == pytest.approx(propeller_speed(f, va, 40.0, *ARGS), rel=1e-12)
+    assert thrust(17.5, 0.4, *args) == pytest.approx(propeller_thrust(17.5, 0.4, *ARGS), rel=1e-12)
