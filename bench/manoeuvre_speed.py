@@ -153,7 +153,7 @@ def _command_turn(v: Any, seconds: float, dt: float, compiled: bool) -> tuple[in
 
 def command_speed(seconds: float = 2000.0, python_seconds: float = 20.0, dt: float = 0.02) -> dict[str, float]:
     """Steps/s of the manoeuvre loop flying thruster commands: compiled and Python."""
-    from hydrokit.io.vehicle import load_vehicle
+    from hydrokit.api import load_vehicle  # the bundled vehicle with its thrusters
 
     out: dict[str, float] = {}
     print(f"== --command propeller=11.567: approach, then a turning circle at 15°, depth held, dt = {dt} s ==")
