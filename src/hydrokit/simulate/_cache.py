@@ -152,7 +152,8 @@ def njit(func: Callable[..., Any] | None = None, **options: Any) -> Any:  # noqa
 
     def wrap(f: Callable[..., Any]) -> Dispatcher:
         disp = numba.njit(**options)(f)
-        disp._cache = LawCache(disp.py_func, disp)
+        if isinstance(disp, Dispatcher):  # NUMBA_DISABLE_JIT=1 hands back the Python function
+            disp._cache = LawCache(disp.py_func, disp)  # type: ignore[attr-defined]  # enable_caching, keyed
         return disp
 
     return wrap if func is None else wrap(func)
