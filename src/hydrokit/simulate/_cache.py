@@ -31,7 +31,8 @@ from numba.core.caching import FunctionCache
 from numba.core.dispatcher import Dispatcher
 
 _FILE_HASH: dict[str, str] = {}
-_DEPS: dict[int, tuple[str, str]] = {}
+#: id → (the dispatcher, kept alive so that its id is never reused; its hashes)
+_DEPS: dict[int, tuple[Dispatcher, tuple[str, str]]] = {}
 
 
 def _file_hash(path: str) -> str:
@@ -97,8 +98,8 @@ def dependencies(disp: Dispatcher) -> tuple[str, str]:
     hash only which compiled functions it calls by which name."""
     key = id(disp)
     if key in _DEPS:
-        return _DEPS[key]
-    _DEPS[key] = ("", "")  # a recursion (a kernel reaching itself) adds nothing twice
+        return _DEPS[key][1]
+    _DEPS[key] = (disp, ("", ""))  # a recursion (a kernel reaching itself) adds nothing twice
     code = disp.py_func.__code__
     src = hashlib.sha256(_file_hash(code.co_filename).encode())
     src.update(code.co_code)
@@ -112,8 +113,8 @@ def dependencies(disp: Dispatcher) -> tuple[str, str]:
         text = _constant(value)
         if text is not None:
             src.update(f"{name}={text};".encode())
-    _DEPS[key] = (src.hexdigest(), binding.hexdigest()[:8])
-    return _DEPS[key]
+    _DEPS[key] = (disp, (src.hexdigest(), binding.hexdigest()[:8]))
+    return _DEPS[key][1]
 
 
 class LawCache(FunctionCache):
