@@ -195,6 +195,10 @@ def rotor_lag(c: float, target: float, dt: float, time_constant: float) -> float
     return target
 
 
+#: :func:`rotor_lag` broadcast over arrays (one law; numpy calls it element by element)
+_ROTOR_LAG = np.vectorize(rotor_lag, otypes=[float])
+
+
 # =========================================================================== thrust curves
 class ThrustCurve(abc.ABC):
     """Command ↔ thrust of one thruster (steady state, no rotor lag).
@@ -875,16 +879,16 @@ class ThrusterSet:
         va = np.zeros(len(self)) if advance_speed is None else np.asarray(advance_speed, float)
         return self._batch(False, f, va)
 
-    def rotor_step(self, command: ArrayLike, target: ArrayLike, dt: float) -> Array:
+    def rotor_step(self, command: ArrayLike, target: ArrayLike, dt: ArrayLike) -> Array:
         """Advance the first-order rotor dynamics τ ċ = c_target − c by ``dt`` (s), exactly.
 
         With the target held over the step (zero-order hold) the solution is
         ``c(t+dt) = c_t + (c − c_t) e^(−dt/τ)``; τ = 0 follows the target at once.
-        Both arguments are command vectors (rev/s, table unit or N).
+        Both arguments are command vectors (rev/s, table unit or N), or arrays of them whose last
+        axis is the thruster; ``dt`` (s) a number or an array that broadcasts against them (the
+        identification's force tables advance many nodes at once). The law is :func:`rotor_lag`,
+        applied element by element.
         """
         c = np.asarray(command, dtype=float)
         ct = np.clip(np.asarray(target, dtype=float), self.command_min, self.command_max)
-        return np.array(
-            [rotor_lag(a, b, dt, tau) for a, b, tau in zip(c.tolist(), ct.tolist(), self.time_constants.tolist())],
-            dtype=float,
-        )
+        return np.asarray(_ROTOR_LAG(c, ct, np.asarray(dt, dtype=float), self.time_constants), dtype=float)
