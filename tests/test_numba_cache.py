@@ -21,7 +21,7 @@ import hydrokit
 #: kernels still on numba's plain cache while calling a compiled function of another file (so a
 #: change there is not seen by their cache): each is to move onto ``hydrokit.simulate._cache.njit``
 #: when its module is next touched. The set only shrinks: an entry that no longer applies fails.
-PENDING = {"hydrokit.simulate.sysid_smooth._accelerations"}
+PENDING: set[str] = set()
 
 
 def _kernels() -> dict:

@@ -27,12 +27,12 @@ import math
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 
-import numba
 import numpy as np
 
 from hydrokit.errors import InputError
 from hydrokit.model.vehicle import Vehicle
 from hydrokit.simulate import compiled as _compiled
+from hydrokit.simulate._cache import njit
 from hydrokit.simulate.compiled import deriv
 from hydrokit.simulate.sysid_model import CHANNELS, Parameter, RunData, stack_packs, values_of, with_values
 
@@ -57,7 +57,7 @@ class Smoothed:
         return np.array([np.interp(t, self.time, self.states[:, k]) for k in range(12)])
 
 
-@numba.njit(cache=True)
+@njit
 def _mm3(A, B, out):  # noqa: ANN001, ANN202
     """out = A B for 3 × 3 arrays (no allocation: the filter's steps are many and tiny)."""
     for i in range(3):
@@ -65,7 +65,7 @@ def _mm3(A, B, out):  # noqa: ANN001, ANN202
             out[i, j] = A[i, 0] * B[0, j] + A[i, 1] * B[1, j] + A[i, 2] * B[2, j]
 
 
-@numba.njit(cache=True)
+@njit
 def _mm3t(A, B, out):  # noqa: ANN001, ANN202
     """out = A Bᵀ for 3 × 3 arrays."""
     for i in range(3):
@@ -73,7 +73,7 @@ def _mm3t(A, B, out):  # noqa: ANN001, ANN202
             out[i, j] = A[i, 0] * B[j, 0] + A[i, 1] * B[j, 1] + A[i, 2] * B[j, 2]
 
 
-@numba.njit(cache=True)
+@njit
 def _inv3(A, out):  # noqa: ANN001, ANN202
     """out = A⁻¹ of a 3 × 3 array by its cofactors (A a covariance: symmetric positive definite)."""
     c00 = A[1, 1] * A[2, 2] - A[1, 2] * A[2, 1]
@@ -94,7 +94,7 @@ def _inv3(A, out):  # noqa: ANN001, ANN202
     out[2, 2] = (A[0, 0] * A[1, 1] - A[0, 1] * A[1, 0]) / det
 
 
-@numba.njit(cache=True)
+@njit
 def _rts(times, values, measured, q, r, smooth, out):  # noqa: ANN001, ANN202
     """Kalman filter (and RTS smoother if ``smooth``) of the white-jerk kinematic model
     s = [y, ẏ, ÿ] over ``times`` (values used where ``measured``); returns the log-likelihood,
@@ -261,7 +261,7 @@ def smooth_run(run: RunData, dt: float = 0.02) -> Smoothed:
 _BUF = _compiled.BUF_SIZE
 
 
-@numba.njit(cache=True)
+@njit
 def _accelerations(T, X, U, env, Minv, Mc, DL, DQ, scal, t_dof, t_coef, t_kind, t_idx, out):  # noqa: ANN001, ANN202
     """ν̇ for every vehicle k and state row i at time T[i] and input row U[i] = [X..N, δ_1 … δ_n]
     in the current and wind of ``env`` at T[i] (the compiled right-hand side)."""
