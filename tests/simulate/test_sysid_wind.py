@@ -145,3 +145,31 @@ def test_the_command_line_refuses_a_bad_wind_name_in_one_line(tmp_path: Path, ru
     assert code == 2 and "Traceback" not in err
     assert "'wind.CD_T'" in err and "(nearest: wind.CD_t" in err and len(err.strip().splitlines()) == 1
     assert not (tmp_path / "fit").exists()
+
+
+def test_a_fit_keeps_wind_fields_inside_the_range_the_file_accepts() -> None:
+    """The fit's bounds on wind fields are the wind block's own checks (model/wind.make_wind):
+    areas and CD_t > 0, the longitudinal drag numbers ≥ 0, δ within 0–1; s_L and a table's
+    coefficients take either sign — so a fit never writes a wind block hydrokit refuses."""
+    from hydrokit.model.wind import make_wind
+    from hydrokit.simulate.sysid import _bounds
+
+    v = wind_ship()
+    names = ["wind.CD_t", "wind.lateral_area", "wind.s_L", "wind.delta", "wind.CD_l_AF_stern"]
+    _, params = free_parameters(v, names)
+    lower, upper = _bounds(v, params)
+    cd_t_floor, area_floor = float(lower[0]), float(lower[1])
+    assert 0.0 < cd_t_floor < 1e-6 and 0.0 < area_floor < 1e-6
+    assert list(lower[2:]) == [-math.inf, 0.0, 0.0]
+    assert list(upper) == [math.inf, math.inf, math.inf, 1.0, math.inf]
+    t = wind_ship(wind=copy.deepcopy(TABLE))
+    _, params = free_parameters(t, ["wind.coefficients.C_Y.90", "wind.frontal_area"])
+    lower, upper = _bounds(t, params)
+    assert lower[0] == -math.inf and 0.0 < lower[1] < 1e-6 and list(upper) == [math.inf, math.inf]
+    # every end of those ranges is accepted by the file's checks, and the next step past is refused
+    make_wind(area_floor, area_floor, 3.0, model="blendermann1994", parameters=[cd_t_floor, 0.0, 0.0, 1.0])
+    for bad in ([0.0, 0.9, 0.5, 0.4], [0.7, 0.9, 0.5, 1.0 + 1e-9], [0.7, -1e-9, 0.5, 0.4]):
+        with pytest.raises(InputError, match="wind.parameters"):
+            make_wind(0.1, 0.4, 3.0, model="blendermann1994", parameters=bad)
+    with pytest.raises(InputError, match="wind.frontal_area"):
+        make_wind(0.0, 0.4, 3.0, model="blendermann1994", vessel="tanker_loaded")

@@ -774,7 +774,9 @@ def _identify(
     )
 
 
-#: the range a surface's or thruster's free field must keep for the model to accept it (the
+#: the smallest value a wind field that must be positive is fitted to (m² or –)
+WIND_FLOOR = 1e-9
+#: the range a surface's, thruster's or wind model's free field must keep for the model to accept it (the
 #: vehicle file's own checks: 0 ≤ w, t < 1; a size or slope is not negative), in its unit
 FIELD_RANGE: dict[str, tuple[float, float]] = {
     "wake_fraction": (0.0, 0.99),
@@ -783,7 +785,20 @@ FIELD_RANGE: dict[str, tuple[float, float]] = {
     "area": (0.0, math.inf),
     "diameter": (0.0, math.inf),
     "drag_coefficient": (0.0, math.inf),
+    # the wind model's (model/wind.py make_wind): areas and CD_t > 0 (held a hair above 0, which
+    # the file refuses), the longitudinal drag numbers ≥ 0, δ within 0–1; s_L and a table's
+    # coefficients take either sign
+    "frontal_area": (WIND_FLOOR, math.inf),
+    "lateral_area": (WIND_FLOOR, math.inf),
+    "CD_t": (WIND_FLOOR, math.inf),
+    "CD_l_AF_bow": (0.0, math.inf),
+    "CD_l_AF_stern": (0.0, math.inf),
+    "delta": (0.0, 1.0),
 }
+
+
+#: parameter kinds that are a file field (their range in :data:`FIELD_RANGE`)
+FIELD_KINDS = ("surface", "thruster", "wind")
 
 
 def _bounds(vehicle: Vehicle, params: Sequence[Parameter]) -> tuple[np.ndarray, np.ndarray]:
@@ -795,7 +810,7 @@ def _bounds(vehicle: Vehicle, params: Sequence[Parameter]) -> tuple[np.ndarray, 
     signs = np.array([physical_sign(parameter_ref(vehicle, q.name)) for q in params], dtype=float)
     lower, upper = np.where(signs > 0, 0.0, -np.inf), np.where(signs < 0, 0.0, np.inf)
     for k, q in enumerate(params):
-        if q.kind in ("surface", "thruster"):
+        if q.kind in FIELD_KINDS:
             lower[k], upper[k] = FIELD_RANGE.get(q.name.rpartition(".")[2], (-math.inf, math.inf))
     return lower, upper
 
@@ -804,7 +819,7 @@ def _bound_messages(params: Sequence[Parameter], theta: np.ndarray, lower: np.nd
     """One message per parameter held on its physical bound."""
     out = []
     for q, v, lo, hi in zip(params, theta, lower, upper):
-        if q.kind in ("surface", "thruster") and v in (lo, hi):
+        if q.kind in FIELD_KINDS and v in (lo, hi):
             out.append(
                 f"{q.name} is held at the end of its range [{lo:g}, {hi:g}] {q.unit}: these runs push it past — "
                 "the model misses something (see the verdict) or the runs do not determine it"
