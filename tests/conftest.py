@@ -47,9 +47,10 @@ REFERENCE = Path(__file__).parent / "reference"
 
 # --- Without the JIT (.ci/coverage) -------------------------------------------------------------
 #
-# .ci/coverage runs the suite with NUMBA_DISABLE_JIT=1 so that line coverage sees the compiled
-# kernels; they then run as plain Python, 50-500x slower. Tests whose cost is a long compiled loop
-# (and whose assertions depend on its length, so it cannot simply be shortened) carry
+# .ci/coverage runs the compiled kernels' tests with NUMBA_DISABLE_JIT=1 so that line coverage sees
+# the kernels' bodies (anyone may run any test so); they then run as plain Python, 50-500x slower.
+# Tests whose cost is a long compiled loop (and whose assertions depend on its length, so it
+# cannot simply be shortened) carry
 # ``@pytest.mark.needs_jit(reason=...)`` and are skipped there; .ci/run still runs them compiled.
 JIT_OFF = os.environ.get("NUMBA_DISABLE_JIT", "0") not in ("", "0")
 NEEDS_JIT_REASON = "NUMBA_DISABLE_JIT is set: too slow as interpreted Python (runs in the JIT suite)"
