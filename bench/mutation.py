@@ -163,8 +163,8 @@ EQUIVALENT: dict[tuple[str, str, str], str] = {
             "unchanged: the clamp is a no-op for e = 0 and for the other sense alike"
         )
         for code, op in (
-            ("if self.ki > 0 and raw > self.output_max and e < 0:", "0 -> 1 [2]"),
-            ("elif self.ki > 0 and raw < self.output_min and e > 0:", "> -> >= [2]"),
+            ("if ki > 0 and raw > output_max and e < 0:", "0 -> 1 [2]"),
+            ("elif ki > 0 and raw < output_min and e > 0:", "> -> >= [2]"),
         )
     },
     (
@@ -225,13 +225,9 @@ EQUIVALENT: dict[tuple[str, str, str], str] = {
         "scaled by mass / ΣV): a common factor on every V cancels"
     ),
     ("core/rigid_body.py", "M[3:6, 0:3] = mass * S", "6 -> 7"): ("M is 6×6: the slice 3:7 is 3:6"),
-    ("model/control.py", "if self.ki > 0 and raw > self.output_max and e < 0:", "0 -> 1 [1]"): (
+    ("model/control.py", "if ki > 0 and raw > output_max and e < 0:", "0 -> 1 [1]"): (
         "with 0 ≤ e < 1 the branch runs too, but there the integral only grew (I + e dt ≥ I), and "
         "max(I + e dt, min(I, at_limit)) keeps it: the output is unchanged"
-    ),
-    ("model/thrusters.py", "j_far = jhi if (va > 0) == fwd else jlo", "> -> >="): (
-        "j_far is used only where |n D|·1e6 ≤ |V_a|, and n is the speed limit (> 0): never at V_a = 0, "
-        "the one value where > and >= differ"
     ),
     ("identify/rig_model.py", "th = np.linspace(0.0, 2.0 * math.pi, 257)[:-1]", "2.0 -> 3.0"): (
         "every restoring shape is odd, so ρ(a cos θ) cos θ has period π: its mean over 256 even samples "
@@ -250,10 +246,8 @@ EQUIVALENT: dict[tuple[str, str, str], str] = {
     **_alike(
         "model/thrusters.py",
         "a clamp written as a conditional: where J equals the bound, both branches give the same value",
-        ("J = jlo if jlo > J else J  # max(J, jlo)", "> -> >="),
-        ("J = jhi if jhi < J else J  # min(J, jhi)", "< -> <="),
-        ("J = jlo if jlo > J else J", "> -> >="),
-        ("J = jhi if jhi < J else J", "< -> <="),
+        ("J = j_lo if j_lo > J else J  # max(J, j_lo)", "> -> >="),
+        ("J = j_hi if j_hi < J else J  # min(J, j_hi)", "< -> <="),
     ),
     ("identify/rig_model.py", "if abs(net) <= 1e-9 * max(rig.weight, rig.buoyancy, 1e-30) * r:", "<= -> <"): (
         "differs only when the net restoring moment is exactly 1e-9 of W·r to the last bit"
@@ -300,11 +294,6 @@ EQUIVALENT: dict[tuple[str, str, str], str] = {
     ("estimate/composite.py", "DQ_out[:3] = elements[at_origin, 6:9].sum(axis=0)", "9 -> 10"): (
         "elements is the packed drag table of core.drag, PACKED_WIDTH = 9 columns: the slice 6:10 is 6:9"
     ),
-    (
-        "model/thrusters.py",
-        "kt = _horner(self.kt_forward if n > 0 else self.kt_reverse, J)  # type: ignore[arg-type]",
-        "> -> >=",
-    ): ("thrust() returns 0 for n == 0 a few lines above: here n ≠ 0, so n > 0 and n >= 0 agree"),
     ("model/thrusters.py", "if g_hi <= 0.0:  # even the speed limit does not give f (forward)", "<= -> <"): (
         "g_hi == 0 exactly: the root search's first false-position step (lo·g_hi − hi·g_lo)/(g_hi − g_lo) "
         "is hi itself, where g = 0 meets the stopping test: the same speed limit is returned"
@@ -365,10 +354,6 @@ EQUIVALENT: dict[tuple[str, str, str], str] = {
     ),
     ("core/rigid_body.py", "M[3:6, 3:6] = parallel_axis(I_cg, mass, r_g)", "6 -> 7 [2]"): (
         "M is 6×6: numpy clips the slice 3:7 to 3:6, the same block"
-    ),
-    ("model/thrusters.py", "if abs(g) <= tol_g or hi - lo <= tol_n:", "<= -> < [1]"): (
-        "the root search's stopping test: differs only for a thrust residual of exactly 1e-12 |f| to the "
-        "last bit (probability 0), and then one more Illinois step lands within the same tolerance"
     ),
     (
         "model/allocation.py",
@@ -505,8 +490,8 @@ EQUIVALENT: dict[tuple[str, str, str], str] = {
         "model/thrusters.py",
         "n = 0 returned 0.0 above, and this branch needs |va| ≥ 1e6 |n D| > 0: neither va nor n is zero "
         "here, so > 0 and ≥ 0 agree",
-        ("J = hi if (va > 0) == (n > 0) else lo", "> -> >= [1]"),
-        ("J = hi if (va > 0) == (n > 0) else lo", "> -> >= [2]"),
+        ("J = j_hi if (va > 0) == (n > 0) else j_lo", "> -> >= [1]"),
+        ("J = j_hi if (va > 0) == (n > 0) else j_lo", "> -> >= [2]"),
     ),
     ("model/thrusters.py", "_BISECTION_STEPS = 80", "80 -> 81"): (
         "an iteration cap never reached: after 20 false-position steps plain bisection halves a bracket "
@@ -548,22 +533,20 @@ EQUIVALENT: dict[tuple[str, str, str], str] = {
         "the free entries' fill value: every free entry is overwritten by the minimum-norm solution on the "
         "next lines (g[free] = ...) before g is read"
     ),
-    # the advance-ratio guard, in thrust() / _thrust_fast (abs(va)) and _command_fast (va_abs)
+    # the advance-ratio guard of propeller_thrust
     **_alike(
         "model/thrusters.py",
         "for 1e6 < |J| ≤ 1000001 both branches give the same range end: the first clamps J = V_a/(nD) to "
         "hi or lo, the other picks hi or lo from the same signs",
         ("if abs(nD) * 1e6 > abs(va):", "1000000.0 -> 1000001.0"),
-        ("if abs(nD) * 1e6 > va_abs:", "1000000.0 -> 1000001.0"),
     ),
     **_alike(
         "model/thrusters.py",
         "at |n D|·1e6 = |V_a| exactly |J| = 1e6, far outside any K_T range: the clamped J of the first "
         "branch and the sign-only J of the other are the same range end",
         ("if abs(nD) * 1e6 > abs(va):", "> -> >="),
-        ("if abs(nD) * 1e6 > va_abs:", "> -> >="),
     ),
-    ("model/thrusters.py", "k, loss = (kf, lf) if n > 0 else (kr, lr)", "> -> >="): (
+    ("model/thrusters.py", "k = kt_forward if n > 0 else kt_reverse", "> -> >="): (
         "n = 0 returned two lines above, so n ≥ 0 and n > 0 pick the same curve"
     ),
     ("identify/estimators.py", "p0 = np.zeros(6)", "6 -> 7"): (
@@ -572,9 +555,6 @@ EQUIVALENT: dict[tuple[str, str, str], str] = {
     ("identify/preprocess.py", "tt, aa = times[j:n] - times[j], amps[j:n]", "- -> +"): (
         "the times shift by the constant 2·times[j]; the regression has a constant column, so only the "
         "intercept moves: the slope and its standard error (the only things read) are unchanged"
-    ),
-    ("model/thrusters.py", "kt = 0.0 if kt < 0.0 else kt", "< -> <="): (
-        "at kt = ±0 both keep a zero; the thrust it multiplies enters only g = thrust − f, the same for +0 and −0"
     ),
     (
         "estimate/composite.py",
@@ -886,7 +866,6 @@ EQUIVALENT: dict[tuple[str, str, str], str] = {
         "model/thrusters.py",
         "the root search's bracket-width stop: differs only for a bracket exactly 1e-12 n_max wide to the "
         "last bit (probability 0), and then one more step stays inside the same bracket",
-        ("if abs(g) <= tol_g or hi - lo <= tol_n:", "<= -> < [2]"),
         ("if abs(g) <= 1e-12 * abs(f) or hi - lo <= 1e-12 * n_max:", "<= -> < [2]"),
     ),
     ("model/thrusters.py", "done[j] = True", "True -> False"): (
@@ -1000,15 +979,15 @@ EQUIVALENT: dict[tuple[str, str, str], str] = {
         "0:4 adds column 3, which the second test (3:6) requires to be zero as well: the conjunction "
         "covers columns 0–5 either way"
     ),
-    ("model/control.py", "if self.ki > 0 and raw > self.output_max and e < 0:", "> -> >= [2]"): (
+    ("model/control.py", "if ki > 0 and raw > output_max and e < 0:", "> -> >= [2]"): (
         "at raw = output_max the integral already puts the output at the limit: at_limit equals it "
         "(to the rounding of one division), and max(I, min(I_prev, I)) = I"
     ),
-    ("model/control.py", "elif self.ki > 0 and raw < self.output_min and e > 0:", "< -> <="): (
+    ("model/control.py", "elif ki > 0 and raw < output_min and e > 0:", "< -> <="): (
         "at raw = output_min the integral already puts the output at the limit: at_limit equals it "
         "(to the rounding of one division), and min(I, max(I_prev, I)) = I"
     ),
-    ("model/control.py", "if self.ki > 0 and raw > self.output_max and e < 0:", "< -> <="): (
+    ("model/control.py", "if ki > 0 and raw > output_max and e < 0:", "< -> <="): (
         "at e = 0 the integral is the previous one (inside ±bound, as every update leaves it), so "
         "max(I, min(I, at_limit)) = I: the branch changes nothing"
     ),
@@ -1041,7 +1020,7 @@ EQUIVALENT: dict[tuple[str, str, str], str] = {
         "'fewer than two cycles' either way: the shift (p1 p3 − p2²)/(p1 + p3 − 2 p2) lies strictly "
         "between the middle peak and the smaller outer one, so no peak changes sign"
     ),
-    ("model/thrusters.py", "loss = self.thrust_loss_forward if n > 0 else self.thrust_loss_reverse", "> -> >="): (
+    ("model/thrusters.py", "loss = loss_forward if n > 0 else loss_reverse", "> -> >="): (
         "n = 0 returns 0.0 before this line, so n > 0 and n >= 0 pick the same loss"
     ),
     ("identify/estimators.py", "restarts: int = 3,", "3 -> 4"): (
