@@ -30,6 +30,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from hydrokit._atomic import raise_if_interrupted
 from hydrokit.core.kinematics import rotation_zyx, wrap_angle
 from hydrokit.errors import InputError, SimulationError
 from hydrokit.model.allocation import Allocator
@@ -193,6 +194,9 @@ def run_closed_loop(
     r_cmd_d, r_cmd, r_f_d, r_f = rec["command_demand"], rec["command"], rec["thrust_demand"], rec["thrust"]
     r_lim, r_leg = rec["limited"], rec["leg"]
     for k in range(n_steps + 1):
+        if k % 1000 == 0:
+            # a termination signal whose raise numba's compiler swallowed stops the run here
+            raise_if_interrupted()
         t = k * dt
         eta, nu = x[:6], x[6:]
         psi = float(eta[5])
