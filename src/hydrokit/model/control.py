@@ -221,9 +221,17 @@ class SPlane:
     ) -> tuple[float, AxisState]:
         """One control step; arguments and returns as :meth:`PID.update`."""
         e, rate = _error_and_rate(state, measurement, setpoint, dt, rate, self.angle)
-        # surface() on two floats: the same arithmetic without the 0-d arrays
-        u = float(np.tanh(0.5 * (self.k1 * e + self.k2 * rate)))
-        return -self.scale * u, AxisState(integral=state.integral, previous=float(measurement))
+        out = splane_law(self.k1, self.k2, self.scale, e, rate)
+        return out, AxisState(integral=state.integral, previous=float(measurement))
+
+
+def splane_law(k1, k2, scale, e, rate):  # noqa: ANN001, ANN201
+    """One step of :class:`SPlane` on plain floats: the output ``−scale · tanh((k1 e + k2 ė)/2)``
+    (N or N·m, the S-surface :meth:`SPlane.surface` without overflow) from the gains k1 (1 per
+    error unit), k2 (s per error unit), the error e = y − y_d (already wrapped for an angle) and
+    its rate ė. Written once: :meth:`SPlane.update` calls it as Python, the compiled closed loop
+    compiles it (``compile_law``)."""
+    return -scale * math.tanh(0.5 * (k1 * e + k2 * rate))
 
 
 def depth_to_pitch(z, z_d, gain, max_pitch):  # noqa: ANN001, ANN201

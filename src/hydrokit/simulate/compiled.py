@@ -36,6 +36,7 @@ import numpy as np
 from hydrokit.core.drag import add_drag_wrench
 from hydrokit.model.surfaces import FIN_WIDTH, MAX_SURFACES, fin_wrench, servo_step, steer_surfaces
 from hydrokit.model.terms import MAX_THRUSTERS, add_term_forces
+from hydrokit.model.thrusters import propeller_speed, propeller_thrust, rotor_lag
 from hydrokit.model.wind import wind_coefficients, wind_wrench
 from hydrokit.simulate._cache import njit
 
@@ -75,6 +76,10 @@ _wind = compile_law(wind_wrench, wind_coefficients=compile_law(wind_coefficients
 steer_surfaces_compiled = compile_law(
     steer_surfaces, add_term_forces=_terms, fin_wrench=_fin, servo_step=servo_step_compiled
 )
+# the thruster laws (model/thrusters.py), for the compiled closed loop and manoeuvre loop
+propeller_thrust_compiled = compile_law(propeller_thrust)
+propeller_speed_compiled = compile_law(propeller_speed, propeller_thrust=propeller_thrust_compiled)
+rotor_lag_compiled = compile_law(rotor_lag)
 
 
 @njit(inline="always")

@@ -49,16 +49,20 @@ from numpy.typing import ArrayLike
 
 from hydrokit.errors import InputError, SimulationError
 from hydrokit.model.allocation import Allocator, _ConstrainedSolver
-from hydrokit.model.control import PID, Autopilot, SPlane, depth_to_pitch
+from hydrokit.model.control import PID, Autopilot, SPlane, depth_to_pitch, pid_law, splane_law
 from hydrokit.model.guidance import _HORIZONTAL_EPS, Path
 from hydrokit.model.thrusters import IdealCurve, PropellerCurve, TableCurve, ThrusterSet
 from hydrokit.simulate._cache import njit
 from hydrokit.simulate.budget import check_memory
 from hydrokit.simulate.closed_loop import ClosedLoopResult
 from hydrokit.simulate.compiled import BUF_SIZE, compile_law, deriv, njit_noalloc, steer_surfaces_compiled
+from hydrokit.simulate.compiled import propeller_speed_compiled as _propeller_speed
+from hydrokit.simulate.compiled import propeller_thrust_compiled as _propeller_thrust
 
 _EPS = float(np.finfo(float).eps)
 _depth_to_pitch = compile_law(depth_to_pitch)
+_pid_law = compile_law(pid_law)
+_splane_law = compile_law(splane_law)
 # status codes of _loop
 _RUNNING, _DONE, _DIVERGED = 0, 1, 2
 
@@ -67,14 +71,6 @@ _RUNNING, _DONE, _DIVERGED = 0, 1, 2
 @njit(inline="always")
 def _wrap(a):  # noqa: ANN001, ANN202
     return (a + math.pi) % (2.0 * math.pi) - math.pi
-
-
-@njit(inline="always")
-def _horner(k, row, x):  # noqa: ANN001, ANN202
-    y = 0.0
-    for i in range(k.shape[1]):
-        y = y * x + k[row, i]
-    return y
 
 
 @njit(inline="always")
@@ -97,66 +93,20 @@ def _interp(x, xp, fp, n):  # noqa: ANN001, ANN202
 
 # ============================================================================ thrust curves
 # kinds: 0 ideal, 1 table, 2 propeller
-# prop rows: D, D4, rho, jlo, jhi, loss_f, loss_r, n_max, den_f, den_r
+# prop rows: D, D4, rho, jlo, jhi, loss_f, loss_r, n_max, den_f, den_r; kf/kr rows: K_T(J)
+# polynomials padded with leading zeros. The propeller laws are model/thrusters.py's, compiled.
 @njit_noalloc
 def _prop_thrust(i, n, va, prop, kf, kr):  # noqa: ANN001, ANN202
-    if n == 0.0:
-        return 0.0
-    D, D4, rho, jlo, jhi = prop[i, 0], prop[i, 1], prop[i, 2], prop[i, 3], prop[i, 4]
-    nD = n * D
-    if abs(nD) * 1e6 > abs(va):
-        J = va / nD
-        J = jlo if jlo > J else J
-        J = jhi if jhi < J else J
-    else:
-        J = jhi if (va > 0) == (n > 0) else jlo
-    if n > 0:
-        kt, loss = _horner(kf, i, J), prop[i, 5]
-    else:
-        kt, loss = _horner(kr, i, J), prop[i, 6]
-    kt = 0.0 if kt < 0.0 else kt
-    return loss * kt * rho * D4 * abs(n) * n
+    return _propeller_thrust(
+        n, va, prop[i, 0], prop[i, 2], prop[i, 3], prop[i, 4], kf[i], kr[i], prop[i, 5], prop[i, 6]
+    )
 
 
 @njit_noalloc
 def _prop_command(i, f, va, prop, kf, kr):  # noqa: ANN001, ANN202
-    if f == 0.0:
-        return 0.0
-    n_max = prop[i, 7]
-    fwd = f > 0
-    if va == 0.0:
-        n = math.sqrt(abs(f) / (prop[i, 8] if fwd else prop[i, 9]))
-        return min(n, n_max) if fwd else -min(n, n_max)
-    if fwd:
-        lo, hi = 0.0, n_max
-        g_lo, g_hi = 0.0 - f, _prop_thrust(i, hi, va, prop, kf, kr) - f
-    else:
-        lo, hi = -n_max, 0.0
-        g_lo, g_hi = _prop_thrust(i, lo, va, prop, kf, kr) - f, 0.0 - f
-    if g_hi <= 0.0:
-        return hi
-    if g_lo >= 0.0:
-        return lo
-    tol_g = 1e-12 * abs(f)
-    tol_n = 1e-12 * n_max
-    side = 0
-    n = 0.5 * (lo + hi)
-    for it in range(80):
-        n = (lo * g_hi - hi * g_lo) / (g_hi - g_lo) if it < 20 else 0.5 * (lo + hi)
-        g = _prop_thrust(i, n, va, prop, kf, kr) - f
-        if abs(g) <= tol_g or hi - lo <= tol_n:
-            break
-        if g < 0.0:
-            lo, g_lo = n, g
-            if side == -1:
-                g_hi *= 0.5
-            side = -1
-        else:
-            hi, g_hi = n, g
-            if side == 1:
-                g_lo *= 0.5
-            side = 1
-    return n
+    return _propeller_speed(
+        f, va, prop[i, 7], prop[i, 0], prop[i, 2], prop[i, 3], prop[i, 4], kf[i], kr[i], prop[i, 5], prop[i, 6]
+    )
 
 
 @njit_noalloc
@@ -636,25 +586,9 @@ def _control(k, dt, G, A, ctl, ctl_angle, x, fstate, istate, arrivals, W):  # no
             rr = rate[L_]
         if kd_ == 1.0:  # PID
             kp, ki, kdv, omin, omax = ctl[L_, 1], ctl[L_, 2], ctl[L_, 3], ctl[L_, 4], ctl[L_, 5]
-            integ0 = fstate[1 + L_]
-            integral = integ0 + e * dt
-            if ki > 0:
-                bound = max(abs(omin), abs(omax)) / ki
-                integral = min(max(integral, -bound), bound)
-            pd = -kp * e - kdv * rr
-            raw = pd - ki * integral
-            if ki > 0 and raw > omax and e < 0:
-                at_limit = (pd - omax) / ki
-                integral = max(integral, min(integ0, at_limit))
-            elif ki > 0 and raw < omin and e > 0:
-                at_limit = (pd - omin) / ki
-                integral = min(integral, max(integ0, at_limit))
-            raw = pd - ki * integral
-            out[L_] = min(max(raw, omin), omax)
-            fstate[1 + L_] = integral
+            out[L_], fstate[1 + L_] = _pid_law(kp, ki, kdv, omin, omax, fstate[1 + L_], e, rr, dt)
         else:  # S-plane
-            k1g, k2g, sc = ctl[L_, 1], ctl[L_, 2], ctl[L_, 3]
-            out[L_] = -sc * math.tanh(0.5 * (k1g * e + k2g * rr))
+            out[L_] = _splane_law(ctl[L_, 1], ctl[L_, 2], ctl[L_, 3], e, rr)
         fstate[6 + L_] = y
         istate[3 + L_] = 1
     tau_d[0], tau_d[1], tau_d[2] = out[0], 0.0, out[1]

@@ -27,9 +27,17 @@ import numpy as np
 from hydrokit.core.kinematics import wrap_angle
 from hydrokit.errors import InputError
 from hydrokit.model.control import _euler_rates, depth_to_pitch, pid_law
-from hydrokit.model.thrusters import IdealCurve, PropellerCurve, propeller_thrust, rotor_lag
+from hydrokit.model.thrusters import IdealCurve, PropellerCurve
 from hydrokit.simulate import manoeuvre_laws as L
-from hydrokit.simulate.compiled import BUF_SIZE, compile_law, deriv, njit_noalloc, servo_step_compiled
+from hydrokit.simulate.compiled import (
+    BUF_SIZE,
+    compile_law,
+    deriv,
+    njit_noalloc,
+    servo_step_compiled,
+)
+from hydrokit.simulate.compiled import propeller_thrust_compiled as _propeller_thrust
+from hydrokit.simulate.compiled import rotor_lag_compiled as _rotor_lag
 
 
 def _compile_all() -> dict[str, Any]:
@@ -77,8 +85,6 @@ _keeper_command = _LAWS["keeper_command"]
 _keeper_settled = _LAWS["keeper_settled"]
 _manoeuvre_command = _LAWS["manoeuvre_command"]
 _approach_steady = _LAWS["approach_steady"]
-_propeller_thrust = compile_law(propeller_thrust)
-_rotor_lag = compile_law(rotor_lag)
 
 # status of the loops: done, not yet (the record is full or the chunk ended), non-finite
 _DONE, _RUNNING, _DIVERGED = 1, 0, -1
