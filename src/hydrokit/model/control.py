@@ -231,7 +231,8 @@ def splane_law(k1, k2, scale, e, rate):  # noqa: ANN001, ANN201
     error unit), k2 (s per error unit), the error e = y − y_d (already wrapped for an angle) and
     its rate ė. Written once: :meth:`SPlane.update` calls it as Python, the compiled closed loop
     compiles it (``compile_law``)."""
-    return -scale * math.tanh(0.5 * (k1 * e + k2 * rate))
+    # numpy's tanh, as SPlane.surface: the step and the array formula agree to the last bit
+    return -scale * float(np.tanh(0.5 * (k1 * e + k2 * rate)))
 
 
 def depth_to_pitch(z, z_d, gain, max_pitch):  # noqa: ANN001, ANN201
