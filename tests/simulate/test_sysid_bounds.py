@@ -23,7 +23,18 @@ from hydrokit.model.uncertainty import check_parameter, physical_sign
         ("terms.X_u|u|", -1),
         ("terms.N_rrr", -1),
         ("terms.X_uu", 0),  # even in u: not a damping of its own DOF (the loader does not refuse it)
-        ("terms.Y_uv", 0),  # a cross term: either sign
+        # the forward speed scales the own-DOF damping (Y_v = Y_uv u): ≤ 0 for a vehicle moving
+        # ahead — the Esso Osaka pond trials fitted unbounded gave Y_uv = +292 (anti-damping)
+        ("terms.Y_uv", -1),
+        ("terms.N_ur", -1),
+        ("terms.Z_uw", -1),
+        ("terms.M_uq", -1),
+        ("terms.Y_|u|v", -1),
+        ("terms.Y_uuv", -1),
+        ("terms.Y_ur", 0),  # a cross term (sway force from yaw rate): either sign
+        ("terms.N_uv", 0),  # the Munk moment and its kin: either sign
+        ("terms.Y_uv|v|", -1),
+        ("terms.X_uuu", -1),  # surge: u is its own velocity (odd: a resistance when negative)
         ("terms.N_r", -1),
         ("terms.Y_vdot", -1),  # −M_A[1, 1]
         ("terms.Y_rdot", 0),  # a coupling entry of M_A: either sign

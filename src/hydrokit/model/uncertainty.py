@@ -411,7 +411,8 @@ def physical_sign(ref: ParameterRef) -> int:
     """The sign a parameter must keep to be physical: +1 (≥ 0) for a ``linear_damping`` or
     ``quadratic_damping`` diagonal entry and for a diagonal ``added_mass``; −1 (≤ 0, SNAME) for
     a damping derivative of its own DOF (a term odd in that one velocity: X_u, X_u|u|, N_r|r|,
-    N_rrr) and for an own-DOF acceleration term (X_udot … N_rdot = −M_A[i, i]); 0 (either sign)
+    N_rrr), also when the forward speed scales it (Y_uv, N_ur, Z_uw, M_uq, K_up, Y_|u|v: damping
+    for a vehicle moving ahead, u > 0), and for an own-DOF acceleration term (X_udot … N_rdot = −M_A[i, i]); 0 (either sign)
     otherwise.
 
     A damping of the other sign feeds energy in (a vehicle file refuses it unless
@@ -425,8 +426,12 @@ def physical_sign(ref: ParameterRef) -> int:
         return -1 if ref.index == ref.dof else 0
     if ref.kind == "term" and ref.term is not None:
         t = ref.term
-        own = bool(t.factors) and all(f.indices == (t.dof,) and f.kind in (VEL, ABS) for f in t.factors)
-        if own and sum(f.kind == VEL for f in t.factors) % 2 == 1:
+        own = [f for f in t.factors if f.indices == (t.dof,) and f.kind in (VEL, ABS)]
+        # the forward speed u scales a damping derivative of another DOF (Y_uv = Y_v / u,
+        # N_ur, Z_uw, M_uq, K_up, Y_|u|v): for a vehicle moving ahead (u > 0) it is the damping
+        # itself, ≤ 0 like Y_v (a positive one is the anti-damping no ship or AUV has)
+        speed = [f for f in t.factors if t.dof != 0 and f.indices == (0,) and f.kind in (VEL, ABS)]
+        if own and len(own) + len(speed) == len(t.factors) and sum(f.kind == VEL for f in own) % 2 == 1:
             return -1
     return 0
 
