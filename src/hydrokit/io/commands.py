@@ -1,4 +1,4 @@
-"""Thruster-command CSV of ``hydrokit simulate --command-csv``: ``time`` (s) and one column per
+"""Thruster-command CSV (the ``--command-csv`` file of the simulate command): ``time`` (s) and one column per
 thruster of the vehicle, named as the thruster, holding its command in the unit of its curve
 (rev/s for a propeller, the table's unit for a table curve, N for an ideal thruster); each row is
 held until the next (zero-order hold, as the command columns of a run file). ``#`` lines are

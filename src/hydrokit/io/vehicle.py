@@ -553,7 +553,7 @@ def identified_vehicle_document(result: Any, base_data: Mapping[str, Any]) -> di
 
     Parameters
     ----------
-    result : a sysid result (:class:`hydrokit.simulate.sysid.SysidResult`): ``parameters``
+    result : an identification-from-logs result (``SysidResult``): ``parameters``
         (names), ``values`` (SI), ``covariance`` (SI², in ``parameters`` order), ``method`` and
         ``runs`` (dicts with ``name`` and ``holdout``)
     base_data : mapping — the base vehicle file's fields, as read
