@@ -9,6 +9,7 @@ import click
 
 from hydrokit.cli._command import command_force, command_options, simulator
 from hydrokit.cli._deflection import deflection_input, deflection_options
+from hydrokit.cli._identification import strict_option
 from hydrokit.cli._samples import check_samples, sampled_files, samples_options
 from hydrokit.cli._types import SECONDS, Count, Numbers
 from hydrokit.cli._wind import wind_input, wind_options
@@ -67,6 +68,7 @@ from hydrokit.cli._wind import wind_input, wind_options
 @wind_options
 @command_options
 @samples_options("OUT_envelope.csv (5/50/95 %, min, max per state and time; SI), OUT_samples.csv, envelope.png")
+@strict_option
 def simulate(
     vehicle: str,
     duration: float,
@@ -111,7 +113,6 @@ def simulate(
     from hydrokit.io.trajectory import trajectory_csv
 
     run = simulator(tau, integrator, attitude)  # the driver, or the thrusters' own loop under --command
-
     with progress_bar(time_based=True) as bar:
         task = bar.add_task("simulating", total=duration)
         traj = run(

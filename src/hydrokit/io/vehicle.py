@@ -54,6 +54,27 @@ drag strips and viscous lift of a body of revolution from its profile) is read b
 ``covariance``; the ``--samples`` option of the simulate and mission commands draws
 vehicles from it.
 
+``identification:`` (issue #48; :mod:`hydrokit.model.identification`) what the fit that wrote the
+file claims of it; ``hydrokit sysid fit`` and ``sysid compare`` write it, whatever the verdict:
+
+```yaml
+identification:
+  verdict: does not fit            # or: fits
+  reasons: ['pond3 (held out): held-out NRMSE of v 0.57 … > 0.5 …']   # the verdict's sentences
+  holdout_nrmse: {pond3: {u: 0.12, v: 0.57, r: 1.2}}   # per held-out run, moving channels (–)
+  runs: [pond1, pond2]             # fitted runs (file stems)
+  holdout: [pond3]                 # held-out runs
+  method: output-error
+  tool: hydrokit sysid 0.1.0
+  date: '2026-11-29T19:30:00Z'     # UTC
+```
+
+Only ``verdict`` is required. A vehicle whose block says ``does not fit`` loads and flies, with
+the warning ``FILE: its identification says "does not fit" (first reason): the predictions below
+are not trustworthy`` first in ``Vehicle.warnings`` (every result that flies it carries it);
+``--strict`` of the simulate and manoeuvre commands refuses it. A file without the block (deleted
+by hand) makes no claim.
+
 Writing: :func:`vehicle_text` is the one writer of vehicle files (``hydrokit sysid``, ``sysid
 compare`` and ``hydrokit run`` all write through it); :func:`identified_vehicle_document` builds
 the document of an identified vehicle and :func:`write_terms` puts identified ``terms.<term>``
@@ -62,6 +83,7 @@ values into one.
 
 from __future__ import annotations
 
+import datetime
 import math
 import os
 from collections.abc import Mapping, Sequence
@@ -77,6 +99,7 @@ from hydrokit.core.validate import body_quantity, cut, cut_repr, mapping, matrix
 from hydrokit.errors import InputError
 from hydrokit.io.fields import is_field, write_fields
 from hydrokit.io.yamlfile import check_keys, read_yaml
+from hydrokit.model.identification import VERDICTS, Identification
 from hydrokit.model.terms import TermSet, parse_term
 from hydrokit.model.uncertainty import COEFFICIENTS, TERM_PREFIX, check_parameter, location
 from hydrokit.model.vehicle import Vehicle, make_vehicle
@@ -118,7 +141,10 @@ KNOWN = set(REQUIRED) | {
     "dofs",
     "hull",
     "wind",
+    "identification",
 }
+#: the keys of the ``identification`` block (issue #48: what the fit that wrote the file claims)
+IDENTIFICATION_KEYS = ("verdict", "reasons", "holdout_nrmse", "runs", "holdout", "method", "tool", "date")
 #: the keys of the ``wind`` block (frozen, issue #48 item 4)
 WIND_KEYS = (
     "frontal_area",
@@ -308,6 +334,125 @@ def _uncertainty(
     return make_uncertainty(names, value.get("covariance"), sigma, source, terms, surfaces, thrusters)
 
 
+def _texts(value: Any, field: str, source: str) -> tuple[str, ...]:
+    """A list of texts (``identification.reasons``, ``.runs`` …)."""
+    if not isinstance(value, list) or not all(isinstance(x, str) for x in value):
+        raise InputError(f"field '{field}' = {cut_repr(value)}: expected a list of texts", source)
+    return tuple(value)
+
+
+def _identification(value: Any, source: str) -> Identification | None:
+    """The ``identification:`` block (module docstring; :mod:`hydrokit.model.identification`), or
+    None when the file has none (no claim)."""
+    if value is None:
+        return None
+    block = mapping(value, "identification", source)
+    check_keys(block, IDENTIFICATION_KEYS, "identification", source)
+    verdict = block.get("verdict")
+    if verdict not in VERDICTS:
+        raise InputError(
+            f"field 'identification.verdict' = {cut_repr(verdict)}: expected {' or '.join(map(repr, VERDICTS))}",
+            source,
+        )
+    lists = {k: _texts(block.get(k, []), f"identification.{k}", source) for k in ("reasons", "runs", "holdout")}
+    nrmse: dict[str, dict[str, float]] = {}
+    for run, channels in mapping(block.get("holdout_nrmse") or {}, "identification.holdout_nrmse", source).items():
+        where = f"identification.holdout_nrmse.{cut(str(run))}"
+        values = {
+            str(c): number(v, f"{where}.{cut(str(c))}", source) for c, v in mapping(channels, where, source).items()
+        }
+        for c, v in values.items():
+            if v < 0:
+                raise InputError(f"field '{where}.{cut(c)}' = {v:g}: expected an NRMSE ≥ 0 (–)", source)
+        nrmse[str(run)] = values
+    texts = {}
+    for key in ("method", "tool", "date"):
+        raw = block.get(key, "")
+        if key == "date" and isinstance(raw, (datetime.date, datetime.datetime)):
+            raw = raw.isoformat()  # an unquoted date in a hand-edited file
+        if not isinstance(raw, str):
+            raise InputError(f"field 'identification.{key}' = {cut_repr(raw)}: expected a text", source)
+        texts[key] = raw
+    return Identification(
+        str(verdict),
+        lists["reasons"],
+        nrmse,
+        lists["runs"],
+        lists["holdout"],
+        texts["method"],
+        texts["tool"],
+        texts["date"],
+    )
+
+
+def read_identification(name_or_path: str | os.PathLike[str]) -> Identification | None:
+    """The ``identification:`` block of a vehicle file or bundled vehicle, read without building the
+    vehicle (``--strict`` checks it before anything runs).
+
+    Parameters
+    ----------
+    name_or_path : str or path — a vehicle YAML file or a bundled name
+
+    Returns
+    -------
+    Identification or None — None when the file has no block (no claim)
+
+    Raises
+    ------
+    InputError
+        A missing file, or a block that is not as the module docstring says (naming the field).
+    """
+    path = resolve_vehicle(name_or_path)
+    data = read_yaml(path)
+    return _identification(data.get("identification") if isinstance(data, dict) else None, str(path))
+
+
+def identification_block(result: Any) -> dict[str, Any] | None:
+    """The ``identification:`` block of a fit's result (None when the result has no verdict).
+
+    Parameters
+    ----------
+    result : an identification-from-logs result: ``verdict`` (``fits``, ``reasons``), ``runs``
+        (dicts with ``name``, ``holdout`` and per channel ``nrmse`` and ``moving``), ``method``
+
+    Returns
+    -------
+    dict — verdict, reasons, the held-out NRMSE of each moving channel (–), runs, holdout, method,
+    tool (``hydrokit sysid VERSION``) and date (UTC, ISO 8601)
+    """
+    from importlib.metadata import PackageNotFoundError, version
+
+    try:
+        tool = f"hydrokit sysid {version('hydrokit')}"
+    except PackageNotFoundError:  # a source tree run without installing
+        tool = "hydrokit sysid"
+    verdict = getattr(result, "verdict", None)
+    if not isinstance(verdict, Mapping) or "fits" not in verdict:
+        return None
+    nrmse: dict[str, dict[str, float]] = {}
+    for run in result.runs:
+        if run.get("holdout"):
+            chans = {
+                str(c): round(float(e["nrmse"]), 4)
+                for c, e in (run.get("channels") or {}).items()
+                if e.get("moving", True) and math.isfinite(float(e.get("nrmse", math.nan)))
+            }
+            if chans:
+                nrmse[str(run["name"])] = chans
+    block: dict[str, Any] = {
+        "verdict": VERDICTS[0] if verdict["fits"] else VERDICTS[1],
+        "reasons": [str(r) for r in verdict.get("reasons", [])],
+    }
+    if nrmse:
+        block["holdout_nrmse"] = nrmse
+    block["runs"] = [str(r["name"]) for r in result.runs if not r["holdout"]]
+    block["holdout"] = [str(r["name"]) for r in result.runs if r["holdout"]]
+    block["method"] = str(getattr(result, "method", ""))
+    block["tool"] = tool
+    block["date"] = datetime.datetime.now(datetime.UTC).strftime("%Y-%m-%dT%H:%M:%SZ")
+    return block
+
+
 def _provenance(data: dict[str, Any]) -> tuple[str, ...]:
     """Lines saying where the coefficients came from, as far as the file says (never an error:
     these fields are free text)."""
@@ -410,7 +555,9 @@ def parse_vehicle(data: dict[str, Any], source: str) -> Vehicle:
         if key not in data:
             raise InputError(f"missing field '{key}' (see docs/model.md for the vehicle file)", source)
     check_keys(data, KNOWN, "", source)
-    warnings: list[str] = []
+    identification = _identification(data.get("identification"), source)
+    unfit = identification.warning(source) if identification is not None else None
+    warnings: list[str] = [unfit] if unfit else []  # first: the loudest thing to say of this vehicle
     flagged = data.get("warnings") or []
     if isinstance(flagged, list):
         warnings.extend(str(w) for w in flagged)
@@ -520,6 +667,7 @@ def parse_vehicle(data: dict[str, Any], source: str) -> Vehicle:
         dofs,
         thrusters,
         _wind(data["wind"], source) if data.get("wind") is not None else None,
+        identification,
     )
 
 
@@ -566,7 +714,9 @@ def identified_vehicle_document(result: Any, base_data: Mapping[str, Any]) -> di
     (``control_surfaces.NAME.FIELD`` …) where the file keeps them (:func:`hydrokit.io.fields.write_fields`,
     in the file's units). The ``uncertainty`` block holds
     the σ of the diagonal coefficients and the full covariance (SI²) over every free parameter,
-    ``terms.*`` included, which ``simulate --samples`` and ``mission --samples`` read.
+    ``terms.*`` included, which ``simulate --samples`` and ``mission --samples`` read. The
+    ``identification`` block holds the fit's verdict, reasons, held-out NRMSE, runs, tool and date
+    (:func:`identification_block`; replacing the base's own, if any).
     """
     doc = {k: v for k, v in base_data.items() if k != "uncertainty"}
     names = list(result.parameters)
@@ -604,6 +754,10 @@ def identified_vehicle_document(result: Any, base_data: Mapping[str, Any]) -> di
     sources = [str(s) for s in (doc.get("sources") or [])] if isinstance(doc.get("sources"), list) else []
     doc["sources"] = sources + [f"hydrokit sysid ({result.method}) from runs {runs}; free: {', '.join(names)}"]
     doc["name"] = f"{base_data.get('name', 'vehicle')}-sysid"
+    doc.pop("identification", None)  # the base's claim is not this fit's
+    block = identification_block(result)
+    if block is not None:
+        doc["identification"] = block
     return doc
 
 

@@ -21,6 +21,7 @@ import numpy as np
 from hydrokit.core.drag import DragElement, pack_elements
 from hydrokit.core.rigid_body import rigid_body_mass_matrix
 from hydrokit.errors import InputError
+from hydrokit.model.identification import Identification
 from hydrokit.model.surfaces import SurfaceSet
 from hydrokit.model.terms import TermSet
 from hydrokit.model.wind import WindModel
@@ -70,6 +71,8 @@ class Vehicle:
         [δ…, T…, n…], :func:`hydrokit.model.terms.input_layout`); empty when the file has none
     wind : WindModel or None — the file's ``wind:`` block (:mod:`hydrokit.model.wind`): the loads of
         a measured or given wind on the part above the water; None: the wind does not act
+    identification : Identification or None — the file's ``identification:`` block, what the fit
+        that wrote it claims (:mod:`hydrokit.model.identification`); None: no claim
 
     A vehicle is equal only to itself (``eq=False``): its fields are arrays, which have no
     single truth value; compare the fields of two vehicles with numpy.
@@ -98,6 +101,7 @@ class Vehicle:
     dofs: tuple[int, ...] = (0, 1, 2, 3, 4, 5)
     thruster_names: tuple[str, ...] = ()
     wind: WindModel | None = field(default=None, repr=False)
+    identification: Identification | None = field(default=None, repr=False)
 
     @property
     def n_inputs(self) -> int:
@@ -211,6 +215,7 @@ def make_vehicle(
     dofs: tuple[int, ...] | list[int] | None = None,
     thruster_names: tuple[str, ...] = (),
     wind: WindModel | None = None,
+    identification: Identification | None = None,
 ) -> Vehicle:
     """Validate and build a :class:`Vehicle`.
 
@@ -314,6 +319,7 @@ def make_vehicle(
         dofs=kept,
         thruster_names=tuple(thruster_names),
         wind=wind,
+        identification=identification,
     )
 
 
