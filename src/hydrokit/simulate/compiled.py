@@ -8,21 +8,22 @@ rad, may follow the forces) and a current table (rows [t, v_N, v_E, v_D]).
 Outputs are preallocated and the run stops at the first non-finite state (its step index is
 returned), so cost grows linearly with the duration.
 
-The force laws written on plain floats are compiled here from their one implementation (the
-pattern new laws follow, issue #45): the derivative terms
+The laws written on plain floats are compiled here from their one implementation (the
+pattern new laws follow, issues #45 and #50): the derivative terms
 (:func:`hydrokit.model.terms.add_term_forces`), the point drag elements
 (:func:`hydrokit.core.drag.add_drag_wrench`), the physical fins
-(:func:`hydrokit.model.surfaces.fin_wrench`), the wind (:func:`hydrokit.model.wind.wind_wrench`) and the servo
-(:func:`hydrokit.model.surfaces.servo_step`). The remaining blocks are still compiled *copies*
-of a numpy source, kept for speed only (a debt, to move onto the same pattern when touched);
-the numpy one is the definition, and tests/model/test_compiled_vs_numpy.py compares each copy
-with it at random states: R(Θ), R(q) (:func:`hydrokit.core.kinematics.rotation_zyx`,
-:func:`~hydrokit.core.kinematics.quaternion_to_rotation`), T(Θ) and q̇
+(:func:`hydrokit.model.surfaces.fin_wrench`), the wind (:func:`hydrokit.model.wind.wind_wrench`), the
+servo (:func:`hydrokit.model.surfaces.servo_step`), the rotation matrices R(Θ) and R(q)
+(:func:`hydrokit.core.kinematics.rotation_zyx_entries`,
+:func:`~hydrokit.core.kinematics.quaternion_rotation_entries`) and the RK4 step's arithmetic
+(:mod:`hydrokit.core.integrate`, also that of :func:`hydrokit.simulate.integrators.rk4_step`).
+The remaining blocks are still compiled *copies* of a numpy source, kept for speed only (a
+debt, to move onto the same pattern when touched); the numpy one is the definition, and
+tests/model/test_compiled_vs_numpy.py compares each copy with it at random states: T(Θ) and q̇
 (:func:`~hydrokit.core.kinematics.euler_rate_matrix`,
 :func:`~hydrokit.core.kinematics.quaternion_rate`), C(ν)ν
-(:func:`hydrokit.core.coriolis.coriolis_force`), the right-hand side
-(:func:`hydrokit.model.dynamics.vehicle_dynamics`) and the RK4 step
-(:func:`hydrokit.simulate.integrators.rk4_step`). Change a formula there first.
+(:func:`hydrokit.core.coriolis.coriolis_force`) and the right-hand side
+(:func:`hydrokit.model.dynamics.vehicle_dynamics`). Change a formula there first.
 """
 
 from __future__ import annotations
@@ -34,6 +35,8 @@ import numba
 import numpy as np
 
 from hydrokit.core.drag import add_drag_wrench
+from hydrokit.core.integrate import rk4_combine_into, rk4_stage, rk4_stage_into, rk4_update
+from hydrokit.core.kinematics import quaternion_rotation_entries, rotation_zyx_entries, rotation_zyx_into
 from hydrokit.model.surfaces import FIN_WIDTH, MAX_SURFACES, fin_wrench, servo_step, steer_surfaces
 from hydrokit.model.terms import MAX_THRUSTERS, add_term_forces
 from hydrokit.model.thrusters import propeller_speed, propeller_thrust, rotor_lag
@@ -80,6 +83,16 @@ steer_surfaces_compiled = compile_law(
 propeller_thrust_compiled = compile_law(propeller_thrust)
 propeller_speed_compiled = compile_law(propeller_speed, propeller_thrust=propeller_thrust_compiled)
 rotor_lag_compiled = compile_law(rotor_lag)
+# the rotation matrices (core/kinematics.py) and the RK4 step's arithmetic (core/integrate.py),
+# for every compiled integrator and right-hand side: deriv, rk4_run, the transport kernels, the
+# closed loop and the manoeuvre loop
+rotation_zyx_entries_compiled = compile_law(rotation_zyx_entries)
+rotation_zyx_into_compiled = compile_law(rotation_zyx_into, rotation_zyx_entries=rotation_zyx_entries_compiled)
+quaternion_rotation_compiled = compile_law(quaternion_rotation_entries)
+#: ``out[i] = x[i] + h k[i]`` (a stage's state; h = dt/2 or dt)
+rk4_stage_compiled = compile_law(rk4_stage_into, rk4_stage=compile_law(rk4_stage))
+#: ``x[i] += dt/6 (k1[i] + 2 k2[i] + 2 k3[i] + k4[i])`` in place; False when not all finite
+rk4_combine_compiled = compile_law(rk4_combine_into, rk4_update=compile_law(rk4_update))
 
 
 @njit(inline="always")
@@ -122,30 +135,13 @@ def deriv(t, x, quat, tau_tab, cur_tab, Minv, Mc, DL, DQ, scal, t_dof, t_coef, t
     if quat:
         q0, q1, q2, q3 = x[3], x[4], x[5], x[6]
         nq = math.sqrt(q0 * q0 + q1 * q1 + q2 * q2 + q3 * q3)
-        a0, a1, a2, a3 = q0 / nq, q1 / nq, q2 / nq, q3 / nq
-        R00 = 1 - 2 * (a2 * a2 + a3 * a3)
-        R01 = 2 * (a1 * a2 - a3 * a0)
-        R02 = 2 * (a1 * a3 + a2 * a0)
-        R10 = 2 * (a1 * a2 + a3 * a0)
-        R11 = 1 - 2 * (a1 * a1 + a3 * a3)
-        R12 = 2 * (a2 * a3 - a1 * a0)
-        R20 = 2 * (a1 * a3 - a2 * a0)
-        R21 = 2 * (a2 * a3 + a1 * a0)
-        R22 = 1 - 2 * (a1 * a1 + a2 * a2)
+        R00, R01, R02, R10, R11, R12, R20, R21, R22 = quaternion_rotation_compiled(q0 / nq, q1 / nq, q2 / nq, q3 / nq)
         o = 7
     else:
         cf, sf = math.cos(x[3]), math.sin(x[3])
         ct, st = math.cos(x[4]), math.sin(x[4])
         cp, sp = math.cos(x[5]), math.sin(x[5])
-        R00 = cp * ct
-        R01 = -sp * cf + cp * st * sf
-        R02 = sp * sf + cp * cf * st
-        R10 = sp * ct
-        R11 = cp * cf + sf * st * sp
-        R12 = -cp * sf + st * sp * cf
-        R20 = -st
-        R21 = ct * sf
-        R22 = ct * cf
+        R00, R01, R02, R10, R11, R12, R20, R21, R22 = rotation_zyx_entries_compiled(cf, sf, ct, st, cp, sp)
         o = 6
     u, v, w, p, q, r = x[o], x[o + 1], x[o + 2], x[o + 3], x[o + 4], x[o + 5]
     m_tab = tau_tab.shape[1] - 1
@@ -274,21 +270,13 @@ def rk4_run(
     for step in range(n_steps):
         t = t0 + step * dt
         deriv(t, x, quat, tau_tab, cur_tab, Minv, Mc, DL, DQ, scal, t_dof, t_coef, t_kind, t_idx, buf, k1)
-        for i in range(n):
-            tmp[i] = x[i] + 0.5 * dt * k1[i]
+        rk4_stage_compiled(x, k1, 0.5 * dt, tmp)
         deriv(t + 0.5 * dt, tmp, quat, tau_tab, cur_tab, Minv, Mc, DL, DQ, scal, t_dof, t_coef, t_kind, t_idx, buf, k2)
-        for i in range(n):
-            tmp[i] = x[i] + 0.5 * dt * k2[i]
+        rk4_stage_compiled(x, k2, 0.5 * dt, tmp)
         deriv(t + 0.5 * dt, tmp, quat, tau_tab, cur_tab, Minv, Mc, DL, DQ, scal, t_dof, t_coef, t_kind, t_idx, buf, k3)
-        for i in range(n):
-            tmp[i] = x[i] + dt * k3[i]
+        rk4_stage_compiled(x, k3, dt, tmp)
         deriv(t + dt, tmp, quat, tau_tab, cur_tab, Minv, Mc, DL, DQ, scal, t_dof, t_coef, t_kind, t_idx, buf, k4)
-        finite = True
-        for i in range(n):
-            x[i] += dt / 6.0 * (k1[i] + 2.0 * k2[i] + 2.0 * k3[i] + k4[i])
-            if not math.isfinite(x[i]):
-                finite = False
-        if not finite:
+        if not rk4_combine_compiled(x, k1, k2, k3, k4, dt):
             return step
         if (step + 1) % every == 0:
             for i in range(n):

@@ -1,5 +1,6 @@
 """Integrators, chosen by name, outside the model: fixed-step RK4 (numpy) and adaptive
-(scipy's DOP853 / RK45). The compiled RK4 lives in :mod:`hydrokit.simulate.compiled`."""
+(scipy's DOP853 / RK45). The compiled RK4 lives in :mod:`hydrokit.simulate.compiled`; both do
+the arithmetic of the one RK4 law, :mod:`hydrokit.core.integrate`."""
 
 from __future__ import annotations
 
@@ -9,6 +10,7 @@ from collections.abc import Callable
 import numpy as np
 
 from hydrokit._quiet import quiet
+from hydrokit.core.integrate import rk4_stage, rk4_update
 from hydrokit.errors import SimulationError
 
 Rhs = Callable[[float, np.ndarray], np.ndarray]
@@ -46,11 +48,12 @@ def rk4_step(
     if u is not None:
         g = f
         f = lambda s, y: g(s, y, u)  # u held over the step (zero-order hold)
+    # the arithmetic of core.integrate on whole arrays: the same bits as the compiled integrators
     k1 = f(t, x)
-    k2 = f(t + 0.5 * h, x + 0.5 * h * k1)
-    k3 = f(t + 0.5 * h, x + 0.5 * h * k2)
-    k4 = f(t + h, x + h * k3)
-    return x + h / 6.0 * (k1 + 2 * k2 + 2 * k3 + k4)
+    k2 = f(t + 0.5 * h, rk4_stage(x, k1, 0.5 * h))
+    k3 = f(t + 0.5 * h, rk4_stage(x, k2, 0.5 * h))
+    k4 = f(t + h, rk4_stage(x, k3, h))
+    return rk4_update(x, k1, k2, k3, k4, h)
 
 
 def rk4(

@@ -44,7 +44,13 @@ from hydrokit.errors import InputError
 from hydrokit.model.assembly import Assembly, check_model
 from hydrokit.model.dynamics import stack_scal
 from hydrokit.simulate._cache import njit
-from hydrokit.simulate.compiled import BUF_SIZE, deriv
+from hydrokit.simulate.compiled import (
+    BUF_SIZE,
+    deriv,
+    rk4_combine_compiled,
+    rk4_stage_compiled,
+    rotation_zyx_into_compiled,
+)
 from hydrokit.simulate.compiled_loop import _pack_thrusters, _thrust
 
 COLUMNS = ("time", "x", "y", "z", "phi", "theta", "psi", "u", "v", "w", "p", "q", "r")
@@ -160,39 +166,15 @@ def _rigid(x0, dt, n_steps, every, cmd, sel, P, E, TH, tau_ext, V, SJ, out_x, ou
             row += 1
         if step == n_steps:
             break
-        for a in range(12):
-            tmp[a] = x[a] + 0.5 * dt * k1[a]
+        rk4_stage_compiled(x, k1, 0.5 * dt, tmp)
         deriv(t + 0.5 * dt, tmp, False, tau_tab, ctab, Minv, Mc, DL, DQ, scal, t_dof, t_coef, t_kind, t_idx, buf, k2)
-        for a in range(12):
-            tmp[a] = x[a] + 0.5 * dt * k2[a]
+        rk4_stage_compiled(x, k2, 0.5 * dt, tmp)
         deriv(t + 0.5 * dt, tmp, False, tau_tab, ctab, Minv, Mc, DL, DQ, scal, t_dof, t_coef, t_kind, t_idx, buf, k3)
-        for a in range(12):
-            tmp[a] = x[a] + dt * k3[a]
+        rk4_stage_compiled(x, k3, dt, tmp)
         deriv(t + dt, tmp, False, tau_tab, ctab, Minv, Mc, DL, DQ, scal, t_dof, t_coef, t_kind, t_idx, buf, k4)
-        finite = True
-        for a in range(12):
-            x[a] += dt / 6.0 * (k1[a] + 2.0 * k2[a] + 2.0 * k3[a] + k4[a])
-            if not math.isfinite(x[a]):
-                finite = False
-        if not finite:
+        if not rk4_combine_compiled(x, k1, k2, k3, k4, dt):
             return step, row
     return n_steps, row
-
-
-@njit
-def _rot(phi, theta, psi, R):  # noqa: ANN001, ANN202
-    cf, sf = math.cos(phi), math.sin(phi)
-    ct, st = math.cos(theta), math.sin(theta)
-    cp, sp = math.cos(psi), math.sin(psi)
-    R[0, 0] = cp * ct
-    R[0, 1] = -sp * cf + cp * st * sf
-    R[0, 2] = sp * sf + cp * cf * st
-    R[1, 0] = sp * ct
-    R[1, 1] = cp * cf + sf * st * sp
-    R[1, 2] = -cp * sf + st * sp * cf
-    R[2, 0] = -st
-    R[2, 1] = ct * sf
-    R[2, 2] = ct * cf
 
 
 @njit
@@ -203,7 +185,7 @@ def _mb_rhs(t, X, TAU, par, a_p, a_c, K, C, B, W, OUT, JW, SEP):  # noqa: ANN001
     Rb, TT, tau_tab, ctab, buf, Rrel, d, dv, F, Mm, wr = W
     nb = X.shape[0]
     for i in range(nb):
-        _rot(X[i, 3], X[i, 4], X[i, 5], Rb[i])
+        rotation_zyx_into_compiled(X[i, 3], X[i, 4], X[i, 5], Rb[i])
         for a in range(6):
             TT[i, a] = TAU[i, a]
     for c in range(nb):
@@ -324,6 +306,9 @@ def _multibody(
     k3 = np.empty((nb, 12))
     k4 = np.empty((nb, 12))
     tmp = np.empty((nb, 12))
+    # flat views of the same memory (C order), for the RK4 arithmetic of core.integrate
+    Xf, tmpf = X.reshape(nb * 12), tmp.reshape(nb * 12)
+    k1f, k2f, k3f, k4f = k1.reshape(nb * 12), k2.reshape(nb * 12), k3.reshape(nb * 12), k4.reshape(nb * 12)
     JW = np.zeros((nb, 6))
     SEP = np.zeros(nb)
     h = dt / n_sub
@@ -354,26 +339,15 @@ def _multibody(
             break
         for s_ in range(n_sub):
             ts = t + s_ * h
+            # the bodies' states side by side: one RK4 of the joined system (core.integrate)
             _mb_rhs(ts, X, TAU, par, a_p, a_c, K, C, B, W, k1, JW, SEP)
-            for b in range(nb):
-                for a in range(12):
-                    tmp[b, a] = X[b, a] + 0.5 * h * k1[b, a]
+            rk4_stage_compiled(Xf, k1f, 0.5 * h, tmpf)
             _mb_rhs(ts + 0.5 * h, tmp, TAU, par, a_p, a_c, K, C, B, W, k2, JW, SEP)
-            for b in range(nb):
-                for a in range(12):
-                    tmp[b, a] = X[b, a] + 0.5 * h * k2[b, a]
+            rk4_stage_compiled(Xf, k2f, 0.5 * h, tmpf)
             _mb_rhs(ts + 0.5 * h, tmp, TAU, par, a_p, a_c, K, C, B, W, k3, JW, SEP)
-            for b in range(nb):
-                for a in range(12):
-                    tmp[b, a] = X[b, a] + h * k3[b, a]
+            rk4_stage_compiled(Xf, k3f, h, tmpf)
             _mb_rhs(ts + h, tmp, TAU, par, a_p, a_c, K, C, B, W, k4, JW, SEP)
-            finite = True
-            for b in range(nb):
-                for a in range(12):
-                    X[b, a] += h / 6.0 * (k1[b, a] + 2.0 * k2[b, a] + 2.0 * k3[b, a] + k4[b, a])
-                    if not math.isfinite(X[b, a]):
-                        finite = False
-            if not finite:
+            if not rk4_combine_compiled(Xf, k1f, k2f, k3f, k4f, h):
                 return step, row
     return n_steps, row
 
