@@ -87,17 +87,12 @@ def _alike(path: str, reason: str, *mutants: tuple[str, str]) -> dict[tuple[str,
 
 EQUIVALENT: dict[tuple[str, str, str], str] = {
     **{
-        ("identify/rig_model.py", f"{name} = np.{fn}(12)", "12 -> 13"): (
-            "RK4 scratch buffer of the 12-state integrator: only entries below m ≤ 12 are ever read or written"
+        ("identify/rig_model.py", "nz = 2 + 2 * ns", what): (
+            "the rig integrator's buffers grow past the 2 + 2 ns augmented states: the right-hand side "
+            "writes and reads only those, the outputs copy only z[0], z[1] and z[2 + 2j] (j < ns), so the "
+            "extra entries are integrated from unset scratch and never read"
         )
-        for name, fn in (("z", "zeros"), ("k1", "empty"), ("k2", "empty"), ("k3", "empty"), ("k4", "empty"))
-        + (("tmp", "empty"),)
-    },
-    **{
-        ("identify/rig_model.py", f"{name} = np.empty(18)", "18 -> 19"): (
-            "RK4 scratch buffer of the 18-state extended integrator: only entries below m ≤ 18 are ever read or written"
-        )
-        for name in ("k1", "k2", "k3", "k4", "tmp")
+        for what in ("2 -> 3 [1]", "2 -> 3 [2]")
     },
     ("core/rigid_body.py", "M[0:3, 3:6] = -mass * S", "6 -> 7"): (
         "M is 6 × 6: numpy clips the slice 3:7 to 3:6, the same block"
@@ -505,6 +500,9 @@ EQUIVALENT: dict[tuple[str, str, str], str] = {
     ("identify/rig_model.py", "if m > 2:", "> -> >="): (
         "m is 2 (no sensitivities) or more than 2; with m = 2 the mutant also fills the derivative "
         "buffers' sensitivity entries, but the RK4 updates and the outputs read only the first m entries"
+    ),
+    ("identify/rig_model.py", "if m > 2:", "2 -> 3"): (
+        "m is 2 (no sensitivities) or 2 + 2 (nfree + 2) ≥ 12 with them: m > 3 is false and true for the same two values"
     ),
     ("identify/split.py", "a0 = max(a, b + 1 - max(5, int(round(min_hold / dt))))", "+ -> -"): (
         "the window starts two samples earlier but never before the still run's start a (a still run "
@@ -1054,7 +1052,7 @@ EQUIVALENT: dict[tuple[str, str, str], str] = {
         "a time at or before t[0] (searchsorted 0) then starts at i = 1, and the next line steps back: "
         "time − t0 ≤ 0 < t1 − time gives index 0 either way (one sample: the clip's upper end 0 wins)"
     ),
-    ("identify/rig_model.py", "m = 12 if want_jac else 2", "2 -> 3"): (
+    ("identify/rig_model.py", "m = nz if want_jac else 2", "2 -> 3"): (
         "without the Jacobian a third integrated state is ∂q/∂ω², which neither q nor v reads (their "
         "derivatives use z[0] and z[1] only) and which is not copied out: q and v are bit for bit the same"
     ),

@@ -288,94 +288,41 @@ def _restore_py(q, kind, par):  # noqa: ANN001, ANN202
     return s * val, der
 
 
-def _simulate_py(t, q0, v0, w2, b, g, kind, par, substeps, want_jac):  # noqa: ANN001
-    """Fixed-step RK4 of the normalised rig ODE with forward sensitivities.
+#: sensitivity columns of each parameter vector: the normalised rig frees (ω², b, g), the extended
+#: one (ω², b, g, d, a3, a5); both then add (q0, v0)
+NORMALISED_PARAMETERS, EXTENDED_PARAMETERS = 3, 6
 
-    Integrates from t[0] through each sample interval with ``substeps`` RK4 steps and
-    returns q at the samples, q̇ at the samples and ∂q/∂(ω², b, g, q0, v0) (n × 5).
-    The state is z = (q, v, s_1q, s_1v, …, s_5q, s_5v) with s_k = ∂(q, v)/∂p_k obeying
-    ṡ = (∂f/∂z) s + ∂f/∂p_k.
+
+def _deriv_py(z, dz, w2, b, g, d, a3, a5, nfree, kind, par, m):  # noqa: ANN001
+    """Right-hand side of the rig ODE and, when m > 2, of its forward sensitivities.
+
+    q̈ = −ω² (ρ(q) + a3 q³ + a5 q⁵) − b q̇ − g |q̇| q̇ − d q̇³ with p = (ω², b, g, d, a3, a5)
+    (the normalised rig, nfree = 3, skips the d, a3 and a5 terms). z = (q, v, s_1q, s_1v, …) with
+    s_k = ∂(q, v)/∂θ_k for θ = (p_0 … p_{nfree−1}, q0, v0), obeying ṡ = (∂f/∂z) s + ∂f/∂θ_k.
+    The parameters come as scalars: read from an array, each store into ``dz`` would reload them.
     """
-    n = t.shape[0]
-    out_q = np.empty(n)
-    out_v = np.empty(n)
-    jac = np.zeros((n, 5))
-    z = np.zeros(12)
-    z[0] = q0
-    z[1] = v0
-    z[2 + 2 * 3] = 1.0  # ∂q/∂q0
-    z[2 + 2 * 4 + 1] = 1.0  # ∂v/∂v0
-    k1 = np.empty(12)
-    k2 = np.empty(12)
-    k3 = np.empty(12)
-    k4 = np.empty(12)
-    tmp = np.empty(12)
-    m = 12 if want_jac else 2
-
-    out_q[0] = z[0]
-    out_v[0] = z[1]
-    for j in range(5):
-        jac[0, j] = z[2 + 2 * j]
-    for i in range(1, n):
-        h = (t[i] - t[i - 1]) / substeps
-        for _ in range(substeps):
-            _deriv(z, k1, w2, b, g, kind, par, m)
-            for c in range(m):
-                tmp[c] = z[c] + 0.5 * h * k1[c]
-            _deriv(tmp, k2, w2, b, g, kind, par, m)
-            for c in range(m):
-                tmp[c] = z[c] + 0.5 * h * k2[c]
-            _deriv(tmp, k3, w2, b, g, kind, par, m)
-            for c in range(m):
-                tmp[c] = z[c] + h * k3[c]
-            _deriv(tmp, k4, w2, b, g, kind, par, m)
-            for c in range(m):
-                z[c] += h / 6.0 * (k1[c] + 2.0 * k2[c] + 2.0 * k3[c] + k4[c])
-        out_q[i] = z[0]
-        out_v[i] = z[1]
-        if want_jac:
-            for j in range(5):
-                jac[i, j] = z[2 + 2 * j]
-    return out_q, out_v, jac
-
-
-def _deriv_py(z, dz, w2, b, g, kind, par, m):  # noqa: ANN001
     q = z[0]
     v = z[1]
-    rho, drho = _restore(q, kind, par)
-    av = abs(v)
-    dz[0] = v
-    dz[1] = -w2 * rho - b * v - g * av * v
-    if m > 2:
-        a_q = -w2 * drho
-        a_v = -b - 2.0 * g * av
-        forcing = (-rho, -v, -av * v, 0.0, 0.0)
-        for j in range(5):
-            sq = z[2 + 2 * j]
-            sv = z[3 + 2 * j]
-            dz[2 + 2 * j] = sv
-            dz[3 + 2 * j] = a_q * sq + a_v * sv + forcing[j]
-
-
-def _deriv_ext_py(z, dz, p, kind, par, m):  # noqa: ANN001
-    """Extended rig ODE q̈ = −ω² (ρ(q) + a3 q³ + a5 q⁵) − b q̇ − g |q̇| q̇ − d q̇³, p = (ω², b, g, d, a3, a5),
-    with the sensitivities to p and to (q0, v0) in z[2:18] when m > 2."""
-    q = z[0]
-    v = z[1]
-    w2 = p[0]
     rho, drho = _restore(q, kind, par)
     q2 = q * q
     q3 = q2 * q
     q5 = q3 * q2
     av = abs(v)
-    r_all = rho + p[4] * q3 + p[5] * q5
+    extended = nfree == EXTENDED_PARAMETERS  # else d, a3, a5 are neither read nor freed
+    r_all = rho + a3 * q3 + a5 * q5 if extended else rho
     dz[0] = v
-    dz[1] = -w2 * r_all - p[1] * v - p[2] * av * v - p[3] * v * v * v
+    dz[1] = -w2 * r_all - b * v - g * av * v
+    if extended:
+        dz[1] -= d * v * v * v
     if m > 2:
-        a_q = -w2 * (drho + 3.0 * p[4] * q2 + 5.0 * p[5] * q2 * q2)
-        a_v = -p[1] - 2.0 * p[2] * av - 3.0 * p[3] * v * v
-        for j in range(8):
-            if j == 0:
+        a_q = -w2 * (drho + 3.0 * a3 * q2 + 5.0 * a5 * q2 * q2) if extended else -w2 * drho
+        a_v = -b - 2.0 * g * av
+        if extended:
+            a_v -= 3.0 * d * v * v
+        for j in range(nfree + 2):
+            if j >= nfree:  # q0, v0 enter through the seeds only
+                forcing = 0.0
+            elif j == 0:
                 forcing = -r_all
             elif j == 1:
                 forcing = -v
@@ -385,56 +332,63 @@ def _deriv_ext_py(z, dz, p, kind, par, m):  # noqa: ANN001
                 forcing = -v * v * v
             elif j == 4:
                 forcing = -w2 * q3
-            elif j == 5:
-                forcing = -w2 * q5
             else:
-                forcing = 0.0
+                forcing = -w2 * q5
             sq = z[2 + 2 * j]
             sv = z[3 + 2 * j]
             dz[2 + 2 * j] = sv
             dz[3 + 2 * j] = a_q * sq + a_v * sv + forcing
 
 
-def _simulate_ext_py(t, q0, v0, p, kind, par, substeps, want_jac):  # noqa: ANN001
-    """RK4 of the extended ODE (see :func:`_deriv_ext_py`); J is ∂q/∂(ω², b, g, d, a3, a5, q0, v0)."""
+def _integrate_py(t, q0, v0, p, nfree, kind, par, substeps, want_jac):  # noqa: ANN001
+    """Fixed-step RK4 of the rig ODE augmented with its forward sensitivities (:func:`_deriv_py`).
+
+    Integrates from t[0] through each sample interval with ``substeps`` RK4 steps and returns
+    q and q̇ at the samples and J = ∂q/∂(p_0 … p_{nfree−1}, q0, v0) (n × (nfree + 2); without
+    ``want_jac`` only row 0, the seeds, is filled). The augmented state has 2 + 2 (nfree + 2)
+    entries; without ``want_jac`` only (q, v) is integrated.
+    """
     n = t.shape[0]
+    ns = nfree + 2
+    nz = 2 + 2 * ns
     out_q = np.empty(n)
     out_v = np.empty(n)
-    jac = np.zeros((n, 8))
-    z = np.zeros(18)
+    jac = np.zeros((n, ns))
+    z = np.zeros(nz)
     z[0] = q0
     z[1] = v0
-    z[2 + 2 * 6] = 1.0  # ∂q/∂q0
-    z[2 + 2 * 7 + 1] = 1.0  # ∂v/∂v0
-    k1 = np.empty(18)
-    k2 = np.empty(18)
-    k3 = np.empty(18)
-    k4 = np.empty(18)
-    tmp = np.empty(18)
-    m = 18 if want_jac else 2
+    z[2 + 2 * nfree] = 1.0  # ∂q/∂q0
+    z[2 + 2 * (nfree + 1) + 1] = 1.0  # ∂v/∂v0
+    k1 = np.empty(nz)
+    k2 = np.empty(nz)
+    k3 = np.empty(nz)
+    k4 = np.empty(nz)
+    tmp = np.empty(nz)
+    m = nz if want_jac else 2
+    w2, b, g, d, a3, a5 = p[0], p[1], p[2], p[3], p[4], p[5]
     out_q[0] = z[0]
     out_v[0] = z[1]
-    for j in range(8):
+    for j in range(ns):
         jac[0, j] = z[2 + 2 * j]
     for i in range(1, n):
         h = (t[i] - t[i - 1]) / substeps
         for _ in range(substeps):
-            _deriv_ext(z, k1, p, kind, par, m)
+            _deriv(z, k1, w2, b, g, d, a3, a5, nfree, kind, par, m)
             for c in range(m):
                 tmp[c] = z[c] + 0.5 * h * k1[c]
-            _deriv_ext(tmp, k2, p, kind, par, m)
+            _deriv(tmp, k2, w2, b, g, d, a3, a5, nfree, kind, par, m)
             for c in range(m):
                 tmp[c] = z[c] + 0.5 * h * k2[c]
-            _deriv_ext(tmp, k3, p, kind, par, m)
+            _deriv(tmp, k3, w2, b, g, d, a3, a5, nfree, kind, par, m)
             for c in range(m):
                 tmp[c] = z[c] + h * k3[c]
-            _deriv_ext(tmp, k4, p, kind, par, m)
+            _deriv(tmp, k4, w2, b, g, d, a3, a5, nfree, kind, par, m)
             for c in range(m):
                 z[c] += h / 6.0 * (k1[c] + 2.0 * k2[c] + 2.0 * k3[c] + k4[c])
         out_q[i] = z[0]
         out_v[i] = z[1]
         if want_jac:
-            for j in range(8):
+            for j in range(ns):
                 jac[i, j] = z[2 + 2 * j]
     return out_q, out_v, jac
 
@@ -442,16 +396,12 @@ def _simulate_ext_py(t, q0, v0, p, kind, par, substeps, want_jac):  # noqa: ANN0
 _nb = _numba()
 if _nb is not None:
     _restore = _nb.njit(cache=True)(_restore_py)
-    _deriv = _nb.njit(cache=True)(_deriv_py)
-    _deriv_ext = _nb.njit(cache=True)(_deriv_ext_py)
-    _simulate_ext = _nb.njit(cache=True)(_simulate_ext_py)
-    _simulate = _nb.njit(cache=True)(_simulate_py)
+    _deriv = _nb.njit(cache=True, inline="always")(_deriv_py)
+    _integrate = _nb.njit(cache=True)(_integrate_py)
 else:  # pragma: no cover
     _restore = _restore_py
     _deriv = _deriv_py
-    _deriv_ext = _deriv_ext_py
-    _simulate_ext = _simulate_ext_py
-    _simulate = _simulate_py
+    _integrate = _integrate_py
 
 
 def simulate_normalised(
@@ -488,8 +438,9 @@ def simulate_normalised(
     """
     t = np.ascontiguousarray(t, dtype=float)
     shape = restoring if restoring is not None else Restoring(SINE if sine else LINEAR)
-    return _simulate(
-        t, float(q0), float(v0), float(w2), float(b), float(g), shape.kind, shape.array(), int(substeps), bool(jacobian)
+    p = np.array([w2, b, g, 0.0, 0.0, 0.0], dtype=float)
+    return _integrate(
+        t, float(q0), float(v0), p, NORMALISED_PARAMETERS, shape.kind, shape.array(), int(substeps), bool(jacobian)
     )
 
 
@@ -522,7 +473,9 @@ def simulate_extended(
     t = np.ascontiguousarray(t, dtype=float)
     shape = restoring if restoring is not None else Restoring()
     pp = np.ascontiguousarray(np.asarray(p, float).reshape(6))
-    return _simulate_ext(t, float(q0), float(v0), pp, shape.kind, shape.array(), int(substeps), bool(jacobian))
+    return _integrate(
+        t, float(q0), float(v0), pp, EXTENDED_PARAMETERS, shape.kind, shape.array(), int(substeps), bool(jacobian)
+    )
 
 
 def simulate_rig(
