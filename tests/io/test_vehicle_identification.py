@@ -141,3 +141,35 @@ def test_bad_blocks_are_one_line_errors(tmp_path: Path, block: Any, message: str
         with pytest.raises(InputError, match=re.escape(message)) as err:
             read(path)
         assert str(path) in str(err.value) and "\n" not in str(err.value)
+
+
+def test_a_long_reason_is_shortened_at_a_word_in_the_warning(tmp_path: Path) -> None:
+    """The Esso Osaka fit's first reason is ~350 characters: the warning quotes its start, the file
+    keeps it whole."""
+    reason = "pond3 (held out): " + " ".join(f"word{k}" for k in range(60)) + "."
+    path = _with_block(tmp_path, {"verdict": "does not fit", "reasons": [reason]})
+    v = load_vehicle(path)
+    head, tail = f'{path}: its identification says "does not fit" (', "): the predictions below are not trustworthy"
+    assert v.warnings[0].startswith(head) and v.warnings[0].endswith(tail)
+    quoted = v.warnings[0][len(head) : -len(tail)]
+    assert quoted.endswith(" …") and len(quoted) <= 202
+    kept = quoted[:-2]
+    assert reason.startswith(kept + " ") and kept.split()[-1] == f"word{len(kept.split()) - 4}"
+    assert v.identification is not None and v.identification.reasons == (reason,)
+
+
+def test_a_windowed_fit_names_its_run_files() -> None:
+    """Windows are named RUN@STARTs: runs and holdout list the files once each, the held-out NRMSE
+    stays per window."""
+    result = _result(False)
+    result.windows = {"count": 4}
+    chan = {"v": {"nrmse": 0.8, "moving": True}}
+    result.runs = [
+        {"name": "pond1@0s", "holdout": False, "channels": {}},
+        {"name": "pond1@30s", "holdout": False, "channels": {}},
+        {"name": "pond3@0s", "holdout": True, "channels": chan},
+        {"name": "pond3@28.05s", "holdout": True, "channels": chan},
+    ]
+    block = identified_vehicle_document(result, read_yaml(resolve_vehicle("bluerov2-heavy")))["identification"]
+    assert block["runs"] == ["pond1"] and block["holdout"] == ["pond3"]
+    assert list(block["holdout_nrmse"]) == ["pond3@0s", "pond3@28.05s"]

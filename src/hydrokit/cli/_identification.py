@@ -40,9 +40,8 @@ def refuse_unfit(vehicle: str) -> None:
     ident = read_identification(vehicle)
     if ident is None or ident.fits:
         return
-    why = f" ({ident.reasons[0].rstrip('.')})" if ident.reasons else ""
     raise InputError(
-        f"{UNFIT_MARK}{why}: refused under --strict (without it the vehicle flies with a warning)",
+        f"{UNFIT_MARK}{ident.why}: refused under --strict (without it the vehicle flies with a warning)",
         str(resolve_vehicle(vehicle)),
     )
 

@@ -417,8 +417,9 @@ def identification_block(result: Any) -> dict[str, Any] | None:
 
     Returns
     -------
-    dict — verdict, reasons, the held-out NRMSE of each moving channel (–), runs, holdout, method,
-    tool (``hydrokit sysid VERSION``) and date (UTC, ISO 8601)
+    dict — verdict, reasons, the held-out NRMSE of each moving channel (–, per run or window), runs
+    and holdout (the run files' stems; a windowed fit's windows named by their run), method, tool
+    (``hydrokit sysid VERSION``) and date (UTC, ISO 8601)
     """
     from importlib.metadata import PackageNotFoundError, version
 
@@ -445,8 +446,10 @@ def identification_block(result: Any) -> dict[str, Any] | None:
     }
     if nrmse:
         block["holdout_nrmse"] = nrmse
-    block["runs"] = [str(r["name"]) for r in result.runs if not r["holdout"]]
-    block["holdout"] = [str(r["name"]) for r in result.runs if r["holdout"]]
+    for key, held in (("runs", False), ("holdout", True)):
+        # the files: a windowed fit names its windows RUN@STARTs
+        names = [str(r["name"]) for r in result.runs if bool(r["holdout"]) is held]
+        block[key] = list(dict.fromkeys(n.split("@")[0] if getattr(result, "windows", None) else n for n in names))
     block["method"] = str(getattr(result, "method", ""))
     block["tool"] = tool
     block["date"] = datetime.datetime.now(datetime.UTC).strftime("%Y-%m-%dT%H:%M:%SZ")

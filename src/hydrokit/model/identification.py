@@ -17,6 +17,8 @@ from dataclasses import dataclass, field
 VERDICTS = ("fits", "does not fit")
 #: the text every "does not fit" warning carries (the reports find their banner by it)
 UNFIT_MARK = 'its identification says "does not fit"'
+#: how much of the first reason a warning quotes, characters
+REASON_CHARS = 200
 
 
 @dataclass(frozen=True)
@@ -63,8 +65,18 @@ class Identification:
         """
         if self.fits:
             return None
-        why = f" ({self.reasons[0].rstrip('.')})" if self.reasons else ""
-        return f"{source}: {UNFIT_MARK}{why}: the predictions below are not trustworthy"
+        return f"{source}: {UNFIT_MARK}{self.why}: the predictions below are not trustworthy"
+
+    @property
+    def why(self) -> str:
+        """The first reason in brackets, shortened to about :data:`REASON_CHARS` characters at a
+        word (the whole reasons are in the file), or "" when the block gives none."""
+        if not self.reasons:
+            return ""
+        text = " ".join(self.reasons[0].split()).rstrip(".")
+        if len(text) > REASON_CHARS:
+            text = text[:REASON_CHARS].rsplit(" ", 1)[0] + " …"
+        return f" ({text})"
 
 
 def is_unfit_warning(text: str) -> bool:
