@@ -273,7 +273,7 @@ def _models() -> list[tuple[str, Any, dict[str, Any]]]:
 
 def manoeuvres() -> dict[str, Any]:
     """Fly and print the REMUS models' turning circles, zigzags and pull-outs side by side."""
-    from hydrokit.simulate.manoeuvre import pull_out, run_manoeuvre, turning_circle, zigzag
+    from hydrokit.manoeuvre.run import pull_out, run_manoeuvre, turning_circle, zigzag
 
     out: dict[str, Any] = {}
     rad = math.radians
@@ -341,7 +341,7 @@ def manoeuvres() -> dict[str, Any]:
 def ship(name: str = "mariner", force: float = 727_000.0, speed: float = 7.7) -> dict[str, Any]:
     """The planar surface ship's IMO MSC.137(76) trials: turning circle at 35°, zigzags 10°/10°
     and 20°/20°, each with its criteria (``--force 727000,0,0,0,0,0`` holds 15 kn)."""
-    from hydrokit.simulate.manoeuvre import run_manoeuvre, turning_circle, zigzag
+    from hydrokit.manoeuvre.run import run_manoeuvre, turning_circle, zigzag
 
     v = _load(name)
     out: dict[str, Any] = {}
@@ -419,9 +419,9 @@ def loop_speed(seconds: float = 120.0, python_seconds: float = 20.0, dt: float =
     the depth hold): a straight approach of half the time, then a 15° turn."""
     import numpy as np
 
+    from hydrokit.manoeuvre.run import fly_manoeuvre, holding_surfaces, turning_circle
     from hydrokit.model.dynamics import vehicle_dynamics
     from hydrokit.simulate.compiled import make_dynamics
-    from hydrokit.simulate.manoeuvre import fly_manoeuvre, holding_surfaces, turning_circle
 
     out: dict[str, float] = {}
     print(f"\n== manoeuvre loop (approach, then a turning circle at 15°; stern planes holding depth), dt = {dt} s ==")

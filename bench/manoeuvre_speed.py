@@ -1,6 +1,6 @@
 """Speed of the manoeuvre loop (issue #50 item 2): steps/s and a Mariner spiral's wall time.
 
-1. Steps/s of the compiled manoeuvre loop (:mod:`hydrokit.simulate.manoeuvre_compiled`: logic,
+1. Steps/s of the compiled manoeuvre loop (:mod:`hydrokit.manoeuvre.compiled`: logic,
    depth hold, servo and RK4 compiled) on ``remus100`` and ``remus100-fins``: a straight approach
    of half the time, then a turning circle at 15° with the stern planes holding depth, dt =
    0.02 s; beside it the open-loop RK4 of the same right-hand side (``compiled.rk4_run``, no
@@ -46,9 +46,9 @@ def _turn(v: Any, seconds: float, dt: float, compiled: bool) -> tuple[int, float
     """(steps, wall s) of an approach of seconds/2 and a 15° turn of seconds/2."""
     import numpy as np
 
+    from hydrokit.manoeuvre.compiled import Engine
+    from hydrokit.manoeuvre.run import fly_manoeuvre, holding_surfaces, turning_circle
     from hydrokit.simulate.compiled import make_dynamics
-    from hydrokit.simulate.manoeuvre import fly_manoeuvre, holding_surfaces, turning_circle
-    from hydrokit.simulate.manoeuvre_compiled import Engine
 
     s = v.surfaces
     f = make_dynamics(v)
@@ -117,15 +117,15 @@ def _command_turn(v: Any, seconds: float, dt: float, compiled: bool) -> tuple[in
     """(steps, wall s) of an approach of seconds/2 and a 15° turn of seconds/2 on the propeller."""
     import numpy as np
 
-    from hydrokit.simulate.compiled import make_dynamics
-    from hydrokit.simulate.manoeuvre import (
+    from hydrokit.manoeuvre.compiled import Engine
+    from hydrokit.manoeuvre.run import (
         ThrusterDrive,
         fly_manoeuvre,
         holding_surfaces,
         thruster_commands,
         turning_circle,
     )
-    from hydrokit.simulate.manoeuvre_compiled import Engine
+    from hydrokit.simulate.compiled import make_dynamics
 
     s = v.surfaces
     f = make_dynamics(v)
@@ -173,7 +173,7 @@ def command_speed(seconds: float = 2000.0, python_seconds: float = 20.0, dt: flo
 def mariner_spiral(python: bool = False) -> dict[str, float]:
     """Wall time (s) of the Mariner's direct spiral: first call, second call, and the Python loop."""
     from hydrokit.io.vehicle import load_vehicle
-    from hydrokit.simulate.manoeuvre import run_manoeuvre, spiral
+    from hydrokit.manoeuvre.run import run_manoeuvre, spiral
 
     v = load_vehicle("mariner")
     out: dict[str, float] = {}

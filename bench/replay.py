@@ -32,8 +32,8 @@ FORCE = (727000.0, 0, 0, 0, 0, 0)  # N: the Mariner at 15 kn
 def _mariner(out: Path) -> None:
     import hydrokit
     from hydrokit.io.runlog import read_run, run_csv
-    from hydrokit.simulate import manoeuvre as M
-    from hydrokit.simulate.replay import replay
+    from hydrokit.manoeuvre import run as M
+    from hydrokit.manoeuvre.replay import replay
 
     v = hydrokit.load_vehicle("mariner")
     dt = 0.25
@@ -70,7 +70,7 @@ def _esso(root: Path, out: Path, dt: float) -> None:
     import esso_osaka as E
     import hydrokit
     from hydrokit.io.runlog import read_run
-    from hydrokit.simulate.replay import replay
+    from hydrokit.manoeuvre.replay import replay
 
     zig = [p for f in sorted((root / "zigzag").glob("*.csv")) for p in E.read_esso(f)]
     sign = E.rudder_sign([r for _, r in zig])

@@ -59,9 +59,9 @@ def main() -> None:
     import numba
 
     import hydrokit
-    from hydrokit.simulate.sysid import identify
-    from hydrokit.simulate.sysid_data import HIDDEN, generate_runs, hidden_vehicle
-    from hydrokit.simulate.sysid_model import free_parameters, values_of
+    from hydrokit.sysid.data import HIDDEN, generate_runs, hidden_vehicle
+    from hydrokit.sysid.fit import identify
+    from hydrokit.sysid.model import free_parameters, values_of
 
     numba.set_num_threads(min(2, numba.config.NUMBA_NUM_THREADS))
     base = hydrokit.load_vehicle("bluerov2-sysid")
@@ -202,9 +202,9 @@ WINDOW_FREE = [
 
 def _windows(whole: bool) -> None:
     from hydrokit.api import vehicle_from_dict
-    from hydrokit.simulate.sysid import identify
-    from hydrokit.simulate.sysid_model import free_parameters, values_of, with_values
-    from hydrokit.simulate.sysid_ship import ship_runs
+    from hydrokit.sysid.fit import identify
+    from hydrokit.sysid.model import free_parameters, values_of, with_values
+    from hydrokit.sysid.ship import ship_runs
 
     truth = vehicle_from_dict(WINDOW_SHIP, "unstable-ship")
     runs = ship_runs(truth, 12, 200.0, seed=48, dt=0.01)
@@ -239,9 +239,9 @@ def _windows(whole: bool) -> None:
 def _auto_decision(truth: object, params: list, base: object, runs: list) -> None:
     """What ``window="auto"`` decides on these runs at the base values (the growth of an initial
     velocity error over each run)."""
-    from hydrokit.simulate.sysid_model import prepare_run, values_of
-    from hydrokit.simulate.sysid_smooth import smooth_run
-    from hydrokit.simulate.sysid_window import DRIFT_GROWTH, drift
+    from hydrokit.sysid.model import prepare_run, values_of
+    from hydrokit.sysid.smooth import smooth_run
+    from hydrokit.sysid.window import DRIFT_GROWTH, drift
 
     found = []
     for run in runs:
@@ -256,9 +256,9 @@ def _auto_decision(truth: object, params: list, base: object, runs: list) -> Non
 
 
 def _plan(base: object, names: list[str]) -> None:
-    from hydrokit.simulate.sysid import identify
-    from hydrokit.simulate.sysid_data import generate_runs
-    from hydrokit.simulate.sysid_plan import plan_excitation
+    from hydrokit.sysid.data import generate_runs
+    from hydrokit.sysid.fit import identify
+    from hydrokit.sysid.plan import plan_excitation
 
     t = time.perf_counter()
     plan = plan_excitation(base, names, 60.0, evaluations=40)  # type: ignore[arg-type]

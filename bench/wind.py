@@ -76,7 +76,7 @@ def _runs(out: Path, truth: object, seed: int) -> tuple[list[Path], list[Path]]:
 def main() -> int:
     from hydrokit.api import load_vehicle
     from hydrokit.io.runlog import read_runs
-    from hydrokit.simulate.sysid import identify
+    from hydrokit.sysid.fit import identify
 
     with tempfile.TemporaryDirectory() as tmp:
         out = Path(tmp)

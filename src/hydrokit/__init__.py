@@ -9,7 +9,7 @@ and loads neither numpy's heavy friends nor matplotlib, scipy or numba:
 ['HydrokitError', 'InputError', '__version__', 'allocate']
 
 Layers (see docs/architecture.md): core -> identify / estimate / model -> simulate ->
-io -> plot -> api -> report -> cli. Units are SI and radians everywhere inside the package.
+sysid / manoeuvre -> io -> plot -> api -> report -> cli. Units are SI and radians everywhere inside the package.
 A walk-through of the whole chain is in docs/api.md.
 """
 
@@ -43,8 +43,8 @@ _LAZY = {
     "export_vehicle": "hydrokit.api",
     "load_assembly": "hydrokit.api",
     "transport": "hydrokit.api",
-    "manoeuvre": "hydrokit.api",
-    "sysid": "hydrokit.api",
+    "manoeuvre": "hydrokit",  # the subpackage hydrokit.manoeuvre, callable as hydrokit.api.manoeuvre
+    "sysid": "hydrokit",  # the subpackage hydrokit.sysid, callable as hydrokit.api.sysid
     "load_project": "hydrokit.io.project",
     "run_project": "hydrokit.pipeline",
     "RunResult": "hydrokit.pipeline.result",

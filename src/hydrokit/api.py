@@ -30,8 +30,8 @@ if TYPE_CHECKING:  # pragma: no cover - imports for annotations only
     from hydrokit.simulate.driver import Trajectory
     from hydrokit.simulate.fleet import FleetResult
     from hydrokit.simulate.mission import MissionResult
-    from hydrokit.simulate.sysid import SysidResult
     from hydrokit.simulate.transport import TransportResult
+    from hydrokit.sysid.fit import SysidResult
 
 PathLike = str | os.PathLike[str]
 
@@ -257,7 +257,7 @@ def manoeuvre(vehicle: Vehicle | PathLike, manoeuvre: Any, **options: Any) -> An
     Parameters
     ----------
     vehicle : Vehicle or vehicle name/path — with ``control_surfaces``
-    manoeuvre : a :class:`hydrokit.simulate.manoeuvre.Manoeuvre` from ``turning_circle(deg)``,
+    manoeuvre : a :class:`hydrokit.manoeuvre.run.Manoeuvre` from ``turning_circle(deg)``,
         ``zigzag(a, b)``, ``spiral(...)``, ``pull_out(...)``, ``depth_change(...)``,
         ``vertical_zigzag(a, b)`` of that module
     **options : surface, tau (N, N·m), nu0 (m/s, rad/s), eta0, dt (s), duration (s), approach (s),
@@ -266,13 +266,13 @@ def manoeuvre(vehicle: Vehicle | PathLike, manoeuvre: Any, **options: Any) -> An
         ones; None = on for a 6-DOF vehicle with such a second surface), commands ({thruster
         name: command} — rev/s for a propeller, the table's unit, N for an ideal thruster; held
         from rest through the rotor lag; ``tau`` adds to their thrust) — see
-        :func:`hydrokit.simulate.manoeuvre.run_manoeuvre`
+        :func:`hydrokit.manoeuvre.run.run_manoeuvre`
 
     Returns
     -------
     ManoeuvreResult — metrics from the execute point, ``to_dict()``, ``plot()``
     """
-    from hydrokit.simulate.manoeuvre import run_manoeuvre
+    from hydrokit.manoeuvre.run import run_manoeuvre
 
     return run_manoeuvre(_as_vehicle(vehicle), manoeuvre, **options)
 
@@ -347,7 +347,7 @@ def identify_runs(
     Every option is checked before a run is read (a bad free name or method costs no reading),
     then the runs are read with the vehicle's thrusters and surfaces
     (:func:`hydrokit.io.runlog.read_runs`), a ``window`` longer than a run is refused, and
-    :func:`hydrokit.simulate.sysid.identify` fits.
+    :func:`hydrokit.sysid.fit.identify` fits.
 
     Parameters
     ----------
@@ -358,7 +358,7 @@ def identify_runs(
     dt : float — integration step, s
     on_read : callable(training, holdout) or None — called with the runs once they are read and
         checked, before the fit (the CLI prints them)
-    **options : the rest of :func:`hydrokit.simulate.sysid.identify`'s keywords (samples, seed,
+    **options : the rest of :func:`hydrokit.sysid.fit.identify`'s keywords (samples, seed,
         progress, workers, scheduler, window — s, "auto" or None …)
 
     Returns
@@ -366,8 +366,8 @@ def identify_runs(
     SysidResult
     """
     from hydrokit.io.runlog import read_runs
-    from hydrokit.simulate.sysid import check_options, identify
-    from hydrokit.simulate.sysid_window import check_window
+    from hydrokit.sysid.fit import check_options, identify
+    from hydrokit.sysid.window import check_window
 
     names = list(free)
     check_options(vehicle, names, method, dt)  # every option before a run is read
@@ -397,14 +397,14 @@ def sysid_dive_files(
     Returns
     -------
     dict — DIR/diveN.csv run files (:func:`hydrokit.io.runlog.run_csv`) and DIR/truth.json (the
-    hidden values, SI), path → text (:mod:`hydrokit.simulate.sysid_data` generates them)
+    hidden values, SI), path → text (:mod:`hydrokit.sysid.data` generates them)
     """
     import json
     from pathlib import Path
 
     from hydrokit.io.runlog import run_csv
-    from hydrokit.simulate.sysid_data import HIDDEN, generate_runs, hidden_vehicle
-    from hydrokit.simulate.sysid_model import free_parameters, values_of
+    from hydrokit.sysid.data import HIDDEN, generate_runs, hidden_vehicle
+    from hydrokit.sysid.model import free_parameters, values_of
 
     truth = hidden_vehicle(base, seed, spread)
     dives = generate_runs(truth, n_runs, duration, seed, amplitude, noise)

@@ -46,7 +46,7 @@ def _dive(files: Files) -> str:
     """A 1.5 s virtual dive of bluerov2-sysid (yaw, yaw rate, surge speed) as a run file."""
     import hydrokit
     from hydrokit.io.runlog import run_csv
-    from hydrokit.simulate.sysid_data import generate_runs, hidden_vehicle
+    from hydrokit.sysid.data import generate_runs, hidden_vehicle
 
     base = hydrokit.load_vehicle("bluerov2-sysid")
     d = generate_runs(hidden_vehicle(base, 4), 1, 1.5, seed=4, dt=0.01)[0]

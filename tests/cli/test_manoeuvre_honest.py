@@ -8,7 +8,7 @@ import re
 
 import pytest
 
-from hydrokit.simulate import manoeuvre as M
+from hydrokit.manoeuvre import run as M
 
 
 @pytest.fixture

@@ -10,7 +10,7 @@ import time
 import pytest
 
 from hydrokit.errors import InputError
-from hydrokit.simulate.manoeuvre import HOLD_MIN_SPEED, check_propulsion
+from hydrokit.manoeuvre.run import HOLD_MIN_SPEED, check_propulsion
 
 # a planar boat: surge drag X_u|u| = 20 N/(m/s)², so a force X (N) drives it at √(X/20) m/s
 BOAT = """

@@ -19,7 +19,7 @@ from tests.cli.test_manoeuvre_cli import BOAT, PROP_BOAT
 def _write_trial(text, path, manoeuvre, dt=0.1, **kw):
     from hydrokit.api import load_vehicle, vehicle_from_dict
     from hydrokit.io.runlog import run_csv
-    from hydrokit.simulate import manoeuvre as M
+    from hydrokit.manoeuvre import run as M
 
     v = load_vehicle(text) if text == "mariner" else vehicle_from_dict(yaml.safe_load(text), "inline")
     res = M.run_manoeuvre(v, manoeuvre, dt=dt, **kw)
@@ -43,7 +43,7 @@ def boat(tmp_path):
 def test_zigzag_replay_writes_measured_predicted_difference(run_cli, tmp_path):
     """The Mariner flown at the trial's force (727 kN, 15 kn): every difference within 1e-6 of the
     metric (the run file's 9 significant digits are all that separate the two flights)."""
-    from hydrokit.simulate import manoeuvre as M
+    from hydrokit.manoeuvre import run as M
 
     trial = tmp_path / "zz.csv"
     zz = M.zigzag(math.radians(20), math.radians(20))
@@ -74,7 +74,7 @@ def test_propeller_commands_replayed(run_cli, tmp_path):
     loop: first order in dt), the replay takes it at every RK4 stage; with the trial flown at
     dt = 0.02 s they agree to 1 % (the trial's own error: its tactical diameter moves by 0.9 %
     from dt = 0.1 s to 0.02 s, the replay's by 0.01 %)."""
-    from hydrokit.simulate import manoeuvre as M
+    from hydrokit.manoeuvre import run as M
 
     boat = tmp_path / "prop.yaml"
     boat.write_text(PROP_BOAT)
@@ -119,7 +119,7 @@ def _zero(path, column):
 
 
 def test_rudder_that_never_moves(run_cli, boat, tmp_path):
-    from hydrokit.simulate import manoeuvre as M
+    from hydrokit.manoeuvre import run as M
 
     trial = tmp_path / "tc.csv"
     _write_trial(BOAT, trial, M.turning_circle(math.radians(35)), tau=(20, 0, 0, 0, 0, 0), duration=20.0)
@@ -150,7 +150,7 @@ def test_replay_with_a_manoeuvre_option(run_cli, boat, tmp_path, args, match):
 def test_replay_samples_give_the_predicted_metrics_intervals(run_cli, tmp_path):
     """``--replay --samples``: drawn boats replay the trial; a σ of ~0 on the rudder's yaw moment
     collapses the predicted metrics' intervals onto the predicted values (same model, same inputs)."""
-    from hydrokit.simulate import manoeuvre as M
+    from hydrokit.manoeuvre import run as M
 
     boat = tmp_path / "sigma.yaml"
     boat.write_text(BOAT + "uncertainty:\n  parameters: [terms.N_uu*delta(rudder)]\n  covariance: [[1.0e-20]]\n")

@@ -28,7 +28,7 @@ def test_generate_writes_dives_and_truth(run_sysid: Any, tmp_path: Path) -> None
 def test_identify_writes_all_outputs(run_sysid: Any, tmp_path: Path) -> None:
     import hydrokit
     from hydrokit.io.runlog import run_csv
-    from hydrokit.simulate.sysid_data import generate_runs, hidden_vehicle
+    from hydrokit.sysid.data import generate_runs, hidden_vehicle
 
     # two 1.5 s dives integrated at 10 ms with yaw, yaw rate and surge speed (cheap without the
     # JIT), written as run files

@@ -21,7 +21,7 @@ def files(tmp_path_factory: pytest.TempPathFactory) -> Path:
     import hydrokit
     from hydrokit.io.runlog import run_csv
     from hydrokit.io.vehicle import resolve_vehicle
-    from hydrokit.simulate.sysid_data import generate_runs
+    from hydrokit.sysid.data import generate_runs
 
     d = tmp_path_factory.mktemp("compare")
     doc = yaml.safe_load(resolve_vehicle("bluerov2-sysid").read_text())

@@ -15,7 +15,7 @@ from tests.simulate.test_sysid_surfaces import SHIP, _ship
 def _files(tmp_path: Path) -> tuple[Path, Path]:
     """One 20 s generated run of the ship as a run file, and the ship's vehicle file."""
     from hydrokit.io.runlog import run_csv
-    from hydrokit.simulate.sysid_ship import ship_runs
+    from hydrokit.sysid.ship import ship_runs
 
     run = ship_runs(_ship(), 1, 20.0, seed=1, dt=0.01)[0]
     p = tmp_path / "run1.csv"

@@ -16,8 +16,8 @@ import yaml
 import hydrokit
 from hydrokit.io.vehicle import load_vehicle, parse_vehicle, resolve_vehicle
 from hydrokit.io.yamlfile import read_yaml
+from hydrokit.manoeuvre.run import pull_out, run_manoeuvre, turning_circle, zigzag
 from hydrokit.simulate.compiled import make_dynamics
-from hydrokit.simulate.manoeuvre import pull_out, run_manoeuvre, turning_circle, zigzag
 from hydrokit.simulate.mission import fly_mission
 
 THRUST = 3.86  # N, Prestero's steady run

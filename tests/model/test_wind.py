@@ -172,7 +172,7 @@ def test_the_fit_flies_each_run_in_its_logged_wind(tmp_path: Path) -> None:
     the run file; without the wind it misses by centimetres per second."""
     from hydrokit.api import load_vehicle as load_with_thrusters
     from hydrokit.io.runlog import read_run, run_csv
-    from hydrokit.simulate.sysid_model import prepare_run, simulate_run, stack_packs
+    from hydrokit.sysid.model import prepare_run, simulate_run, stack_packs
 
     ship = _ship(tmp_path, BLENDERMANN + "thrusters:\n  - {name: main, position: [0, 0, 0], direction: [1, 0, 0], "
                  "max_thrust: 50}\n")  # fmt: skip

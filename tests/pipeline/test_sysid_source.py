@@ -2,7 +2,7 @@
 ``sysid:`` section, the comparison beside tank/geometry/CFD with σ, ``choose: sysid``, the step
 cache, and one-line errors naming the field.
 
-The plumbing tests replace :func:`hydrokit.simulate.sysid.identify` by a stand-in that returns
+The plumbing tests replace :func:`hydrokit.sysid.fit.identify` by a stand-in that returns
 known values (the fit itself is tested in tests/simulate/test_sysid.py), so they are fast with
 the JIT off; the bundled project runs for real under ``needs_jit`` and is compared with the
 hidden values its generator wrote.
@@ -37,8 +37,8 @@ class FakeIdentify:
         self.calls: list[dict[str, Any]] = []
 
     def __call__(self, vehicle: Any, runs: Any, free: Any, holdout: Any = (), **kw: Any) -> Any:
-        from hydrokit.simulate.sysid import SysidResult
-        from hydrokit.simulate.sysid_model import free_parameters, values_of
+        from hydrokit.sysid.fit import SysidResult
+        from hydrokit.sysid.model import free_parameters, values_of
 
         self.calls.append({"vehicle": vehicle, "runs": [r.name for r in runs], "free": list(free), **kw})
         kw["progress"](1, 0.0)
@@ -94,7 +94,7 @@ class FakeIdentify:
 @pytest.fixture
 def fake(monkeypatch: pytest.MonkeyPatch) -> FakeIdentify:
     f = FakeIdentify()
-    monkeypatch.setattr("hydrokit.simulate.sysid.identify", f)
+    monkeypatch.setattr("hydrokit.sysid.fit.identify", f)
     return f
 
 
@@ -415,7 +415,7 @@ def test_a_fit_that_does_not_describe_the_runs_says_so_first(tmp_path, monkeypat
         res = fake(*args, **kw)
         return replace(res, verdict={"fits": False, "reasons": [reason]}, messages=())
 
-    monkeypatch.setattr("hydrokit.simulate.sysid.identify", failing)
+    monkeypatch.setattr("hydrokit.sysid.fit.identify", failing)
     monkeypatch.setattr("hydrokit.pipeline.sysid._figures", lambda result: [])
     res = run(make_project(tmp_path), tmp_path / "out")
     step = res.document["sysid"]

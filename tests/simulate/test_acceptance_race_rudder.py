@@ -6,14 +6,14 @@ the interval drawn from the fit's covariance.
 The truth flies random zigzag-like rudder schedules at a constant propeller speed in a gusty
 wind whose speed and direction are logged in the runs (:func:`wind_ship_runs`; the compiled
 RK4 at 0.01 s, the thrust at the true advance speed, Gaussian sensor noise of
-:data:`~hydrokit.simulate.sysid_ship.SHIP_NOISE` at 10 Hz, fixed seeds). The fit (0.02 s) starts
+:data:`~hydrokit.sysid.ship.SHIP_NOISE` at 10 Hz, fixed seeds). The fit (0.02 s) starts
 25–30 % off on four parameters — the rudder's lift slope and neutral deflection (from 0), the
 hull's Y_uv and N_ur — with everything else the truth's (the wind model included), so what is
 left is the sensor noise: each fitted value must lie within k = 3 of its stated σ, and each σ be
 small (< 20 % of the value; < 0.5° for the neutral deflection of 1.5°), or the test could not
 fail. The 35° turning circle to either side (the propeller makes them differ by 9 %, as the
 Esso Osaka trials did) is then flown by the truth and by 24 vehicles drawn from the fit's
-covariance (``manoeuvre --samples``' :func:`~hydrokit.simulate.manoeuvre_samples.add_intervals`):
+covariance (``manoeuvre --samples``' :func:`~hydrokit.manoeuvre.samples.add_intervals`):
 the truth's advance and tactical diameter must lie inside the draws' 95 % interval, which must
 be narrower than 30 % of the value.
 
@@ -38,8 +38,8 @@ from tests.simulate.test_sysid_surfaces import SHIP
 
 from hydrokit.io.runlog import RunLog
 from hydrokit.model.uncertainty import make_uncertainty, parameter_value, with_coefficients
-from hydrokit.simulate.sysid_model import CHANNELS, force_table, stack_packs
-from hydrokit.simulate.sysid_ship import SHIP_NOISE
+from hydrokit.sysid.model import CHANNELS, force_table, stack_packs
+from hydrokit.sysid.ship import SHIP_NOISE
 
 #: the right-handed propeller's side force and the race's swirl, as a neutral rudder of 1.5° to
 #: starboard (negative: hydrokit's positive rudder turns the ship to port); Esso Osaka's pond
@@ -96,9 +96,9 @@ def wind_ship_runs(
 ) -> list[RunLog]:
     """Zigzag-like runs of ``truth`` in a logged gusty wind (m/s; its direction turning slowly
     through a quarter of the compass), at a constant propeller speed, with the sensor noise of
-    :data:`~hydrokit.simulate.sysid_ship.SHIP_NOISE` × ``noise`` at 10 Hz. The thrust is the propeller's
+    :data:`~hydrokit.sysid.ship.SHIP_NOISE` × ``noise`` at 10 Hz. The thrust is the propeller's
     curve at the true advance speed (six fixed-point passes, as
-    :func:`hydrokit.simulate.sysid_ship.ship_runs` does); the wind acts through the vehicle's own
+    :func:`hydrokit.sysid.ship.ship_runs` does); the wind acts through the vehicle's own
     wind model on the compiled RK4."""
     from hydrokit.model.dynamics import environment_table
     from hydrokit.simulate.compiled import rk4_run
@@ -150,7 +150,7 @@ def turn(vehicle: Any, side: float) -> Any:
     """A 35° turning circle (``side`` +1: rudder to port, −1: to starboard) at the propeller's
     speed, in still air, flown for 110 s after the execute: past the 180° that the advance and the
     tactical diameter need (the steady turn, at 540°, is not waited for)."""
-    from hydrokit.simulate import manoeuvre as M
+    from hydrokit.manoeuvre import run as M
 
     return M.run_manoeuvre(
         vehicle,
@@ -165,8 +165,8 @@ def turn(vehicle: Any, side: float) -> Any:
 def identify_and_predict(seed: int, draws: int = DRAWS) -> tuple[Any, Any, dict[float, tuple[Any, Any]]]:
     """The truth, its fit from two 40 s runs (``seed``) and per side (+1, −1) the truth's turning
     circle and the fitted vehicle's with ``draws`` draws from the fit's covariance."""
-    from hydrokit.simulate.manoeuvre_samples import add_intervals
-    from hydrokit.simulate.sysid import identify
+    from hydrokit.manoeuvre.samples import add_intervals
+    from hydrokit.sysid.fit import identify
 
     truth = wind_ship()
     runs = wind_ship_runs(truth, 2, 40.0, seed=seed)

@@ -13,8 +13,8 @@ import numpy as np
 import pytest
 
 from hydrokit.errors import InputError
-from hydrokit.simulate import manoeuvre as M
-from hydrokit.simulate import manoeuvre_metrics as mm
+from hydrokit.manoeuvre import metrics as mm
+from hydrokit.manoeuvre import run as M
 
 K, T, U, L = 0.2, 5.0, 2.0, 4.0
 SERVO = (np.array([0.6]), np.array([np.inf]), np.array([0.0]))

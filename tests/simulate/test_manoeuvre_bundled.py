@@ -22,7 +22,7 @@ import pytest
 
 from hydrokit.api import load_vehicle
 from hydrokit.errors import InputError
-from hydrokit.simulate import manoeuvre as M
+from hydrokit.manoeuvre import run as M
 
 VEHICLES = Path(__file__).resolve().parents[2] / "src" / "hydrokit" / "data" / "vehicles"
 #: REMUS propulsion: its propeller held at the speed that gives Prestero's 3.86 N at 1.54 m/s

@@ -1,8 +1,8 @@
 """The compiled manoeuvre loop (issue #50 item 2) against the Python loop.
 
-Second method: the Python loop (:class:`hydrokit.simulate.manoeuvre._PythonLoop`, RK4 by
+Second method: the Python loop (:class:`hydrokit.manoeuvre.run._PythonLoop`, RK4 by
 ``integrators.rk4_step`` around ``make_dynamics``) flies the same manoeuvre; both call the same
-laws (:mod:`hydrokit.simulate.manoeuvre_laws`), one as Python and one compiled, so the records
+laws (:mod:`hydrokit.manoeuvre.laws`), one as Python and one compiled, so the records
 agree to rounding: rtol 1e-9 (the only differences are the order of a few floating-point
 operations, ~1e-15 per step, grown over at most a few tens of thousands of steps of a stable
 manoeuvre; measured ≤ 3e-12 on a 46 000-step REMUS spiral).
@@ -17,9 +17,9 @@ import pytest
 
 from hydrokit.api import load_vehicle
 from hydrokit.errors import InputError
-from hydrokit.simulate import manoeuvre as M
-from hydrokit.simulate import manoeuvre_laws as L
-from hydrokit.simulate.manoeuvre_samples import numeric_metrics
+from hydrokit.manoeuvre import laws as L
+from hydrokit.manoeuvre import run as M
+from hydrokit.manoeuvre.samples import numeric_metrics
 
 REMUS = {"tau": (3.86, 0, 0, -0.543, 0, 0), "nu0": (1.5, 0, 0, 0, 0, 0), "dt": 0.05}
 MARINER = {"tau": (727000.0, 0, 0, 0, 0, 0), "nu0": (7.7, 0, 0, 0, 0, 0), "dt": 0.5}
@@ -61,7 +61,7 @@ def test_compiled_loop_flies_as_the_python_loop(case):
 
 def test_the_compiled_laws_are_the_python_laws():
     """One implementation: each law the compiled loop calls is the code object of the Python law."""
-    from hydrokit.simulate import manoeuvre_compiled as C
+    from hydrokit.manoeuvre import compiled as C
 
     for name in ("helm_command", "turn_command", "spiral_command", "pull_out_command", "keeper_command", "pid_law"):
         law = getattr(L, name, None) or getattr(__import__("hydrokit.model.control", fromlist=[name]), name)
@@ -70,8 +70,8 @@ def test_the_compiled_laws_are_the_python_laws():
 
 
 def test_engine_refuses_a_force_of_the_state():
+    from hydrokit.manoeuvre.compiled import Engine
     from hydrokit.simulate.compiled import make_dynamics
-    from hydrokit.simulate.manoeuvre_compiled import Engine
 
     v = load_vehicle("remus100")
     s = v.surfaces
@@ -89,7 +89,7 @@ def test_engine_refuses_a_force_of_the_state():
 def test_a_force_of_the_state_keeps_the_python_loop(monkeypatch):
     """A τ(x) is not compiled: run_manoeuvre builds an Engine only for a constant force (or its
     own thruster drive), and flies τ(x) in the Python loop."""
-    from hydrokit.simulate import manoeuvre_compiled as C
+    from hydrokit.manoeuvre import compiled as C
 
     built = []
     real = C.Engine
@@ -114,7 +114,7 @@ def test_compiled_loop_flies_thruster_commands_as_the_python_loop(monkeypatch):
     the configuration matrix) flown by the kernels from model/thrusters.py's laws, against the
     Python loop calling the same laws through ThrusterDrive. rtol 1e-9 as above (measured ~1e-14
     on this 15° turn)."""
-    from hydrokit.simulate import manoeuvre_compiled as C
+    from hydrokit.manoeuvre import compiled as C
 
     built = []
     real = C.Engine
@@ -142,8 +142,8 @@ def test_compiled_loop_flies_thruster_commands_as_the_python_loop(monkeypatch):
 
 def test_the_compiled_thruster_laws_are_the_python_laws():
     """One implementation: the compiled drive calls model/thrusters.py's laws' code objects."""
+    from hydrokit.manoeuvre import compiled as C
     from hydrokit.model import thrusters as T
-    from hydrokit.simulate import manoeuvre_compiled as C
 
     for compiled, law in ((C._propeller_thrust, T.propeller_thrust), (C._rotor_lag, T.rotor_lag)):
         assert getattr(compiled, "py_func", compiled).__code__ is law.__code__

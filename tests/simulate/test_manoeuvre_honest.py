@@ -14,7 +14,7 @@ from types import SimpleNamespace
 import numpy as np
 import pytest
 
-from hydrokit.simulate import manoeuvre as M
+from hydrokit.manoeuvre import run as M
 
 K, T = 0.2, 5.0
 SERVO = (np.array([0.6]), np.array([np.inf]), np.array([0.0]))

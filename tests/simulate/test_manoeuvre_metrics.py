@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 
 from hydrokit.errors import InputError
-from hydrokit.simulate import manoeuvre_metrics as mm
+from hydrokit.manoeuvre import metrics as mm
 
 
 def circle_record(R=20.0, U=2.0, beta=0.1, turns=1.75, side=1.0, psi0=0.0, origin=(0.0, 0.0), n=40000):

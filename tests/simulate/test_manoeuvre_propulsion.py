@@ -15,7 +15,7 @@ import pytest
 import yaml
 
 from hydrokit.errors import InputError
-from hydrokit.simulate import manoeuvre as M
+from hydrokit.manoeuvre import run as M
 
 RHO, D, W, DRAG = 1025.0, 0.2, 0.1, 20.0  # kg/m³, m, –, N·s²/m²
 KT0, KT1 = 0.4, 0.4  # K_T(J) = KT0 − KT1 J

@@ -17,9 +17,9 @@ import pytest
 
 from hydrokit.api import load_vehicle
 from hydrokit.errors import InputError
+from hydrokit.manoeuvre import run as M
+from hydrokit.manoeuvre.samples import add_intervals, intervals, numeric_metrics
 from hydrokit.model.uncertainty import make_uncertainty, parameter_value, with_coefficients
-from hydrokit.simulate import manoeuvre as M
-from hydrokit.simulate.manoeuvre_samples import add_intervals, intervals, numeric_metrics
 
 RUDDER = "terms.N_uu*delta(rudder)"
 SETTINGS = {"tau": (727000, 0, 0, 0, 0, 0), "nu0": (7.7, 0, 0, 0, 0, 0), "dt": 0.5}

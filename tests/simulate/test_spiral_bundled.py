@@ -22,7 +22,7 @@ import pytest
 from tests.simulate.test_manoeuvre_bundled import RUNS, steered
 
 from hydrokit.api import load_vehicle
-from hydrokit.simulate import manoeuvre as M
+from hydrokit.manoeuvre import run as M
 
 pytestmark = pytest.mark.slow
 

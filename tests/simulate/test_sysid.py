@@ -9,8 +9,8 @@ import numpy as np
 import pytest
 
 from hydrokit.errors import InputError
-from hydrokit.simulate.sysid_data import HIDDEN, generate_runs, hidden_vehicle
-from hydrokit.simulate.sysid_model import force_table, free_parameters, values_of, with_values
+from hydrokit.sysid.data import HIDDEN, generate_runs, hidden_vehicle
+from hydrokit.sysid.model import force_table, free_parameters, values_of, with_values
 
 
 @pytest.fixture(scope="module")
@@ -34,7 +34,7 @@ def short(base: Any) -> list[Any]:
 
 @pytest.mark.needs_jit(reason="an output-error fit of 12 parameters over 2 × 12 s of dives")
 def test_output_error_recovers_truth_and_agrees_with_equation_error(base: Any, dives: Any) -> None:
-    from hydrokit.simulate.sysid import identify
+    from hydrokit.sysid.fit import identify
 
     truth, runs = dives
     res = identify(base, runs[:2], list(HIDDEN), holdout=runs[2:], samples=0, check_step=False)
@@ -59,7 +59,7 @@ def test_output_error_recovers_truth_and_agrees_with_equation_error(base: Any, d
 
 @pytest.mark.needs_jit(reason="an output-error fit and its check at half the step")
 def test_halving_the_step_moves_no_estimate_by_a_tenth_of_sigma(base: Any, dives: Any) -> None:
-    from hydrokit.simulate.sysid import identify
+    from hydrokit.sysid.fit import identify
 
     truth, runs = dives
     res = identify(base, runs[:1], ["added_mass.yaw", "quadratic_damping.yaw"], samples=5, dt=0.01)
@@ -123,7 +123,7 @@ def test_free_names_terms_and_values_round_trip(base: Any) -> None:
 
 
 def test_smoother_gives_rate_and_noise_of_a_multirate_channel() -> None:
-    from hydrokit.simulate.sysid_smooth import smooth_run
+    from hydrokit.sysid.smooth import smooth_run
 
     # heave velocity sampled at 5 Hz with σ = 0.01 m/s: the smoother's value and derivative
     # against the closed form w = 0.2 sin t, ẇ = 0.2 cos t
@@ -144,7 +144,7 @@ def test_smoother_gives_rate_and_noise_of_a_multirate_channel() -> None:
 
 
 def test_sandwich_is_fisher_for_white_and_long_run_variance_for_ar1() -> None:
-    from hydrokit.simulate.sysid_stats import condition_number, correlation, sandwich, whiteness
+    from hydrokit.sysid.stats import condition_number, correlation, sandwich, whiteness
 
     # estimating a mean from n residuals: white unit noise → variance 1/n (Fisher); AR(1) noise
     # with coefficient φ → the long-run variance (1 + φ)/(1 − φ) / n (closed form)
@@ -166,7 +166,7 @@ def test_sandwich_is_fisher_for_white_and_long_run_variance_for_ar1() -> None:
 
 
 def test_bad_inputs_of_identify(base: Any, short: Any) -> None:
-    from hydrokit.simulate.sysid import identify
+    from hydrokit.sysid.fit import identify
 
     runs = short
     with pytest.raises(InputError, match=r"free parameter 'damping.surge' does not exist"):
@@ -193,7 +193,7 @@ def test_bad_inputs_of_identify(base: Any, short: Any) -> None:
 
 
 def test_divergent_fit_names_the_parameter_that_ran_away(base: Any, short: Any, monkeypatch: Any) -> None:
-    from hydrokit.simulate import sysid
+    from hydrokit.sysid import fit as sysid
 
     def run_away(problem: Any, z: np.ndarray, scale: np.ndarray, *_: Any) -> Any:
         z = z.copy()
@@ -225,7 +225,7 @@ def test_short_fit_result_outputs(base: Any, short: Any, tmp_path: Any) -> None:
     from hydrokit.io.vehicle import resolve_vehicle
     from hydrokit.io.yamlfile import read_yaml
     from hydrokit.report.sysid import output_files
-    from hydrokit.simulate.sysid import identify
+    from hydrokit.sysid.fit import identify
 
     runs = short
     res = identify(
@@ -257,7 +257,7 @@ def test_short_fit_result_outputs(base: Any, short: Any, tmp_path: Any) -> None:
 
 def test_equation_error_method_and_terms(base: Any, short: Any) -> None:
     from hydrokit.report.sysid import vehicle_document
-    from hydrokit.simulate.sysid import identify
+    from hydrokit.sysid.fit import identify
 
     runs = short
     free = ["terms.N_r|r|", "terms.Z_wdot"]
@@ -278,8 +278,8 @@ def test_equation_error_method_and_terms(base: Any, short: Any) -> None:
 
 
 def test_identifiability_messages_name_pairs_and_what_separates_them(base: Any) -> None:
-    from hydrokit.simulate.sysid import _messages
-    from hydrokit.simulate.sysid_smooth import Smoothed
+    from hydrokit.sysid.fit import _messages
+    from hydrokit.sysid.smooth import Smoothed
 
     names = [
         "added_mass.surge",

@@ -49,8 +49,8 @@ def pushed() -> tuple[Any, list[Any]]:
     """Dives of a vehicle, and a base whose fixed surge quadratic damping is 3 × the truth: a
     free linear surge damping then makes up for it by going negative."""
     import hydrokit
-    from hydrokit.simulate.sysid_data import generate_runs, hidden_vehicle
-    from hydrokit.simulate.sysid_model import free_parameters, values_of, with_values
+    from hydrokit.sysid.data import generate_runs, hidden_vehicle
+    from hydrokit.sysid.model import free_parameters, values_of, with_values
 
     truth = hidden_vehicle(hydrokit.load_vehicle("bluerov2-sysid"), 2)
     v, params = free_parameters(truth, ["quadratic_damping.surge"])
@@ -63,7 +63,7 @@ def test_a_damping_the_data_push_negative_is_held_at_zero_and_the_file_loads(pus
     from hydrokit.io.vehicle import resolve_vehicle
     from hydrokit.io.yamlfile import read_yaml
     from hydrokit.report.sysid import vehicle_document
-    from hydrokit.simulate.sysid import identify
+    from hydrokit.sysid.fit import identify
 
     base, runs = pushed
     free = ["added_mass.surge", "linear_damping.surge"]

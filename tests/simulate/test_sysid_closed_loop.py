@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 
 from hydrokit.errors import InputError
-from hydrokit.simulate.sysid_data import Hold, generate_runs, hidden_vehicle
+from hydrokit.sysid.data import Hold, generate_runs, hidden_vehicle
 
 HEAVE = ["added_mass.heave", "linear_damping.heave"]
 
@@ -30,8 +30,8 @@ def short(truth: Any) -> tuple[Any, Any]:
 
 
 def test_closed_loop_dive_is_its_commands_replayed_and_holds_depth(truth: Any, short: Any) -> None:
-    from hydrokit.simulate.sysid_data import _integrate
-    from hydrokit.simulate.sysid_model import force_table, stack_packs
+    from hydrokit.sysid.data import _integrate
+    from hydrokit.sysid.model import force_table, stack_packs
 
     open_loop, held = short
     # second method: the whole run's force table (rotor lag over the recorded commands)
@@ -66,8 +66,8 @@ def _latest(run: Any, channel: str) -> np.ndarray:
 
 
 def test_feedback_is_detected_in_the_held_dive_only(truth: Any, short: Any) -> None:
-    from hydrokit.simulate.sysid import _feedback
-    from hydrokit.simulate.sysid_smooth import Smoothed
+    from hydrokit.sysid.fit import _feedback
+    from hydrokit.sysid.smooth import Smoothed
 
     def ideal(run: Any) -> Smoothed:
         """A perfect smoother: the true states (the fit's own smoother is exercised by the fit
@@ -100,7 +100,7 @@ def test_bad_schedule_for_the_generator(truth: Any) -> None:
 
 @pytest.mark.needs_jit(reason="two output-error fits over 2 × 10 s of dives")
 def test_a_hold_without_dither_inflates_sigma_and_is_warned(truth: Any) -> None:
-    from hydrokit.simulate.sysid import identify
+    from hydrokit.sysid.fit import identify
 
     open_runs = generate_runs(truth, 2, 10.0, seed=11, dt=0.01)
     held_runs = generate_runs(truth, 2, 10.0, seed=11, dt=0.01, hold=Hold(dither=0.05))

@@ -13,7 +13,7 @@ import numpy as np
 import pytest
 
 from hydrokit.errors import InputError
-from hydrokit.simulate.sysid_compare import (
+from hydrokit.sysid.compare import (
     EQUIVALENT,
     Scored,
     choose,
@@ -119,9 +119,9 @@ def compared() -> Any:
     (fixed at 0), and the true one with a useless extra free parameter (heave linear damping, at
     its true value already)."""
     import hydrokit
-    from hydrokit.simulate.sysid_compare import Candidate, compare
-    from hydrokit.simulate.sysid_data import generate_runs, hidden_vehicle
-    from hydrokit.simulate.sysid_model import free_parameters, values_of, with_values
+    from hydrokit.sysid.compare import Candidate, compare
+    from hydrokit.sysid.data import generate_runs, hidden_vehicle
+    from hydrokit.sysid.model import free_parameters, values_of, with_values
 
     truth = hidden_vehicle(hydrokit.load_vehicle("bluerov2-sysid"), 2)
     runs = generate_runs(truth, 2, 12.0, seed=5, dt=0.01)

@@ -23,7 +23,7 @@ def base() -> Any:
 @pytest.fixture(scope="module")
 def tiny(base: Any) -> Any:
     """A 2 s plan of one parameter on the yaw-rate gyro alone: cheap without the JIT."""
-    from hydrokit.simulate.sysid_plan import plan_excitation
+    from hydrokit.sysid.plan import plan_excitation
 
     return plan_excitation(
         base, ["added_mass.yaw"], 2.0, sensors={"r": (50.0, 0.005)}, evaluations=3, references=1, dt=0.05
@@ -56,8 +56,8 @@ def test_schedule_is_within_the_limits_and_its_commands_give_its_thrust(base: An
 def test_cramer_rao_sigma_scales_with_the_sensor_noise(base: Any, tiny: Any) -> None:
     """The Fisher information is Σ J²/σ²: every σ of the sensors × 2 gives Cramér–Rao σ × 2
     (closed form), the same commands flown."""
-    from hydrokit.simulate.sysid_model import free_parameters
-    from hydrokit.simulate.sysid_plan import fisher_information
+    from hydrokit.sysid.model import free_parameters
+    from hydrokit.sysid.plan import fisher_information
 
     veh, params = free_parameters(base, ["added_mass.yaw"])
     one, scale = fisher_information(veh, params, tiny.time, tiny.commands, {"r": (50.0, 0.005)}, 0.05)
@@ -70,10 +70,10 @@ def test_cramer_rao_sigma_scales_with_the_sensor_noise(base: Any, tiny: Any) -> 
 
 @pytest.mark.needs_jit(reason="a plan search and two output-error fits over 8 s of simulated yaw")
 def test_plan_beats_the_default_excitation_and_a_fit_of_its_data_has_its_sigma(base: Any) -> None:
-    from hydrokit.simulate.sysid import identify
-    from hydrokit.simulate.sysid_data import generate_runs
-    from hydrokit.simulate.sysid_model import free_parameters, values_of
-    from hydrokit.simulate.sysid_plan import plan_excitation
+    from hydrokit.sysid.data import generate_runs
+    from hydrokit.sysid.fit import identify
+    from hydrokit.sysid.model import free_parameters, values_of
+    from hydrokit.sysid.plan import plan_excitation
 
     plan = plan_excitation(base, YAW, 8.0, evaluations=8, references=3, seed=2)
     # D-optimal: a larger Fisher determinant than the generator's random multi-sines on the
@@ -105,7 +105,7 @@ def test_plan_beats_the_default_excitation_and_a_fit_of_its_data_has_its_sigma(b
 def test_bad_plans_are_one_line(base: Any) -> None:
     from dataclasses import replace
 
-    from hydrokit.simulate.sysid_plan import plan_excitation
+    from hydrokit.sysid.plan import plan_excitation
 
     cases = [
         (dict(duration=1.0), r"duration = 1.0 s: expected 2 ≤ duration ≤ 3600 s"),
@@ -129,8 +129,8 @@ def test_bad_plans_are_one_line(base: Any) -> None:
 
 def test_unactuated_dof_is_said_and_skipped(base: Any) -> None:
     from hydrokit.model.allocation import configuration_matrix
-    from hydrokit.simulate.sysid_model import free_parameters
-    from hydrokit.simulate.sysid_plan import _excited_dofs
+    from hydrokit.sysid.model import free_parameters
+    from hydrokit.sysid.plan import _excited_dofs
 
     _, params = free_parameters(base, ["added_mass.yaw", "added_mass.heave"])
     T = configuration_matrix([[0.2, 0.1, 0.0], [-0.2, -0.1, 0.0]], [[1, 0, 0], [1, 0, 0]])  # surge and yaw only

@@ -17,7 +17,7 @@ from tests.simulate.test_sysid_surfaces import SHIP
 from hydrokit.errors import InputError
 from hydrokit.io.runlog import RunLog
 from hydrokit.model.uncertainty import parameter_value, with_coefficients
-from hydrokit.simulate.sysid_model import force_table, free_parameters, prepare_run, vehicle_tables
+from hydrokit.sysid.model import force_table, free_parameters, prepare_run, vehicle_tables
 
 #: the rudder of SHIP made a physical fin in the MMG race of the propeller (our numbers, of the
 #: size of a 3 m ship model's rudder), and the rudder's yaw moment grown with the thrust
@@ -117,8 +117,8 @@ def test_race_rudder_lift_slope_thrust_term_and_wake_fraction_are_recovered() ->
     slope, the T()·δ yaw term and the wake fraction each within 3σ of the truth (on seeds 5–7
     the largest miss was 2.2σ). The wake fraction is seen only through the thrust, so it is
     identified only because each candidate's force table is its own."""
-    from hydrokit.simulate.sysid import identify
-    from hydrokit.simulate.sysid_ship import ship_runs
+    from hydrokit.sysid.fit import identify
+    from hydrokit.sysid.ship import ship_runs
 
     truth = race_ship()
     runs = ship_runs(truth, 2, 30.0, seed=7, dt=0.01, hold=(3.0, 8.0))
@@ -142,9 +142,9 @@ def test_windowed_fit_keeps_the_physical_signs_during_the_fit() -> None:
     damping, the base a rudder 45 % too weak: fitted unbounded it goes to about −46 N·m·s/rad):
     no evaluated vehicle leaves the bound during the fit (the Jacobian's nudges go inwards), and
     the result is held on it with the bound's message."""
-    from hydrokit.simulate import sysid as sysid_mod
-    from hydrokit.simulate.sysid import identify
-    from hydrokit.simulate.sysid_ship import ship_runs
+    from hydrokit.sysid import fit as sysid_mod
+    from hydrokit.sysid.fit import identify
+    from hydrokit.sysid.ship import ship_runs
 
     truth = race_ship()
     runs = ship_runs(truth, 1, 40.0, seed=3, dt=0.01, hold=(3.0, 8.0))
@@ -157,7 +157,7 @@ def test_windowed_fit_keeps_the_physical_signs_during_the_fit() -> None:
         seen.append(parameter_value(out, "linear_damping.yaw"))
         return out
 
-    import hydrokit.simulate.sysid_window as win
+    import hydrokit.sysid.window as win
 
     try:
         sysid_mod.with_values = spy

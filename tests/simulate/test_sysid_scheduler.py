@@ -7,8 +7,8 @@ import numpy as np
 import pytest
 
 import hydrokit
-from hydrokit.simulate.sysid import identify
-from hydrokit.simulate.sysid_data import generate_runs, hidden_vehicle
+from hydrokit.sysid.data import generate_runs, hidden_vehicle
+from hydrokit.sysid.fit import identify
 
 
 def _runs():

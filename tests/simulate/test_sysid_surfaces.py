@@ -12,7 +12,7 @@ import pytest
 
 from hydrokit.errors import InputError
 from hydrokit.io.runlog import RunLog
-from hydrokit.simulate.sysid_model import force_table, free_parameters, prepare_run, values_of, with_values
+from hydrokit.sysid.model import force_table, free_parameters, prepare_run, values_of, with_values
 
 #: a 3 m planar model ship (surge, sway, yaw), one propeller and a rudder; SI derivatives of
 #: the size of a full-bodied ship model at 0.37 m/s (our choice, course-stable)
@@ -155,7 +155,7 @@ def test_equation_error_with_delta_terms_on_a_short_run() -> None:
     """20 s of a noise-free run with rudder steps of varied size: the equation-error fit
     (smoothed states, compiled right-hand side with the deflection column, equations integrated
     over 2 s windows) against the generating truth."""
-    from hydrokit.simulate.sysid_smooth import equation_error, smooth_run, tau_on_grid
+    from hydrokit.sysid.smooth import equation_error, smooth_run, tau_on_grid
 
     truth = _ship()
     run = _run(truth, "z", 20.0, [2.0, 5.0, 9.0, 13.0, 16.0], seed=3, noise=0.0, amplitudes=[20, -10, 30, 0, -30, 10])
@@ -194,8 +194,8 @@ def zigzags() -> tuple[Any, list[RunLog]]:
 def _nrmse_of(vehicle: Any, run: RunLog, channel: str) -> float:
     """NRMSE of ``vehicle``'s open-loop prediction of ``run``'s ``channel`` from the smoothed
     first state (what identify does for a held-out run)."""
-    from hydrokit.simulate.sysid_model import simulate_run, stack_packs
-    from hydrokit.simulate.sysid_smooth import smooth_run
+    from hydrokit.sysid.model import simulate_run, stack_packs
+    from hydrokit.sysid.smooth import smooth_run
 
     prep = prepare_run(run, vehicle.thrusters, 0.01, surfaces=vehicle.surfaces.names)
     pred, _ = simulate_run(prep, stack_packs([vehicle]), smooth_run(run).at(float(run.time[0]))[None])
@@ -207,7 +207,7 @@ def _nrmse_of(vehicle: Any, run: RunLog, channel: str) -> float:
 
 @pytest.mark.needs_jit(reason="an output-error fit of 7 parameters over 2 × 60 s of a ship's zigzags")
 def test_output_error_recovers_rudder_and_hull_derivatives(zigzags: Any) -> None:
-    from hydrokit.simulate.sysid import identify
+    from hydrokit.sysid.fit import identify
 
     truth, runs = zigzags
     _, params = free_parameters(truth, FREE)

@@ -10,7 +10,7 @@ from typing import Any
 import numpy as np
 import pytest
 
-from hydrokit.simulate.sysid_stats import (
+from hydrokit.sysid.stats import (
     COLOURED,
     EXCESS,
     NRMSE_LIMIT,
@@ -82,8 +82,8 @@ def dives() -> tuple[Any, list[Any]]:
     """Three 8 s dives (integrated at 10 ms) of a vehicle with hidden coefficients, and the fit's
     start: the truth with its free yaw coefficients 30 % off."""
     import hydrokit
-    from hydrokit.simulate.sysid_data import generate_runs, hidden_vehicle
-    from hydrokit.simulate.sysid_model import free_parameters, values_of, with_values
+    from hydrokit.sysid.data import generate_runs, hidden_vehicle
+    from hydrokit.sysid.model import free_parameters, values_of, with_values
 
     truth = hidden_vehicle(hydrokit.load_vehicle("bluerov2-sysid"), 2)
     v, params = free_parameters(truth, FREE)
@@ -106,7 +106,7 @@ WRONG = {
 
 @pytest.mark.needs_jit(reason="an output-error fit of three yaw coefficients over 2 × 8 s of dives")
 def test_the_correct_base_vehicle_fits(dives: Any) -> None:
-    from hydrokit.simulate.sysid import identify
+    from hydrokit.sysid.fit import identify
 
     start, runs = dives
     res = identify(start, runs[:1], FREE, holdout=runs[2:], samples=0, check_step=False)
@@ -120,7 +120,7 @@ def test_the_correct_base_vehicle_fits(dives: Any) -> None:
 @pytest.mark.needs_jit(reason="an output-error fit of three yaw coefficients over 2 × 8 s of dives")
 @pytest.mark.parametrize("what", list(WRONG))
 def test_a_wrong_base_vehicle_never_passes_silently(dives: Any, what: str) -> None:
-    from hydrokit.simulate.sysid import identify
+    from hydrokit.sysid.fit import identify
 
     start, runs = dives
     change, spoiled = WRONG[what]

@@ -16,7 +16,7 @@ from tests.simulate.test_acceptance_race_rudder import wind_ship, wind_ship_runs
 
 from hydrokit.errors import InputError
 from hydrokit.model.uncertainty import make_uncertainty, parameter_value, with_coefficients
-from hydrokit.simulate.sysid_model import free_parameters
+from hydrokit.sysid.model import free_parameters
 
 #: a wind table of our own (rows at 0, 90, 180°: the port side mirrors), dimensionless
 TABLE: dict[str, Any] = {
@@ -89,7 +89,7 @@ def test_blendermann_cd_t_is_recovered_from_runs_in_a_logged_wind() -> None:
     """Two 30 s zigzag-like runs in a logged 2.5 m/s wind (:func:`wind_ship_runs`), fitted from
     CD_t 30 % low and Y_uv 30 % low: both within 3σ of the truth, σ(CD_t) under 10 % of it, and
     CD_t moved from its start by more than 3σ (the runs, not the start, decide it)."""
-    from hydrokit.simulate.sysid import identify
+    from hydrokit.sysid.fit import identify
 
     truth = wind_ship()
     runs = wind_ship_runs(truth, 2, 30.0, seed=3)
@@ -152,7 +152,7 @@ def test_a_fit_keeps_wind_fields_inside_the_range_the_file_accepts() -> None:
     areas and CD_t > 0, the longitudinal drag numbers ≥ 0, δ within 0–1; s_L and a table's
     coefficients take either sign — so a fit never writes a wind block hydrokit refuses."""
     from hydrokit.model.wind import make_wind
-    from hydrokit.simulate.sysid import _bounds
+    from hydrokit.sysid.fit import _bounds
 
     v = wind_ship()
     names = ["wind.CD_t", "wind.lateral_area", "wind.s_L", "wind.delta", "wind.CD_l_AF_stern"]

@@ -73,8 +73,8 @@ def test_equation_error_start_takes_the_logged_wind(tmp_path: Path) -> None:
     smoother's velocities at 1 mm/s noise bias the regression by about 1 % here."""
     from hydrokit.api import load_vehicle
     from hydrokit.io.runlog import read_runs
-    from hydrokit.simulate.sysid import identify
-    from hydrokit.simulate.sysid_model import free_parameters, values_of
+    from hydrokit.sysid.fit import identify
+    from hydrokit.sysid.model import free_parameters, values_of
 
     (tmp_path / "truth.yaml").write_text(SHIP)
     truth = load_vehicle(tmp_path / "truth.yaml")

@@ -11,9 +11,9 @@ import pytest
 from tests.simulate.test_sysid_surfaces import FREE, SHIP, _ship
 
 from hydrokit.errors import InputError
-from hydrokit.simulate.sysid_model import free_parameters, prepare_run, values_of, with_values
-from hydrokit.simulate.sysid_ship import ship_runs
-from hydrokit.simulate.sysid_window import check_window, crop, drift, parse_window, spans
+from hydrokit.sysid.model import free_parameters, prepare_run, values_of, with_values
+from hydrokit.sysid.ship import ship_runs
+from hydrokit.sysid.window import check_window, crop, drift, parse_window, spans
 
 #: N_uv of a course-unstable variant of SHIP (N·s/m per m/s): a yaw-rate disturbance on a
 #: straight course doubles in about 4 s at 0.37 m/s (SHIP's −150 is course-stable)
@@ -70,7 +70,7 @@ def test_drift_flags_a_course_unstable_hull_not_a_stable_one() -> None:
     """Open loop from the smoothed first state with 10 % error on the hull's yaw derivatives:
     an initial velocity error of the course-unstable ship grows (more than tenfold over two
     minutes of its zigzags), the course-stable ship's dies out (it never exceeds its start)."""
-    from hydrokit.simulate.sysid_smooth import smooth_run
+    from hydrokit.sysid.smooth import smooth_run
 
     names = ["terms.N_uv", "terms.N_ur"]
     found, growth = {}, {}
@@ -92,9 +92,9 @@ def test_projected_jacobian_gives_the_covariance_with_every_initial_state_free()
     """Frisch–Waugh–Lovell: the parameters' block of (JᵀJ)⁻¹ with the windows' initial states
     as extra columns (the whole-run problem's dense Jacobian on the windows) equals
     (J̃ᵀJ̃)⁻¹ of the projected Jacobian the windowed fit uses."""
-    from hydrokit.simulate.sysid import _Problem
-    from hydrokit.simulate.sysid_smooth import initial_noise, smooth_run
-    from hydrokit.simulate.sysid_window import cut_runs
+    from hydrokit.sysid.fit import _Problem
+    from hydrokit.sysid.smooth import initial_noise, smooth_run
+    from hydrokit.sysid.window import cut_runs
 
     truth = _ship()
     runs = ship_runs(truth, 1, 30.0, seed=2, dt=0.01)
@@ -126,7 +126,7 @@ def test_windowed_and_whole_run_fits_agree_on_a_course_stable_ship() -> None:
     differs from the efficient whole-run one with variance σ_w² − σ_whole² ≤ σ_w² (Hausman
     1978, Econometrica 46:1251, Lemma 2.1), so within 3 max(σ_w, σ_whole) for each of the 7
     parameters (a chance failure below 2 %); both hold the generating truth within 4 σ."""
-    from hydrokit.simulate.sysid import identify
+    from hydrokit.sysid.fit import identify
 
     truth = _ship()
     runs = ship_runs(truth, 2, 40.0, seed=11, dt=0.01)
@@ -149,7 +149,7 @@ def test_windowed_and_whole_run_fits_agree_on_a_course_stable_ship() -> None:
 
 @pytest.mark.needs_jit(reason="an output-error fit of 2 parameters over 2 × 150 s of a course-unstable ship")
 def test_auto_windows_a_drifting_run_and_says_so() -> None:
-    from hydrokit.simulate.sysid import identify
+    from hydrokit.sysid.fit import identify
 
     truth = _unstable()
     runs = ship_runs(truth, 2, 150.0, seed=6, dt=0.01)

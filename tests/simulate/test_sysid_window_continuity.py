@@ -10,9 +10,9 @@ import pytest
 from tests.simulate.test_sysid_surfaces import FREE, _ship
 
 from hydrokit.errors import InputError
-from hydrokit.simulate.sysid_model import free_parameters, values_of, with_values
-from hydrokit.simulate.sysid_ship import ship_runs
-from hydrokit.simulate.sysid_window import check_continuity
+from hydrokit.sysid.model import free_parameters, values_of, with_values
+from hydrokit.sysid.ship import ship_runs
+from hydrokit.sysid.window import check_continuity
 
 
 def test_continuity_weight_is_checked() -> None:
@@ -27,9 +27,9 @@ def test_continuity_closes_the_joins_and_gives_the_whole_run_fit() -> None:
     """With every measured state's jump at a join weighted 10⁴ (a jump of 0.01 σ costs one
     measurement σ), the windows form one trajectory per run from one free initial state: the
     whole-run problem. Its estimates must then agree with the whole-run fit's to a fraction of σ
-    (0.5 σ: the two stop on different rules, :mod:`hydrokit.simulate.sysid_lm`) and its σ
+    (0.5 σ: the two stop on different rules, :mod:`hydrokit.sysid.lm`) and its σ
     within 10 %; without the joins the largest jump is tens of times larger."""
-    from hydrokit.simulate.sysid import identify
+    from hydrokit.sysid.fit import identify
 
     truth = _ship()
     runs = ship_runs(truth, 2, 40.0, seed=11, dt=0.01)

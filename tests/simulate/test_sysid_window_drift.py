@@ -7,9 +7,9 @@ import numpy as np
 import pytest
 from tests.simulate.test_sysid_surfaces import SHIP, _ship
 
-from hydrokit.simulate.sysid_model import PreparedRun, free_parameters, prepare_run, values_of
-from hydrokit.simulate.sysid_ship import ship_runs
-from hydrokit.simulate.sysid_window import DEFAULT_WINDOW, _heading_turn
+from hydrokit.sysid.model import PreparedRun, free_parameters, prepare_run, values_of
+from hydrokit.sysid.ship import ship_runs
+from hydrokit.sysid.window import DEFAULT_WINDOW, _heading_turn
 
 
 def _heading_only(t: np.ndarray) -> PreparedRun:
@@ -41,8 +41,8 @@ def test_drift_names_a_heading_that_keeps_turning_when_the_velocities_settle() -
     turns keeps growing (more than twice the first window's turn over 150 s), while the
     course-stable ship's heading settles within a window (below 1.1×). At a threshold of 2 the
     velocities alone flag neither run; the heading flags the slow one."""
-    from hydrokit.simulate.sysid_smooth import smooth_run
-    from hydrokit.simulate.sysid_window import drift
+    from hydrokit.sysid.smooth import smooth_run
+    from hydrokit.sysid.window import drift
 
     names = ["terms.N_uv", "terms.N_ur"]
     found = {}

@@ -1,6 +1,6 @@
 """``--command`` and ``--command-csv`` of ``hydrokit simulate`` (issue #48): the vehicle's thrusters
 driven by commands in each thruster's own unit, as ``hydrokit manoeuvre --command`` (the same
-parser, :func:`hydrokit.simulate.manoeuvre.commands_from_text`)."""
+parser, :func:`hydrokit.manoeuvre.run.commands_from_text`)."""
 
 from __future__ import annotations
 
@@ -47,8 +47,8 @@ def command_force(
             f"--command{'-csv' if csv_path is not None else ''} with --samples: the samples fly a constant --force; "
             "expected no thruster commands"
         )
+    from hydrokit.manoeuvre.run import commands_from_text
     from hydrokit.simulate.commands import CommandForce, command_table
-    from hydrokit.simulate.manoeuvre import commands_from_text
 
     if text is not None:
         table = command_table(vehicle, commands_from_text(text))

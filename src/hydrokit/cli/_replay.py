@@ -1,5 +1,5 @@
 """``hydrokit manoeuvre VEHICLE --replay TRIAL.csv`` (issue #48): the trial's run file read here
-(:func:`hydrokit.io.runlog.read_run`), its arrays replayed by :func:`hydrokit.simulate.replay.replay`,
+(:func:`hydrokit.io.runlog.read_run`), its arrays replayed by :func:`hydrokit.manoeuvre.replay.replay`,
 manoeuvre.json, trajectory.csv and the overlay plots written whole or not at all."""
 
 from __future__ import annotations
@@ -34,8 +34,8 @@ def run_replay(
     from hydrokit.errors import InputError
     from hydrokit.io.runlog import read_run
     from hydrokit.io.trajectory import table_csv
-    from hydrokit.simulate.manoeuvre_samples import add_intervals, check_samples
-    from hydrokit.simulate.replay import replay as replay_trial
+    from hydrokit.manoeuvre.replay import replay as replay_trial
+    from hydrokit.manoeuvre.samples import add_intervals, check_samples
 
     trial = replay
     given = [k for k, v in others.items() if v is not None and v is not False]

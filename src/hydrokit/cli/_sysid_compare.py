@@ -14,7 +14,7 @@ from hydrokit.cli._types import SECONDS, Count
 
 def _split(spec: str) -> tuple[str, str]:
     """``NAME=VEHICLE`` → (NAME, VEHICLE); ``VEHICLE`` → (its file stem or bundled name, VEHICLE)."""
-    from hydrokit.simulate.sysid_compare import NAME
+    from hydrokit.sysid.compare import NAME
 
     head, eq, tail = spec.partition("=")
     if eq and NAME.match(head) and not Path(spec).is_file():
@@ -91,10 +91,10 @@ def compare(
     from hydrokit.io.vehicle import resolve_vehicle
     from hydrokit.io.yamlfile import read_yaml
     from hydrokit.report.sysid_compare import output_files
-    from hydrokit.simulate.sysid import check_options
-    from hydrokit.simulate.sysid_compare import Candidate, check_candidates
-    from hydrokit.simulate.sysid_compare import compare as run_compare
-    from hydrokit.simulate.sysid_window import check_window
+    from hydrokit.sysid.compare import Candidate, check_candidates
+    from hydrokit.sysid.compare import compare as run_compare
+    from hydrokit.sysid.fit import check_options
+    from hydrokit.sysid.window import check_window
 
     check_out_dir(out_dir)
     specs = [_split(s) for s in candidates]

@@ -64,8 +64,8 @@ def plan(vehicle: str, free: tuple[str, ...], duration: float, out_dir: str, **o
     from hydrokit.cli._common import check_out_dir, progress_bar, write_all
     from hydrokit.errors import InputError
     from hydrokit.io.runlog import run_csv
-    from hydrokit.simulate.sysid_data import SENSORS
-    from hydrokit.simulate.sysid_plan import plan_excitation
+    from hydrokit.sysid.data import SENSORS
+    from hydrokit.sysid.plan import plan_excitation
 
     check_out_dir(out_dir)
     base = load_vehicle(vehicle)

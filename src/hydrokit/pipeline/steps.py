@@ -70,8 +70,8 @@ class Runner:
 
     def _check_sysid(self) -> None:
         """The method and the free names against the base vehicle, before any step runs."""
-        from hydrokit.simulate.sysid import METHODS
-        from hydrokit.simulate.sysid_model import free_parameters
+        from hydrokit.sysid.fit import METHODS
+        from hydrokit.sysid.model import free_parameters
 
         spec = self.p.sysid
         assert spec is not None

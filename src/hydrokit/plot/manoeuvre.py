@@ -54,7 +54,7 @@ def track_axes(res: Any, ax: Any = None) -> Any:
                 color="C3",
             )
         if m.get("steady_turning_diameter") is not None:
-            from hydrokit.simulate.manoeuvre_metrics import fit_circle
+            from hydrokit.manoeuvre.metrics import fit_circle
 
             tail = res.time >= (res.time[-1] - 0.5 * (res.time[-1] - m["time_to_180_deg"]))
             cx, cy, r = fit_circle(x[tail], y[tail])

@@ -184,7 +184,7 @@ def sysid_section(s: dict[str, Any], figures: dict[str, list[dict[str, str]]]) -
     equation error and truth), identifiability, residuals and held-out NRMSE, figures."""
     res = s["result"]
     parts = [f"<h2>System identification from the vehicle's own runs ({esc(s['method'])})</h2>"]
-    if s.get("verdict"):  # first: does the model describe the runs (hydrokit.simulate.sysid_stats.verdict)
+    if s.get("verdict"):  # first: does the model describe the runs (hydrokit.sysid.stats.verdict)
         parts += verdict_html(s["verdict"], res["runs"], level=3)
     held = f"; held out for validation: <code>{esc(', '.join(s['holdout']))}</code>" if s["holdout"] else ""
     tank = s["start_vehicle"]["from_tank"]

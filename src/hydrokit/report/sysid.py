@@ -16,7 +16,7 @@ from typing import Any
 
 from hydrokit.io.vehicle import identified_vehicle_document, vehicle_text
 from hydrokit.report.html import esc, figure, page, table, warnings_block
-from hydrokit.simulate.sysid import SysidResult
+from hydrokit.sysid.fit import SysidResult
 
 # vehicle_document (now hydrokit.io.vehicle.identified_vehicle_document) and dive_files (now
 # hydrokit.api.sysid_dive_files) moved down to the layers that do that work; the old names stay
@@ -59,7 +59,7 @@ def verdict_lines(result: SysidResult) -> list[str]:
     """What ``hydrokit sysid`` prints first (stdout): the verdict, its reasons, and per run the
     NRMSE and residual lag-1 ρ of every channel (``NRMSE/ρ``; held-out runs are predicted open
     loop, fitted ones are the fit's residuals)."""
-    from hydrokit.simulate.sysid_stats import symbol
+    from hydrokit.sysid.stats import symbol
 
     v = result.verdict
     out = [f"verdict: {'fits' if v['fits'] else 'DOES NOT FIT'}"] + [f"  {r}" for r in v["reasons"]]
@@ -75,7 +75,7 @@ def verdict_lines(result: SysidResult) -> list[str]:
 def verdict_html(verdict: Mapping[str, Any], runs: Sequence[Mapping[str, Any]], level: int = 2) -> list[str]:
     """The verdict as the head of a report: a heading that says it, the reasons, and a table of
     per run and channel NRMSE, lag-1 ρ and residual RMS / sensor noise."""
-    from hydrokit.simulate.sysid_stats import symbol
+    from hydrokit.sysid.stats import symbol
 
     fits = bool(verdict["fits"])
     head = "the model describes these runs" if fits else "the model does NOT describe these runs"

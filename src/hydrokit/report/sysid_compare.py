@@ -11,7 +11,7 @@ from typing import Any
 
 from hydrokit.io.vehicle import identified_vehicle_document, vehicle_text
 from hydrokit.report.html import esc, figure, page, table, warnings_block
-from hydrokit.simulate.sysid_compare import EQUIVALENT, Comparison
+from hydrokit.sysid.compare import EQUIVALENT, Comparison
 
 _SYMBOL = {"phi": "φ", "theta": "θ", "psi": "ψ"}
 

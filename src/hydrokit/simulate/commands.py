@@ -2,14 +2,14 @@
 trial replay of ``manoeuvre --replay``).
 
 :class:`CommandForce` is a callable ``τ(t, η, ν)`` (N, N·m) for
-:func:`hydrokit.simulate.driver.simulate` and :func:`hydrokit.simulate.replay.replay`: each
+:func:`hydrokit.simulate.driver.simulate` and :func:`hydrokit.manoeuvre.replay.replay`: each
 thruster either follows a schedule of commands, held from row to row (zero-order hold, as in a
 run file), through its first-order rotor lag, or gives a measured thrust held the same way. The
 rotor state at any time is exact: :meth:`~hydrokit.model.thrusters.ThrusterSet.rotor_step` from
 the state reached at the row before (the one rotor law). The thrust is the thruster's own curve
 (:meth:`~hydrokit.model.thrusters.ThrusterSet.thrust`) at that rotor state and at the advance
 speed of the state's velocity relative to the water, so a propeller at constant revolutions
-pushes harder as the vehicle slows — the same law as :class:`hydrokit.simulate.manoeuvre.ThrusterDrive`,
+pushes harder as the vehicle slows — the same law as :class:`hydrokit.manoeuvre.run.ThrusterDrive`,
 evaluated at every stage of the integrator instead of once per step. :func:`fly_commands` is the
 open-loop run (``simulate --command``): RK4 on the compiled right-hand side, which also reads each
 thruster's thrust and rotation rate (the ``T()`` and ``n()`` term factors, a rudder in a race).
@@ -205,9 +205,8 @@ def fly_commands(
 def command_table(vehicle: Any, commands: Any) -> np.ndarray:
     """``commands`` as rows [t, u_1 … u_m] (s, each thruster's unit) in the vehicle's thruster
     order: a mapping {name: value} held from t = 0 (thrusters not named 0; checked by
-    :func:`hydrokit.simulate.manoeuvre.thruster_commands`), or rows already in that form, each
+    :func:`thruster_commands`), or rows already in that form, each
     command within its thruster's command limits (InputError naming the thruster and the row)."""
-    from hydrokit.simulate.manoeuvre import thruster_commands
     from hydrokit.simulate.mission import COMMAND_UNITS
 
     if hasattr(commands, "items"):
@@ -230,3 +229,47 @@ def command_table(vehicle: Any, commands: Any) -> np.ndarray:
     if not math.isfinite(float(np.sum(tab))):
         raise InputError("command table: expected finite numbers (s, each thruster's unit)")
     return tab
+
+
+def thruster_commands(vehicle: Any, commands: Any) -> np.ndarray:
+    """The command vector (file order; thrusters not named 0) of ``commands`` {name: value}, the
+    value in each thruster's unit (rev/s, the table's unit or N), checked against the vehicle's
+    thrusters and their command limits (InputError: one line naming the thruster)."""
+    from hydrokit.simulate.mission import COMMAND_UNITS
+
+    ts = getattr(vehicle, "thrusters", None)
+    if ts is None or len(ts) == 0:
+        raise InputError(
+            f"commands {short_repr(commands)}: vehicle {vehicle.name!r} has no thrusters; expected a vehicle file "
+            "with a 'thrusters:' block (or a constant force only)"
+        )
+    if not hasattr(commands, "items"):
+        raise InputError(f"commands {short_repr(commands)}: expected a mapping of thruster name to command")
+    names = ts.names
+    out = np.zeros(len(names))
+    for name, value in commands.items():
+        if name not in names:
+            raise InputError(
+                f"command {str(name)[:40]!r}: the vehicle has thrusters {', '.join(names)}; expected one of them"
+            )
+        k = names.index(name)
+        unit = COMMAND_UNITS[ts.thrusters[k].model]
+        try:
+            c = float(value)
+        except (TypeError, ValueError):
+            c = math.nan
+        lo, hi = float(ts.command_min[k]), float(ts.command_max[k])
+        if not math.isfinite(c):
+            raise InputError(f"command {name}={str(value)[:40]}: expected a finite number ({unit})")
+        if not lo - 1e-12 * abs(lo) <= c <= hi + 1e-12 * abs(hi):
+            raise InputError(
+                f"command {name}={c:g} {unit}: expected within thruster {name!r}'s command limits [{lo:.6g}, {hi:.6g}] {unit}"
+            )
+        out[k] = c
+    return out
+
+
+def short_repr(x: Any) -> str:  # noqa: ANN401
+    """``repr(x)`` cut to 60 characters (a bad value quoted in a one-line error)."""
+    r = repr(x)
+    return r if len(r) <= 60 else r[:57] + "…"
