@@ -8,6 +8,7 @@ from typing import Any
 
 import click
 
+from hydrokit.cli._identification import strict_option
 from hydrokit.cli._manoeuvre_options import manoeuvre_options
 from hydrokit.cli._replay import run_replay
 from hydrokit.cli._samples import samples_options
@@ -17,6 +18,7 @@ from hydrokit.cli._samples import samples_options
 @click.argument("vehicle", metavar="VEHICLE")
 @manoeuvre_options
 @samples_options("each metric's median and 95 % interval in manoeuvre.json (intervals), sample tracks on the plots")
+@strict_option
 def manoeuvre(
     vehicle: str,
     out_dir: str,

@@ -2,13 +2,15 @@
 
 Sections: the run (vehicle, surface, settings, approach speed); the metrics with units and the
 definitions they follow (IMO MSC.137(76), ITTC 7.5-04-02-01); for surface craft the IMO criteria
-with pass/fail; the track and time figures; warnings. User text is escaped.
+with pass/fail; the track and time figures; warnings. A vehicle whose ``identification:`` block
+says "does not fit" has its warning as a banner above everything. User text is escaped.
 """
 
 from __future__ import annotations
 
 from typing import Any
 
+from hydrokit.model.identification import is_unfit_warning
 from hydrokit.report.html import esc, figure, fmt, page, table, warnings_block
 
 DEFINITIONS = (
@@ -49,7 +51,10 @@ def render(result: Any, figures: dict[str, bytes] | None = None) -> str:
         figures = {k: to_png(f) for k, f in make(result).items()}
     doc = result.to_dict()
     params = ", ".join(f"{k} = {fmt(v) if not isinstance(v, str) else v}" for k, v in doc["parameters"].items())
-    parts = [
+    # a vehicle whose fit said "does not fit" (issue #48): said before anything it predicts
+    unfit = [w for w in result.warnings if is_unfit_warning(w)]
+    parts = [] if not unfit else [warnings_block(unfit)]
+    parts += [
         f"<p>Vehicle <b>{esc(result.vehicle)}</b>, steered by <b>{esc(result.surface)}</b>; {esc(params)}. "
         f"Approach speed {fmt(result.approach_speed)} m/s"
         + (f", reference length L = {fmt(result.reference_length)} m" if result.reference_length else "")
@@ -110,6 +115,7 @@ def render(result: Any, figures: dict[str, bytes] | None = None) -> str:
     }
     for name, png in figures.items():
         parts.append(figure(png, captions.get(name, name)))
-    if result.warnings:
-        parts.append("<h2>Warnings</h2>" + warnings_block(result.warnings))
+    others = [w for w in result.warnings if w not in unfit]
+    if others:
+        parts.append("<h2>Warnings</h2>" + warnings_block(others))
     return page(f"hydrokit manoeuvre — {result.vehicle}: {result.kind.replace('_', ' ')}", parts)
