@@ -157,14 +157,17 @@ def test_windowed_fit_keeps_the_physical_signs_during_the_fit() -> None:
         seen.append(parameter_value(out, "linear_damping.yaw"))
         return out
 
+    import hydrokit.sysid.problem as prob
     import hydrokit.sysid.window as win
 
     try:
         sysid_mod.with_values = spy
         win.with_values = spy
+        prob.with_values = spy
         res = identify(base, runs, ["linear_damping.yaw"], dt=0.02, samples=0, check_step=False, window=10.0)
     finally:
         sysid_mod.with_values = original
         win.with_values = original
+        prob.with_values = original
     assert len(seen) > 3 and min(seen) >= 0.0, min(seen)
     assert res.values[0] == 0.0 and any("held at its physical bound" in m for m in res.messages)

@@ -92,7 +92,7 @@ def test_projected_jacobian_gives_the_covariance_with_every_initial_state_free()
     """Frisch–Waugh–Lovell: the parameters' block of (JᵀJ)⁻¹ with the windows' initial states
     as extra columns (the whole-run problem's dense Jacobian on the windows) equals
     (J̃ᵀJ̃)⁻¹ of the projected Jacobian the windowed fit uses."""
-    from hydrokit.sysid.fit import _Problem
+    from hydrokit.sysid.problem import Problem
     from hydrokit.sysid.smooth import initial_noise, smooth_run
     from hydrokit.sysid.window import cut_runs
 
@@ -102,7 +102,7 @@ def test_projected_jacobian_gives_the_covariance_with_every_initial_state_free()
     theta = values_of(veh, params)
     sm = [smooth_run(r) for r in runs]
     preps = [prepare_run(r, veh.thrusters, 0.05, surfaces=veh.surfaces.names) for r in runs]
-    whole = _Problem(veh, params, preps, [s.at(s.time[0]) for s in sm], [np.zeros(0, int)], dict(initial_noise(sm)))
+    whole = Problem(veh, params, preps, [s.at(s.time[0]) for s in sm], [np.zeros(0, int)], dict(initial_noise(sm)))
     cut = cut_runs(10.0, veh, params, theta, runs, sm, preps)
     assert cut is not None and len(cut.preps) == 3
     projected = cut.problem(whole)
@@ -110,7 +110,7 @@ def test_projected_jacobian_gives_the_covariance_with_every_initial_state_free()
     _, Jp, ok = projected.evaluate(theta.copy(), scale, True)
     assert ok and Jp is not None and Jp.shape[1] == len(params)
     states = [np.flatnonzero(s.known) for s in cut.smoothed]
-    dense = _Problem(veh, params, cut.preps, cut.x0, states, whole.sigma)
+    dense = Problem(veh, params, cut.preps, cut.x0, states, whole.sigma)
     z = np.concatenate([theta, *[x[e] for x, e in zip(cut.x0, states)]])
     _, Jd, ok = dense.evaluate(z, np.concatenate([scale, np.full(z.size - theta.size, 0.01)]), True)
     assert ok and Jd is not None

@@ -1,6 +1,6 @@
 """``hydrokit manoeuvre``: the standard manoeuvres (turning circle, zigzag, spiral, pull-out, depth
 change, vertical zigzag) of a vehicle with control surfaces (a thin layer over
-:func:`hydrokit.simulate.manoeuvre.run_manoeuvre`)."""
+:func:`hydrokit.manoeuvre.run.run_manoeuvre`)."""
 
 from __future__ import annotations
 
@@ -69,9 +69,9 @@ def manoeuvre(
     from hydrokit.cli._common import check_out_dir, json_text, progress_bar, write_all
     from hydrokit.errors import InputError
     from hydrokit.io.trajectory import table_csv
-    from hydrokit.simulate.manoeuvre import commands_from_text, from_options, run_manoeuvre
-    from hydrokit.simulate.manoeuvre_metrics import describe
-    from hydrokit.simulate.manoeuvre_samples import add_intervals, check_samples, interval_lines
+    from hydrokit.manoeuvre.metrics import describe
+    from hydrokit.manoeuvre.run import commands_from_text, from_options, run_manoeuvre
+    from hydrokit.manoeuvre.samples import add_intervals, check_samples, interval_lines
 
     out = check_out_dir(out_dir)
     kinds = dict(turning_circle=turning_circle, zigzag=zigzag, spiral=spiral, pull_out=pull_out)

@@ -75,7 +75,7 @@ REVERSE_SPIRAL_RATE = 0.5
 #: the longest turning circle, zigzag, depth change or vertical zigzag, in L/U at the approach speed
 #: (each ends as soon as it is measured; the spiral and pull-out budget their steps instead)
 BUDGET = {"turning_circle": 2000.0, "zigzag": 500.0, "depth_change": 500.0, "vertical_zigzag": 500.0}
-# the thresholds of the logics and the hold live with their laws (manoeuvre_laws); named here too
+# the thresholds of the logics and the hold live with their laws (manoeuvre/laws.py); named here too
 TURN_TARGET, TURN_STEADY, TURN_MAX = L.TURN_TARGET, L.TURN_STEADY, L.TURN_MAX
 STEADY_WINDOW, STEADY_DRIFT_ABS, STEADY_DRIFT_REL = L.STEADY_WINDOW, L.STEADY_DRIFT_ABS, L.STEADY_DRIFT_REL
 STEADY_MAX_HOLD, HOLD_MAX_PITCH, HOLD_PERIOD = L.STEADY_MAX_HOLD, L.HOLD_MAX_PITCH, L.HOLD_PERIOD

@@ -42,7 +42,7 @@ def _unit(key: str, units: dict[str, str]) -> str:
 def render(result: Any, figures: dict[str, bytes] | None = None) -> str:
     """The whole report as one self-contained HTML string (``figures``: PNG bytes by name; None:
     rendered here)."""
-    from hydrokit.simulate.manoeuvre_metrics import UNITS
+    from hydrokit.manoeuvre.metrics import UNITS
 
     if figures is None:
         from hydrokit.plot._mpl import to_png

@@ -45,10 +45,10 @@ from hydrokit.sysid.model import (
     prepare_run,
     simulate_run,
     stack_packs,
-    take,
     values_of,
     with_values,
 )
+from hydrokit.sysid.problem import Problem
 from hydrokit.sysid.stats import (
     channel_checks,
     condition_number,
@@ -201,97 +201,7 @@ class SysidResult(Result):
 
 
 # ------------------------------------------------------------------------------ the fit
-@dataclass
-class _Problem:
-    vehicle: Vehicle
-    params: list[Parameter]
-    preps: list[PreparedRun]
-    x0: list[np.ndarray]  # per run, 12 states
-    est: list[np.ndarray]  # per run, indices of the estimated initial states
-    sigma: dict[str, float]
-    sim_seconds: float = 0.0
-    executor: Any = None  # hydrokit._parallel.Executor: the runs' simulations on Dask (None: here)
-
-    @property
-    def n_nuisance(self) -> int:
-        return int(sum(e.size for e in self.est))
-
-    def weights(self, prep: PreparedRun) -> np.ndarray:
-        return np.concatenate([np.full(t.size, 1.0 / self.sigma[c]) for c, t in zip(prep.channels, prep.times)])
-
-    def row_weights(self) -> np.ndarray:
-        """The weight (1/σ of its channel, 1/SI) of every residual row, run after run."""
-        return np.concatenate([self.weights(prep) for prep in self.preps])
-
-    def unpack(self, z: np.ndarray) -> tuple[np.ndarray, list[np.ndarray]]:
-        p = len(self.params)
-        theta = z[:p]
-        x0s, k = [], p
-        for x, e in zip(self.x0, self.est):
-            xx = x.copy()
-            xx[e] = z[k : k + e.size]
-            x0s.append(xx)
-            k += e.size
-        return theta, x0s
-
-    def packs(self, theta: np.ndarray, scale: np.ndarray, jac: bool) -> dict[str, Any]:
-        """The compiled tables of the vehicle at ``theta`` (SI) and, if ``jac``, of one vehicle
-        per parameter nudged by 1e-6 of its ``scale`` (the forward differences)."""
-        vehicles = [with_values(self.vehicle, self.params, theta)]
-        if jac:
-            for k in range(len(self.params)):
-                th = theta.copy()
-                th[k] += 1e-6 * scale[k]
-                vehicles.append(with_values(self.vehicle, self.params, th))
-        return stack_packs(vehicles)
-
-    def evaluate(self, z: np.ndarray, scale: np.ndarray, jac: bool) -> tuple[np.ndarray, np.ndarray | None, bool]:
-        """Weighted residuals (and Jacobian w.r.t. z/scale) of every run."""
-        p = len(self.params)
-        theta, x0s = self.unpack(z)
-        packs = self.packs(theta, scale, jac)
-        res, blocks = [], []
-        n_cols = p + self.n_nuisance
-        col = p
-        tasks = []
-        for prep, x0, e in zip(self.preps, x0s, self.est):
-            index = list(range(p + 1)) + [0] * e.size if jac else [0]
-            X0 = np.repeat(x0[None], len(index), axis=0)
-            if jac:
-                for j, i in enumerate(e):
-                    X0[p + 1 + j, i] += 1e-6 * scale[col + j]
-            tasks.append((prep, take(packs, index), X0))
-            col += e.size
-        # the runs (each with its perturbed vehicles and initial states) are independent tasks
-        sims = [_simulate_task(t) for t in tasks] if self.executor is None else self.executor.map(_simulate_task, tasks)
-        col = p
-        for prep, e, (pred, done, seconds) in zip(self.preps, self.est, sims):
-            w = self.weights(prep)
-            self.sim_seconds += seconds
-            if done[0] < math.ceil(prep.duration / prep.dt - 1e-9) or not np.all(np.isfinite(pred[0])):
-                return np.empty(0), None, False
-            r = (prep.measured - pred[0]) * w
-            res.append(r)
-            if jac:
-                J = np.zeros((r.size, n_cols))
-                d = -(pred[1:] - pred[0]) * w / 1e-6  # per unit of the scaled variable
-                J[:, :p] = d[:p].T
-                J[:, col : col + e.size] = d[p:].T
-                blocks.append(J)
-            col += e.size
-        return np.concatenate(res), (np.concatenate(blocks) if jac else None), True
-
-
-def _simulate_task(task: tuple[PreparedRun, Any, np.ndarray]) -> tuple[np.ndarray, np.ndarray, float]:
-    """One run's batch of perturbed vehicles (a task for the Dask executor): predictions,
-    steps done, seconds spent."""
-    prep, packs, X0 = task
-    t = _time.perf_counter()
-    pred, done = simulate_run(prep, packs, X0)
-    return pred, done, _time.perf_counter() - t
-
-
-def _series(problem: _Problem) -> list[tuple[int, int]]:
+def _series(problem: Problem) -> list[tuple[int, int]]:
     out, k = [], 0
     for prep in problem.preps:
         for t in prep.times:
@@ -305,7 +215,7 @@ def _series(problem: _Problem) -> list[tuple[int, int]]:
 _lm = projected_lm
 
 
-def _runaway_message(problem: _Problem, z: np.ndarray, z0: np.ndarray, scale: np.ndarray) -> str:
+def _runaway_message(problem: Problem, z: np.ndarray, z0: np.ndarray, scale: np.ndarray) -> str:
     p = len(problem.params)
     far = np.abs(z[:p] - z0[:p]) / scale[:p]
     k = int(np.argmax(far))
@@ -431,7 +341,7 @@ def _feedback(runs: Sequence[RunData], smoothed: Sequence[Any], thrusters: Any) 
 
 
 def _predict(
-    problem: _Problem,
+    problem: Problem,
     theta: np.ndarray,
     cov: np.ndarray,
     x0s: Sequence[np.ndarray],
@@ -599,7 +509,7 @@ def _identify(
         unmeasured = [CHANNELS[i] for i in range(6, 12) if not s.known[i] and (i - 6) in veh.dofs]
         if unmeasured:
             warnings.append(f"{run.name}: {', '.join(unmeasured)} not measured: taken as 0 at the start")
-    problem = _Problem(
+    problem = Problem(
         veh, params, preps, [s.at(s.time[0]) for s in smoothed], est, dict(initial_noise(smoothed)), executor=executor
     )
     for c in list(problem.sigma):
@@ -687,7 +597,7 @@ def _identify(
     corr = correlation(cov)
     step_check = float("nan")
     if check_step and method == "output-error":
-        half = _Problem(
+        half = Problem(
             veh,
             params,
             cut.prepare(runs, th, dt / 2, veh.surfaces.names)
@@ -869,7 +779,7 @@ def _abs_env(prep: PreparedRun) -> np.ndarray | None:
     return env
 
 
-def _channel_rms(problem: _Problem, r: np.ndarray) -> dict[str, float]:
+def _channel_rms(problem: Problem, r: np.ndarray) -> dict[str, float]:
     """Unweighted residual RMS per channel over all runs (SI)."""
     acc: dict[str, list[np.ndarray]] = {}
     k = 0

@@ -42,8 +42,9 @@ from hydrokit.core.names import DOF_NAMES
 from hydrokit.errors import InputError
 from hydrokit.model.vehicle import Vehicle
 from hydrokit.sysid.data import ROW_RATE, SENSORS, VirtualRun, excitation_thrust
-from hydrokit.sysid.fit import CORRELATION_LIMIT, _Problem
+from hydrokit.sysid.fit import CORRELATION_LIMIT
 from hydrokit.sysid.model import CHANNELS, Parameter, free_parameters, prepare_run, values_of
+from hydrokit.sysid.problem import Problem
 from hydrokit.sysid.stats import condition_number, correlation
 
 #: band the design may use, Hz (above 2 Hz a pool vehicle barely moves; a DVL cannot see it)
@@ -226,7 +227,7 @@ def fisher_information(
     x0 = np.zeros(12)
     x0[2] = 1.5  # depth does not enter the model away from the surface
     est = np.array([i for i in range(2, 12) if CHANNELS[i] in sensors], dtype=int)
-    problem = _Problem(vehicle, list(params), [prep], [x0], [est], {c: s for c, (_, s) in sensors.items()})
+    problem = Problem(vehicle, list(params), [prep], [x0], [est], {c: s for c, (_, s) in sensors.items()})
     theta = values_of(vehicle, params)
     scale = np.concatenate([np.maximum(np.abs(theta), 1e-3), np.full(est.size, 0.01)])
     _, J, ok = problem.evaluate(np.concatenate([theta, x0[est]]), scale, True)

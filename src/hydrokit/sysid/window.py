@@ -79,6 +79,7 @@ from hydrokit.sysid.model import (
     stack_packs,
     with_values,
 )
+from hydrokit.sysid.problem import Problem, simulate_task
 
 #: window length chosen by ``auto`` when a run drifts, s (20–30 s: what ship-model trials use)
 DEFAULT_WINDOW = 30.0
@@ -189,7 +190,7 @@ class Windows:
         return functools.partial(projected_lm, chi2_tol=CHI2_TOL)
 
     def projected(self, problem: Any) -> Any:
-        """``problem`` (a ``_Problem`` of these windows, e.g. prepared at another step) with each
+        """``problem`` (a :class:`~hydrokit.sysid.problem.Problem` of these windows, e.g. prepared at another step) with each
         window's measured initial states projected out, from its own ``x0``."""
         states = [np.array([i for i in range(12) if s.known[i]], dtype=int) for s in self.smoothed]
         return _window_problem(
@@ -197,7 +198,7 @@ class Windows:
         )
 
     def problem(self, whole: Any) -> Any:
-        """The whole-run problem of :mod:`hydrokit.sysid.fit` (its ``_Problem``) on the
+        """The whole-run problem of :mod:`hydrokit.sysid.fit` (its :class:`~hydrokit.sysid.problem.Problem`) on the
         windows, with every measured initial state projected out (module docstring)."""
         states = [np.array([i for i in range(12) if s.known[i]], dtype=int) for s in self.smoothed]
         return _window_problem(
@@ -228,8 +229,6 @@ def _window_problem(
     owner: Sequence[int] = (),
     continuity: float = 0.0,
 ) -> Any:
-    from hydrokit.sysid.fit import _Problem, _simulate_task
-
     split = [_split_states(prep, e) for prep, e in zip(preps, states)]
     # the windows of one run, in order: tied by continuity, their initial states projected out together
     owner = list(owner) if len(owner) == len(preps) else list(range(len(preps)))
@@ -244,7 +243,7 @@ def _window_problem(
     sims_of = [_with_end(prep, t) for prep, t in zip(preps, tied)]
     root = math.sqrt(max(float(continuity), 0.0))
 
-    class WindowProblem(_Problem):  # type: ignore[misc, valid-type]
+    class WindowProblem(Problem):
         """Output error over windows, each window's measured initial states projected out: the
         fit sees the parameters only (module docstring). ``x0`` holds the initial states of
         the best evaluation so far (the point Levenberg–Marquardt last accepted); ``jumps``
@@ -266,9 +265,7 @@ def _window_problem(
                     X0[p + 1 + j, i] += _STATE_STEP
                 tasks.append((prep, _take(packs, list(range(n_veh)) + [0] * n_x), X0))
             sims = (
-                [_simulate_task(t) for t in tasks]
-                if self.executor is None
-                else self.executor.map(_simulate_task, tasks)
+                [simulate_task(t) for t in tasks] if self.executor is None else self.executor.map(simulate_task, tasks)
             )
             res: list[np.ndarray] = [np.empty(0)] * len(self.preps)
             blocks: list[np.ndarray] = [np.empty((0, p))] * len(self.preps)
