@@ -14,12 +14,11 @@ from typing import Any
 
 import numpy as np
 
+from hydrokit.core.names import COEFFICIENTS
 from hydrokit.errors import InputError
 from hydrokit.identify.rig_model import rig_constants, simulate_normalised
 from hydrokit.identify.types import Rig
 from hydrokit.identify.virtual_rig import SensorModel
-
-COEFFS = ("added_mass", "linear_damping", "quadratic_damping")
 
 
 def cramer_rao(
@@ -57,7 +56,7 @@ def cramer_rao(
     u = float(np.max(np.abs(v))) * c.speed_factor
     grad = np.array([0.0, u, u * u])  # ∂(K_L u + K_Q u²)/∂(m_a, K_L, K_Q)
     f = linear_damping * u + quadratic_damping * u * u
-    out: dict[str, Any] = {k: float(s) for k, s in zip(COEFFS, sd)}
+    out: dict[str, Any] = {k: float(s) for k, s in zip(COEFFICIENTS, sd)}
     out["covariance"] = cov_r.tolist()  # of (m_a, K_L, K_Q), reported units
     out["damping_force_rel"] = float(math.sqrt(grad @ cov_r @ grad) / abs(f)) if f else float("nan")
     out["speed_max"] = u
@@ -98,8 +97,8 @@ def plan_experiment(
             with np.errstate(all="ignore"):
                 crb = cramer_rao(rig, added_mass, linear_damping, quadratic_damping, a, duration, sensor)
         except np.linalg.LinAlgError:
-            crb = {k: math.nan for k in COEFFS}
-        if not all(math.isfinite(crb[k]) for k in COEFFS):
+            crb = {k: math.nan for k in COEFFICIENTS}
+        if not all(math.isfinite(crb[k]) for k in COEFFICIENTS):
             # the model's response leaves the float range, or one coefficient no longer moves it
             raise InputError(
                 f"added_mass = {added_mass:.4g}, linear_damping = {linear_damping:.4g}, quadratic_damping = "
@@ -108,7 +107,7 @@ def plan_experiment(
                 "size for this rig (SI)"
             )
         row: dict[str, Any] = {"amplitude": float(a), "speed_max": crb["speed_max"], "launches": launches}
-        for k in COEFFS:
+        for k in COEFFICIENTS:
             se = crb[k] / math.sqrt(launches)
             row[k] = se
             row[k + "_rel"] = se / abs(truth[k]) if truth[k] else float("nan")

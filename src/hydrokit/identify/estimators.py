@@ -32,13 +32,13 @@ from typing import Any
 import numpy as np
 
 from hydrokit._quiet import quiet
+from hydrokit.core.names import COEFFICIENTS
 from hydrokit.core.validate import record
 from hydrokit.errors import InputError
 from hydrokit.identify.preprocess import check_record
 from hydrokit.identify.rig_model import RigConstants, rig_constants, simulate_extended, simulate_normalised
 from hydrokit.identify.types import METHODS, Launch, LaunchResult, Rig
 
-COEFFS = ("added_mass", "linear_damping", "quadratic_damping")
 #: ``--damping-model``: B1 only, B1 + B2 |q̇| q̇ (default), B1 + B2 |q̇| q̇ + B3 q̇³
 DAMPING_MODELS = ("linear", "quadratic", "cubic")
 #: ``--restoring-terms``: the rig's restoring (1), plus a fitted C3 q³ (3), plus C3 q³ + C5 q⁵ (5)
@@ -226,16 +226,16 @@ class _DecayEstimator:
             cov = Jt @ self.pcov_ @ Jt.T
             self.covariance_ = cov
             se = np.sqrt(np.clip(np.diag(cov), 0.0, None))
-            self.std_error_: dict[str, float | None] = {k: float(v) for k, v in zip(COEFFS, se)}
+            self.std_error_: dict[str, float | None] = {k: float(v) for k, v in zip(COEFFICIENTS, se)}
         else:
             self.covariance_ = None
-            self.std_error_ = dict.fromkeys(COEFFS)
+            self.std_error_ = dict.fromkeys(COEFFICIENTS)
         formal = getattr(self, "pcov_formal_", None)
         self.std_error_formal_: dict[str, float | None] = dict(self.std_error_)
         if formal is not None and self.pcov_ is not None:
             Jt = c.jacobian_from_normalised(w2, b, g)
             sef = np.sqrt(np.clip(np.diag(Jt @ formal @ Jt.T), 0.0, None))
-            self.std_error_formal_ = {k: float(v) for k, v in zip(COEFFS, sef)}
+            self.std_error_formal_ = {k: float(v) for k, v in zip(COEFFICIENTS, sef)}
         self.natural_frequency_ = math.sqrt(w2)
         a0 = abs(float(y[0]) - self.offset_)
         # equivalent linear damping ratio at the launch amplitude (Fossen-style linearisation
@@ -854,7 +854,7 @@ def identify_launch(
             "speed_max": u_max,
             "std_error_formal": dict(est.std_error_formal_),
             "covariance": None if est.covariance_ is None else np.asarray(est.covariance_).tolist(),
-            "covariance_parameters": list(COEFFS),
+            "covariance_parameters": list(COEFFICIENTS),
             "adequacy": est.adequacy_,
             "uncertainty_method": getattr(est, "uncertainty_method_", "formal"),
         },

@@ -12,6 +12,7 @@ from dataclasses import dataclass, field
 from typing import Any, cast
 
 from hydrokit._result import Result, html_table, jsonable
+from hydrokit.core.names import COEFFICIENTS
 from hydrokit.errors import InputError
 from hydrokit.identify.campaign import SUMMARY_FIELDS, consistency, group_by_amplitude, rank_sum_pairs, summarize
 
@@ -21,7 +22,6 @@ from hydrokit.identify.fitted import IdentifiedLaunch, predict  # noqa: F401
 from hydrokit.identify.scaling import scale_coefficients
 from hydrokit.identify.types import METHODS, Launch, LaunchResult, Rig, rig_document
 
-COEFFS = ("added_mass", "linear_damping", "quadratic_damping")
 #: the per-launch columns of :meth:`CampaignResult.table`
 LAUNCH_COLUMNS = ("file", "amplitude", *SUMMARY_FIELDS, "rms_residual")
 
@@ -130,14 +130,14 @@ class CampaignResult(Result):
             ("method", self.method),
             ("launches", len(self.launches)),
         ]
-        for k in COEFFS:
+        for k in COEFFICIENTS:
             s = self.summary[k]
             if s["mean"] is not None:
                 ci = s["ci"]
                 ci_txt = f" [{ci[0]:.4g}, {ci[1]:.4g}]" if ci[0] is not None else ""
                 rows.append((f"{k} ({units[k]})", f"{s['mean']:.5g} ± {s['std']:.2g}{ci_txt}"))
         if self.full_scale:
-            for k in COEFFS:
+            for k in COEFFICIENTS:
                 if self.full_scale.get(k) is not None:
                     rows.append((f"{k}, full scale ({units[k]})", self.full_scale[k]))
         return rows
@@ -150,7 +150,7 @@ class CampaignResult(Result):
         from hydrokit.plot.identify import campaign_axes
 
         if coefficient not in self.summary:
-            raise InputError(f"coefficient = {coefficient!r}: expected one of {', '.join(COEFFS)}")
+            raise InputError(f"coefficient = {coefficient!r}: expected one of {', '.join(COEFFICIENTS)}")
         units = coefficient_units(self.rig)
         return campaign_axes(
             self.results,
@@ -291,7 +291,7 @@ def summarize_campaign(rig: Rig, method: str, items: Sequence[IdentifiedLaunch])
     items = list(items)
     results = [it.result for it in items]
     groups = group_by_amplitude(results, angles=not rig.translational_signal)
-    pairwise = {c: rank_sum_pairs({k: [getattr(r, c) for r in g] for k, g in groups.items()}) for c in COEFFS}
+    pairwise = {c: rank_sum_pairs({k: [getattr(r, c) for r in g] for k, g in groups.items()}) for c in COEFFICIENTS}
     summary = summarize(results, groups=groups)
     # repeats of one condition (an amplitude group) against their own standard errors
     summary["consistency"] = {
@@ -299,12 +299,12 @@ def summarize_campaign(rig: Rig, method: str, items: Sequence[IdentifiedLaunch])
             label: consistency([getattr(r, c) for r in g], [(r.std_error or {}).get(c) for r in g])
             for label, g in groups.items()
         }
-        for c in COEFFS
+        for c in COEFFICIENTS
     }
     full = None
     if rig.scale:
         lam = 1.0 / rig.scale
-        means = {k: summary[k]["mean"] for k in COEFFS if summary[k]["mean"] is not None}
+        means = {k: summary[k]["mean"] for k in COEFFICIENTS if summary[k]["mean"] is not None}
         full = {
             "lambda": lam,
             **scale_coefficients(means, lam, rig.rotational),

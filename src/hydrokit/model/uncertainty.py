@@ -37,7 +37,9 @@ from typing import Any
 
 import numpy as np
 
-from hydrokit.core.names import DOF_NAMES
+# COEFFICIENTS, the diagonal coefficients an uncertainty block may name, is the one table of
+# core.names; hydrokit.model.uncertainty.COEFFICIENTS stays importable
+from hydrokit.core.names import COEFFICIENTS, DOF_NAMES
 from hydrokit.errors import InputError
 from hydrokit.model.terms import ABS, VEL, Term, TermSet, parse_term
 from hydrokit.model.wind import (
@@ -51,8 +53,6 @@ from hydrokit.model.wind import (
     with_wind_field,
 )
 
-#: the diagonal coefficients an uncertainty block may name
-COEFFICIENTS = ("added_mass", "linear_damping", "quadratic_damping")
 #: the prefix of a derivative-term parameter (``terms.N_r|r|``)
 TERM_PREFIX = "terms."
 #: the prefixes of a surface's and a thruster's field (``control_surfaces.rudder.lift_slope``)
@@ -420,7 +420,7 @@ def physical_sign(ref: ParameterRef) -> int:
     definite (the fluid's kinetic energy ½ νᵀ M_A ν > 0; Newman 1977, Marine Hydrodynamics,
     ch. 4), so its diagonal is positive — a negative one, which the file accepts with a warning,
     makes the body easier to accelerate than in vacuum and can leave M_RB + M_A singular."""
-    if ref.kind in ("linear_damping", "quadratic_damping", "added_mass"):
+    if ref.kind in COEFFICIENTS:
         return 1
     if ref.kind == "accel":
         return -1 if ref.index == ref.dof else 0

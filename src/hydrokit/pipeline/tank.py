@@ -16,7 +16,8 @@ from typing import Any
 
 import numpy as np
 
-from hydrokit.identify.result import COEFFS, IdentifiedLaunch, coefficient_units, summarize_campaign
+from hydrokit.core.names import COEFFICIENTS
+from hydrokit.identify.result import IdentifiedLaunch, coefficient_units, summarize_campaign
 from hydrokit.identify.scaling import EXPONENTS
 from hydrokit.io.project import CampaignSpec
 
@@ -99,11 +100,12 @@ def campaign_covariance(results: list[Any], summary: dict[str, Any], groups: dic
     amplitude share its model error — sensor lag, release, unmodelled damping — which the
     launch scatter alone does not show; on the bundled virtual campaigns the launch part alone
     put the true surge (K_L, K_Q) at a Mahalanobis distance² of 17, the sum at 0.8)."""
-    rejected = set().union(*(set(summary[c]["rejected"] or []) for c in COEFFS))
+    rejected = set().union(*(set(summary[c]["rejected"] or []) for c in COEFFICIENTS))
     ok = {
-        r.file: [getattr(r, c) for c in COEFFS]
+        r.file: [getattr(r, c) for c in COEFFICIENTS]
         for r in results
-        if r.file not in rejected and all(getattr(r, c) is not None and math.isfinite(getattr(r, c)) for c in COEFFS)
+        if r.file not in rejected
+        and all(getattr(r, c) is not None and math.isfinite(getattr(r, c)) for c in COEFFICIENTS)
     }
     n = len(ok)
     if n < 2:
@@ -156,17 +158,17 @@ def identify_campaign_step(
     summary = campaign.summary
     lam = 1.0 / spec.scale_ratio
     exps = EXPONENTS[bool(rig.rotational)]
-    factor = {c: lam ** exps[c] for c in COEFFS}
+    factor = {c: lam ** exps[c] for c in COEFFICIENTS}
     parts = campaign_covariance(campaign.results, summary, campaign.groups)
     tare_var = np.zeros((3, 3))
     if tare is not None:
         # the subtracted tare is one number for every launch: its error does not average out
         se = tare["std_error"]
         tare_var = np.diag([0.0, se["linear_damping"] ** 2, se["quadratic_damping"] ** 2])
-    f = np.array([factor[c] for c in COEFFS])
+    f = np.array([factor[c] for c in COEFFICIENTS])
     full_cov = (parts["total"] + tare_var) * np.outer(f, f)
     full: dict[str, Any] = {}
-    for i, c in enumerate(COEFFS):
+    for i, c in enumerate(COEFFICIENTS):
         s = summary[c]
         ci = s["ci"] or [None, None]
         mean = None if s["mean"] is None else s["mean"] * factor[c]
@@ -183,7 +185,7 @@ def identify_campaign_step(
     units = coefficient_units(rig)
     truth = None
     if spec.truth:
-        truth = {c: {"model": spec.truth[c], "full": spec.truth[c] * factor[c]} for c in COEFFS}
+        truth = {c: {"model": spec.truth[c], "full": spec.truth[c] * factor[c]} for c in COEFFICIENTS}
     warnings = [
         relative(w.split(": ", 1)[0]) + ": " + w.split(": ", 1)[1] if ": " in w else w for w in campaign.warnings
     ]
@@ -197,7 +199,7 @@ def identify_campaign_step(
         for p, (*_, png) in zip(spec.launches, fitted)
     ]
     summary_figs = []
-    for c in COEFFS:
+    for c in COEFFICIENTS:
         ax = campaign.plot(coefficient=c)
         summary_figs.append(
             {
