@@ -425,6 +425,40 @@ def _polish(
     return f
 
 
+def pinv_allocate(P, tau, f_min, f_max, f):  # noqa: ANN001, ANN201
+    """The unconstrained step of :class:`Allocator` on plain floats: f ← P τ, and whether it
+    breaks a thrust limit.
+
+    Parameters
+    ----------
+    P : (m, 6) table — the (weighted) pseudo-inverse T_W⁺ (:func:`weighted_pinv`), N per N and
+        1/m; any object indexed as ``P[i][j]``
+    tau : 6 floats — demanded [X Y Z K M N], N and N·m
+    f_min, f_max : m floats — thrust limits, N
+    f : m floats, written — the thrusts P τ, N
+
+    Returns
+    -------
+    bool — some f_i lies outside [f_min_i, f_max_i] (or is NaN): the constrained solution is needed
+
+    Notes
+    -----
+    f = T_W⁺ τ, LI2021 eq. 34 (Fossen 2011 eq. 12.245 weighted). Each f_i is summed over
+    τ_0 … τ_5 in order. Written once: :class:`Allocator` calls it as Python, the compiled
+    closed loop compiles it (``compile_law``).
+    """
+    limited = False
+    for i in range(len(f)):
+        row = P[i]
+        s = 0.0
+        for j in range(6):
+            s += row[j] * tau[j]
+        f[i] = s
+        if not (s <= f_max[i] and s >= f_min[i]):
+            limited = True
+    return limited
+
+
 class Allocator:
     """Fast allocation for control loops: cached pseudo-inverse, constrained only if needed.
 
@@ -454,6 +488,9 @@ class Allocator:
         self.T = np.asarray(T, dtype=float)
         self.f_min, self.f_max = _thrust_limits(f_min, f_max, self.T.shape[1])
         self.P = weighted_pinv(self.T, weights)
+        # plain floats for pinv_allocate (the same numbers; Python indexes tuples fastest)
+        self._P_rows = tuple(tuple(row) for row in self.P.tolist())
+        self._limits = (tuple(self.f_min.tolist()), tuple(self.f_max.tolist()))
         self.unactuated = np.array([d in uncontrollable_dofs(self.T) for d in DOF_NAMES])
         if isinstance(dof_weights, str):
             if dof_weights != "capability":
@@ -467,9 +504,9 @@ class Allocator:
     def __call__(self, tau: ArrayLike) -> tuple[Array, bool]:
         """Thrust (N) for the demanded τ (N, N·m) and whether the limits were active."""
         tau = np.asarray(tau, dtype=float)
-        f = self.P @ tau
-        if (f <= self.f_max).all() and (f >= self.f_min).all():
-            return f, False
+        f_list = [0.0] * self.T.shape[1]
+        if not pinv_allocate(self._P_rows, tau.reshape(-1).tolist(), *self._limits, f_list):
+            return np.array(f_list), False
         tau_eff = _check_tau(np.where(self.unactuated, 0.0, tau))
         # what allocate_constrained(T, tau_eff, f_min, f_max, dof_weights=Q) computes, with
         # its τ-independent parts kept between calls

@@ -64,16 +64,35 @@ class AxisController(Protocol):
 def _error_and_rate(
     state: AxisState, measurement: float, setpoint: float, dt: float, rate: float | None, angle: bool
 ) -> tuple[float, float]:
+    previous = state.previous
+    return error_and_rate(
+        measurement,
+        setpoint,
+        angle,
+        0.0 if rate is None else float(rate),
+        rate is not None,
+        0.0 if previous is None else previous,
+        previous is not None,
+        dt,
+    )
+
+
+def error_and_rate(measurement, setpoint, angle, rate, has_rate, previous, has_previous, dt):  # noqa: ANN001, ANN201
+    """Error and its rate for one axis loop, on plain floats: e = y − y_d (wrapped to ±π for an
+    ``angle``, rad), and ė = the measured ``rate`` when ``has_rate``, else the finite difference
+    (y − y_prev)/dt of the ``previous`` measurement (wrapped for an angle; 0 without one, or when
+    dt ≤ 0). Units: the axis unit (m/s, m, rad) and per s; dt in s. Written once: the controllers
+    call it as Python, the compiled closed loop compiles it (``compile_law``)."""
     e = measurement - setpoint
     if angle:
         e = wrap_angle(e)
-    if rate is None:
-        if state.previous is None or dt <= 0:
+    if not has_rate:
+        if not has_previous or dt <= 0:
             rate = 0.0
         else:
-            d = measurement - state.previous
+            d = measurement - previous
             rate = (wrap_angle(d) if angle else d) / dt
-    return e, float(rate)
+    return e, rate
 
 
 @dataclass(frozen=True)

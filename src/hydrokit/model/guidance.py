@@ -78,16 +78,32 @@ class Path:
         object.__setattr__(self, "speeds", s)
         object.__setattr__(self, "acceptance_radius", R)
         object.__setattr__(self, "lookahead", L)
-        # Per-leg constants of update() (not fields: no effect on == or repr), computed by
-        # the same expressions update() used to evaluate at every call: for leg k (1-based)
-        # a, b, d = b − a (arrays), |d|² and |d| (floats), and a, d as plain floats.
-        legs = []
+        # Per-leg constants of the law (not fields: no effect on == or repr): one row per leg
+        # (row 0 unused, legs are 1-based), see los_guidance.
+        rows: list[tuple[float, ...]] = [(0.0,) * LEG_COLUMNS]
         for k in range(1, p.shape[0]):
             a, b = p[k - 1], p[k]
             d = b - a
             Ld = float(np.linalg.norm(d))
-            legs.append((a, b, d, float(d @ d), Ld, Ld * Ld, a.tolist(), d.tolist()))
-        object.__setattr__(self, "_legs", (None, *legs))
+            horizontal = math.hypot(d[0], d[1]) >= _HORIZONTAL_EPS
+            course = math.atan2(d[1], d[0]) if horizontal else 0.0
+            rows.append(
+                (
+                    *a.tolist(),
+                    *d.tolist(),
+                    *b.tolist(),
+                    float(d @ d),
+                    Ld,
+                    Ld * Ld,
+                    course,
+                    float(horizontal),
+                    float(s[k - 1]),
+                )
+            )
+        # a tuple of tuples for the Python call (fast indexing), the same numbers as an array
+        # for the compiled loops
+        object.__setattr__(self, "_leg_rows", tuple(rows))
+        object.__setattr__(self, "leg_table", np.array(rows, dtype=float))
 
     @property
     def n_legs(self) -> int:
@@ -115,42 +131,90 @@ class Path:
         max(0, cos(ψ_d − ψ)): no forward push while the vehicle still points the wrong way,
         which keeps a saturated speed loop from starving the heading loop in turns.
         """
-        p = np.asarray(position, dtype=float)[:3]
-        k, heading = state.leg, state.heading
-        n_legs = self.n_legs
-        legs = self._legs  # type: ignore[attr-defined]
-        while k <= n_legs:
-            a, b, d, L2 = legs[k][:4]
-            pa_d = float((p - a) @ d)
-            s = pa_d / L2  # along-track fraction
-            pb = p - b
-            if math.sqrt(pb.dot(pb)) <= self.acceptance_radius or s >= 1.0:  # |p − b|, as np.linalg.norm
-                k += 1
-                if k <= n_legs:
-                    heading = self._leg_course(k, heading)
-                continue
-            break
-        if k > n_legs:
-            end = self.points[-1]
-            ref = Reference(speed=0.0, depth=float(end[2]), heading=heading)
-            return ref, GuidanceState(leg=k, heading=heading)
-        L, LL, (a0, a1, a2), (d0, d1, d2) = legs[k][4:]
-        s = pa_d / LL  # (p − a)·d of the leg the loop stopped on
-        horiz = math.hypot(d0, d1)
-        # Depth lookahead scaled by the leg's vertical share |dz|/L: a vertical leg needs the
-        # full lookahead to make progress, a gently sloping one should not lead its ramp.
-        s_ahead = min(max(s + self.lookahead * abs(d2) / LL, 0.0), 1.0)
-        depth = a2 + s_ahead * d2
-        command = heading  # a vertical leg keeps the course of the last horizontal one
-        if horiz >= _HORIZONTAL_EPS:
-            p0, p1 = p[:2].tolist()
-            alpha = math.atan2(d1, d0)
-            e = -(p0 - a0) * math.sin(alpha) + (p1 - a1) * math.cos(alpha)
-            command = alpha + math.atan(-e / self.lookahead)
-        speed = float(self.speeds[k - 1]) * horiz / L
-        if vehicle_heading is not None:
-            speed *= max(0.0, math.cos(command - vehicle_heading))
+        px, py, pz = np.asarray(position, dtype=float)[:3].tolist()
+        slow = vehicle_heading is not None
+        k, heading, speed, depth, command = los_guidance(
+            px,
+            py,
+            pz,
+            float(vehicle_heading) if slow else 0.0,  # type: ignore[arg-type]
+            slow,
+            state.leg,
+            state.heading,
+            self._leg_rows,  # type: ignore[attr-defined]
+            self.n_legs,
+            self.acceptance_radius,
+            self.lookahead,
+        )
         return Reference(speed=speed, depth=depth, heading=command), GuidanceState(k, heading)
+
+
+#: columns of a leg row of :attr:`Path.leg_table` (and of the table :func:`los_guidance` reads):
+#: a (3, m), d = b − a (3, m), b (3, m), |d|² (m²), |d| (m), |d|·|d| (m²), the course atan2(d_y, d_x)
+#: (rad, 0 on a vertical leg), horizontal (1.0 or 0.0), the leg's speed (m/s)
+LEG_COLUMNS = 15
+
+
+def los_guidance(px, py, pz, psi, slow_in_turns, leg, heading, legs, n_legs, acceptance_radius, lookahead):  # noqa: ANN001, ANN201
+    """One step of the waypoint guidance of :meth:`Path.update` (the module's Notes) on plain floats.
+
+    Parameters
+    ----------
+    px, py, pz : float — vehicle position, NED, m
+    psi : float — vehicle heading ψ, rad (used only with ``slow_in_turns``)
+    slow_in_turns : bool — scale the speed by max(0, cos(ψ_d − ψ))
+    leg : int — active leg (1-based) before this step
+    heading : float — course of the last horizontal leg, rad
+    legs : (N+1, LEG_COLUMNS) table — per-leg constants, row k for leg k (:attr:`Path.leg_table`;
+        any object indexed as ``legs[k][c]``)
+    n_legs : int — number of legs N
+    acceptance_radius : float — switching radius R, m
+    lookahead : float — LOS lookahead Δ, m
+
+    Returns
+    -------
+    (leg, heading, speed m/s, depth m, heading set-point rad) — the new leg (> N when finished)
+    and course memory, and the references.
+
+    Notes
+    -----
+    ψ_d = α_k + atan(−e/Δ), Fossen 2011 eq. 10.73. Written once: :meth:`Path.update` calls it as
+    Python, the compiled closed loop compiles it (``compile_law``).
+    """
+    k = leg
+    pa_d = 0.0
+    while k <= n_legs:
+        row = legs[k]
+        pa_d = (px - row[0]) * row[3] + (py - row[1]) * row[4] + (pz - row[2]) * row[5]
+        s = pa_d / row[9]  # along-track fraction
+        b0, b1, b2 = px - row[6], py - row[7], pz - row[8]
+        if math.sqrt(b0 * b0 + b1 * b1 + b2 * b2) <= acceptance_radius or s >= 1.0:
+            k += 1
+            if k <= n_legs and legs[k][13] != 0.0:
+                heading = legs[k][12]
+            continue
+        break
+    if k > n_legs:
+        return k, heading, 0.0, legs[n_legs][8], heading
+    row = legs[k]
+    a0, a1, a2 = row[0], row[1], row[2]
+    d0, d1, d2 = row[3], row[4], row[5]
+    L, LL = row[10], row[11]
+    s = pa_d / LL  # (p − a)·d of the leg the loop stopped on
+    horiz = math.hypot(d0, d1)
+    # Depth lookahead scaled by the leg's vertical share |dz|/L: a vertical leg needs the
+    # full lookahead to make progress, a gently sloping one should not lead its ramp.
+    s_ahead = min(max(s + lookahead * abs(d2) / LL, 0.0), 1.0)
+    depth = a2 + s_ahead * d2
+    command = heading  # a vertical leg keeps the course of the last horizontal one
+    if horiz >= _HORIZONTAL_EPS:
+        alpha = row[12]
+        e = -(px - a0) * math.sin(alpha) + (py - a1) * math.cos(alpha)
+        command = alpha + math.atan(-e / lookahead)
+    speed = row[14] * horiz / L
+    if slow_in_turns:
+        speed *= max(0.0, math.cos(command - psi))
+    return k, heading, speed, depth, command
 
 
 @dataclass(frozen=True)

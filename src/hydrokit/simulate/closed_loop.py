@@ -39,6 +39,7 @@ from hydrokit.model.dynamics import Steering
 from hydrokit.model.guidance import Path, path_distance
 from hydrokit.model.surfaces import steer_surfaces, steer_work_size
 from hydrokit.model.thrusters import ThrusterSet
+from hydrokit.simulate.budget import check_memory
 from hydrokit.simulate.integrators import rk4_step
 
 Array = NDArray[np.float64]
@@ -88,6 +89,65 @@ class ClosedLoopResult:
     def metrics(self, thrusters: ThrusterSet | None = None) -> dict[str, Any]:
         """Tracking and effort figures; see :func:`mission_metrics`."""
         return mission_metrics(self, thrusters)
+
+
+#: the recorded arrays of a run, in the order the compiled loop receives them
+RECORD_FIELDS = (
+    "time",
+    "eta",
+    "nu",
+    "reference",
+    "tau_demand",
+    "command_demand",
+    "command",
+    "thrust_demand",
+    "thrust",
+    "limited",
+    "leg",
+    "deflection",
+)
+
+
+def new_record(n_steps: int, output_every: int, m: int, n_surfaces: int) -> dict[str, Array]:
+    """The empty record of a run of ``n_steps`` steps keeping every ``output_every``-th, with m
+    thrusters and ``n_surfaces`` control surfaces (the arrays of :class:`ClosedLoopResult`, both
+    loops fill them); refused in one line when it would not fit in memory."""
+    n_out = n_steps // output_every + 1
+    check_memory(n_out * (8 * (23 + 4 * m + n_surfaces) + 1), f"the recorded trajectory ({n_out} rows)")
+    return {
+        "time": np.empty(n_out),
+        "eta": np.empty((n_out, 6)),
+        "nu": np.empty((n_out, 6)),
+        "reference": np.empty((n_out, 3)),
+        "tau_demand": np.empty((n_out, 6)),
+        "command_demand": np.empty((n_out, m)),
+        "command": np.empty((n_out, m)),
+        "thrust_demand": np.empty((n_out, m)),
+        "thrust": np.empty((n_out, m)),
+        "limited": np.zeros(n_out, dtype=np.bool_),
+        "leg": np.empty(n_out, dtype=np.int64),
+        "deflection": np.zeros((n_out, n_surfaces)),
+    }
+
+
+def record_result(
+    rec: dict[str, Array],
+    j: int,
+    arrivals: list[float | None],
+    thrusters: ThrusterSet,
+    dt: float,
+    output_every: int,
+    path: Path,
+) -> ClosedLoopResult:
+    """The result of a run from its record's first ``j`` rows (:func:`new_record`), the waypoint
+    arrival times (s) and the step ``dt`` (s)."""
+    return ClosedLoopResult(
+        **{k_: v[:j] for k_, v in rec.items()},  # type: ignore[arg-type]
+        waypoint_times=arrivals,
+        thruster_names=thrusters.names,
+        dt=dt * output_every,
+        path=path,
+    )
 
 
 def run_closed_loop(
@@ -151,21 +211,7 @@ def run_closed_loop(
         # mean of c_t + (c0 - c_t) e^(-s/tc) over the step: weight of (c0 - c_t)
         mean_w = np.where(tc > 0, tc / dt * (1.0 - decay), 0.0)
 
-    n_out = n_steps // output_every + 1
-    rec = {
-        "time": np.empty(n_out),
-        "eta": np.empty((n_out, 6)),
-        "nu": np.empty((n_out, 6)),
-        "reference": np.empty((n_out, 3)),
-        "tau_demand": np.empty((n_out, 6)),
-        "command_demand": np.empty((n_out, m)),
-        "command": np.empty((n_out, m)),
-        "thrust_demand": np.empty((n_out, m)),
-        "thrust": np.empty((n_out, m)),
-        "limited": np.zeros(n_out, dtype=bool),
-        "leg": np.empty(n_out, dtype=int),
-        "deflection": np.zeros((n_out, 0 if steering is None else steering.smax.size)),
-    }
+    rec = new_record(n_steps, output_every, m, 0 if steering is None else steering.smax.size)
     delta = np.zeros(0 if steering is None else steering.smax.size)
     work = np.zeros(steer_work_size(delta.size))
     law: Any = None if steering is None else steering.args()
@@ -253,14 +299,7 @@ def run_closed_loop(
             progress(t)
     if progress is not None:
         progress(t)
-    sl = slice(0, j)
-    return ClosedLoopResult(
-        **{k_: v[sl] for k_, v in rec.items()},
-        waypoint_times=arrivals,
-        thruster_names=thrusters.names,
-        dt=dt * output_every,
-        path=path,
-    )
+    return record_result(rec, j, arrivals, thrusters, dt, output_every, path)
 
 
 def mission_metrics(res: ClosedLoopResult, thrusters: ThrusterSet | None = None) -> dict[str, Any]:

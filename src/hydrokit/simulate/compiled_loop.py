@@ -1,36 +1,38 @@
 """Compiled (numba) closed loop: guidance, autopilot, allocation, thrusters and vehicle in one
 compiled step.
 
-A compiled *copy* of :func:`hydrokit.simulate.closed_loop.run_closed_loop`, kept for speed
-only; the Python loop is the definition and tests/simulate/test_compiled_loop.py flies every
-bundled mission both ways (agreement to 1e-9 of each column's scale). Every block below is a
-scalar transcription of its numpy source, in the same order of operations where that is
-cheap:
+The compiled twin of :func:`hydrokit.simulate.closed_loop.run_closed_loop`, kept for speed;
+tests/simulate/test_compiled_loop.py flies every bundled mission both ways (agreement to 1e-9
+of each column's scale). The laws are written once, on plain floats, in model/ and core/, and
+compiled here by ``compile_law``; this module is their wiring (packing, the step order, the
+record, the fleet):
 
-- guidance: :meth:`hydrokit.model.guidance.Path.update` (LOS heading, depth lookahead,
-  speed profile, waypoint switching), with the per-leg constants the Path precomputes;
-- autopilot: :class:`hydrokit.model.control.Autopilot` with :class:`~hydrokit.model.control.PID`
-  (derivative on measurement, limits, clamping anti-windup) or
-  :class:`~hydrokit.model.control.SPlane` loops;
-- allocation: :class:`hydrokit.model.allocation.Allocator` — the cached (weighted)
-  pseudo-inverse, and when a limit would be broken the two-stage constrained solution of
-  :func:`~hydrokit.model.allocation.allocate_constrained` with a line-by-line port of
-  scipy's BVLS (:func:`scipy.optimize.lsq_linear`, ``method="bvls"``) and the polishing step;
-- thrusters: :class:`hydrokit.model.thrusters.ThrusterSet` — advance speed, the ideal, table
-  and propeller K_T(J) curves (forward/reverse, Illinois inversion), limits and the exact
-  first-order rotor lag;
-- vehicle: :func:`hydrokit.simulate.compiled.deriv` (the compiled right-hand side) in a
-  classical RK4 step with the thrust held.
+- guidance: :func:`hydrokit.model.guidance.los_guidance` (LOS heading, depth lookahead, speed
+  profile, waypoint switching) on the Path's per-leg table;
+- autopilot: :func:`hydrokit.model.control.error_and_rate`, ``_euler_rates``,
+  :func:`~hydrokit.model.control.depth_to_pitch`, :func:`~hydrokit.model.control.pid_law` and
+  :func:`~hydrokit.model.control.splane_law`;
+- allocation: :func:`hydrokit.model.allocation.pinv_allocate` (the cached (weighted)
+  pseudo-inverse and the limit test);
+- thrusters: the propeller laws of :mod:`hydrokit.model.thrusters`;
+- the record: :func:`hydrokit.simulate.closed_loop.new_record` and ``record_result``.
 
-Agreement is to round-off, not bit for bit: the small matrix–vector products (P τ, T f,
-advance speeds, guidance dot products) are plain loops here, where numpy calls BLAS (calling
-BLAS from the loop made it three times slower), the S-plane uses the C library's tanh where
-numpy has its own SIMD one, and the constrained allocation's least-squares solves go through
-numba's LAPACK. States, τ and thrusts then agree to ~1e-13 of their scale. Two places turn
-round-off into more, in both loops alike: a propeller command n = ±√(|f|/k) for a thrust
-demand that is zero up to round-off (±1e-14 N gives ±5e-7 rev/s), and the allocation's
-polishing step, kept only if it stays within the limits, when a thruster lands exactly on
-its limit (seen with 16 random thrusters, not in the bundled missions).
+Still compiled *copies* of a numpy source (a debt, issue #50): when a limit would be broken,
+the two-stage constrained allocation of :func:`~hydrokit.model.allocation.allocate_constrained`
+with a line-by-line port of scipy's BVLS (:func:`scipy.optimize.lsq_linear`, ``method="bvls"``)
+and the polishing step; the table thrust curve's interpolation (``np.interp``), the advance
+speed and the relative velocity's rotation; the RK4 step of the vehicle
+(:func:`hydrokit.simulate.compiled.deriv` with the thrust held); the fleet's path distance
+(:func:`hydrokit.model.guidance.path_distance`).
+
+Agreement is to round-off, not bit for bit: the small matrix–vector products (T f, advance
+speeds) are plain loops here, where numpy calls BLAS (calling BLAS from the loop made it three
+times slower), and the constrained allocation's least-squares solves go through numba's LAPACK
+where the Python loop calls scipy. States, τ and thrusts then agree to ~1e-13 of their scale.
+Two places turn round-off into more, in both loops alike: a propeller command n = ±√(|f|/k)
+for a thrust demand that is zero up to round-off (±1e-14 N gives ±5e-7 rev/s), and the
+allocation's polishing step, kept only if it stays within the limits, when a thruster lands
+exactly on its limit (seen with 16 random thrusters, not in the bundled missions).
 
 Everything is packed into arrays of fixed dtypes, so there is one compiled specialization
 (cached on disk: ``cache=True``). The run goes in chunks of about 1 % so that a progress
@@ -47,14 +49,23 @@ import numba
 import numpy as np
 from numpy.typing import ArrayLike
 
+from hydrokit.core.kinematics import wrap_angle
 from hydrokit.errors import InputError, SimulationError
-from hydrokit.model.allocation import Allocator, _ConstrainedSolver
-from hydrokit.model.control import PID, Autopilot, SPlane, depth_to_pitch, pid_law, splane_law
-from hydrokit.model.guidance import _HORIZONTAL_EPS, Path
+from hydrokit.model.allocation import Allocator, _ConstrainedSolver, pinv_allocate
+from hydrokit.model.control import (
+    PID,
+    Autopilot,
+    SPlane,
+    _euler_rates,
+    depth_to_pitch,
+    error_and_rate,
+    pid_law,
+    splane_law,
+)
+from hydrokit.model.guidance import Path, los_guidance
 from hydrokit.model.thrusters import IdealCurve, PropellerCurve, TableCurve, ThrusterSet
 from hydrokit.simulate._cache import njit
-from hydrokit.simulate.budget import check_memory
-from hydrokit.simulate.closed_loop import ClosedLoopResult
+from hydrokit.simulate.closed_loop import RECORD_FIELDS, ClosedLoopResult, new_record, record_result
 from hydrokit.simulate.compiled import BUF_SIZE, compile_law, deriv, njit_noalloc, steer_surfaces_compiled
 from hydrokit.simulate.compiled import propeller_speed_compiled as _propeller_speed
 from hydrokit.simulate.compiled import propeller_thrust_compiled as _propeller_thrust
@@ -63,16 +74,16 @@ _EPS = float(np.finfo(float).eps)
 _depth_to_pitch = compile_law(depth_to_pitch)
 _pid_law = compile_law(pid_law)
 _splane_law = compile_law(splane_law)
+_wrap = compile_law(wrap_angle)
+_error_and_rate = compile_law(error_and_rate, wrap_angle=_wrap)
+_euler_rates_law = compile_law(_euler_rates)
+_los_guidance = compile_law(los_guidance)
+_pinv_allocate = compile_law(pinv_allocate)
 # status codes of _loop
 _RUNNING, _DONE, _DIVERGED = 0, 1, 2
 
 
 # ============================================================================ small helpers
-@njit(inline="always")
-def _wrap(a):  # noqa: ANN001, ANN202
-    return (a + math.pi) % (2.0 * math.pi) - math.pi
-
-
 @njit(inline="always")
 def _interp(x, xp, fp, n):  # noqa: ANN001, ANN202
     """np.interp(x, xp[:n], fp[:n]) for one x."""
@@ -148,15 +159,6 @@ def _on_bound_part(x, on_bound):  # noqa: ANN001, ANN202
         if on_bound[i] != 0:
             out[i] = x[i]
     return out
-
-
-@njit(inline="always")
-def _mv(A, x, out):  # noqa: ANN001, ANN202
-    for i in range(A.shape[0]):
-        s = 0.0
-        for j in range(A.shape[1]):
-            s += A[i, j] * x[j]
-        out[i] = s
 
 
 @njit
@@ -482,8 +484,7 @@ def _work(m, ns):  # noqa: ANN001, ANN202
 # _control (guidance → autopilot → unconstrained allocation at step k, with the state x at t = k dt),
 # _allocate_limited when that exceeds a limit, _thrusters, then _integrate (RK4 of the vehicle with the thrust held, and the rotor lag).
 # Argument groups (tuples of arrays, packed by _pack):
-#   G guidance: points, speeds, leg a (N+1,3 from row 1), d, L2, L, LL, course, horizontal,
-#     [R, lookahead]
+#   G guidance: points, leg table (model.guidance.Path.leg_table), [R, lookahead]
 #   A allocation: P, f_min, f_max, unactuated, T, lo_s, hi_s, Q, QT, A2, [scale, thrust_scale,
 #     q_max], polish tol
 #   H thrusters: kind, dirs, arms, wake, cmd_min, cmd_max, decay, mean_w, tab_c, tab_f, tab_n,
@@ -503,87 +504,40 @@ def _control(k, dt, G, A, ctl, ctl_angle, x, fstate, istate, arrivals, W):  # no
     and returns (leg, limited, speed, depth and heading references). When limited, the caller
     runs _allocate_limited (which allocates memory, so cannot be called from here), then
     _thrusters."""
-    pts, speeds, leg_a, leg_d, leg_L2, leg_L, leg_LL, course, horiz, gpar = G
-    P, f_min, f_max, _un, T, _lo_s, _hi_s, _Q, _QT, _A2, _apar, _ptol = A
-    _tt, _b, _k1, _k2, _k3, _k4, _tmp, tau_d, f_cmd, _va, pa, _cc, _fa, meas, setp, rate, out = W
-    m = T.shape[1]
-    n_legs = speeds.shape[0]
-    R_acc, look = gpar[0], gpar[1]
+    _pts, legs, gpar = G
+    P, f_min, f_max = A[0], A[1], A[2]
+    _tt, _b, _k1, _k2, _k3, _k4, _tmp, tau_d, f_cmd, _va, _pa, _cc, _fa, meas, setp, rate, out = W
+    n_legs = legs.shape[0] - 1
 
     t = k * dt
-    px, py, pz = x[0], x[1], x[2]
+    pz = x[2]
     phi, theta, psi = x[3], x[4], x[5]
-    u, v, w, p, q, r = x[6], x[7], x[8], x[9], x[10], x[11]
-    # ---------------------------------------------------------------- guidance
+    u = x[6]
+    # ---------------------------------------------------------------- guidance (model.guidance.los_guidance)
     leg0 = istate[0]
-    kk = leg0
-    heading = fstate[0]
-    pa_d = 0.0
-    while kk <= n_legs:
-        a0, a1_, a2_ = leg_a[kk, 0], leg_a[kk, 1], leg_a[kk, 2]
-        pa[0], pa[1], pa[2] = px - a0, py - a1_, pz - a2_
-        pa_d = pa[0] * leg_d[kk, 0] + pa[1] * leg_d[kk, 1] + pa[2] * leg_d[kk, 2]
-        s = pa_d / leg_L2[kk]
-        pa[0], pa[1], pa[2] = px - pts[kk, 0], py - pts[kk, 1], pz - pts[kk, 2]
-        dist = math.sqrt(pa[0] * pa[0] + pa[1] * pa[1] + pa[2] * pa[2])
-        if dist <= R_acc or s >= 1.0:
-            kk += 1
-            if kk <= n_legs and horiz[kk]:
-                heading = course[kk]
-            continue
-        break
-    if kk > n_legs:
-        ref_speed, ref_depth, ref_heading = 0.0, pts[n_legs, 2], heading
-    else:
-        L, LL = leg_L[kk], leg_LL[kk]
-        a0, a1_, a2_ = leg_a[kk, 0], leg_a[kk, 1], leg_a[kk, 2]
-        d0, d1, d2 = leg_d[kk, 0], leg_d[kk, 1], leg_d[kk, 2]
-        s = pa_d / LL
-        hz = math.hypot(d0, d1)
-        s_ahead = min(max(s + look * abs(d2) / LL, 0.0), 1.0)
-        ref_depth = a2_ + s_ahead * d2
-        ref_heading = heading
-        if hz >= _HORIZONTAL_EPS:
-            alpha = math.atan2(d1, d0)
-            e = -(px - a0) * math.sin(alpha) + (py - a1_) * math.cos(alpha)
-            ref_heading = alpha + math.atan(-e / look)
-        ref_speed = speeds[kk - 1] * hz / L
-        ref_speed *= max(0.0, math.cos(ref_heading - psi))
+    kk, heading, ref_speed, ref_depth, ref_heading = _los_guidance(
+        x[0], x[1], pz, psi, True, leg0, fstate[0], legs, n_legs, gpar[0], gpar[1]
+    )
     if kk != leg0:
         for lg in range(leg0, min(kk, n_legs + 1)):
             arrivals[lg - 1] = t
     istate[0] = kk
     fstate[0] = heading
-    # ---------------------------------------------------------------- autopilot
-    cphi, sphi = math.cos(phi), math.sin(phi)
-    cth, sth = math.cos(theta), math.sin(theta)
-    zdot = -sth * u + cth * sphi * v + cth * cphi * w
-    cth = cth if abs(cth) > 1e-9 else math.copysign(1e-9, cth)
-    phidot = p + (sphi * q + cphi * r) * sth / cth
-    thetadot = cphi * q - sphi * r
-    psidot = (sphi * q + cphi * r) / cth
+    # ---------------------------------------------------------------- autopilot (model.control's laws)
+    zdot, phidot, thetadot, psidot = _euler_rates_law(phi, theta, u, x[7], x[8], x[9], x[10], x[11])
     meas[0], meas[1], meas[2], meas[3], meas[4] = u, pz, psi, phi, theta
     setp[0], setp[1], setp[2], setp[3], setp[4] = ref_speed, ref_depth, ref_heading, 0.0, 0.0
-    if ctl[5, 0] > 0.0:  # depth through pitch (model.control.depth_to_pitch, compiled)
+    if ctl[5, 0] > 0.0:  # depth through pitch
         setp[4] = _depth_to_pitch(pz, ref_depth, ctl[5, 0], ctl[5, 1])
-    rate[1], rate[2], rate[3], rate[4] = zdot, psidot, phidot, thetadot
+    rate[0], rate[1], rate[2], rate[3], rate[4] = 0.0, zdot, psidot, phidot, thetadot
     for L_ in range(5):
         kd_ = ctl[L_, 0]
         if kd_ == 0.0:
             out[L_] = 0.0
             continue
         y = meas[L_]
-        e = y - setp[L_]
-        if ctl_angle[L_]:
-            e = _wrap(e)
-        if L_ == 0:  # the speed loop differentiates u itself
-            if istate[3] == 0 or dt <= 0:
-                rr = 0.0
-            else:
-                dd = y - fstate[6]
-                rr = (_wrap(dd) if ctl_angle[0] else dd) / dt
-        else:
-            rr = rate[L_]
+        # the speed loop differentiates u itself (no measured rate)
+        e, rr = _error_and_rate(y, setp[L_], ctl_angle[L_], rate[L_], L_ != 0, fstate[6 + L_], istate[3 + L_] != 0, dt)
         if kd_ == 1.0:  # PID
             kp, ki, kdv, omin, omax = ctl[L_, 1], ctl[L_, 2], ctl[L_, 3], ctl[L_, 4], ctl[L_, 5]
             out[L_], fstate[1 + L_] = _pid_law(kp, ki, kdv, omin, omax, fstate[1 + L_], e, rr, dt)
@@ -593,13 +547,8 @@ def _control(k, dt, G, A, ctl, ctl_angle, x, fstate, istate, arrivals, W):  # no
         istate[3 + L_] = 1
     tau_d[0], tau_d[1], tau_d[2] = out[0], 0.0, out[1]
     tau_d[3], tau_d[4], tau_d[5] = out[3], out[4], out[2]
-    # ---------------------------------------------------------------- allocation
-    # matrix products through BLAS, as numpy's (the same rounding as the Python loop)
-    _mv(P, tau_d, f_cmd)
-    limited = False
-    for i in range(m):
-        if not (f_cmd[i] <= f_max[i] and f_cmd[i] >= f_min[i]):
-            limited = True
+    # ---------------------------------------------------------------- allocation (model.allocation.pinv_allocate)
+    limited = _pinv_allocate(P, tau_d, f_min, f_max, f_cmd)
     return kk, limited, ref_speed, ref_depth, ref_heading
 
 
@@ -633,7 +582,7 @@ def _thrusters(vc, x, c, A, H, W, limited):  # noqa: ANN001, ANN202
         ur = u - (R00 * vc[0] + R10 * vc[1] + R20 * vc[2])
         vr = v - (R01 * vc[0] + R11 * vc[1] + R21 * vc[2])
         wr = w - (R02 * vc[0] + R12 * vc[1] + R22 * vc[2])
-    # the relative linear velocity, for _steer (pa is _control's scratch, free from here on)
+    # the relative linear velocity, for _steer (W's pa: scratch)
     pa[0], pa[1], pa[2] = ur, vr, wr
     for i in range(m):
         va[i] = wake[i] * (
@@ -719,7 +668,7 @@ def _loop(
     T = A[4]
     decay = H[6]
     m = T.shape[1]
-    n_legs = G[1].shape[0]
+    n_legs = G[1].shape[0] - 1
     ns = V[10].shape[0]
     W = _work(m, ns)
     tau_tab = W[0]
@@ -805,8 +754,8 @@ def _fleet_member(
     T = A[4]
     decay = H[6]
     m = T.shape[1]
-    pts = G[0]
-    n_legs = G[1].shape[0]
+    pts, legs = G[0], G[1]
+    n_legs = legs.shape[0] - 1
     W = _work(m, V[10].shape[0])
     f_act = W[12]
     c = np.zeros(m)
@@ -814,7 +763,7 @@ def _fleet_member(
     istate = np.zeros(8, dtype=np.int64)
     # Path.initial_state: the first leg; its course, or the vehicle's heading on a vertical leg
     istate[0] = 1
-    fstate[0] = G[7][1] if G[8][1] else x[5]
+    fstate[0] = legs[1, 12] if legs[1, 13] != 0.0 else x[5]
     limited_any = False
     for k in range(n_steps + 1):
         t = k * dt
@@ -873,13 +822,6 @@ def _own_g(G):  # noqa: ANN001, ANN202
         G[0].copy(),
         G[1].copy(),
         G[2].copy(),
-        G[3].copy(),
-        G[4].copy(),
-        G[5].copy(),
-        G[6].copy(),
-        G[7].copy(),
-        G[8].copy(),
-        G[9].copy(),
     )
 
 
@@ -1028,32 +970,11 @@ def _pack_autopilot(autopilot: Autopilot) -> tuple[np.ndarray, np.ndarray]:
 
 
 def _pack_path(path: Path) -> tuple[np.ndarray, ...]:
-    n = path.n_legs
-    legs = path._legs  # type: ignore[attr-defined]
-    leg_a = np.zeros((n + 1, 3))
-    leg_d = np.zeros((n + 1, 3))
-    L2, L, LL = np.ones(n + 1), np.ones(n + 1), np.ones(n + 1)
-    course = np.zeros(n + 1)
-    horiz = np.zeros(n + 1, dtype=np.bool_)
-    for k in range(1, n + 1):
-        a, _, d, l2, ld, ll = legs[k][:6]
-        leg_a[k], leg_d[k], L2[k], L[k], LL[k] = a, d, l2, ld, ll
-        dd = path.points[k] - path.points[k - 1]
-        horiz[k] = math.hypot(dd[0], dd[1]) >= _HORIZONTAL_EPS
-        course[k] = math.atan2(dd[1], dd[0]) if horiz[k] else 0.0
+    """G: the waypoints, the per-leg table of :func:`hydrokit.model.guidance.los_guidance` and
+    [acceptance radius, lookahead] (m)."""
     gpar = np.array([path.acceptance_radius, path.lookahead])
-    return (
-        np.ascontiguousarray(path.points, dtype=float),
-        path.speeds.astype(float),
-        leg_a,
-        leg_d,
-        L2,
-        L,
-        LL,
-        course,
-        horiz,
-        gpar,
-    )
+    table = np.ascontiguousarray(path.leg_table, dtype=np.float64)  # type: ignore[attr-defined]
+    return np.ascontiguousarray(path.points, dtype=np.float64), table, gpar
 
 
 def _pack_thrusters(thrusters: ThrusterSet) -> tuple[np.ndarray, ...]:
@@ -1212,20 +1133,7 @@ def run_closed_loop_compiled(
     ctl, ctl_angle = _pack_autopilot(autopilot)
     V = _pack_vehicle(vehicle, vc)
 
-    n_out = n_steps // output_every + 1
-    check_memory(n_out * (8 * (23 + 4 * m) + 1), f"the recorded trajectory ({n_out} rows)")  # 11 arrays below
-    r_time = np.empty(n_out)
-    r_eta = np.empty((n_out, 6))
-    r_nu = np.empty((n_out, 6))
-    r_ref = np.empty((n_out, 3))
-    r_tau = np.empty((n_out, 6))
-    r_cmd_d = np.empty((n_out, m))
-    r_cmd = np.empty((n_out, m))
-    r_f_d = np.empty((n_out, m))
-    r_f = np.empty((n_out, m))
-    r_lim = np.zeros(n_out, dtype=np.bool_)
-    r_leg = np.empty(n_out, dtype=np.int64)
-    r_def = np.zeros((n_out, len(vehicle.surfaces)))
+    rec = new_record(n_steps, output_every, m, len(vehicle.surfaces))
     x = np.concatenate([np.asarray(eta0, float).reshape(6), np.asarray(nu0, float).reshape(6)])
     c = np.zeros(m)
     fstate = np.zeros(11 + len(vehicle.surfaces))  # [heading, integral×5, previous×5, δ…]
@@ -1234,7 +1142,7 @@ def run_closed_loop_compiled(
     istate = np.zeros(8, dtype=np.int64)
     istate[0] = gs.leg
     arrivals = np.full(path.n_legs, np.nan)
-    R = (r_time, r_eta, r_nu, r_ref, r_tau, r_cmd_d, r_cmd, r_f_d, r_f, r_lim, r_leg, r_def)
+    R = tuple(rec[name] for name in RECORD_FIELDS)
     args = (G, A, H, ctl, ctl_angle, vc, V, x, c, fstate, istate, arrivals, R)
     chunk = max(1, (n_steps + 1) // 100) if progress is not None else n_steps + 1
     k0 = 0
@@ -1252,22 +1160,5 @@ def run_closed_loop_compiled(
         k0 = k1
     if progress is not None:
         progress(t)
-    j = int(istate[1])
-    return ClosedLoopResult(
-        time=r_time[:j],
-        eta=r_eta[:j],
-        nu=r_nu[:j],
-        reference=r_ref[:j],
-        tau_demand=r_tau[:j],
-        command_demand=r_cmd_d[:j],
-        command=r_cmd[:j],
-        thrust_demand=r_f_d[:j],
-        thrust=r_f[:j],
-        limited=r_lim[:j],
-        leg=r_leg[:j].astype(int),
-        waypoint_times=[None if math.isnan(a) else float(a) for a in arrivals],
-        thruster_names=thrusters.names,
-        deflection=r_def[:j],
-        dt=dt * output_every,
-        path=path,
-    )
+    waypoint_times: list[float | None] = [None if math.isnan(a) else float(a) for a in arrivals]
+    return record_result(rec, int(istate[1]), waypoint_times, thrusters, dt, output_every, path)
