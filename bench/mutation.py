@@ -169,7 +169,7 @@ EQUIVALENT: dict[tuple[str, str, str], str] = {
     ): ("p.Mc is exactly symmetric (pack() stores ½(M + Mᵀ)): symmetrising it again gives ½(a + a) = a bit for bit"),
     (
         "model/guidance.py",
-        "if math.sqrt(pb.dot(pb)) <= self.acceptance_radius or s >= 1.0:  # |p − b|, as np.linalg.norm",
+        "if math.sqrt(b0 * b0 + b1 * b1 + b2 * b2) <= acceptance_radius or s >= 1.0:",
         ">= -> >",
     ): (
         "differs only when the projection on the leg lands on its end to the last bit (s = 1.0 exactly): probability 0"
@@ -322,7 +322,7 @@ EQUIVALENT: dict[tuple[str, str, str], str] = {
     ),
     (
         "model/guidance.py",
-        "if math.sqrt(pb.dot(pb)) <= self.acceptance_radius or s >= 1.0:  # |p − b|, as np.linalg.norm",
+        "if math.sqrt(b0 * b0 + b1 * b1 + b2 * b2) <= acceptance_radius or s >= 1.0:",
         "<= -> <",
     ): ("differs only for a distance to the waypoint of exactly the acceptance radius to the last bit (probability 0)"),
     ("model/thrusters.py", "if g_lo >= 0.0:  # (reverse)", ">= -> >"): (
