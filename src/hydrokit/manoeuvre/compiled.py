@@ -19,7 +19,6 @@ with thrusters or a force that is a function of the state fly in the Python loop
 
 from __future__ import annotations
 
-import math
 from typing import Any
 
 import numpy as np
@@ -33,6 +32,7 @@ from hydrokit.simulate.compiled import (
     BUF_SIZE,
     compile_law,
     deriv,
+    deriv_rk4_step,
     njit_noalloc,
     servo_step_compiled,
 )
@@ -93,27 +93,9 @@ _DONE, _RUNNING, _DIVERGED = 1, 0, -1
 @njit_noalloc
 def _rk4(t, x, dt, tau_tab, ctab, V, buf, W):  # noqa: ANN001, ANN202
     """x advanced in place by one RK4 step of ``dt`` (s) with the inputs of ``tau_tab`` held
-    (the order of operations of :func:`hydrokit.simulate.integrators.rk4_step`); False when the
-    new state is not finite."""
-    Minv, Mc, DL, DQ, scal, t_dof, t_coef, t_kind, t_idx = V
-    k1, k2, k3, k4, tmp = W[0], W[1], W[2], W[3], W[4]
-    n = x.shape[0]
-    deriv(t, x, False, tau_tab, ctab, Minv, Mc, DL, DQ, scal, t_dof, t_coef, t_kind, t_idx, buf, k1)
-    for i in range(n):
-        tmp[i] = x[i] + 0.5 * dt * k1[i]
-    deriv(t + 0.5 * dt, tmp, False, tau_tab, ctab, Minv, Mc, DL, DQ, scal, t_dof, t_coef, t_kind, t_idx, buf, k2)
-    for i in range(n):
-        tmp[i] = x[i] + 0.5 * dt * k2[i]
-    deriv(t + 0.5 * dt, tmp, False, tau_tab, ctab, Minv, Mc, DL, DQ, scal, t_dof, t_coef, t_kind, t_idx, buf, k3)
-    for i in range(n):
-        tmp[i] = x[i] + dt * k3[i]
-    deriv(t + dt, tmp, False, tau_tab, ctab, Minv, Mc, DL, DQ, scal, t_dof, t_coef, t_kind, t_idx, buf, k4)
-    finite = True
-    for i in range(n):
-        x[i] = x[i] + dt / 6.0 * (((k1[i] + 2.0 * k2[i]) + 2.0 * k3[i]) + k4[i])
-        if not math.isfinite(x[i]):
-            finite = False
-    return finite
+    (:func:`hydrokit.simulate.compiled.deriv_rk4_step`, the one RK4 of the package); False
+    when the new state is not finite."""
+    return deriv_rk4_step(t, x, dt, False, tau_tab, ctab, *V, buf, W[0], W[1], W[2], W[3], W[4], False)
 
 
 @njit_noalloc

@@ -248,6 +248,47 @@ def deriv(t, x, quat, tau_tab, cur_tab, Minv, Mc, DL, DQ, scal, t_dof, t_coef, t
         out[5] = (sf * q + cf * r) / ct * scal[om + 5]
 
 
+@njit_noalloc
+def deriv_rk4_step(
+    t,
+    x,
+    dt,
+    quat,
+    tau_tab,
+    cur_tab,
+    Minv,
+    Mc,
+    DL,
+    DQ,
+    scal,
+    t_dof,
+    t_coef,
+    t_kind,
+    t_idx,
+    buf,
+    k1,
+    k2,
+    k3,
+    k4,
+    tmp,
+    k1_ready,
+):  # noqa: ANN001, ANN201
+    """x advanced in place by one RK4 step of ``dt`` (s) of :func:`deriv` with the inputs of
+    ``tau_tab`` held: the stages and the update of :mod:`hydrokit.core.integrate` (compiled),
+    the one order of operations of every RK4 of the package. k1 = ẋ(t, x) is evaluated into
+    ``k1`` unless ``k1_ready`` (the caller has it already, e.g. to record loads); k1…k4 and tmp
+    are scratch of the state's length. Returns False when the new state is not finite."""
+    if not k1_ready:
+        deriv(t, x, quat, tau_tab, cur_tab, Minv, Mc, DL, DQ, scal, t_dof, t_coef, t_kind, t_idx, buf, k1)
+    rk4_stage_compiled(x, k1, 0.5 * dt, tmp)
+    deriv(t + 0.5 * dt, tmp, quat, tau_tab, cur_tab, Minv, Mc, DL, DQ, scal, t_dof, t_coef, t_kind, t_idx, buf, k2)
+    rk4_stage_compiled(x, k2, 0.5 * dt, tmp)
+    deriv(t + 0.5 * dt, tmp, quat, tau_tab, cur_tab, Minv, Mc, DL, DQ, scal, t_dof, t_coef, t_kind, t_idx, buf, k3)
+    rk4_stage_compiled(x, k3, dt, tmp)
+    deriv(t + dt, tmp, quat, tau_tab, cur_tab, Minv, Mc, DL, DQ, scal, t_dof, t_coef, t_kind, t_idx, buf, k4)
+    return rk4_combine_compiled(x, k1, k2, k3, k4, dt)
+
+
 @njit
 def rk4_run(
     x0, t0, dt, n_steps, every, quat, tau_tab, cur_tab, Minv, Mc, DL, DQ, scal, t_dof, t_coef, t_kind, t_idx, out
@@ -269,14 +310,8 @@ def rk4_run(
     j = 1
     for step in range(n_steps):
         t = t0 + step * dt
-        deriv(t, x, quat, tau_tab, cur_tab, Minv, Mc, DL, DQ, scal, t_dof, t_coef, t_kind, t_idx, buf, k1)
-        rk4_stage_compiled(x, k1, 0.5 * dt, tmp)
-        deriv(t + 0.5 * dt, tmp, quat, tau_tab, cur_tab, Minv, Mc, DL, DQ, scal, t_dof, t_coef, t_kind, t_idx, buf, k2)
-        rk4_stage_compiled(x, k2, 0.5 * dt, tmp)
-        deriv(t + 0.5 * dt, tmp, quat, tau_tab, cur_tab, Minv, Mc, DL, DQ, scal, t_dof, t_coef, t_kind, t_idx, buf, k3)
-        rk4_stage_compiled(x, k3, dt, tmp)
-        deriv(t + dt, tmp, quat, tau_tab, cur_tab, Minv, Mc, DL, DQ, scal, t_dof, t_coef, t_kind, t_idx, buf, k4)
-        if not rk4_combine_compiled(x, k1, k2, k3, k4, dt):
+        V = (Minv, Mc, DL, DQ, scal, t_dof, t_coef, t_kind, t_idx)
+        if not deriv_rk4_step(t, x, dt, quat, tau_tab, cur_tab, *V, buf, k1, k2, k3, k4, tmp, False):
             return step
         if (step + 1) % every == 0:
             for i in range(n):

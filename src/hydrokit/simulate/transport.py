@@ -47,6 +47,7 @@ from hydrokit.simulate._cache import njit
 from hydrokit.simulate.compiled import (
     BUF_SIZE,
     deriv,
+    deriv_rk4_step,
     rk4_combine_compiled,
     rk4_stage_compiled,
     rotation_zyx_into_compiled,
@@ -166,13 +167,8 @@ def _rigid(x0, dt, n_steps, every, cmd, sel, P, E, TH, tau_ext, V, SJ, out_x, ou
             row += 1
         if step == n_steps:
             break
-        rk4_stage_compiled(x, k1, 0.5 * dt, tmp)
-        deriv(t + 0.5 * dt, tmp, False, tau_tab, ctab, Minv, Mc, DL, DQ, scal, t_dof, t_coef, t_kind, t_idx, buf, k2)
-        rk4_stage_compiled(x, k2, 0.5 * dt, tmp)
-        deriv(t + 0.5 * dt, tmp, False, tau_tab, ctab, Minv, Mc, DL, DQ, scal, t_dof, t_coef, t_kind, t_idx, buf, k3)
-        rk4_stage_compiled(x, k3, dt, tmp)
-        deriv(t + dt, tmp, False, tau_tab, ctab, Minv, Mc, DL, DQ, scal, t_dof, t_coef, t_kind, t_idx, buf, k4)
-        if not rk4_combine_compiled(x, k1, k2, k3, k4, dt):
+        # the RK4 step of deriv from the k1 evaluated above (compiled.deriv_rk4_step)
+        if not deriv_rk4_step(t, x, dt, False, tau_tab, ctab, *V, buf, k1, k2, k3, k4, tmp, True):
             return step, row
     return n_steps, row
 
