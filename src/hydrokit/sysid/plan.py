@@ -226,7 +226,7 @@ def fisher_information(
     prep = prepare_run(run, th, dt)
     x0 = np.zeros(12)
     x0[2] = 1.5  # depth does not enter the model away from the surface
-    est = np.array([i for i in range(2, 12) if CHANNELS[i] in sensors], dtype=int)
+    est = np.array([i for i in range(12) if CHANNELS[i] in sensors], dtype=int)
     problem = Problem(vehicle, list(params), [prep], [x0], [est], {c: s for c, (_, s) in sensors.items()})
     theta = values_of(vehicle, params)
     scale = np.concatenate([np.maximum(np.abs(theta), 1e-3), np.full(est.size, 0.01)])

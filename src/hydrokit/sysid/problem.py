@@ -14,7 +14,23 @@ from typing import Any
 import numpy as np
 
 from hydrokit.model.vehicle import Vehicle
-from hydrokit.sysid.model import Parameter, PreparedRun, simulate_run, stack_packs, take, with_values
+from hydrokit.sysid.model import CHANNELS, Parameter, PreparedRun, simulate_run, stack_packs, take, with_values
+
+#: initial states that move a prediction only by shifting their own channel: the north and east
+#: positions (no force depends on where the vehicle is — current and wind are functions of time),
+#: so their Jacobian columns are known without a simulation; state index → channel
+TRANSLATION = {0: CHANNELS[0], 1: CHANNELS[1]}
+
+
+def channel_rows(prep: PreparedRun, channel: str) -> slice:
+    """The rows of ``channel`` in a prepared run's stacked residuals (an empty slice when the
+    run does not measure it)."""
+    k = 0
+    for c, t in zip(prep.channels, prep.times):
+        if c == channel:
+            return slice(k, k + t.size)
+        k += t.size
+    return slice(k, k)
 
 
 @dataclass
@@ -76,11 +92,12 @@ class Problem:
         col = p
         tasks = []
         for prep, x0, e in zip(self.preps, x0s, self.est):
-            index = list(range(p + 1)) + [0] * e.size if jac else [0]
+            # the perturbed initial states that need a simulation (not the translations)
+            moved = [(j, i) for j, i in enumerate(e) if i not in TRANSLATION] if jac else []
+            index = list(range(p + 1)) + [0] * len(moved) if jac else [0]
             X0 = np.repeat(x0[None], len(index), axis=0)
-            if jac:
-                for j, i in enumerate(e):
-                    X0[p + 1 + j, i] += 1e-6 * scale[col + j]
+            for k, (j, i) in enumerate(moved):
+                X0[p + 1 + k, i] += 1e-6 * scale[col + j]
             tasks.append((prep, take(packs, index), X0))
             col += e.size
         # the runs (each with its perturbed vehicles and initial states) are independent tasks
@@ -97,7 +114,14 @@ class Problem:
                 J = np.zeros((r.size, n_cols))
                 d = -(pred[1:] - pred[0]) * w / 1e-6  # per unit of the scaled variable
                 J[:, :p] = d[:p].T
-                J[:, col : col + e.size] = d[p:].T
+                k = p
+                for j, i in enumerate(e):
+                    if i in TRANSLATION:  # the prediction of its channel shifts one for one
+                        rows = channel_rows(prep, TRANSLATION[i])
+                        J[rows, col + j] = -w[rows] * scale[col + j]
+                    else:
+                        J[:, col + j] = d[k]
+                        k += 1
                 blocks.append(J)
             col += e.size
         return np.concatenate(res), (np.concatenate(blocks) if jac else None), True
