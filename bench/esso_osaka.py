@@ -4,6 +4,8 @@ model) from its pond trials and predict the held-out zigzags, as a user would �
 
     python bench/esso_osaka.py PATH/TO/esso-osaka [--out DIR] [--train-runs N] [--max-seconds S]
         [--test N] [--free LIST] [--dt 0.05] [--window auto] [--samples 20]
+        [--turn 35 --turn-command prop=12.97]
+    python bench/esso_osaka.py --compare OUT_A OUT_B [...]
 
 PATH holds ``zigzag/*.csv`` and ``random/*.csv`` of the FRT-DS-ESSO data set (Wakita et al. 2022,
 J. Mar. Sci. Technol. 27:772; Miyauchi et al. 2022, 27:1065; CC BY-NC 4.0 — read from the path
@@ -27,8 +29,15 @@ Steps, each timed:
    held-out zigzag: its overshoots measured vs predicted with the 95 % interval of N vehicles
    drawn from the fit's covariance.
 
+4. turn (``--turn DEG``): ``hydrokit manoeuvre OUT/fit/vehicle.yaml --turning-circle ±DEG
+   --command CMD`` to port and to starboard: advance, transfer and tactical diameter in ship
+   lengths (L = 3 m) and the starboard/port asymmetry. The data set holds no turning circle, so
+   these are compared with a tanker's usual advance ≈ 3 L, tactical diameter ≈ 3 L.
+
 Prints the verdict, the held-out NRMSE per channel and zigzag, each zigzag's 1st/2nd overshoot
-measured vs predicted [interval] and the wall time of each stage.
+measured vs predicted [interval] and the wall time of each stage, and writes the same to
+``OUT/summary.json``; ``--compare OUT_A OUT_B …`` prints those of earlier runs side by side
+(nothing is fitted).
 """
 
 from __future__ import annotations
@@ -55,6 +64,9 @@ FREE = (
 #: FRT-DS-ESSO columns: t, x, u, y, v, psi, r, n, delta, wind rel speed, rel dir, true speed, true dir
 T, X, U, Y, V, PSI, R, N, DELTA, _, _, WS, WD = range(13)
 CHANNELS = ("x", "y", "psi", "u", "v", "r")
+#: the model's length between perpendiculars, m (turning metrics are printed in ship lengths)
+LPP = 3.0
+TURN_KEYS = ("advance", "transfer", "tactical_diameter", "steady_turning_diameter")
 
 
 def read_trial(path: Path, shortest: float = 30.0) -> list[tuple[str, np.ndarray]]:
@@ -109,7 +121,7 @@ def fmt(v: float | None, spec: str = "6.1f") -> str:
 
 def main() -> int:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("folder", help="esso-osaka folder with zigzag/ and random/")
+    ap.add_argument("folder", nargs="?", help="esso-osaka folder with zigzag/ and random/")
     ap.add_argument("--out", default=None, help="output folder (default: a temporary one, removed)")
     ap.add_argument("--vehicle", default=str(START), help="start vehicle YAML")
     ap.add_argument("--free", default=FREE, help="free parameters (comma-separated)")
@@ -120,7 +132,19 @@ def main() -> int:
     ap.add_argument("--window", default="auto", help="sysid --window: s, 'auto' or 'none'")
     ap.add_argument("--samples", type=int, default=20, help="vehicles drawn for the overshoot intervals (count)")
     ap.add_argument("--workers", type=int, default=None, help="sysid threads (count)")
+    ap.add_argument("--turn", type=float, default=None, help="also fly turning circles at ±this rudder, deg")
+    ap.add_argument("--turn-command", default="prop=12.97", help="--command of the turns (prop rev/s)")
+    ap.add_argument(
+        "--reuse",
+        action="store_true",
+        help="keep OUT/fit and OUT/replay of an earlier run (no new fit or replay; no unit)",
+    )
+    ap.add_argument("--compare", nargs="+", metavar="OUT", help="print earlier runs' summaries side by side")
     a = ap.parse_args()
+    if a.compare:
+        return compare([Path(p) for p in a.compare])
+    if a.folder is None:
+        ap.error("the esso-osaka folder is required (or --compare OUT …)")
 
     root = Path(a.folder)
     tmp = None if a.out else tempfile.TemporaryDirectory()
@@ -147,8 +171,12 @@ def main() -> int:
     if a.workers:
         cmd += ["--workers", str(a.workers)]
     print("$ hydrokit " + " ".join(cmd[:1] + ["RUN…"] + cmd[1 + len(train) :]))
-    wall["sysid"], text = hydrokit(cmd)
-    (out / "sysid.log").write_text(text)
+    if a.reuse and (fit / "sysid.json").is_file():
+        print(f"(--reuse: the fit already in {fit})")
+        wall["sysid"] = (json.loads((fit / "sysid.json").read_text()).get("timing_s") or {}).get("total", math.nan)
+    else:
+        wall["sysid"], text = hydrokit(cmd)
+        (out / "sysid.log").write_text(text)
     res = json.loads((fit / "sysid.json").read_text())
     verdict = res.get("verdict", {})
     print(f"\nverdict: {'fits' if verdict.get('fits') else 'does not fit'}")
@@ -168,9 +196,21 @@ def main() -> int:
         vals = [r["channels"].get(c, {}).get("nrmse") for c in CHANNELS]
         rows_nrmse.append([math.nan if v is None else v for v in vals])
         print(f"{r['name'][:34]:34s} " + " ".join(fmt(v, "6.2f") for v in vals))
+    summary: dict = {
+        "vehicle": a.vehicle,
+        "free": a.free.split(","),
+        "fits": bool(verdict.get("fits")),
+        "reasons": verdict.get("reasons", []),
+        "parameters": res.get("parameters", []),
+        "heldout_nrmse": {
+            r["name"]: dict(zip(CHANNELS, v, strict=True)) for r, v in zip(held, rows_nrmse, strict=True)
+        },
+        "zigzags": {},
+    }
     if rows_nrmse:
         med = np.nanmedian(np.array(rows_nrmse, float), axis=0)
         print(f"{'median':34s} " + " ".join(f"{v:6.2f}" for v in med))
+        summary["median_nrmse"] = dict(zip(CHANNELS, map(float, med), strict=True))
 
     print(f"\n{'zigzag':34s} {'1st overshoot, deg':>30s} {'2nd overshoot, deg':>30s}")
     print(f"{'':34s} {'measured  predicted [95 %]':>30s} {'measured  predicted [95 %]':>30s}")
@@ -180,8 +220,9 @@ def main() -> int:
         dest = out / "replay" / run.stem
         cmd = ["manoeuvre", str(fit / "vehicle.yaml"), "--replay", str(run), "--out", str(dest)]
         cmd += ["--samples", str(a.samples), "--dt", str(a.dt)]
-        w, _ = hydrokit(cmd)
-        wall["replay"] += w
+        if not (a.reuse and (dest / "manoeuvre.json").is_file()):
+            w, _ = hydrokit(cmd)
+            wall["replay"] += w
         m = json.loads((dest / "manoeuvre.json").read_text())
         cells = []
         for key in ("first_overshoot_deg", "second_overshoot_deg"):
@@ -192,14 +233,92 @@ def main() -> int:
                 total += 1
                 inside += lo <= meas <= hi
             cells.append(f"{fmt(meas)} {fmt(pred, '8.1f')} [{fmt(lo, '5.1f')},{fmt(hi, '5.1f')}]")
+            summary["zigzags"].setdefault(run.stem, {})[key] = [meas, pred, lo, hi]
         print(f"{run.stem[:34]:34s} {cells[0]:>30s} {cells[1]:>30s}")
     print(f"measured overshoots inside the predicted 95 % interval: {inside} of {total}")
+    summary["inside"] = [inside, total]
+
+    if a.turn is not None:
+        t0 = time.perf_counter()
+        summary["turns"] = turns(fit / "vehicle.yaml", out, a.turn, a.turn_command, a.dt)
+        wall["turn"] = time.perf_counter() - t0
+    summary["wall_s"] = wall
+    (out / "summary.json").write_text(json.dumps(summary, indent=1))
 
     print("\nwall time, s: " + ", ".join(f"{k} {v:.1f}" for k, v in wall.items()))
     if tmp is not None:
         tmp.cleanup()
     else:
         print(f"outputs in {out}")
+    return 0
+
+
+def turns(vehicle: Path, out: Path, deg: float, command: str, dt: float) -> dict:
+    """Turning circles at +deg (rudder to port) and −deg (starboard) with ``--command``; prints
+    advance, transfer, tactical and steady diameter in ship lengths and returns them (in L)."""
+    print(
+        f"\n{'turning circle ' + format(deg, 'g') + '°, ' + command:34s} " + " ".join(f"{k[:9]:>9s}" for k in TURN_KEYS)
+    )
+    res: dict = {}
+    for side, sign in (("port", 1.0), ("starboard", -1.0)):
+        dest = out / f"turn_{side}"
+        cmd = ["manoeuvre", str(vehicle), f"--turning-circle={sign * deg:g}", "--command", command]
+        cmd += ["--dt", str(max(dt, 0.05)), "--no-plots", "--out", str(dest)]
+        _, text = hydrokit(cmd)
+        m = json.loads((dest / "manoeuvre.json").read_text()).get("turning_circle", {})
+        res[side] = {k: (m[k] / LPP if m.get(k) is not None else None) for k in TURN_KEYS}
+        res[side]["steady_speed"] = m.get("steady_speed")
+        res[side]["approach_speed"] = m.get("approach_speed")
+        # hydrokit flies the approach at δ = 0: with a neutral rudder (or any asymmetry) that is
+        # already a turn, and the metrics are measured from the execute as if it were straight
+        with (dest / "trajectory.csv").open() as fh:
+            first = next(csv.DictReader(fh))
+        res[side]["approach_yaw_rate"] = float(first["r"])
+        print(f"{side + ' (in L = 3 m)':34s} " + " ".join(fmt(res[side][k], "9.2f") for k in TURN_KEYS))
+    r0 = res["port"]["approach_yaw_rate"]
+    if abs(r0) > 1e-3:
+        print(
+            f"note: the approach (rudder at 0) is a turn, r = {r0:.4f} rad/s, at "
+            f"{res['port']['approach_speed']:.3f} m/s: the metrics are measured from a curved approach"
+        )
+    p, s = res["port"].get("tactical_diameter"), res["starboard"].get("tactical_diameter")
+    if p and s:
+        res["asymmetry"] = s / p - 1.0
+        print(f"starboard / port tactical diameter: {s / p:.3f} (a tanker: advance ≈ 3 L, tactical ≈ 3 L)")
+    return res
+
+
+def compare(outs: list[Path]) -> int:
+    """Print the summaries (``OUT/summary.json``) of earlier runs side by side."""
+    docs = []
+    for o in outs:
+        f = o / "summary.json"
+        if not f.is_file():
+            sys.exit(f"{f}: no summary (run bench/esso_osaka.py with --out {o} first)")
+        docs.append(json.loads(f.read_text()))
+    w = 20
+    print(f"{'':32s}" + "".join(f"{o.name[-w + 1 :]:>{w}s}" for o in outs))
+    print(f"{'vehicle':32s}" + "".join(f"{Path(d['vehicle']).stem[-w + 1 :]:>{w}s}" for d in docs))
+    print(f"{'free parameters':32s}" + "".join(f"{len(d['free']):>{w}d}" for d in docs))
+    print(f"{'verdict':32s}" + "".join(f"{'fits' if d['fits'] else 'does not fit':>{w}s}" for d in docs))
+    for c in CHANNELS:
+        med = [d.get("median_nrmse", {}).get(c) for d in docs]
+        print(f"{'median held-out NRMSE ' + c:32s}" + "".join(fmt(v, f"{w}.2f") for v in med))
+    for z in sorted({z for d in docs for z in d["zigzags"]}):
+        for key, short in (("first_overshoot_deg", "1st"), ("second_overshoot_deg", "2nd")):
+            cells, m = [], None
+            for d in docs:
+                meas, pred, lo, hi = d["zigzags"].get(z, {}).get(key, [None] * 4)
+                cells.append(f"{fmt(pred, '5.1f')} [{fmt(lo, '5.1f')},{fmt(hi, '5.1f')}]" if pred is not None else "–")
+                m = meas if m is None else m
+            label = f"{z[-8:]} {short} overshoot {fmt(m, '4.1f')}°"
+            print(f"{label:32s}" + "".join(f"{c:>{w}s}" for c in cells))
+    print(f"{'overshoots inside 95 %':32s}" + "".join(f"{'{} of {}'.format(*d['inside']):>{w}s}" for d in docs))
+    for side in ("port", "starboard"):
+        for k in ("advance", "tactical_diameter"):
+            vals = [((d.get("turns") or {}).get(side) or {}).get(k) for d in docs]
+            print(f"{side + ' ' + k + ', L':32s}" + "".join(fmt(v, f"{w}.2f") for v in vals))
+    print(f"{'sysid wall time, s':32s}" + "".join(fmt(d["wall_s"].get("sysid"), f"{w}.0f") for d in docs))
     return 0
 
 
