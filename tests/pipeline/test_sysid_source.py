@@ -425,3 +425,12 @@ def test_a_fit_that_does_not_describe_the_runs_says_so_first(tmp_path, monkeypat
     section = html[html.index("System identification from the vehicle") :]
     assert section.index("Verdict: the model does NOT describe these runs") < section.index("Identifiability")
     assert "these σ understate the error" in section and "every σ below its value.</p>" not in section
+    # the vehicle it writes carries the verdict, and flying it says so (hydrokit simulate/manoeuvre)
+    written = yaml.safe_load(res.files["vehicle.yaml"])
+    assert written["identification"]["verdict"] == "does not fit"
+    assert written["identification"]["reasons"] == [reason]
+    assert "date" not in written["identification"]  # the same inputs write the same file
+    from hydrokit.io.vehicle import load_vehicle
+
+    (tmp_path / "written.yaml").write_text(res.files["vehicle.yaml"])
+    assert "does not fit" in load_vehicle(tmp_path / "written.yaml").warnings[0]

@@ -82,9 +82,11 @@ def sysid_step(
     dict — ``verdict`` (``fits``, ``reasons``: does the model describe the runs), ``parameters``
     (name → value, sigma, unit, start, base, equation_error, identifiable, truth), ``covariance``
     (SI², in ``names`` order), ``result`` (sysid.json without the prediction series),
-    ``figures`` (base64 PNG), ``warnings`` (the verdict's reasons first when it does not fit).
+    ``figures`` (base64 PNG), ``warnings`` (the verdict's reasons first when it does not fit),
+    ``identification`` (the vehicle file's block: :func:`hydrokit.io.vehicle.identification_block`).
     """
     from hydrokit.api import identify_runs
+    from hydrokit.io.vehicle import identification_block
 
     result = identify_runs(
         vehicle,
@@ -135,6 +137,7 @@ def sysid_step(
         "result": {k: v for k, v in doc.items() if k not in ("parameters", "covariance")},
         "figures": _figures(result),
         "warnings": warnings,
+        "identification": identification_block(result),
     }
 
 
