@@ -310,8 +310,31 @@ def rk4_run(
     j = 1
     for step in range(n_steps):
         t = t0 + step * dt
-        V = (Minv, Mc, DL, DQ, scal, t_dof, t_coef, t_kind, t_idx)
-        if not deriv_rk4_step(t, x, dt, quat, tau_tab, cur_tab, *V, buf, k1, k2, k3, k4, tmp, False):
+        # the arguments written out: a tuple of arrays here would count references every step
+        if not deriv_rk4_step(
+            t,
+            x,
+            dt,
+            quat,
+            tau_tab,
+            cur_tab,
+            Minv,
+            Mc,
+            DL,
+            DQ,
+            scal,
+            t_dof,
+            t_coef,
+            t_kind,
+            t_idx,
+            buf,
+            k1,
+            k2,
+            k3,
+            k4,
+            tmp,
+            False,
+        ):
             return step
         if (step + 1) % every == 0:
             for i in range(n):

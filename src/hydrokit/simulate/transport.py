@@ -168,7 +168,30 @@ def _rigid(x0, dt, n_steps, every, cmd, sel, P, E, TH, tau_ext, V, SJ, out_x, ou
         if step == n_steps:
             break
         # the RK4 step of deriv from the k1 evaluated above (compiled.deriv_rk4_step)
-        if not deriv_rk4_step(t, x, dt, False, tau_tab, ctab, *V, buf, k1, k2, k3, k4, tmp, True):
+        if not deriv_rk4_step(
+            t,
+            x,
+            dt,
+            False,
+            tau_tab,
+            ctab,
+            Minv,
+            Mc,
+            DL,
+            DQ,
+            scal,
+            t_dof,
+            t_coef,
+            t_kind,
+            t_idx,
+            buf,
+            k1,
+            k2,
+            k3,
+            k4,
+            tmp,
+            True,
+        ):
             return step, row
     return n_steps, row
 
