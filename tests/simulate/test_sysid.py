@@ -67,6 +67,23 @@ def test_halving_the_step_moves_no_estimate_by_a_tenth_of_sigma(base: Any, dives
     assert len(res.predictions) == 1 and res.predictions[0]["channels"]["r"]["low"].shape == (601,)
 
 
+@pytest.mark.needs_jit(reason="three output-error fits of 2 parameters over a 12 s dive")
+def test_the_step_check_predicts_what_a_fit_at_half_the_step_gives(base: Any, dives: Any) -> None:
+    """The check (residuals at dt/2 with the fit's Jacobian at dt, one Gauss–Newton step) against a
+    second method: the fit done again at dt/2. At a coarse step the two agree on how far the
+    estimates move, and the fit warns."""
+    from hydrokit.sysid.fit import identify
+
+    _, runs = dives
+    free = ["added_mass.yaw", "quadratic_damping.yaw"]
+    coarse = identify(base, runs[:1], free, samples=0, dt=0.1)
+    fine = identify(base, runs[:1], free, samples=0, dt=0.05, check_step=False)
+    moved = float(np.max(np.abs(fine.values - coarse.values) / coarse.sigma))
+    assert moved > 0.1, "a 0.1 s step must matter for this check to mean anything"
+    assert coarse.step_check == pytest.approx(moved, rel=0.25)
+    assert any("use a smaller dt" in w for w in coarse.warnings)
+
+
 def test_force_table_holds_commands_and_follows_rotor_lag(base: Any) -> None:
     # one thruster stepped from 0 to command 0.5 at t = 0.1 s: the thrust follows the table
     # curve of the lagged command c(t) = 0.5 (1 − e^{−(t − 0.1)/τ}) (closed form of τ ċ = c* − c)

@@ -891,4 +891,11 @@ class ThrusterSet:
         """
         c = np.asarray(command, dtype=float)
         ct = np.clip(np.asarray(target, dtype=float), self.command_min, self.command_max)
-        return np.asarray(_ROTOR_LAG(c, ct, np.asarray(dt, dtype=float), self.time_constants), dtype=float)
+        step = np.asarray(dt, dtype=float)
+        if c.shape == ct.shape == self.time_constants.shape and step.ndim == 0:  # one command vector: a loop over
+            # the thrusters (np.vectorize costs ~50 µs a call; a force table calls this per row)
+            h = float(step)
+            return np.array(
+                [rotor_lag(a, b, h, tau) for a, b, tau in zip(c.tolist(), ct.tolist(), self.time_constants.tolist())]
+            )
+        return np.asarray(_ROTOR_LAG(c, ct, step, self.time_constants), dtype=float)

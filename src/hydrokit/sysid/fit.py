@@ -611,11 +611,19 @@ def _identify(
         )
         if cut is not None:  # the windows' initial states projected out at dt/2 too
             half = cut.projected(half)
-        r2, J2, ok2 = half.evaluate(z, scale, True)
-        if ok2 and J2 is not None:
+            r2, J2, ok2 = half.evaluate(z, scale, True)
+            rhs = None if J2 is None else J2.T @ r2
+        else:
+            # whole runs: the residuals at dt/2 only, with the fit's Jacobian at dt (the two differ by
+            # the integrator's error, far below what moves a Gauss–Newton step): one simulation per
+            # run instead of one per parameter and initial state, at twice the steps
+            r2, _, ok2 = half.evaluate(z, scale, False)
+            J2 = J
+            rhs = J.T @ (r2 - r) if ok2 and r2.shape == r.shape else None
+        if ok2 and J2 is not None and rhs is not None:
             # the Gauss–Newton step by the normal equations (min-norm, as lstsq; the Jacobian has
             # few columns and very many rows, and its QR would cost more than the fit's steps)
-            dz = -(np.linalg.pinv(J2.T @ J2) @ (J2.T @ r2))[:p] * scale[:p]
+            dz = -(np.linalg.pinv(J2.T @ J2) @ rhs)[:p] * scale[:p]
             step_check = float(np.max(np.abs(dz) / np.maximum(sigma, 1e-300)))
         problem.sim_seconds += half.sim_seconds
     _, x0s = problem.unpack(z)
