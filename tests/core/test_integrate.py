@@ -98,17 +98,17 @@ def test_combine_reports_a_non_finite_state_and_updates_every_element() -> None:
 
 def test_the_compiled_integrators_hold_no_rk4_arithmetic_of_their_own() -> None:
     # the step's weights appear only in core.integrate: a kernel that writes them again is a copy.
-    # deriv_rk4_step (the RK4 of the vehicle model) and the multibody step call the laws; the
-    # other integrators of the vehicle model call deriv_rk4_step.
+    # deriv_rk4_step (the RK4 of the vehicle model), rk4_run and the multibody step call the
+    # laws; the other integrators of the vehicle model call deriv_rk4_step.
     from hydrokit.manoeuvre import compiled as manoeuvre_compiled
 
     def source(kernel: object) -> str:
         return inspect.getsource(getattr(kernel, "py_func", kernel))
 
-    for kernel in (compiled.deriv_rk4_step, transport._multibody):
+    for kernel in (compiled.deriv_rk4_step, compiled.rk4_run, transport._multibody):
         src = source(kernel)
         assert "rk4_combine_compiled" in src and "rk4_stage_compiled" in src, kernel
-    for kernel in (compiled.rk4_run, transport._rigid, manoeuvre_compiled._rk4):
+    for kernel in (transport._rigid, manoeuvre_compiled._rk4):
         assert "deriv_rk4_step(" in source(kernel), kernel
     for kernel in (
         compiled.deriv_rk4_step,

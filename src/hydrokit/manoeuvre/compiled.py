@@ -95,7 +95,32 @@ def _rk4(t, x, dt, tau_tab, ctab, V, buf, W):  # noqa: ANN001, ANN202
     """x advanced in place by one RK4 step of ``dt`` (s) with the inputs of ``tau_tab`` held
     (:func:`hydrokit.simulate.compiled.deriv_rk4_step`, the one RK4 of the package); False
     when the new state is not finite."""
-    return deriv_rk4_step(t, x, dt, False, tau_tab, ctab, *V, buf, W[0], W[1], W[2], W[3], W[4], False)
+    Minv, Mc, DL, DQ, scal, t_dof, t_coef, t_kind, t_idx = V
+    k1, k2, k3, k4, tmp = W[0], W[1], W[2], W[3], W[4]
+    return deriv_rk4_step(
+        t,
+        x,
+        dt,
+        False,
+        tau_tab,
+        ctab,
+        Minv,
+        Mc,
+        DL,
+        DQ,
+        scal,
+        t_dof,
+        t_coef,
+        t_kind,
+        t_idx,
+        buf,
+        k1,
+        k2,
+        k3,
+        k4,
+        tmp,
+        False,
+    )
 
 
 @njit_noalloc
