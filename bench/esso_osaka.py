@@ -257,7 +257,8 @@ def turns(vehicle: Path, out: Path, deg: float, command: str, dt: float) -> dict
     """Turning circles at +deg (rudder to port) and −deg (starboard) with ``--command``; prints
     advance, transfer, tactical and steady diameter in ship lengths and returns them (in L)."""
     print(
-        f"\n{'turning circle ' + format(deg, 'g') + '°, ' + command:34s} " + " ".join(f"{k[:9]:>9s}" for k in TURN_KEYS)
+        f"\n{'turning circle ' + format(deg, 'g') + '°, ' + command:34s} "
+        + " ".join(f"{k:>9s}" for k in ("advance", "transfer", "tactical", "steady ⌀"))
     )
     res: dict = {}
     for side, sign in (("port", 1.0), ("starboard", -1.0)):
