@@ -14,15 +14,16 @@ record, the fleet):
   :func:`~hydrokit.model.control.splane_law`;
 - allocation: :func:`hydrokit.model.allocation.pinv_allocate` (the cached (weighted)
   pseudo-inverse and the limit test);
-- thrusters: the propeller laws of :mod:`hydrokit.model.thrusters`;
+- thrusters: the propeller laws of :mod:`hydrokit.model.thrusters`, and the rotation R(Θ) of the
+  current into body axes (:func:`hydrokit.core.kinematics.rotation_zyx_entries`);
+- vehicle: the RK4 step :func:`hydrokit.simulate.compiled.deriv_rk4_step` with the thrust held;
 - the record: :func:`hydrokit.simulate.closed_loop.new_record` and ``record_result``.
 
 Still compiled *copies* of a numpy source (a debt, issue #50): when a limit would be broken,
 the two-stage constrained allocation of :func:`~hydrokit.model.allocation.allocate_constrained`
 with a line-by-line port of scipy's BVLS (:func:`scipy.optimize.lsq_linear`, ``method="bvls"``)
-and the polishing step; the table thrust curve's interpolation (``np.interp``), the advance
-speed and the relative velocity's rotation; the RK4 step of the vehicle
-(:func:`hydrokit.simulate.compiled.deriv` with the thrust held); the fleet's path distance
+and the polishing step; the table thrust curve's interpolation (``np.interp``) and the advance
+speed (:meth:`hydrokit.model.thrusters.ThrusterSet.advance_speed`); the fleet's path distance
 (:func:`hydrokit.model.guidance.path_distance`).
 
 Agreement is to round-off, not bit for bit: the small matrix–vector products (T f, advance
@@ -66,9 +67,16 @@ from hydrokit.model.guidance import Path, los_guidance
 from hydrokit.model.thrusters import IdealCurve, PropellerCurve, TableCurve, ThrusterSet
 from hydrokit.simulate._cache import njit
 from hydrokit.simulate.closed_loop import RECORD_FIELDS, ClosedLoopResult, new_record, record_result
-from hydrokit.simulate.compiled import BUF_SIZE, compile_law, deriv, njit_noalloc, steer_surfaces_compiled
+from hydrokit.simulate.compiled import (
+    BUF_SIZE,
+    compile_law,
+    deriv_rk4_step,
+    njit_noalloc,
+    steer_surfaces_compiled,
+)
 from hydrokit.simulate.compiled import propeller_speed_compiled as _propeller_speed
 from hydrokit.simulate.compiled import propeller_thrust_compiled as _propeller_thrust
+from hydrokit.simulate.compiled import rotation_zyx_entries_compiled as _rotation_zyx
 
 _EPS = float(np.finfo(float).eps)
 _depth_to_pitch = compile_law(depth_to_pitch)
@@ -569,15 +577,7 @@ def _thrusters(vc, x, c, A, H, W, limited):  # noqa: ANN001, ANN202
         cf, sf = math.cos(phi), math.sin(phi)
         ct, st = math.cos(theta), math.sin(theta)
         cp, sp = math.cos(psi), math.sin(psi)
-        R00 = cp * ct
-        R01 = -sp * cf + cp * st * sf
-        R02 = sp * sf + cp * cf * st
-        R10 = sp * ct
-        R11 = cp * cf + sf * st * sp
-        R12 = -cp * sf + st * sp * cf
-        R20 = -st
-        R21 = ct * sf
-        R22 = ct * cf
+        R00, R01, R02, R10, R11, R12, R20, R21, R22 = _rotation_zyx(cf, sf, ct, st, cp, sp)
         # ν_r = ν − [Rᵀ v_c; 0] (R = rotation_zyx, as deriv)
         ur = u - (R00 * vc[0] + R10 * vc[1] + R20 * vc[2])
         vr = v - (R01 * vc[0] + R11 * vc[1] + R21 * vc[2])
@@ -637,21 +637,31 @@ def _integrate(t, dt, x, c, T, decay, V, W):  # noqa: ANN001, ANN202
         for i in range(m):
             s_ += T[jd, i] * f_act[i]
         tau_tab[0, 1 + jd] = s_
-    deriv(t, x, False, tau_tab, ctab, Minv, Mc, DL, DQ, scal, t_dof, t_coef, t_kind, t_idx, buf, k1v)
-    for i in range(12):
-        tmp[i] = x[i] + 0.5 * dt * k1v[i]
-    deriv(t + 0.5 * dt, tmp, False, tau_tab, ctab, Minv, Mc, DL, DQ, scal, t_dof, t_coef, t_kind, t_idx, buf, k2v)
-    for i in range(12):
-        tmp[i] = x[i] + 0.5 * dt * k2v[i]
-    deriv(t + 0.5 * dt, tmp, False, tau_tab, ctab, Minv, Mc, DL, DQ, scal, t_dof, t_coef, t_kind, t_idx, buf, k3v)
-    for i in range(12):
-        tmp[i] = x[i] + dt * k3v[i]
-    deriv(t + dt, tmp, False, tau_tab, ctab, Minv, Mc, DL, DQ, scal, t_dof, t_coef, t_kind, t_idx, buf, k4v)
-    finite = True
-    for i in range(12):
-        x[i] = x[i] + dt / 6.0 * (k1v[i] + 2 * k2v[i] + 2 * k3v[i] + k4v[i])
-        if not math.isfinite(x[i]):
-            finite = False
+    # the one RK4 step of the vehicle (simulate.compiled.deriv_rk4_step, core.integrate's laws)
+    finite = deriv_rk4_step(
+        t,
+        x,
+        dt,
+        False,
+        tau_tab,
+        ctab,
+        Minv,
+        Mc,
+        DL,
+        DQ,
+        scal,
+        t_dof,
+        t_coef,
+        t_kind,
+        t_idx,
+        buf,
+        k1v,
+        k2v,
+        k3v,
+        k4v,
+        tmp,
+        False,
+    )
     for i in range(m):
         c[i] = c_cmd[i] + (c[i] - c_cmd[i]) * decay[i]
     return finite
