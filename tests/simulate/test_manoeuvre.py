@@ -497,6 +497,31 @@ def test_hold_flies_the_approach_at_the_trim():
     assert res.to_dict()["hold"]["depth"] == "sternplane"
 
 
+def test_a_ship_that_does_not_go_straight_at_zero_rudder_is_approached_on_a_straight_course():
+    """A constant yaw moment N_0 and side force Y_0 = −N_0 (a propeller's asymmetry): at zero rudder the
+    boat turns, so the approach's heading hold must find the rudder angle that cancels both — closed
+    form δ = N_0 / (20 u²) with u² = 40 / 20 (surge: thrust 40 N against 20 u²), and v = r = 0 — and
+    the turn starts from a straight course (before, its advance was measured from a curve)."""
+    import yaml
+
+    doc = yaml.safe_load(BOAT)
+    doc["terms"].update({"N_0": 0.5, "Y_0": -0.5})
+    from hydrokit.api import vehicle_from_dict
+
+    boat = vehicle_from_dict(doc, "asymmetric boat")
+    kw = {"tau": (40, 0, 0, 0, 0, 0), "dt": 0.05, "duration": 5.0}
+    res = M.run_manoeuvre(boat, M.turning_circle(math.radians(35)), **kw)
+    assert res.hold == {"heading": "rudder (approach)"}
+    at_execute = np.nonzero(res.time >= 0)[0][0]
+    assert abs(res.nu[at_execute, 5]) < 1e-4  # no yaw rate: a straight approach
+    # the closed form within the approach's steadiness test (it ends when the velocities stop changing,
+    # with the heading loop's integral still settling by about 1 %)
+    assert res.approach_deflection["rudder"] == pytest.approx(0.5 / (20 * 2.0), rel=0.02)
+    assert res.to_dict()["approach_deflection_deg"]["rudder"] == pytest.approx(math.degrees(0.0125), rel=0.02)
+    free = M.run_manoeuvre(boat, M.turning_circle(math.radians(35)), hold=False, **kw)
+    assert abs(free.nu[np.nonzero(free.time >= 0)[0][0], 5]) > 1e-2  # without: already turning
+
+
 def test_hold_in_the_turn_and_without_it():
     torpedo = vehicle(TORPEDO)
     kw = {"tau": (40, 0, 0, 0, 0, 0), "dt": 0.05, "duration": 15.0}  # the first 15 s of the turn
@@ -528,7 +553,9 @@ def test_holding_surfaces():
     assert M.holding_surfaces(f, torpedo.dofs, 2, "vertical_zigzag", 1) == (1, 0)
     assert M.holding_surfaces(f, torpedo.dofs, 2, "zigzag", 0, hold=False) == (None, None)
     g = make_dynamics(boat)
-    assert M.holding_surfaces(g, boat.dofs, 1, "zigzag", 0) == (None, None)  # planar: nothing to hold
-    assert M.holding_surfaces(g, boat.dofs, 1, "zigzag", 0, hold=True) == (None, 0)  # the approach's heading
+    # a planar ship: the rudder holds the approach's heading (by default too), nothing else is held
+    assert M.holding_surfaces(g, boat.dofs, 1, "zigzag", 0) == (None, 0)
+    assert M.holding_surfaces(g, boat.dofs, 1, "zigzag", 0, hold=True) == (None, 0)
+    assert M.holding_surfaces(g, boat.dofs, 1, "zigzag", 0, hold=False) == (None, None)
     with pytest.raises(InputError, match=r"hold surface index 3: expected 0 … 0"):
         fly(M.turning_circle(0.3), hold=(3, None))

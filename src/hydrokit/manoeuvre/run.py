@@ -197,7 +197,8 @@ class ManoeuvreResult(Result):
     approach_speed : float — m/s; reference_length : float or None — L, m
     planar : bool — a surface-craft model (3 or 4 DOF): the IMO criteria apply
     hold : dict — what was held and by which surface ({"depth": "sternplane", "heading":
-        "rudder (approach)"}; empty: nothing held)
+        "rudder (approach)"}; empty: nothing held); :attr:`approach_deflection` — the surfaces'
+        trim at the execute (rad; manoeuvre.json ``approach_deflection_deg``)
     intervals : dict or None — with ``--samples``: every numeric metric's ``median``, ``low95``
         and ``high95`` over vehicles drawn from the file's covariance and how many ``samples``
         reached it (:mod:`hydrokit.manoeuvre.samples`); None without
@@ -240,6 +241,15 @@ class ManoeuvreResult(Result):
         return self.manoeuvre.kind
 
     @property
+    def approach_deflection(self) -> dict[str, float]:
+        """Each surface's deflection at the end of the approach, rad: the trim the holds found to
+        run straight (0 for a vehicle that goes straight with its surfaces at zero; a neutral
+        rudder or a propeller's side force needs some). The manoeuvre's deflections are absolute."""
+        before = np.nonzero(self.time < 0)[0]
+        row = self.deflection[before[-1]] if before.size else self.deflection[0]
+        return {n: float(d) for n, d in zip(self.surface_names, row)}
+
+    @property
     def columns(self) -> list[str]:
         """Trajectory columns: simulate's thirteen, then one per surface (rad)."""
         return [*STATE_COLUMNS, *self.surface_names]
@@ -275,6 +285,7 @@ class ManoeuvreResult(Result):
             "warnings": list(self.warnings),
             "hold": dict(self.hold),
             "hold_lost": self.hold_lost,
+            "approach_deflection_deg": {n: math.degrees(d) for n, d in self.approach_deflection.items()},
             "units": mm.UNITS,
         }
         if self.propulsion is not None:
@@ -992,8 +1003,11 @@ def holding_surfaces(
     manoeuvre the steering surface holds the heading during the approach and the strongest
     pitching surface among the others holds depth and pitch throughout (a 6-DOF vehicle: heave
     and pitch kept); in a vertical one the steering planes hold depth during the approach and
-    the strongest yawing surface holds the heading throughout. ``hold`` None: on when such a
-    second surface exists; False: off; True: on (the steering surface's approach hold at least).
+    the strongest yawing surface holds the heading throughout. ``hold`` None or True: on — a
+    horizontal manoeuvre's approach is always held straight (the steering surface's heading
+    hold, also for a planar ship: one whose rudder at zero turns it would otherwise start its
+    manoeuvre from a curve), a vertical one's depth only when a second surface holds the heading
+    (or with True); False: off.
     """
     if hold is False:
         return None, None
@@ -1017,7 +1031,11 @@ def holding_surfaces(
         other = max(yaw)[1] if yaw else None
         return (steering, other) if (other is not None or hold) else (None, None)
     other = max(pitch)[1] if pitch else None
-    return (other, steering) if (other is not None or hold) else (None, None)
+    # the steering surface always holds the heading during a horizontal manoeuvre's approach: a
+    # trial is approached on a steady straight course, and a vehicle that does not go straight
+    # with its rudder at zero (a neutral rudder, a propeller's side force) would enter the
+    # manoeuvre already turning and have its advance and transfer measured from a curve
+    return other, steering
 
 
 def run_manoeuvre(
