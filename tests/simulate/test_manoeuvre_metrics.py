@@ -141,6 +141,20 @@ def test_zigzag_metrics_against_events():
         mm.zigzag_metrics(t, psi, executes, -1.0)
 
 
+def test_a_replayed_heading_that_never_gets_back_past_b_has_no_overshoot():
+    """A replay imposes the trial's executes: a sluggish model's heading may peak short of the check
+    angle before the next one. Its peak minus B is negative — no overshoot, reported as not
+    reached (it read as an overshoot of −45° on a real pond trial)."""
+    B = math.radians(10)
+    t = np.linspace(0.0, 40.0, 4001)
+    # up to 15° (past B: first overshoot 5°), then down to −6° only (short of −B), then up again
+    psi = np.radians(np.interp(t, [0, 8, 12, 20, 26, 40], [0, 15, 12, -6, -4, 20]))
+    m = mm.zigzag_metrics(t, psi, [0.0, 6.0, 18.0, 30.0], B)
+    assert m.first_overshoot_deg == pytest.approx(5.0, abs=1e-6)
+    assert m.second_overshoot_deg is None  # −6° never passed −10°: not −4°
+    assert "second overshoot" in m.missing()
+
+
 def test_imo_limits():
     # IMO MSC.137(76) 5.3.3: 10/10 first overshoot 10° below L/V 10 s, 20° from 30 s, 5 + L/V/2 between
     rows = mm.imo_criteria(

@@ -223,9 +223,9 @@ class ZigzagMetrics:
         if self.initial_turning_time is None:
             return f"{b} off the original course (the second execute)"
         if self.first_overshoot_deg is None:
-            return "the first overshoot"
+            return f"the first overshoot (the heading's peak past {b} after the second execute)"
         if self.second_overshoot_deg is None:
-            return f"−{b} (the third execute) and the second overshoot"
+            return f"−{b} (the third execute) and the second overshoot (the heading's peak past −{b} after it)"
         if self.period is None:
             return f"{b} a second time (the fourth execute, the period)"
         return None
@@ -275,6 +275,11 @@ def zigzag_metrics(
         j = int(np.argmax(side))
         # a peak at the record's last sample (still turning) is no overshoot yet
         if hi == math.inf and np.flatnonzero(m)[j] == time.size - 1:
+            return None
+        # nor a peak short of B: a replayed model whose heading never got back past the check
+        # angle before the trial's next execute did not overshoot (a negative angle would read
+        # as one); the manoeuvre's own logic executes at B, so its peaks always pass it
+        if side[j] < check_angle:
             return None
         return math.degrees(float(side[j]) - check_angle)
 
