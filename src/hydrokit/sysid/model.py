@@ -102,10 +102,30 @@ class Parameter:
 
 
 def _term_unit(term: Any) -> str:
+    """The SI unit of a term's coefficient: its force's over the product of its factors' units
+    (``Y_uv`` → N/(m/s)², ``N_ur`` → N·m/((m/s)·(rad/s)), ``Y_uu*delta(rudder)`` →
+    N/((m/s)²·rad), ``Y_T(prop)*delta(rudder)`` → N/(N·rad), ``N_0`` → N·m)."""
+    from hydrokit.model.terms import DELTA, RATE, SIGN, THRUST
+
     force = "N" if term.dof < 3 else "N·m"
     if term.acceleration is not None:
         return f"{force}·s²/{'m' if term.acceleration < 3 else 'rad'}"
-    return f"{force} per product of velocities (SI)"
+    powers: dict[str, int] = {}
+    for f in term.factors:
+        if f.kind == SIGN:
+            continue
+        unit = {DELTA: "rad", THRUST: "N", RATE: "rev/s"}.get(f.kind, "rad/s" if f.angular else "m/s")
+        powers[unit] = powers.get(unit, 0) + 1
+    if not powers:
+        return force
+    sup = {1: "", 2: "²", 3: "³", 4: "⁴"}
+    parts = [
+        (f"({u})" if "/" in u and (p > 1 or len(powers) > 1) else u) + sup.get(p, f"^{p}") for u, p in powers.items()
+    ]
+    below = parts[0] if len(parts) == 1 and "/" not in parts[0] else f"({'·'.join(parts)})"
+    if len(parts) == 1 and parts[0].startswith("("):
+        below = parts[0]
+    return f"{force}/{below}"
 
 
 def valid_names(vehicle: Vehicle) -> list[str]:
