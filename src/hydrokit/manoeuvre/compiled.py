@@ -28,6 +28,7 @@ from hydrokit.errors import InputError
 from hydrokit.manoeuvre import laws as L
 from hydrokit.model.control import _euler_rates, depth_to_pitch, pid_law
 from hydrokit.model.thrusters import IdealCurve, PropellerCurve
+from hydrokit.simulate._cache import njit
 from hydrokit.simulate.compiled import (
     BUF_SIZE,
     compile_law,
@@ -38,6 +39,10 @@ from hydrokit.simulate.compiled import (
 )
 from hydrokit.simulate.compiled import propeller_thrust_compiled as _propeller_thrust
 from hydrokit.simulate.compiled import rotor_lag_compiled as _rotor_lag
+
+#: the loop's two entry kernels run without the GIL, so drawn vehicles fly on threads at once
+#: (``manoeuvre --samples``: :func:`hydrokit.manoeuvre.samples.fly_samples`)
+_njit_nogil = njit(_nrt=False, nogil=True)
 
 
 def _compile_all() -> dict[str, Any]:
@@ -196,7 +201,7 @@ def _drive_begin(dt, Dr):  # noqa: ANN001, ANN202
         c[j] = _rotor_lag(c[j], ct, dt, tc[j])
 
 
-@njit_noalloc
+@_njit_nogil
 def _approach(x, n_app, window, dt, K, lim, rate, tc, delta, cmd, new, rows, used, tau_tab, ctab, V, buf, W, Dr):  # noqa: ANN001, ANN202
     """The straight approach (see :meth:`hydrokit.manoeuvre.run._PythonLoop.approach`)."""
     n_s = delta.shape[0]
@@ -227,7 +232,7 @@ def _approach(x, n_app, window, dt, K, lim, rate, tc, delta, cmd, new, rows, use
     return n_app - 1, _RUNNING
 
 
-@njit_noalloc
+@_njit_nogil
 def _fly(
     x,
     k0,

@@ -5,13 +5,14 @@ N vehicles are drawn from the vehicle file's ``uncertainty:`` block (the sysid c
 ``simulate --samples`` and ``mission --samples`` use), each flies the same manoeuvre, and every
 numeric metric gets its median and 95 % interval (the 2.5 and 97.5 % points of the draws that
 reached it). Each draw flies through the compiled manoeuvre loop
-(:mod:`hydrokit.manoeuvre.compiled`: logic, holds, servo and RK4 compiled) when the
-propulsion is a constant force, one draw after the other (not yet as a parallel fleet); thruster
-commands fly in the Python loop.
+(:mod:`hydrokit.manoeuvre.compiled`: logic, holds, servo, thruster drive and RK4 compiled), the
+draws as a fleet on threads — one per core, up to two (the loop's kernels release the GIL); the
+draws are made before any flies, so the intervals do not depend on the order they finish in.
 """
 
 from __future__ import annotations
 
+import os
 from collections.abc import Callable
 from dataclasses import dataclass, field
 from typing import Any
@@ -24,6 +25,8 @@ from hydrokit.errors import InputError, SimulationError
 COVERAGE = 0.95
 #: most sample tracks kept for the figures (the intervals use every draw)
 SHOWN_TRACKS = 50
+#: most threads that fly the draws at once (count; the machines we run on have 2 cores)
+WORKERS = 2
 
 
 def numeric_metrics(metrics: dict[str, Any], prefix: str = "") -> dict[str, float | None]:
@@ -127,9 +130,12 @@ def fly_samples(
     seed: int,
     fly: Callable[[Any], Any],
     progress: Callable[[int, int], None] | None = None,
+    workers: int | None = None,
 ) -> SampledManoeuvres:
     """Draw ``samples`` vehicles from ``vehicle.uncertainty`` and fly each with ``fly(vehicle)``
-    (a result with ``metrics``, ``time``, ``eta`` and ``problem``), one after the other.
+    (a result with ``metrics``, ``time``, ``eta`` and ``problem``), ``workers`` at a time on
+    threads (None: one per core, up to :data:`WORKERS`; 1: one after the other). The results
+    are kept in the draws' order.
 
     Parameters
     ----------
@@ -138,6 +144,7 @@ def fly_samples(
     seed : int — of the one generator that draws them
     fly : callable(Vehicle) → ManoeuvreResult
     progress : callable(draws flown, samples) or None
+    workers : int or None — threads (count)
 
     Raises
     ------
@@ -148,19 +155,38 @@ def fly_samples(
     unc = vehicle.uncertainty
     vehicles, values, clipped = unc.sample_vehicles(vehicle, samples, seed)
     out = SampledManoeuvres(tuple(unc.parameters), values, unc.std, [], clipped=clipped, seed=int(seed))
-    for k, v in enumerate(vehicles):
+
+    def one(v: Any) -> Any:
         try:
-            res = fly(v)
+            return fly(v)
         except (InputError, SimulationError) as exc:  # refused (a singular mass) or diverged
-            out.failed.append(f"sample {k}: {exc}")
+            return exc
+
+    n_workers = min(WORKERS, os.cpu_count() or 1) if workers is None else max(1, int(workers))
+    if n_workers == 1:
+        flown = []
+        for k, v in enumerate(vehicles):
+            flown.append(one(v))
+            if progress is not None:
+                progress(k + 1, samples)
+    else:
+        from concurrent.futures import ThreadPoolExecutor, as_completed
+
+        with ThreadPoolExecutor(max_workers=n_workers) as pool:
+            futures = [pool.submit(one, v) for v in vehicles]
+            for done, _ in enumerate(as_completed(futures), 1):
+                if progress is not None:
+                    progress(done, samples)
+            flown = [f.result() for f in futures]
+    for k, res in enumerate(flown):
+        if isinstance(res, Exception):
+            out.failed.append(f"sample {k}: {res}")
             out.metrics.append({})
         else:
             out.metrics.append(res.metrics)
             out.incomplete += res.problem is not None
             if len(out.tracks) < SHOWN_TRACKS:
                 out.tracks.append(np.column_stack([res.time, res.eta[:, :3]]))
-        if progress is not None:
-            progress(k + 1, samples)
     return out
 
 
