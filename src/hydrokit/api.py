@@ -257,7 +257,7 @@ def manoeuvre(vehicle: Vehicle | PathLike, manoeuvre: Any, **options: Any) -> An
     Parameters
     ----------
     vehicle : Vehicle or vehicle name/path — with ``control_surfaces``
-    manoeuvre : a :class:`hydrokit.manoeuvre.run.Manoeuvre` from ``turning_circle(deg)``,
+    manoeuvre : a :class:`hydrokit.manoeuvre.definitions.Manoeuvre` from ``turning_circle(deg)``,
         ``zigzag(a, b)``, ``spiral(...)``, ``pull_out(...)``, ``depth_change(...)``,
         ``vertical_zigzag(a, b)`` of that module
     **options : surface, tau (N, N·m), nu0 (m/s, rad/s), eta0, dt (s), duration (s), approach (s),

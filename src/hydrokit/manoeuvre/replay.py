@@ -23,7 +23,7 @@ deflections, held from row to row) and
    settled at the first command, with the thrust from each curve at the model's own advance
    speed (:class:`hydrokit.simulate.commands.CommandForce`), measured thrusts held as logged;
    RK4 on the compiled right-hand side;
-4. **measures both tracks** with :func:`hydrokit.manoeuvre.run.measure` (the metric
+4. **measures both tracks** with :func:`hydrokit.manoeuvre.result.measure` (the metric
    functions of :mod:`hydrokit.manoeuvre.metrics`) at the same executes, and differences
    them (predicted − measured, absolute and relative to |measured|).
 """
