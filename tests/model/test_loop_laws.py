@@ -13,8 +13,8 @@ import pytest
 
 from hydrokit.model.allocation import Allocator, pinv_allocate
 from hydrokit.model.control import error_and_rate
-from hydrokit.model.guidance import Path, los_guidance
-from hydrokit.simulate.compiled_loop import _error_and_rate, _los_guidance, _pinv_allocate
+from hydrokit.model.guidance import Path, los_guidance, path_distance, point_path_distance
+from hydrokit.simulate.compiled_loop import _error_and_rate, _los_guidance, _path_distance, _pinv_allocate
 
 RNG = np.random.default_rng(50)
 
@@ -142,3 +142,24 @@ def test_the_allocator_saturates_within_the_limits_and_keeps_the_exact_solution_
     assert limited
     assert np.all(f >= -20.0 - 1e-9) and np.all(f <= 20.0 + 1e-9)
     assert np.any(np.isclose(np.abs(f), 20.0, rtol=1e-9))  # some thruster at its limit
+
+
+@pytest.mark.parametrize("law", [point_path_distance, _path_distance], ids=["python", "compiled"])
+def test_path_distance_is_the_hand_computed_polyline_distance(law):
+    # polyline (0,0,0) → (10,0,0) → (10,10,0) → (10,10,-6); distances worked by hand:
+    # (5,3,0): 3 to leg 1; (12,5,0): 2 to leg 2; (-3,-4,0): 5 to the first point (3-4-5);
+    # (10,0,2): 2 to the corner; (13,14,-2): 3-4-5 again to leg 3 at (10,10,-2); (4,−2,1): √5
+    pts = np.array([[0, 0, 0], [10, 0, 0], [10, 10, 0], [10, 10, -6.0]])
+    cases = [((5, 3, 0), 3.0), ((12, 5, 0), 2.0), ((-3, -4, 0), 5.0), ((10, 0, 2), 2.0)]
+    cases += [((13, 14, -2), 5.0), ((4, -2, 1), math.sqrt(5.0))]
+    for (px, py, pz), d in cases:
+        # rel 1e-15: one projection and a square root, each rounded once
+        assert law(float(px), float(py), float(pz), pts) == pytest.approx(d, rel=1e-15)
+
+
+def test_path_distance_of_many_positions_is_the_law_at_each():
+    pts = RNG.normal(size=(5, 3)) * 20
+    P = RNG.normal(size=(50, 3)) * 20
+    ref = [point_path_distance(*p, pts) for p in P]
+    np.testing.assert_array_equal(path_distance(P, pts), ref)
+    np.testing.assert_array_equal([_path_distance(*p, pts) for p in P], ref)

@@ -1,6 +1,6 @@
 """The plain-float thruster laws of model/thrusters.py against independent references: the
 open-water curve evaluated by numpy's polyval, the bollard closed form, the inverse by a root
-finder of scipy, and the exact first-order lag."""
+finder of scipy, the exact first-order lag, and the table curve against numpy's np.interp."""
 
 from __future__ import annotations
 
@@ -9,7 +9,15 @@ import math
 import numpy as np
 import pytest
 
-from hydrokit.model.thrusters import PropellerCurve, propeller_speed, propeller_thrust, rotor_lag
+from hydrokit.model.thrusters import (
+    PropellerCurve,
+    TableCurve,
+    propeller_speed,
+    propeller_thrust,
+    rotor_lag,
+    table_interp,
+)
+from hydrokit.simulate.compiled import table_interp_compiled
 
 KF = (-0.05, -0.1, -0.25, 0.42)
 KR = (0.02, 0.05, 0.3, 0.3)
@@ -77,3 +85,55 @@ def test_the_laws_compile_to_the_same_values():
     for f, va in ((3.0, 0.5), (-2.0, 0.3), (3.0, 0.0)):
         assert speed(f, va, 40.0, *args) == pytest.approx(propeller_speed(f, va, 40.0, *ARGS), rel=1e-12)
     assert thrust(17.5, 0.4, *args) == pytest.approx(propeller_thrust(17.5, 0.4, *ARGS), rel=1e-12)
+
+
+def _random_table(rng: np.random.Generator, repeat: bool) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    n = int(rng.integers(2, 9))
+    xs = np.sort(rng.normal(size=n)) * 10.0
+    if repeat and n >= 3:
+        j = int(rng.integers(0, n - 1))
+        xs[j + 1] = xs[j]  # a repeated abscissa (np.interp takes the last of the equal points)
+    ys = rng.normal(size=n) * 5.0
+    # queries: the points themselves, beyond both ends, between points, and random ones
+    x = np.concatenate(
+        [xs, [xs[0] - 1.0, xs[-1] + 1.0, -np.inf, np.inf], (xs[:-1] + xs[1:]) / 2, rng.normal(size=20) * 12]
+    )
+    return xs, ys, x
+
+
+@pytest.mark.parametrize("law", [table_interp, table_interp_compiled], ids=["python", "compiled"])
+@pytest.mark.parametrize("repeat", [False, True], ids=["increasing", "repeated-x"])
+def test_table_interp_is_np_interp_bit_for_bit(law, repeat):
+    # numpy's C interpolation is the independent reference; the law follows its operation
+    # order, so equality is exact (no tolerance), at the ends, the points, a repeated x and between
+    rng = np.random.default_rng(50 + repeat)
+    for _ in range(200):
+        xs, ys, x = _random_table(rng, repeat)
+        ref = np.interp(x, xs, ys)
+        got = np.array([law(float(v), xs, ys, len(xs)) for v in x])
+        np.testing.assert_array_equal(got, ref)
+
+
+def test_table_interp_uses_only_the_first_n_points():
+    # a compiled table is padded with zeros beyond its n points: they must not count
+    xs, ys = np.array([0.0, 1.0, 2.0, 0.0, 0.0]), np.array([1.0, 3.0, 7.0, 0.0, 0.0])
+    for law in (table_interp, table_interp_compiled):
+        assert law(1.5, xs, ys, 3) == 5.0  # halfway between 3 and 7
+        assert law(9.0, xs, ys, 3) == 7.0  # held at the last used point
+        assert law(-9.0, xs, ys, 3) == 1.0
+
+
+def test_table_curves_call_the_law_one_point_and_batch():
+    a = TableCurve((-1.0, 0.0, 0.5, 1.0), (-30.0, -1.0, 2.0, 40.0))
+    b = TableCurve((0.0, 1.0), (0.0, 10.0))
+    x = np.array([-2.0, 0.25, 0.7, 3.0])
+    curves = [a, b, a, b]
+    thrusts = TableCurve.thrust_batch(curves, x, np.zeros(4))
+    ref = [np.interp(v, cv.commands, cv.thrusts) for v, cv in zip(x, curves, strict=True)]
+    np.testing.assert_array_equal(thrusts, ref)
+    np.testing.assert_array_equal([cv.thrust(v) for v, cv in zip(x, curves, strict=True)], ref)
+    back = TableCurve.command_batch(curves, thrusts, np.zeros(4))
+    ref_c = [np.interp(f, cv.thrusts, cv.commands) for f, cv in zip(thrusts, curves, strict=True)]
+    np.testing.assert_array_equal(back, ref_c)
+    # inside both tables the inverse returns the command (round-off of one division)
+    np.testing.assert_allclose(back[1:3], x[1:3], rtol=1e-14)

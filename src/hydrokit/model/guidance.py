@@ -21,6 +21,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
@@ -226,21 +227,40 @@ class GuidanceState:
     heading: float = 0.0
 
 
+def point_path_distance(px: float, py: float, pz: float, pts: Any) -> float:  # noqa: ANN401
+    """Shortest distance from the position (px, py, pz) (NED, m) to the polyline through the
+    waypoints ``pts`` (N+1 rows of [x, y, z], m), m: the law itself, on plain floats (compiled by
+    ``compile_law`` for the fleet's metrics; :func:`path_distance` calls it per position).
+
+    Notes
+    -----
+    For each leg a → b, d = b − a: s = clip((p − a)·d / |d|², 0, 1) and the distance |p − (a + s d)|;
+    the smallest over the legs.
+    """
+    best = math.inf
+    for k in range(len(pts) - 1):
+        a, b = pts[k], pts[k + 1]
+        a0, a1, a2 = a[0], a[1], a[2]
+        d0, d1, d2 = b[0] - a0, b[1] - a1, b[2] - a2
+        L2 = d0 * d0 + d1 * d1 + d2 * d2
+        s = ((px - a0) * d0 + (py - a1) * d1 + (pz - a2) * d2) / L2
+        s = min(max(s, 0.0), 1.0)
+        e0, e1, e2 = px - (a0 + s * d0), py - (a1 + s * d1), pz - (a2 + s * d2)
+        dist = math.sqrt(e0 * e0 + e1 * e1 + e2 * e2)
+        if dist < best:
+            best = dist
+    return best
+
+
 def path_distance(positions: ArrayLike, points: ArrayLike) -> Array:
-    """Shortest distance from each position to the polyline through ``points``, m.
+    """Shortest distance from each position to the polyline through ``points``, m
+    (:func:`point_path_distance` at each position).
 
     Parameters
     ----------
     positions : (n, 3) array — NED positions, m
     points : (N+1, 3) array — the path's waypoints, m
     """
-    P = np.atleast_2d(np.asarray(positions, dtype=float))
-    W = np.asarray(points, dtype=float)
-    a = W[:-1][None, :, :]
-    d = (W[1:] - W[:-1])[None, :, :]
-    L2 = np.einsum("ijk,ijk->ij", d, d)
-    s = np.einsum("ijk,ijk->ij", P[:, None, :] - a, d) / L2
-    s = np.clip(s, 0.0, 1.0)
-    closest = a + s[..., None] * d
-    dist = np.linalg.norm(P[:, None, :] - closest, axis=2)
-    return dist.min(axis=1)
+    P = np.atleast_2d(np.asarray(positions, dtype=float)).tolist()
+    W = np.asarray(points, dtype=float).tolist()
+    return np.array([point_path_distance(p[0], p[1], p[2], W) for p in P], dtype=float)

@@ -195,6 +195,48 @@ def rotor_lag(c: float, target: float, dt: float, time_constant: float) -> float
     return target
 
 
+def table_interp(x: float, xs: Sequence[float], ys: Sequence[float], n: int) -> float:
+    """Linear interpolation in the table ``(xs[:n], ys[:n])`` at ``x``, held at the end values
+    beyond it: ``np.interp(x, xs[:n], ys[:n])`` for one number, in its operation order, so equal
+    to it bit for bit (also for a repeated x: the last of the equal points gives the value).
+
+    Parameters
+    ----------
+    x : float — where to read the table, in the unit of ``xs`` (table command or N)
+    xs : sequence of float — the table's abscissae, nondecreasing (table command or N)
+    ys : sequence of float — the values at ``xs`` (N or table command)
+    n : int — how many of the points are used (≥ 1; a compiled table is padded beyond it)
+
+    Notes
+    -----
+    With j the last index where ``xs[j] ≤ x``: ``y = s (x − xs[j]) + ys[j]``,
+    ``s = (ys[j+1] − ys[j]) / (xs[j+1] − xs[j])``; ``ys[j]`` when ``xs[j] = x`` (numpy's
+    ``arr_interp``, numpy/core/src/multiarray/compiled_base.c).
+    """
+    if math.isnan(x):
+        return x
+    if x < xs[0]:
+        return ys[0]
+    if x > xs[n - 1]:
+        return ys[n - 1]
+    lo, hi = 0, n  # xs[lo] <= x and (hi == n or xs[hi] > x)
+    while hi - lo > 1:
+        mid = (lo + hi) // 2
+        if xs[mid] <= x:
+            lo = mid
+        else:
+            hi = mid
+    if lo == n - 1 or xs[lo] == x:
+        return ys[lo]
+    slope = (ys[lo + 1] - ys[lo]) / (xs[lo + 1] - xs[lo])
+    y = slope * (x - xs[lo]) + ys[lo]
+    if math.isnan(y):  # an infinite table value: from the right end of the interval (as numpy)
+        y = slope * (x - xs[lo + 1]) + ys[lo + 1]
+        if math.isnan(y) and ys[lo] == ys[lo + 1]:
+            y = ys[lo]
+    return y
+
+
 #: :func:`rotor_lag` broadcast over arrays (one law; numpy calls it element by element)
 _ROTOR_LAG = np.vectorize(rotor_lag, otypes=[float])
 
@@ -322,17 +364,14 @@ class TableCurve(ThrustCurve):
             raise InputError(f"{label} thrust_table: command and thrust must both be strictly increasing")
         object.__setattr__(self, "commands", c)
         object.__setattr__(self, "thrusts", f)
-        # the table as arrays, for the batch interpolation (not fields: no effect on ==)
-        object.__setattr__(self, "_c_arr", np.array(c, dtype=float))
-        object.__setattr__(self, "_f_arr", np.array(f, dtype=float))
 
     def thrust(self, command: float, advance_speed: float = 0.0) -> float:  # any inflow
         """Interpolated thrust, N (the table holds for any advance speed)."""
-        return float(np.interp(command, self.commands, self.thrusts))
+        return table_interp(float(command), self.commands, self.thrusts, len(self.commands))
 
     def command(self, thrust: float, advance_speed: float = 0.0) -> float:  # any inflow
         """Interpolated command (table unit) for ``thrust`` (N)."""
-        return float(np.interp(thrust, self.thrusts, self.commands))
+        return table_interp(float(thrust), self.thrusts, self.commands, len(self.commands))
 
     def limits(self) -> tuple[float, float]:
         """First and last thrust of the table, N."""
@@ -344,23 +383,12 @@ class TableCurve(ThrustCurve):
 
     @staticmethod
     def _interp_groups(curves: Sequence[ThrustCurve], x: Array, inverse: bool) -> Array:
-        # one np.interp per distinct table; np.interp gives the same value for an element
-        # of an array as for the same number alone
-        first: Any = curves[0]
-        if all(cv is first for cv in curves) or all(cv == first for cv in curves):
-            xp, fp = (first._f_arr, first._c_arr) if inverse else (first._c_arr, first._f_arr)
-            return np.interp(x, xp, fp)
+        # the one law, element by element (on the tables' tuples: faster than numpy indexing)
         out = np.empty(len(curves))
-        done = [False] * len(curves)
         for i, cv in enumerate(curves):
-            if done[i]:
-                continue
-            idx = [j for j in range(i, len(curves)) if not done[j] and (curves[j] is cv or curves[j] == cv)]
-            for j in idx:
-                done[j] = True
             t: Any = cv
-            xp, fp = (t._f_arr, t._c_arr) if inverse else (t._c_arr, t._f_arr)
-            out[idx] = np.interp(x[idx], xp, fp)
+            xp, fp = (t.thrusts, t.commands) if inverse else (t.commands, t.thrusts)
+            out[i] = table_interp(float(x[i]), xp, fp, len(xp))
         return out
 
     @classmethod

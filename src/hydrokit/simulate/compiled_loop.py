@@ -14,17 +14,18 @@ record, the fleet):
   :func:`~hydrokit.model.control.splane_law`;
 - allocation: :func:`hydrokit.model.allocation.pinv_allocate` (the cached (weighted)
   pseudo-inverse and the limit test);
-- thrusters: the propeller laws of :mod:`hydrokit.model.thrusters`, and the rotation R(Θ) of the
-  current into body axes (:func:`hydrokit.core.kinematics.rotation_zyx_entries`);
+- thrusters: the propeller laws and the table curve's interpolation
+  (:func:`hydrokit.model.thrusters.table_interp`) of :mod:`hydrokit.model.thrusters`, and the
+  rotation R(Θ) of the current into body axes (:func:`hydrokit.core.kinematics.rotation_zyx_entries`);
 - vehicle: the RK4 step :func:`hydrokit.simulate.compiled.deriv_rk4_step` with the thrust held;
-- the record: :func:`hydrokit.simulate.closed_loop.new_record` and ``record_result``.
+- the record: :func:`hydrokit.simulate.closed_loop.new_record` and ``record_result``;
+- the fleet's metrics: the path distance :func:`hydrokit.model.guidance.point_path_distance`.
 
 Still compiled *copies* of a numpy source (a debt, issue #50): when a limit would be broken,
 the two-stage constrained allocation of :func:`~hydrokit.model.allocation.allocate_constrained`
 with a line-by-line port of scipy's BVLS (:func:`scipy.optimize.lsq_linear`, ``method="bvls"``)
-and the polishing step; the table thrust curve's interpolation (``np.interp``) and the advance
-speed (:meth:`hydrokit.model.thrusters.ThrusterSet.advance_speed`); the fleet's path distance
-(:func:`hydrokit.model.guidance.path_distance`).
+and the polishing step; the advance speed
+(:meth:`hydrokit.model.thrusters.ThrusterSet.advance_speed`, a matrix–vector product in numpy).
 
 Agreement is to round-off, not bit for bit: the small matrix–vector products (T f, advance
 speeds) are plain loops here, where numpy calls BLAS (calling BLAS from the loop made it three
@@ -63,7 +64,7 @@ from hydrokit.model.control import (
     pid_law,
     splane_law,
 )
-from hydrokit.model.guidance import Path, los_guidance
+from hydrokit.model.guidance import Path, los_guidance, point_path_distance
 from hydrokit.model.thrusters import IdealCurve, PropellerCurve, TableCurve, ThrusterSet
 from hydrokit.simulate._cache import njit
 from hydrokit.simulate.closed_loop import RECORD_FIELDS, ClosedLoopResult, new_record, record_result
@@ -77,6 +78,7 @@ from hydrokit.simulate.compiled import (
 from hydrokit.simulate.compiled import propeller_speed_compiled as _propeller_speed
 from hydrokit.simulate.compiled import propeller_thrust_compiled as _propeller_thrust
 from hydrokit.simulate.compiled import rotation_zyx_entries_compiled as _rotation_zyx
+from hydrokit.simulate.compiled import table_interp_compiled as _table_interp
 
 _EPS = float(np.finfo(float).eps)
 _depth_to_pitch = compile_law(depth_to_pitch)
@@ -86,28 +88,10 @@ _wrap = compile_law(wrap_angle)
 _error_and_rate = compile_law(error_and_rate, wrap_angle=_wrap)
 _euler_rates_law = compile_law(_euler_rates)
 _los_guidance = compile_law(los_guidance)
+_path_distance = compile_law(point_path_distance)
 _pinv_allocate = compile_law(pinv_allocate)
 # status codes of _loop
 _RUNNING, _DONE, _DIVERGED = 0, 1, 2
-
-
-# ============================================================================ small helpers
-@njit(inline="always")
-def _interp(x, xp, fp, n):  # noqa: ANN001, ANN202
-    """np.interp(x, xp[:n], fp[:n]) for one x."""
-    if x <= xp[0]:
-        return fp[0]
-    if x >= xp[n - 1]:
-        return fp[n - 1]
-    lo, hi = 0, n - 1
-    while hi - lo > 1:
-        mid = (lo + hi) // 2
-        if xp[mid] <= x:
-            lo = mid
-        else:
-            hi = mid
-    slope = (fp[hi] - fp[lo]) / (xp[hi] - xp[lo])
-    return slope * (x - xp[lo]) + fp[lo]
 
 
 # ============================================================================ thrust curves
@@ -135,7 +119,7 @@ def _thrust(i, c, va, kind, tab_c, tab_f, tab_n, prop, kf, kr):  # noqa: ANN001,
     if k == 0:
         return c
     if k == 1:
-        return _interp(c, tab_c[i], tab_f[i], tab_n[i])
+        return _table_interp(c, tab_c[i], tab_f[i], tab_n[i])
     return _prop_thrust(i, c, va, prop, kf, kr)
 
 
@@ -146,7 +130,7 @@ def _command(i, f, va, kind, tab_c, tab_f, tab_n, prop, kf, kr):  # noqa: ANN001
     if k == 0:
         return f
     if k == 1:
-        return _interp(f, tab_f[i], tab_c[i], tab_n[i])
+        return _table_interp(f, tab_f[i], tab_c[i], tab_n[i])
     return _prop_command(i, f, va, prop, kf, kr)
 
 
@@ -735,23 +719,6 @@ def _loop(
 # (while following), 6–9 the same over all recorded steps (used when none follows),
 # 10 Σ|f|, 11 Σ actuator-disk power, 12 limited count, 13 last recorded time
 N_ACC = 14
-
-
-@njit
-def _path_distance(px, py, pz, pts):  # noqa: ANN001, ANN202
-    """hydrokit.model.guidance.path_distance for one position."""
-    best = np.inf
-    for kk in range(pts.shape[0] - 1):
-        a0, a1, a2 = pts[kk, 0], pts[kk, 1], pts[kk, 2]
-        d0, d1, d2 = pts[kk + 1, 0] - a0, pts[kk + 1, 1] - a1, pts[kk + 1, 2] - a2
-        L2 = d0 * d0 + d1 * d1 + d2 * d2
-        s = ((px - a0) * d0 + (py - a1) * d1 + (pz - a2) * d2) / L2
-        s = min(max(s, 0.0), 1.0)
-        e0, e1, e2 = px - (a0 + s * d0), py - (a1 + s * d1), pz - (a2 + s * d2)
-        dist = math.sqrt(e0 * e0 + e1 * e1 + e2 * e2)
-        if dist < best:
-            best = dist
-    return best
 
 
 @njit
