@@ -40,7 +40,7 @@ RANK = {
     "report": 8,
     "cli": 9,
 }
-BASE = {"errors", "_atomic", "_callable", "_result", "_parallel", "_quiet", "data", "__init__", "__main__"}
+BASE = {"errors", "_atomic", "_callable", "_result", "_parallel", "_quiet", "_numba", "data", "__init__", "__main__"}
 SYSID_MODULES = ("compare", "data", "lm", "model", "plan", "ship", "smooth", "stats", "window")
 MANOEUVRE_MODULES = ("laws", "compiled", "metrics", "samples")
 #: imports a rank would allow but the layer's job forbids: (importer, imported)

@@ -40,6 +40,7 @@ from typing import Any, cast
 
 import numpy as np
 
+from hydrokit.core.integrate import rk4_combine_into, rk4_stage, rk4_stage_into, rk4_update
 from hydrokit.errors import InputError
 from hydrokit.identify.types import Rig
 
@@ -359,12 +360,13 @@ def _integrate_py(t, q0, v0, p, nfree, kind, par, substeps, want_jac):  # noqa: 
     z[1] = v0
     z[2 + 2 * nfree] = 1.0  # ∂q/∂q0
     z[2 + 2 * (nfree + 1) + 1] = 1.0  # ∂v/∂v0
-    k1 = np.empty(nz)
-    k2 = np.empty(nz)
-    k3 = np.empty(nz)
-    k4 = np.empty(nz)
-    tmp = np.empty(nz)
     m = nz if want_jac else 2
+    zm = z[:m]
+    k1 = np.empty(m)
+    k2 = np.empty(m)
+    k3 = np.empty(m)
+    k4 = np.empty(m)
+    tmp = np.empty(m)
     w2, b, g, d, a3, a5 = p[0], p[1], p[2], p[3], p[4], p[5]
     out_q[0] = z[0]
     out_v[0] = z[1]
@@ -373,18 +375,15 @@ def _integrate_py(t, q0, v0, p, nfree, kind, par, substeps, want_jac):  # noqa: 
     for i in range(1, n):
         h = (t[i] - t[i - 1]) / substeps
         for _ in range(substeps):
+            # core.integrate's RK4 arithmetic on the first m entries (zm is z's view)
             _deriv(z, k1, w2, b, g, d, a3, a5, nfree, kind, par, m)
-            for c in range(m):
-                tmp[c] = z[c] + 0.5 * h * k1[c]
+            _stage(zm, k1, 0.5 * h, tmp)
             _deriv(tmp, k2, w2, b, g, d, a3, a5, nfree, kind, par, m)
-            for c in range(m):
-                tmp[c] = z[c] + 0.5 * h * k2[c]
+            _stage(zm, k2, 0.5 * h, tmp)
             _deriv(tmp, k3, w2, b, g, d, a3, a5, nfree, kind, par, m)
-            for c in range(m):
-                tmp[c] = z[c] + h * k3[c]
+            _stage(zm, k3, h, tmp)
             _deriv(tmp, k4, w2, b, g, d, a3, a5, nfree, kind, par, m)
-            for c in range(m):
-                z[c] += h / 6.0 * (k1[c] + 2.0 * k2[c] + 2.0 * k3[c] + k4[c])
+            _combine(zm, k1, k2, k3, k4, h)
         out_q[i] = z[0]
         out_v[i] = z[1]
         if want_jac:
@@ -395,10 +394,16 @@ def _integrate_py(t, q0, v0, p, nfree, kind, par, substeps, want_jac):  # noqa: 
 
 _nb = _numba()
 if _nb is not None:
-    _restore = _nb.njit(cache=True)(_restore_py)
-    _deriv = _nb.njit(cache=True, inline="always")(_deriv_py)
-    _integrate = _nb.njit(cache=True)(_integrate_py)
+    from hydrokit._numba import compile_law, njit
+
+    # the RK4 step's arithmetic, written once in core/integrate.py (as simulate.compiled compiles it)
+    _stage = compile_law(rk4_stage_into, rk4_stage=compile_law(rk4_stage))
+    _combine = compile_law(rk4_combine_into, rk4_update=compile_law(rk4_update))
+    _restore = njit(_restore_py)
+    _deriv = njit(inline="always")(_deriv_py)
+    _integrate = njit(_integrate_py)
 else:  # pragma: no cover
+    _stage, _combine = rk4_stage_into, rk4_combine_into
     _restore = _restore_py
     _deriv = _deriv_py
     _integrate = _integrate_py

@@ -29,11 +29,11 @@ tests/model/test_compiled_vs_numpy.py compares each copy with it at random state
 from __future__ import annotations
 
 import math
-import types
 
 import numba
 import numpy as np
 
+from hydrokit._numba import compile_law, njit, njit_noalloc
 from hydrokit.core.drag import add_drag_wrench
 from hydrokit.core.integrate import rk4_combine_into, rk4_stage, rk4_stage_into, rk4_update
 from hydrokit.core.kinematics import quaternion_rotation_entries, rotation_zyx_entries, rotation_zyx_into
@@ -41,33 +41,11 @@ from hydrokit.model.surfaces import FIN_WIDTH, MAX_SURFACES, fin_wrench, servo_s
 from hydrokit.model.terms import MAX_THRUSTERS, add_term_forces
 from hydrokit.model.thrusters import propeller_speed, propeller_thrust, rotor_lag, table_interp
 from hydrokit.model.wind import wind_coefficients, wind_wrench
-from hydrokit.simulate._cache import njit
-
-#: ``numba.njit`` for kernels that allocate nothing: compiled without numba's reference
-#: counting, which otherwise updates every array argument's count atomically on entry and exit
-#: (with ~60 array arguments per closed-loop step this was a fifth of the step). Such a kernel
-#: may call only kernels of the same kind (numba passes the setting on to callees, and
-#: allocation needs it), so code that allocates stays in ordinary ``njit`` kernels. Both cache
-#: on disk keyed on the source of every law they reach (:mod:`hydrokit.simulate._cache`).
-njit_noalloc = njit(_nrt=False)
 
 #: scratch length of :func:`deriv` (40 numbers, then the force table's values and slopes:
 #: 6 forces and an input vector of up to MAX_SURFACES deflections, MAX_THRUSTERS thrusts and as
 #: many rotation rates each)
 BUF_SIZE = 40 + 2 * (6 + MAX_SURFACES + 2 * MAX_THRUSTERS)
-
-
-def compile_law(func, **callees):  # noqa: ANN001, ANN003, ANN201
-    """``njit_noalloc`` of a law written once on plain floats in core/ or model/, with the laws it
-    calls (``callees``: name → their compiled dispatchers) bound in its globals — numba calls
-    only compiled functions, the Python original keeps calling the Python ones. Not a copy: the
-    same code object. Its disk cache is keyed on the law's source and its callees' (transitively),
-    so a changed law is recompiled in the next process (:class:`hydrokit.simulate._cache.LawCache`)."""
-    scope = dict(func.__globals__)
-    scope.update(callees)
-    bound = types.FunctionType(func.__code__, scope, func.__name__, func.__defaults__, func.__closure__)
-    bound.__module__, bound.__qualname__, bound.__doc__ = func.__module__, func.__qualname__, func.__doc__
-    return njit_noalloc(bound)
 
 
 # The laws written once in model/ and core/ (plain floats and loops), compiled here: not copies.
