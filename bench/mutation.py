@@ -424,14 +424,6 @@ EQUIVALENT: dict[tuple[str, str, str], str] = {
         "differs only when the amplitude trend's slope is exactly −3 standard errors to the last bit "
         "(probability 0): the edge of the 'still decaying' test"
     ),
-    (
-        "model/thrusters.py",
-        "if all(cv is first for cv in curves) or all(cv == first for cv in curves):",
-        "is -> is not",
-    ): (
-        "the identity test is a short cut before the equality test: a curve is == itself (its "
-        "fields are finite numbers), so one shared curve still takes the single-table branch"
-    ),
     ("model/allocation.py", "active = (f <= lo + tol) | (f >= hi - tol)", ">= -> >"): (
         "differs only for a thrust exactly tol below its upper limit to the last bit (tol ≥ 1e-7 N, "
         "and a clipped thrust sits at the limit itself): probability 0"
@@ -755,19 +747,6 @@ EQUIVALENT: dict[tuple[str, str, str], str] = {
         "error, ∝ (ω Δt / 8)⁴, is ~1e-8 of the amplitude already (ω = 7 rad/s at 100 Hz), far below any "
         "sensor's noise or resolution"
     ),
-    **_alike(
-        "model/thrusters.py",
-        "a speed path only: equal tables give equal numbers whichever way they are grouped. With the "
-        "mutants, tables that are equal but not the same object skip the one-call fast path, or are "
-        "interpolated group by group instead of together; np.interp gives an element of an array the "
-        "value it gives the number alone, so every thrust and command is the same",
-        ("if all(cv is first for cv in curves) or all(cv == first for cv in curves):", "== -> !="),
-        ("if all(cv is first for cv in curves) or all(cv == first for cv in curves):", "or -> and"),
-        (
-            "idx = [j for j in range(i, len(curves)) if not done[j] and (curves[j] is cv or curves[j] == cv)]",
-            "or -> and",
-        ),
-    ),
     ("identify/preprocess.py", "sel = np.nonzero((t >= lo) & (t <= hi))[0]", "<= -> <"): (
         "differs only for a sample exactly at hi = c0 − 0.1 T (a crossing time less a tenth of a period "
         "measured from the extremes) to the last bit: a tie of probability 0"
@@ -865,10 +844,6 @@ EQUIVALENT: dict[tuple[str, str, str], str] = {
         "the root search's bracket-width stop: differs only for a bracket exactly 1e-12 n_max wide to the "
         "last bit (probability 0), and then one more step stays inside the same bracket",
         ("if abs(g) <= 1e-12 * abs(f) or hi - lo <= 1e-12 * n_max:", "<= -> < [2]"),
-    ),
-    ("model/thrusters.py", "done[j] = True", "True -> False"): (
-        "done only skips curves already interpolated with an equal table: without it each later curve of "
-        "the group interpolates the group again and writes the same values to the same places"
     ),
     ("model/allocation.py", "self.scale = scale = max(float(np.linalg.norm(T, 2)), 1e-300)", "1e-300 -> 1.0"): (
         "a configuration matrix of unit thrust directions has ‖T‖₂ ≥ 1, so both give ‖T‖₂; for a T scaled "
