@@ -110,8 +110,10 @@ def manoeuvre(
         click.echo(
             "thrust: " + ", ".join(f"{k} {a[k]:.4g} N at the execute, {b[k]:.4g} N at the end" for k in a), err=True
         )
-    if res.hold:
-        click.echo("held: " + ", ".join(f"{k} by {n}" for k, n in res.hold.items()), err=True)
+    trim = ", ".join(f"{k} {v * 57.29577951308232:+.2f}°" for k, v in res.approach_deflection.items() if abs(v) > 1e-3)
+    if res.hold and (res.hold != {"heading": f"{res.surface} (approach)"} or trim):  # more than a straight approach
+        trim = f"; approach trim {trim}" if trim else ""
+        click.echo("held: " + ", ".join(f"{k} by {n}" for k, n in res.hold.items()) + trim, err=True)
     click.echo(f"{'pull-out' if m.kind == 'pull_out' else m.kind.replace('_', ' ')}{_setting(res)}, {res.surface}:")
     for line in describe(m.kind, res.metrics):
         click.echo("  " + line)
