@@ -1004,8 +1004,8 @@ EQUIVALENT: dict[tuple[str, str, str], str] = {
         "in both root searches g = 0 meets the |g| <= tolerance test on the line before (a tolerance of "
         "at least 0) and breaks out first"
     ),
-    ("model/thrusters.py", "v, w = nu[:3], nu[3:6]", "6 -> 7"): (
-        "every caller passes the six-component ν of a state (x[6:12], nu, nu_r): nu[3:6] and nu[3:7] are the same three"
+    ("model/thrusters.py", "u, v, w, p, q, r = (float(x) for x in np.asarray(nu, dtype=float)[:6])", "6 -> 7"): (
+        "every caller passes the six-component ν of a state (x[6:12], nu, nu_r): nu[:6] and nu[:7] are the same six"
     ),
     (
         "model/thrusters.py",

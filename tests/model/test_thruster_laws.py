@@ -137,3 +137,21 @@ def test_table_curves_call_the_law_one_point_and_batch():
     np.testing.assert_array_equal(back, ref_c)
     # inside both tables the inverse returns the command (round-off of one division)
     np.testing.assert_allclose(back[1:3], x[1:3], rtol=1e-14)
+
+
+def test_the_advance_speed_law_is_the_inflow_along_the_shaft() -> None:
+    """V_a = (1 − w) e · (v + ω × r_p), written by the law as (1 − w)(e · v + (r_p × e) · ω): against
+    np.cross on random propellers and motions, Python and compiled alike."""
+    from hydrokit.model.thrusters import advance_speed_law
+    from hydrokit.simulate.compiled import advance_speed_compiled
+
+    rng = np.random.default_rng(11)
+    for _ in range(50):
+        e = rng.normal(size=3)
+        e /= np.linalg.norm(e)
+        r_p, nu, wake = rng.normal(size=3), rng.normal(size=6), rng.uniform(0.5, 1.0)
+        want = wake * float(e @ (nu[:3] + np.cross(nu[3:], r_p)))
+        a = np.cross(r_p, e)
+        for law in (advance_speed_law, advance_speed_compiled):
+            got = law(wake, *e, *a, *nu)
+            assert got == pytest.approx(want, rel=1e-12, abs=1e-12)

@@ -23,12 +23,12 @@ from typing import Any
 
 import numpy as np
 
+from hydrokit._numba import njit
 from hydrokit.core.kinematics import wrap_angle
 from hydrokit.errors import InputError
 from hydrokit.manoeuvre import laws as L
 from hydrokit.model.control import _euler_rates, depth_to_pitch, pid_law
 from hydrokit.model.thrusters import IdealCurve, PropellerCurve
-from hydrokit.simulate._cache import njit
 from hydrokit.simulate.compiled import (
     BUF_SIZE,
     compile_law,
@@ -37,6 +37,7 @@ from hydrokit.simulate.compiled import (
     njit_noalloc,
     servo_step_compiled,
 )
+from hydrokit.simulate.compiled import advance_speed_compiled as _advance_speed
 from hydrokit.simulate.compiled import propeller_thrust_compiled as _propeller_thrust
 from hydrokit.simulate.compiled import rotor_lag_compiled as _rotor_lag
 
@@ -172,9 +173,20 @@ def _drive_tau(x, tau_tab, Dr):  # noqa: ANN001, ANN202
         cj = c_step[j]
         cj = lim[j, 0] if cj < lim[j, 0] else (lim[j, 1] if cj > lim[j, 1] else cj)
         if kind[j] == 2:
-            va = wake[j] * (
-                (dirs[j, 0] * x[6] + dirs[j, 1] * x[7] + dirs[j, 2] * x[8])
-                + (arms[j, 0] * x[9] + arms[j, 1] * x[10] + arms[j, 2] * x[11])
+            va = _advance_speed(
+                wake[j],
+                dirs[j, 0],
+                dirs[j, 1],
+                dirs[j, 2],
+                arms[j, 0],
+                arms[j, 1],
+                arms[j, 2],
+                x[6],
+                x[7],
+                x[8],
+                x[9],
+                x[10],
+                x[11],
             )
             fj = _propeller_thrust(
                 cj, va, prop[j, 0], prop[j, 1], prop[j, 2], prop[j, 3], kf[j], kr[j], prop[j, 4], prop[j, 5]

@@ -186,6 +186,28 @@ def propeller_speed(
     return n
 
 
+def advance_speed_law(
+    wake: float,
+    ex: float,
+    ey: float,
+    ez: float,
+    ax: float,
+    ay: float,
+    az: float,
+    u: float,
+    v: float,
+    w: float,
+    p: float,
+    q: float,
+    r: float,
+) -> float:
+    """A propeller's advance speed V_a = (1 − w) e · (v + ω × r_p), m/s, written as
+    (1 − w)(e · v + a · ω) with the moment arm a = r_p × e: ``wake`` = 1 − w (–), ``ex, ey, ez``
+    the unit thrust direction, ``ax, ay, az`` the arm (m), ``u, v, w`` (m/s) and ``p, q, r``
+    (rad/s) the body velocity relative to the water."""
+    return wake * ((ex * u + ey * v + ez * w) + (ax * p + ay * q + az * r))
+
+
 def rotor_lag(c: float, target: float, dt: float, time_constant: float) -> float:
     """The rotor state (command unit) after ``dt`` (s) of the first-order lag τ ċ = c_t − c
     from ``c`` towards the held ``target``, exactly: ``c_t + (c − c_t) e^(−dt/τ)``; τ =
@@ -836,10 +858,14 @@ class ThrusterSet:
         ``V_a,i = (1 − w_i) e_i · (v + ω × r_i)`` with ν = [v; ω] the body velocity
         relative to the water (m/s, rad/s).
         """
-        nu = np.asarray(nu, dtype=float)
-        v, w = nu[:3], nu[3:6]
-        # e_i · (v + ω × r_i) = e_i · v + ω · (r_i × e_i)
-        return self._wake_factor * (self.directions @ v + self._moment_arms @ w)
+        u, v, w, p, q, r = (float(x) for x in np.asarray(nu, dtype=float)[:6])
+        # e_i · (v + ω × r_i) = e_i · v + ω · (r_i × e_i): the law, thruster by thruster
+        out = np.empty(len(self._wake_factor))
+        for i, (k, e, a) in enumerate(
+            zip(self._wake_factor.tolist(), self.directions.tolist(), self._moment_arms.tolist())
+        ):
+            out[i] = advance_speed_law(k, e[0], e[1], e[2], a[0], a[1], a[2], u, v, w, p, q, r)
+        return out
 
     # ------------------------------------------------------------------ thrust curves
     def thrust(self, command: ArrayLike, advance_speed: ArrayLike | None = None) -> Array:

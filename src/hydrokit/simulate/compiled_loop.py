@@ -24,11 +24,11 @@ record, the fleet):
 Still compiled *copies* of a numpy source (a debt, issue #50): when a limit would be broken,
 the two-stage constrained allocation of :func:`~hydrokit.model.allocation.allocate_constrained`
 with a line-by-line port of scipy's BVLS (:func:`scipy.optimize.lsq_linear`, ``method="bvls"``)
-and the polishing step; the advance speed
-(:meth:`hydrokit.model.thrusters.ThrusterSet.advance_speed`, a matrix–vector product in numpy).
+and the polishing step. The advance speed is the law
+:func:`hydrokit.model.thrusters.advance_speed_law`, as in ``ThrusterSet.advance_speed``.
 
-Agreement is to round-off, not bit for bit: the small matrix–vector products (T f, advance
-speeds) are plain loops here, where numpy calls BLAS (calling BLAS from the loop made it three
+Agreement is to round-off, not bit for bit: the small matrix–vector products (T f) are plain
+loops here, where numpy calls BLAS (calling BLAS from the loop made it three
 times slower), and the constrained allocation's least-squares solves go through numba's LAPACK
 where the Python loop calls scipy. States, τ and thrusts then agree to ~1e-13 of their scale.
 Two places turn round-off into more, in both loops alike: a propeller command n = ±√(|f|/k)
@@ -75,6 +75,7 @@ from hydrokit.simulate.compiled import (
     njit_noalloc,
     steer_surfaces_compiled,
 )
+from hydrokit.simulate.compiled import advance_speed_compiled as _advance_speed
 from hydrokit.simulate.compiled import propeller_speed_compiled as _propeller_speed
 from hydrokit.simulate.compiled import propeller_thrust_compiled as _propeller_thrust
 from hydrokit.simulate.compiled import rotation_zyx_entries_compiled as _rotation_zyx
@@ -569,8 +570,8 @@ def _thrusters(vc, x, c, A, H, W, limited):  # noqa: ANN001, ANN202
     # the relative linear velocity, for _steer (W's pa: scratch)
     pa[0], pa[1], pa[2] = ur, vr, wr
     for i in range(m):
-        va[i] = wake[i] * (
-            (dirs[i, 0] * ur + dirs[i, 1] * vr + dirs[i, 2] * wr) + (arms[i, 0] * p + arms[i, 1] * q + arms[i, 2] * r)
+        va[i] = _advance_speed(
+            wake[i], dirs[i, 0], dirs[i, 1], dirs[i, 2], arms[i, 0], arms[i, 1], arms[i, 2], ur, vr, wr, p, q, r
         )
     sat = limited
     for i in range(m):

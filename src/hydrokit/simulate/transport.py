@@ -52,6 +52,7 @@ from hydrokit.simulate.compiled import (
     rk4_stage_compiled,
     rotation_zyx_into_compiled,
 )
+from hydrokit.simulate.compiled import advance_speed_compiled as _advance_speed
 from hydrokit.simulate.compiled_loop import _pack_thrusters, _thrust
 
 COLUMNS = ("time", "x", "y", "z", "phi", "theta", "psi", "u", "v", "w", "p", "q", "r")
@@ -67,10 +68,11 @@ def _thrusts(nu, owner, body, cmd, P, E, TH, out):  # noqa: ANN001, ANN202
     for i in range(P.shape[0]):
         if body >= 0 and owner[i] != body:
             continue
-        vx = u + q * P[i, 2] - r * P[i, 1]
-        vy = v + r * P[i, 0] - p * P[i, 2]
-        vz = w + p * P[i, 1] - q * P[i, 0]
-        va = wake[i] * (E[i, 0] * vx + E[i, 1] * vy + E[i, 2] * vz)
+        # e · (v + ω × r) = e · v + ω · (r × e): the arm r × e, then the one law
+        ax = P[i, 1] * E[i, 2] - P[i, 2] * E[i, 1]
+        ay = P[i, 2] * E[i, 0] - P[i, 0] * E[i, 2]
+        az = P[i, 0] * E[i, 1] - P[i, 1] * E[i, 0]
+        va = _advance_speed(wake[i], E[i, 0], E[i, 1], E[i, 2], ax, ay, az, u, v, w, p, q, r)
         c = min(max(cmd[i], cmin[i]), cmax[i])
         f = _thrust(i, c, va, kind, tab_c, tab_f, tab_n, prop, kf, kr)
         out[i] = min(max(f, fmin[i]), fmax[i])
