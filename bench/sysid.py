@@ -81,6 +81,12 @@ def main() -> None:
             f"{res.iterations} iterations; {'PASS' if wall < 15 else 'FAIL'} "
             f"(BLAS threads {os.environ.get('OPENBLAS_NUM_THREADS')}; load average {os.getloadavg()[0]:.1f})"
         )
+        stages = {k: v for k, v in res.timing.items() if k not in ("total", "simulation")}
+        print(
+            "  stages (s wall): "
+            + ", ".join(f"{k} {v:.2f}" for k, v in stages.items())
+            + f"; simulation inside output error and step check {sim:.2f}"
+        )
         print(
             f"integrator: halving the 10 ms step moves the estimates by at most {res.step_check:.3f} σ "
             f"(target < 0.1); {'PASS' if res.step_check < 0.1 else 'FAIL'}"

@@ -41,6 +41,7 @@ from hydrokit.sysid.model import (
     Parameter,
     PreparedRun,
     RunData,
+    curve_thrusts,
     free_parameters,
     prepare_run,
     simulate_run,
@@ -93,7 +94,10 @@ class SysidResult(Result):
         runs (:func:`hydrokit.sysid.stats.verdict`: held-out NRMSE, residuals against
         the sensor noise and their whiteness)
     method : str; iterations : int; step_check : float — max |Δθ|/σ on halving the step
-    timing : dict — seconds: total, simulation
+    timing : dict — seconds: total, simulation (the fit's and the integrator check's), and each
+        stage in order: smoothing, force tables, equation error, feedback check, setup, output
+        error (with its simulations), covariance, step check, bands (the Monte Carlo predictions),
+        held-out preparation, report
     windows : dict — of a windowed fit: ``count``, ``length_s`` (s), ``continuity`` (–) and
         ``largest_jump_sigma``, the largest jump of a measured state at a join in σ of its
         channel's noise; {} for whole runs
@@ -302,9 +306,7 @@ def _feedback(runs: Sequence[RunData], smoothed: Sequence[Any], thrusters: Any) 
                 f[:, i] = run.thrusts[n]
                 continue
             c = np.clip(np.asarray(run.commands[n], float), thrusters.command_min[i], thrusters.command_max[i])
-            f[:, i] = np.clip(
-                type(cv).thrust_batch([cv] * t.size, c, np.zeros(t.size)), thrusters.f_min[i], thrusters.f_max[i]
-            )
+            f[:, i] = np.clip(curve_thrusts(cv, c, np.zeros(t.size)), thrusters.f_min[i], thrusters.f_max[i])
         tau = f @ T.T
         for d, chans in enumerate(_HOLD_CHANNELS):
             if not np.std(tau[:, d]) > 1e-9 * (1 + np.max(np.abs(tau[:, d]))):
@@ -481,6 +483,14 @@ def _identify(
     from hydrokit.sysid.window import check_continuity
 
     t_start = _time.perf_counter()
+    stages: dict[str, float] = {}
+    mark = [t_start]
+
+    def lap(stage: str) -> None:  # the seconds since the last lap, added to ``stage``
+        now = _time.perf_counter()
+        stages[stage] = stages.get(stage, 0.0) + now - mark[0]
+        mark[0] = now
+
     window_continuity = check_continuity(window_continuity)
     if not runs:
         raise InputError("no training run; expected at least one run file")
@@ -489,6 +499,7 @@ def _identify(
     base = values_of(veh, params)
     th = veh.thrusters
     smoothed = [smooth_run(r) for r in runs]
+    lap("smoothing")
     n_samples = sum(sum(t.size for t, _ in r.channels.values()) for r in runs)
     n_x0 = sum(int(np.sum(s.known)) for s in smoothed)
     if n_samples <= p + n_x0:
@@ -496,12 +507,15 @@ def _identify(
             f"{n_samples} samples for {p} parameters and {n_x0} initial states; expected more samples than parameters"
         )
     preps = [prepare_run(r, th, dt, surfaces=veh.surfaces.names) for r in runs]
+    lap("force tables")
     taus = [tau_on_grid(_abs_table(pr), s.time) for pr, s in zip(preps, smoothed)]
     ee = equation_error(veh, params, smoothed, taus, envs=[_abs_env(pr) for pr in preps])
+    lap("equation error")
     warnings: list[str] = []
     for run in runs:
         warnings += [f"{run.name}: {w}" for w in getattr(run, "warnings", ())]
     warnings += _feedback(runs, smoothed, th)
+    lap("feedback check")
     # the initial state of every measured channel is estimated, the start position too (taken from
     # the smoother it is about 1 cm off at a run's end, which biased the fit: the stated σ came out
     # 1.4× too small on a race-rudder ship, bench/race_rudder_acceptance.py); an unmeasured velocity
@@ -534,6 +548,7 @@ def _identify(
     scale = np.concatenate([np.maximum(np.abs(start), np.maximum(np.abs(base), 1e-3)), np.full(z0.size - p, 0.01)])
     iterations = 0
     J: np.ndarray | None = None
+    lap("setup")
     if method == "output-error":
         try:
             problem.evaluate(z0, scale, False)[2] or _raise_diverged(z0)
@@ -585,6 +600,7 @@ def _identify(
             "simulation diverge; expected a base vehicle that describes the runs (check its mass, inertia and "
             "centres) and free parameters the runs excite"
         )
+    lap("output error")
     blocks = _series(problem)
     cov_s = sandwich(J, r, blocks, first=p)
     info = J.T @ J
@@ -597,6 +613,7 @@ def _identify(
     if method == "equation-error":
         theta = np.clip(ee.values, lower, upper)
     corr = correlation(cov)
+    lap("covariance")
     step_check = float("nan")
     if check_step and method == "output-error":
         half = Problem(
@@ -626,14 +643,18 @@ def _identify(
             dz = -(np.linalg.pinv(J2.T @ J2) @ rhs)[:p] * scale[:p]
             step_check = float(np.max(np.abs(dz) / np.maximum(sigma, 1e-300)))
         problem.sim_seconds += half.sim_seconds
+    lap("step check")
     _, x0s = problem.unpack(z)
     fitted = _predict(problem, theta, cov, x0s, preps, samples, seed)
+    lap("bands")
     hold_preps = [prepare_run(r, th, dt, surfaces=veh.surfaces.names) for r in holdout]
     hold_smoothed = [smooth_run(r) for r in holdout]
     hold_x0 = [sm.at(float(r.time[0])) for sm, r in zip(hold_smoothed, holdout)]
     if cut is not None:
         hold_preps, hold_x0, hold_smoothed = cut.holdout(holdout, th, dt, veh.surfaces.names)
+    lap("held-out preparation")
     held = _predict(problem, theta, cov, hold_x0, hold_preps, samples, seed + 1)
+    lap("bands")
     run_rows, predictions = [], []
     for prep, (nom, lo, hi), is_hold, sm in [(a, b, False, c) for a, b, c in zip(preps, fitted, smoothed)] + [
         (a, b, True, c) for a, b, c in zip(hold_preps, held, hold_smoothed)
@@ -663,6 +684,7 @@ def _identify(
         at = {q.name for q, v, lo, hi in zip(params, theta, lower, upper) if v in (lo, hi)}
         msgs = [m for m in msgs if not (m.split(" = ", 1)[0] in at and m.endswith("not identifiable from these runs"))]
     msgs += bound_msgs
+    lap("report")
     if math.isfinite(step_check) and step_check > 0.1:
         warnings.append(
             f"halving the integration step moves an estimate by {step_check:.2f} σ (> 0.1): use a smaller dt"
@@ -689,7 +711,7 @@ def _identify(
         method=method,
         iterations=iterations,
         step_check=step_check,
-        timing={"total": _time.perf_counter() - t_start, "simulation": problem.sim_seconds},
+        timing={"total": _time.perf_counter() - t_start, "simulation": problem.sim_seconds, **stages},
         windows=_window_summary(cut, problem),
     )
 

@@ -274,6 +274,7 @@ def force_table(
     speed, :meth:`~hydrokit.model.thrusters.ThrusterSet.rotation_rate`), of another thruster 0.
     """
     from hydrokit.model.thrusters import PropellerCurve
+    from hydrokit.sysid.kernels import rotor_nodes, rotor_rows
 
     t = np.asarray(run.time, float)
     deflections: Mapping[str, np.ndarray] = getattr(run, "deflections", None) or {}
@@ -309,13 +310,16 @@ def force_table(
     seg = np.clip(np.searchsorted(t, nodes, side="right") - 1, 0, t.size - 1)
     # the rotor state at each row (exact over each held interval), then at every node from the
     # row before it
+    # (ThrusterSet.rotor_step's law, rotor_lag, compiled: a loop over the rows and the nodes)
+    target = np.ascontiguousarray(np.clip(cmd, thrusters.command_min, thrusters.command_max))
+    tc = np.ascontiguousarray(thrusters.time_constants, dtype=float)
     c_row = np.empty((t.size, m))
-    c_row[0] = np.clip(cmd[0], thrusters.command_min, thrusters.command_max)
-    for k in range(1, t.size):
-        c_row[k] = thrusters.rotor_step(c_row[k - 1], cmd[k - 1], float(t[k] - t[k - 1]))
+    c_row[0] = target[0]
+    rotor_rows(target, np.ascontiguousarray(t), tc, c_row)
     # a node exactly at a row takes the rotor state arriving there (held target of the row before)
     at_row = np.isin(nodes, t)
-    c = thrusters.rotor_step(c_row[seg], cmd[seg], (nodes - t[seg])[:, None])
+    c = np.empty((nodes.size, m))
+    rotor_nodes(c_row[seg], target[seg], np.ascontiguousarray(nodes - t[seg]), tc, c)
     c[at_row] = c_row[seg[at_row]]
     f = np.empty_like(c)
     va = _advance_speeds(run, thrusters, nodes) if advance else np.zeros((nodes.size, m))
@@ -327,7 +331,7 @@ def force_table(
             f[jump, i] = cmd[np.maximum(seg[jump] - 1, 0), i]
             continue
         ci = np.clip(c[:, i], thrusters.command_min[i], thrusters.command_max[i])
-        thrust = type(cv).thrust_batch([cv] * nodes.size, ci, np.ascontiguousarray(va[:, i]))
+        thrust = curve_thrusts(cv, ci, va[:, i])
         f[:, i] = np.clip(thrust, thrusters.f_min[i], thrusters.f_max[i])
     tau = f @ thrusters.configuration_matrix().T
     d = defl[seg]
@@ -346,6 +350,32 @@ def force_table(
             one[i] = f[k, i]
             rate[k, i] = thrusters.command_for_thrust(one, va[k])[i]
     return np.column_stack([nodes, tau, d, f, rate])
+
+
+def curve_thrusts(curve: Any, command: np.ndarray, advance_speed: np.ndarray) -> np.ndarray:
+    """The thrust (N) of one thruster's ``curve`` at each ``command`` (its unit) and advance
+    speed (m/s): ``type(curve).thrust_batch`` — for a table, a propeller and an ideal curve its
+    law (:func:`~hydrokit.model.thrusters.table_interp`,
+    :func:`~hydrokit.model.thrusters.propeller_thrust`) compiled and looped over the nodes."""
+    from hydrokit.model.thrusters import IdealCurve, PropellerCurve, TableCurve
+    from hydrokit.sysid.kernels import as_array, propeller_thrusts, table_thrusts
+
+    x = np.ascontiguousarray(command, dtype=float)
+    out = np.empty(x.size)
+    if type(curve) is TableCurve:
+        table_thrusts(x, as_array(curve.commands), as_array(curve.thrusts), out)
+        return out
+    if type(curve) is PropellerCurve:
+        D, rho, j_lo, j_hi, kt_f, kt_r, loss_f, loss_r = curve.law_args
+        va = np.ascontiguousarray(advance_speed, dtype=float)
+        args = (float(D), float(rho), float(j_lo), float(j_hi), as_array(kt_f), as_array(kt_r))
+        propeller_thrusts(x, va, *args, float(loss_f), float(loss_r), out)
+        return out
+    if type(curve) is IdealCurve:
+        return x.copy()
+    return np.asarray(
+        type(curve).thrust_batch([curve] * x.size, x, np.ascontiguousarray(advance_speed, dtype=float)), float
+    )
 
 
 def _advance_speeds(run: RunData, thrusters: Any, nodes: np.ndarray) -> np.ndarray:
@@ -524,6 +554,7 @@ def simulate_run(prep: PreparedRun, packs: Mapping[str, Any], x0: np.ndarray) ->
     interpolated between integration steps, and the steps each vehicle took (fewer: it diverged).
     """
     from hydrokit.simulate.compiled import rk4_batch
+    from hydrokit.sysid.kernels import rk4_batch_shared
 
     x0 = np.ascontiguousarray(x0, dtype=float)
     nv = x0.shape[0]
@@ -532,8 +563,10 @@ def simulate_run(prep: PreparedRun, packs: Mapping[str, Any], x0: np.ndarray) ->
     out = np.full((nv, n_steps + 1, 12), np.nan)
     done = np.empty(nv, dtype=np.int64)
     own = vehicle_tables(prep, list(packs["vehicles"])) if "vehicles" in packs else None
-    tab = own if own is not None else np.ascontiguousarray(np.broadcast_to(prep.table, (nv, *prep.table.shape)))
-    rk4_batch(
+    # one table for all vehicles unless their thrusters differ (a copy per vehicle cost more than
+    # the fit's linear algebra)
+    batch, tab = (rk4_batch, own) if own is not None else (rk4_batch_shared, np.ascontiguousarray(prep.table))
+    batch(
         x0,
         float(dt),
         n_steps,

@@ -1,0 +1,99 @@
+"""Compiled loops of identification over a run's rows and nodes (issue #50: bench/sysid.py under
+15 s): the rotor lag, the thrust curves and the batch RK4 of many vehicles sharing one force
+table. Each loop only calls the laws of :mod:`hydrokit.model.thrusters` compiled by
+``compile_law`` (:mod:`hydrokit.simulate.compiled`) and the RK4 run of the batch integrator —
+no law is written here. The kernels release the GIL, so independent runs can be built on threads.
+"""
+
+from __future__ import annotations
+
+import numba
+import numpy as np
+
+from hydrokit._numba import njit
+from hydrokit.simulate.compiled import (
+    propeller_thrust_compiled,
+    rk4_run,
+    rotor_lag_compiled,
+    table_interp_compiled,
+)
+
+
+@njit(nogil=True)
+def rotor_rows(target, t, time_constants, out):  # noqa: ANN001, ANN201
+    """The rotor state at every row (``out``, (n, m), command unit): row 0 is given, row k follows
+    from row k − 1 by :func:`~hydrokit.model.thrusters.rotor_lag` towards the held ``target`` of
+    row k − 1 ((n, m), already within the command limits) over t_k − t_(k−1) (s); τ =
+    ``time_constants`` (m,) s."""
+    n, m = target.shape
+    for k in range(1, n):
+        h = t[k] - t[k - 1]
+        for i in range(m):
+            out[k, i] = rotor_lag_compiled(out[k - 1, i], target[k - 1, i], h, time_constants[i])
+
+
+@njit(nogil=True)
+def rotor_nodes(c, target, h, time_constants, out):  # noqa: ANN001, ANN201
+    """``out[j, i]`` = :func:`~hydrokit.model.thrusters.rotor_lag` from ``c[j, i]`` towards
+    ``target[j, i]`` (command unit) over ``h[j]`` (s) with τ = ``time_constants[i]`` (s)."""
+    k, m = c.shape
+    for j in range(k):
+        for i in range(m):
+            out[j, i] = rotor_lag_compiled(c[j, i], target[j, i], h[j], time_constants[i])
+
+
+@njit(nogil=True)
+def table_thrusts(x, xs, ys, out):  # noqa: ANN001, ANN201
+    """``out[j]`` = :func:`~hydrokit.model.thrusters.table_interp` of the table (xs, ys) at x[j]."""
+    n = xs.shape[0]
+    for j in range(x.shape[0]):
+        out[j] = table_interp_compiled(x[j], xs, ys, n)
+
+
+@njit(nogil=True)
+def propeller_thrusts(n, va, D, rho, j_lo, j_hi, kt_forward, kt_reverse, loss_forward, loss_reverse, out):  # noqa: ANN001, ANN201, PLR0913
+    """``out[j]`` = :func:`~hydrokit.model.thrusters.propeller_thrust` at n[j] (rev/s) and
+    va[j] (m/s), the curve's arguments after them as the law takes them."""
+    for j in range(n.shape[0]):
+        out[j] = propeller_thrust_compiled(
+            n[j], va[j], D, rho, j_lo, j_hi, kt_forward, kt_reverse, loss_forward, loss_reverse
+        )
+
+
+@njit(parallel=True)
+def rk4_batch_shared(
+    x0, dt, n_steps, every, quat, tau_tab, cur_tab, Minv, Mc, DL, DQ, scal, t_dof, t_coef, t_kind, t_idx, out, done
+):  # noqa: ANN001, ANN201
+    """:func:`hydrokit.simulate.compiled.rk4_batch` with one force table ``tau_tab`` (k, columns)
+    shared by all vehicles (the batch of a run's perturbed vehicles, whose thrusters agree),
+    instead of one copy per vehicle."""
+    nv = x0.shape[0]
+    for k in numba.prange(nv):
+        done[k] = rk4_run(
+            x0[k],
+            0.0,
+            dt,
+            n_steps,
+            every,
+            quat,
+            tau_tab,
+            cur_tab,
+            Minv[k],
+            Mc[k],
+            DL[k],
+            DQ[k],
+            scal[k],
+            t_dof,
+            t_coef[k],
+            t_kind,
+            t_idx,
+            out[k],
+        )
+
+
+def as_array(values: object) -> np.ndarray:
+    """A curve's table or polynomial as a contiguous float array (the kernels' argument)."""
+    return np.ascontiguousarray(np.asarray(values, dtype=float))
+
+
+__all__ = ["propeller_thrusts", "rk4_batch_shared", "rotor_nodes", "rotor_rows", "table_thrusts"]

@@ -1,0 +1,126 @@
+"""The compiled loops of identification (hydrokit.sysid.kernels, issue #50: bench/sysid.py under
+15 s) against a second method: the force table built row by row with the thruster set's own
+Python methods (``ThrusterSet.rotor_step`` per row, ``thrust_batch`` of each curve), and the
+batch RK4 with one shared force table against the batch RK4 with a copy per vehicle."""
+
+from __future__ import annotations
+
+import copy
+from typing import Any
+
+import numpy as np
+
+import hydrokit
+from hydrokit.io.runlog import RunLog
+from hydrokit.sysid.data import generate_runs, hidden_vehicle
+from hydrokit.sysid.model import curve_thrusts, force_table, prepare_run, simulate_run, stack_packs
+
+
+def _python_rotor_and_thrust(run: Any, thrusters: Any, nodes: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """The rotor state and thrust (before the thrust limits) at ``nodes`` with the thruster set's
+    Python methods: the second method (bench/sysid.py's force tables before the kernels)."""
+    t = np.asarray(run.time, float)
+    cmd = np.column_stack([np.asarray(run.commands[n], float) for n in thrusters.names])
+    c_row = np.empty_like(cmd)
+    c_row[0] = np.clip(cmd[0], thrusters.command_min, thrusters.command_max)
+    for k in range(1, t.size):
+        c_row[k] = thrusters.rotor_step(c_row[k - 1], cmd[k - 1], float(t[k] - t[k - 1]))
+    seg = np.clip(np.searchsorted(t, nodes, side="right") - 1, 0, t.size - 1)
+    c = thrusters.rotor_step(c_row[seg], cmd[seg], (nodes - t[seg])[:, None])
+    at_row = np.isin(nodes, t)
+    c[at_row] = c_row[seg[at_row]]
+    thrust = np.empty_like(c)
+    for i, cv in enumerate(thrusters.curves):
+        ci = np.clip(c[:, i], thrusters.command_min[i], thrusters.command_max[i])
+        thrust[:, i] = type(cv).thrust_batch([cv] * nodes.size, ci, np.zeros(nodes.size))
+    return c, thrust
+
+
+def test_table_thrusters_force_table_equals_the_row_by_row_python_laws() -> None:
+    base = hydrokit.load_vehicle("bluerov2-sysid")
+    (run,) = generate_runs(hidden_vehicle(base, 3), 1, 20.0, seed=3)
+    th = base.thrusters
+    tab = force_table(run, th, 0.01, base.surfaces.names)
+    nodes = tab[:, 0]
+    _, thrust = _python_rotor_and_thrust(run, th, nodes)
+    f = np.clip(thrust, th.f_min, th.f_max)
+    m = len(th)
+    # the same laws in the same order of operations: equal bit for bit (np.interp-equal tables,
+    # the rotor's exact exponential step)
+    np.testing.assert_array_equal(tab[:, 7 : 7 + m], f)
+    np.testing.assert_array_equal(tab[:, 1:7], f @ th.configuration_matrix().T)
+    assert np.ptp(f) > 10.0  # the run drives the thrusters over most of their range
+
+
+def test_propeller_curve_thrusts_equal_the_curve_method() -> None:
+    from tests.simulate.test_sysid_surfaces import SHIP
+
+    from hydrokit.api import vehicle_from_dict
+
+    ship = vehicle_from_dict(copy.deepcopy(SHIP), "ship")
+    (cv,) = ship.thrusters.curves
+    rng = np.random.default_rng(5)
+    n = rng.uniform(-cv.max_speed, cv.max_speed, 500)
+    n[:3] = (0.0, cv.max_speed, -cv.max_speed)
+    va = rng.uniform(-1.0, 2.0, 500)
+    va[3] = 0.0
+    want = np.array([cv.thrust(a, b) for a, b in zip(n, va)])
+    got = curve_thrusts(cv, n, va)
+    # compiled, D**4 may be a product instead of pow(): a few ulp
+    np.testing.assert_allclose(got, want, rtol=1e-14, atol=1e-12)
+    assert np.ptp(want) > 1.0
+
+
+def test_shared_table_batch_equals_a_copy_per_vehicle() -> None:
+    from hydrokit.simulate.compiled import rk4_batch
+
+    base = hydrokit.load_vehicle("bluerov2-sysid")
+    truth = hidden_vehicle(base, 4)
+    (run,) = generate_runs(truth, 1, 10.0, seed=4)
+    prep = prepare_run(run, base.thrusters, 0.01, surfaces=base.surfaces.names)
+    packs = stack_packs([base, truth, hidden_vehicle(base, 5)])
+    x0 = np.zeros((3, 12))
+    x0[:, 6] = (0.1, 0.2, 0.0)
+    pred, done = simulate_run(prep, packs, x0)
+    n_steps = int(np.ceil(prep.duration / prep.dt - 1e-9))
+    out = np.full((3, n_steps + 1, 12), np.nan)
+    done2 = np.empty(3, dtype=np.int64)
+    tab = np.ascontiguousarray(np.broadcast_to(prep.table, (3, *prep.table.shape)))
+    env = np.zeros((1, 4))
+    keys = ("Minv", "Mc", "DL", "DQ", "scal", "t_dof", "t_coef", "t_kind", "t_idx")
+    rk4_batch(x0, prep.dt, n_steps, 1, False, tab, env, *(packs[k] for k in keys), out, done2)
+    np.testing.assert_array_equal(done, done2)
+    assert np.all(done == n_steps)
+    # the prediction at the samples from the copied-table run, interpolated as simulate_run does
+    k = 0
+    for c, ts in zip(prep.channels, prep.times):
+        col = out[:, :, list(hydrokit.sysid.model.CHANNELS).index(c)]
+        pos = ts / prep.dt
+        i0 = np.clip(np.floor(pos).astype(int), 0, n_steps - 1)
+        w = pos - i0
+        np.testing.assert_array_equal(pred[:, k : k + ts.size], col[:, i0] * (1 - w) + col[:, i0 + 1] * w)
+        k += ts.size
+    assert np.max(np.abs(pred[1] - pred[0])) > 0  # the vehicles differ
+
+
+def test_measured_thrust_column_is_held_as_given() -> None:
+    base = hydrokit.load_vehicle("bluerov2-sysid")
+    th = base.thrusters
+    t = np.arange(0.0, 1.0, 0.125)  # binary fractions: the dt/2 grid falls on the rows exactly
+    cmds = {n: np.where(t >= 0.5, 0.5, 0.0) for n in th.names[1:]}
+    thrusts = {th.names[0]: np.where(t >= 0.25, 7.0, -3.0)}
+    run = RunLog("held", "held", t, {"u": (t, np.zeros(t.size))}, cmds, thrusts=thrusts)
+    tab = force_table(run, th, 0.25, base.surfaces.names)
+    f0 = tab[:, 7]
+    # held: −3 N up to the row at 0.25 s itself, 7 N from just after it
+    np.testing.assert_array_equal(f0[tab[:, 0] <= 0.25], -3.0)
+    np.testing.assert_array_equal(f0[tab[:, 0] > 0.25], 7.0)
+    # the other thrusters follow their rotor lag (τ = 0.1 s) from 0 at the step at 0.5 s:
+    # the table curve at c = 0.5 (1 − e^(−Δt/τ)) (closed form of the lag, then the table)
+    after = tab[:, 0] > 0.5
+    dt_after = tab[after, 0] - 0.5
+    c = 0.5 * (1.0 - np.exp(-dt_after / 0.1))
+    cv = th.curves[1]
+    want = np.interp(c, cv.commands, cv.thrusts)
+    np.testing.assert_allclose(tab[after, 8], want, rtol=1e-12, atol=1e-12)
+    assert np.all(tab[~after, 8] == 0.0) and tab[-1, 8] > 1.0
