@@ -208,8 +208,8 @@ EQUIVALENT: dict[tuple[str, str, str], str] = {
     ): ("row is a packed drag element of core.drag, PACKED_WIDTH = 9 entries: the slice 6:10 is 6:9"),
     (
         "model/allocation.py",
-        "if np.all(g >= lo) and np.all(g <= hi) and np.linalg.norm(T @ g - target) <= np.linalg.norm(T @ f - target):",
-        "<= -> < [2]",
+        "if _norm_diff(T @ g, target) <= _norm_diff(T @ f, target):",
+        "<= -> <",
     ): (
         "differs only when a free thruster's exact KKT force lands on its limit to the last bit, a thruster "
         "the active-set test (within tol of the limit) has just called free: then f, within tol of the same "
@@ -336,7 +336,7 @@ EQUIVALENT: dict[tuple[str, str, str], str] = {
     ): ("the inner default only avoids 1/0 where reach == 0, and there the outer np.where takes its own 1.0"),
     (
         "model/allocation.py",
-        'f2 = np.clip(lsq_linear(self.A, b, bounds=self.bounds, method="bvls", tol=1e-12).x, lo, hi)',
+        "f2 = _clip_vec(bvls(A2, b2, lo_s, hi_s, 1e-12), lo, hi)",
         "1e-12 -> 1.000000000001",
     ): (
         "numerically equivalent, not exactly: BVLS's stopping tolerance only decides how far it refines "
@@ -424,19 +424,9 @@ EQUIVALENT: dict[tuple[str, str, str], str] = {
         "differs only when the amplitude trend's slope is exactly −3 standard errors to the last bit "
         "(probability 0): the edge of the 'still decaying' test"
     ),
-    ("model/allocation.py", "active = (f <= lo + tol) | (f >= hi - tol)", ">= -> >"): (
+    ("model/allocation.py", "active[i] = f[i] <= lo[i] + tol[i] or f[i] >= hi[i] - tol[i]", ">= -> >"): (
         "differs only for a thrust exactly tol below its upper limit to the last bit (tol ≥ 1e-7 N, "
         "and a clipped thrust sits at the limit itself): probability 0"
-    ),
-    (
-        "model/allocation.py",
-        "if np.all(g >= lo) and np.all(g <= hi) and np.linalg.norm(T @ g - target) <= np.linalg.norm(T @ f - target):",
-        "- -> + [2]",
-    ): (
-        "g is the least-squares point for f's own active set, so its residual exceeds f's by at most "
-        "the limit tolerance (1e-7 of the thrust scale); the mutant then takes g where the original "
-        "kept f, both within that tolerance of a*, and solve() still checks the residual: 2000 "
-        "random layouts (3–12 thrusters, half with parallel groups) gave identical thrusts"
     ),
     ("model/thrusters.py", "fwd = f > 0", "> -> >="): (
         "f = 0 returned 0.0 two lines above, so f ≥ 0 and f > 0 agree on every f that reaches this line"
@@ -518,10 +508,6 @@ EQUIVALENT: dict[tuple[str, str, str], str] = {
         "differs only when the fitted launch amplitude equals the GZ table's last angle to the last bit; "
         "there the righting arm is the table's own end value either way (no extrapolation happens), so "
         "the warning's absence or presence at that single float is immaterial"
-    ),
-    ("model/allocation.py", "g = np.where(active, fixed, 0.0)", "0.0 -> 1.0"): (
-        "the free entries' fill value: every free entry is overwritten by the minimum-norm solution on the "
-        "next lines (g[free] = ...) before g is read"
     ),
     # the advance-ratio guard of propeller_thrust
     **_alike(
@@ -850,11 +836,11 @@ EQUIVALENT: dict[tuple[str, str, str], str] = {
         "down 100 or 1000 times (Python API) only the stage-2 penalty's weight changes, and _polish solves "
         "the active set exactly: the thrusts of 150 random saturating demands agreed to 7e-10 N"
     ),
-    ("model/allocation.py", "active = (f <= lo + tol) | (f >= hi - tol)", "<= -> <"): (
+    ("model/allocation.py", "active[i] = f[i] <= lo[i] + tol[i] or f[i] >= hi[i] - tol[i]", "<= -> <"): (
         "f equals lo + tol (a limit plus 1e-7 of it) only by coincidence to the last bit: f at the limit "
         "itself (clipped) passes both; probability 0 otherwise"
     ),
-    ("model/allocation.py", "fixed = np.where(f <= lo + tol, lo, hi)", "<= -> <"): (
+    ("model/allocation.py", "g[i] = lo[i] if f[i] <= lo[i] + tol[i] else hi[i]", "<= -> <"): (
         "f equals lo + tol (a limit plus 1e-7 of it) only by coincidence to the last bit: f at the limit "
         "itself (clipped) passes both; probability 0 otherwise"
     ),
@@ -980,9 +966,11 @@ EQUIVALENT: dict[tuple[str, str, str], str] = {
         "the release half cycle's end exactly 0.3 median periods after the first sample, to the last "
         "bit: the two tests split only there"
     ),
-    ("model/allocation.py", "if q2 <= q1 + 1e-8 * self.thrust_scale * self.q_max:", "<= -> <"): (
-        "stage 2 losing exactly the tolerance, to the last bit: the two tests split only there"
-    ),
+    (
+        "model/allocation.py",
+        "if math.sqrt(q2) <= math.sqrt(q1) + 1e-8 * thrust_scale * q_max:",
+        "<= -> <",
+    ): ("stage 2 losing exactly the tolerance, to the last bit: the two tests split only there"),
     (
         "model/thrusters.py",
         "return (0.0,) * (4 - len(coeffs)) + tuple(coeffs) if len(coeffs) <= 4 else tuple(coeffs)",

@@ -170,14 +170,18 @@ def njit(func: Callable[..., Any] | None = None, **options: Any) -> Any:  # noqa
 njit_noalloc = njit(_nrt=False)
 
 
-def compile_law(func, **callees):  # noqa: ANN001, ANN003, ANN201
+def compile_law(func, *, allocates=False, **callees):  # noqa: ANN001, ANN003, ANN201
     """``njit_noalloc`` of a law written once on plain floats in core/ or model/, with the laws it
     calls (``callees``: name → their compiled dispatchers) bound in its globals — numba calls
     only compiled functions, the Python original keeps calling the Python ones. Not a copy: the
     same code object. Its disk cache is keyed on the law's source and its callees' (transitively),
-    so a changed law is recompiled in the next process (:class:`LawCache`)."""
+    so a changed law is recompiled in the next process (:class:`LawCache`).
+
+    ``allocates=True`` compiles with numba's reference counting (``njit``) for a law that creates
+    arrays (the bounded least squares of the constrained allocation); its callees must be
+    compiled the same way, and only such kernels may call it."""
     scope = dict(func.__globals__)
     scope.update(callees)
     bound = types.FunctionType(func.__code__, scope, func.__name__, func.__defaults__, func.__closure__)
     bound.__module__, bound.__qualname__, bound.__doc__ = func.__module__, func.__qualname__, func.__doc__
-    return njit_noalloc(bound)
+    return njit(bound) if allocates else njit_noalloc(bound)

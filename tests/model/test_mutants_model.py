@@ -859,9 +859,9 @@ def test_a_polished_allocation_beyond_a_limit_is_not_used(target):
     T = np.array([[1.0, 1.0]])
     lo, hi = np.array([-1.0, -1.0]), np.array([1.0, 1.0])
     f = np.array([0.5, 0.9]) * np.sign(target)
-    np.testing.assert_array_equal(_polish(T, np.array([target]), f, lo, hi, 1e-6, {}), f)
+    np.testing.assert_array_equal(_polish(T, np.array([target]), f, lo, hi, np.full(2, 1e-6)), f)
     reach = np.array([1.5 * np.sign(target)])
-    np.testing.assert_allclose(_polish(T, reach, f, lo, hi, 1e-6, {}), [0.75 * np.sign(target)] * 2, rtol=1e-12)
+    np.testing.assert_allclose(_polish(T, reach, f, lo, hi, np.full(2, 1e-6)), [0.75 * np.sign(target)] * 2, rtol=1e-12)
 
 
 @pytest.mark.parametrize("bad", [5, "fin", {"name": "fin"}, 2.5])

@@ -7,16 +7,18 @@ forces f (N) with τ = T f, where column i of the 6×m configuration matrix T is
 
 from __future__ import annotations
 
+import functools
+import math
 from dataclasses import dataclass, field
 from typing import Any
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from hydrokit._quiet import quiet
 from hydrokit._result import Result, jsonable
 from hydrokit.core.names import DOF_NAMES
 from hydrokit.errors import InputError
+from hydrokit.model.bvls import _cols, _kkt, _on_bound_part, bvls, lstsq_small
 
 Array = NDArray[np.float64]
 
@@ -295,7 +297,7 @@ def allocate_constrained(
     """Allocation within every thruster's limits; least residual, then least thrust.
 
     Stage 1 solves ``min |T f − τ|`` subject to ``f_min ≤ f ≤ f_max`` (bounded least squares,
-    :func:`scipy.optimize.lsq_linear`, BVLS). The achieved force a* = T f* of that problem
+    :func:`hydrokit.model.bvls.bvls`, scipy's BVLS step by step). The achieved force a* = T f* of that problem
     is unique (the objective is strictly convex in T f), so every optimal f satisfies
     T f = a*. Stage 2 picks the one with the smallest |f| among them:
     ``min W² |T̂ f − â*|² + |f|²`` within the bounds, with T̂, â* scaled so |T̂| = 1 and
@@ -349,80 +351,173 @@ def _thrust_limits(f_min: ArrayLike, f_max: ArrayLike, m: int) -> tuple[Array, A
 class _ConstrainedSolver:
     """The two stages of :func:`allocate_constrained` for one T and one set of limits, with
     everything that does not depend on τ computed once (the closed loop calls it with a new
-    τ every step it saturates). The arrays are computed by the same expressions as before,
-    so the solution is the same bit for bit."""
+    τ every step it saturates). The packed arrays are the compiled closed loop's too, in the same
+    layout (Q T and the stage-2 matrix in Fortran order), so both call one specialization of
+    :func:`constrained_kernel`."""
 
     def __init__(self, T: Array, lo: Array, hi: Array, dof_weights: ArrayLike | None) -> None:
         m = T.shape[1]
-        self.T, self.lo, self.hi = T, lo, hi
-        # Degenerate bounds (min == max) are allowed by the maths but not by lsq_linear.
+        self.T, self.lo, self.hi = np.asfortranarray(T, dtype=np.float64), lo, hi
+        # Degenerate bounds (min == max) are allowed by the maths but not by BVLS.
         fixed = hi - lo <= 0
         lo_s, hi_s = lo.copy(), hi.copy()
         hi_s[fixed] = lo[fixed] + 1e-12
-        self.bounds = (lo_s, hi_s)
-        self.Q = Q = np.ones(6) if dof_weights is None else np.asarray(dof_weights, dtype=float).reshape(6)
-        self.QT = Q[:, None] * T
+        self.bounds = (np.ascontiguousarray(lo_s, dtype=np.float64), np.ascontiguousarray(hi_s, dtype=np.float64))
+        Q = np.ones(6) if dof_weights is None else np.asarray(dof_weights, dtype=float).reshape(6)
+        self.Q = np.ascontiguousarray(Q, dtype=np.float64)
+        self.QT = np.asfortranarray(Q[:, None] * T, dtype=np.float64)
         self.scale = scale = max(float(np.linalg.norm(T, 2)), 1e-300)
-        self.A = np.vstack([_STAGE2_WEIGHT * T / scale, np.eye(m)])
-        self.zeros = np.zeros(m)
+        self.A = np.asfortranarray(np.vstack([_STAGE2_WEIGHT * T / scale, np.eye(m)]), dtype=np.float64)
         self.thrust_scale = max(float(np.max(np.abs(np.concatenate([lo, hi])))), 1.0)
         self.q_max = float(np.max(Q))
-        self.polish_tol = 1e-7 * np.maximum(np.maximum(np.abs(lo), np.abs(hi)), 1.0)
-        self.pinvs: dict[bytes, Array] = {}
+        self.polish_tol = np.ascontiguousarray(1e-7 * np.maximum(np.maximum(np.abs(lo), np.abs(hi)), 1.0))
+        self._lo = np.ascontiguousarray(lo, dtype=np.float64)
+        self._hi = np.ascontiguousarray(hi, dtype=np.float64)
+
+    def args(self, tau: Array) -> tuple[Any, ...]:
+        """The arguments of :func:`constrained_law` for the demanded τ (N, N·m)."""
+        lo_s, hi_s = self.bounds
+        return (
+            np.ascontiguousarray(tau, dtype=np.float64),
+            self.T,
+            self._lo,
+            self._hi,
+            lo_s,
+            hi_s,
+            self.Q,
+            self.QT,
+            self.A,
+            self.scale,
+            self.thrust_scale,
+            self.q_max,
+            self.polish_tol,
+        )
 
     def solve(self, tau: Array) -> tuple[Array, Array, float]:
-        """(f, T f, |T f − τ|) for the demanded τ."""
-        from scipy.optimize import lsq_linear
-
-        T, lo, hi, Q = self.T, self.lo, self.hi, self.Q
-        with quiet("scipy lsq_linear", fds=False):
-            f1 = lsq_linear(self.QT, Q * tau, bounds=self.bounds, method="bvls", tol=1e-12).x
-        f1 = np.clip(f1, lo, hi)
-        a1 = T @ f1
-        r1 = float(np.linalg.norm(a1 - tau))
-
-        b = np.concatenate([_STAGE2_WEIGHT * a1 / self.scale, self.zeros])
-        with quiet("scipy lsq_linear", fds=False):
-            f2 = np.clip(lsq_linear(self.A, b, bounds=self.bounds, method="bvls", tol=1e-12).x, lo, hi)
-        f2 = _polish(T, a1, f2, lo, hi, self.polish_tol, self.pinvs)
-        a2 = T @ f2
-        r2 = float(np.linalg.norm(a2 - tau))
-        q1 = float(np.linalg.norm(Q * (a1 - tau)))
-        q2 = float(np.linalg.norm(Q * (a2 - tau)))
-        if q2 <= q1 + 1e-8 * self.thrust_scale * self.q_max:
-            return f2, a2, r2
-        return f1, a1, r1  # defensive: stage 2 is designed not to lose residual (tested by forcing it)
+        """(f, T f, |T f − τ|) for the demanded τ: N, N and N·m, N."""
+        f = constrained_kernel()(*self.args(tau))
+        a = self.T @ f
+        return f, a, float(np.linalg.norm(a - tau))
 
 
-def _polish(
-    T: Array,
-    target: Array,
-    f: Array,
-    lo: Array,
-    hi: Array,
-    tol: Array,
-    pinvs: dict[bytes, Array],
-) -> Array:
-    """Remove the penalty's small bias: keep the thrusters found at a limit, give the others
-    the exact minimum-norm solution of T f = target (the KKT point for that active set).
-    The polished point is used only if it stays within the limits.
+def _clip_vec(x, lo, hi):  # noqa: ANN001, ANN202
+    out = np.empty_like(x)
+    for i in range(x.shape[0]):
+        out[i] = min(max(x[i], lo[i]), hi[i])
+    return out
 
-    ``tol`` is the limit tolerance (N, per thruster); ``pinvs`` caches the pseudo-inverse of
-    T's free columns per active set (one T per allocator, so the dict is the allocator's)."""
-    active = (f <= lo + tol) | (f >= hi - tol)
-    if np.all(active):
+
+def _norm_diff(a, b):  # noqa: ANN001, ANN202
+    s = 0.0
+    for i in range(a.shape[0]):
+        s += (a[i] - b[i]) * (a[i] - b[i])
+    return math.sqrt(s)
+
+
+def _polish(T, target, f, lo, hi, tol):  # noqa: ANN001, ANN202
+    """Remove the stage-2 penalty's small bias: keep the thrusters found at a limit, give the
+    others the exact minimum-norm solution of T f = target (the KKT point for that active set).
+    The polished point is used only if it stays within the limits and misses the target by no
+    more than f does.
+
+    T : (6, m) array; target : 6 floats, N and N·m; f, lo, hi : m floats, N; tol : m floats —
+    the limit tolerance, N."""
+    m = f.shape[0]
+    active = np.empty(m, dtype=np.bool_)
+    n_free = 0
+    for i in range(m):
+        active[i] = f[i] <= lo[i] + tol[i] or f[i] >= hi[i] - tol[i]
+        if not active[i]:
+            n_free += 1
+    if n_free == 0:
         return f
-    fixed = np.where(f <= lo + tol, lo, hi)
-    g = np.where(active, fixed, 0.0)
-    free = ~active
-    key = free.tobytes()
-    if key not in pinvs:
-        pinvs[key] = np.linalg.pinv(T[:, free])  # type: ignore[assignment]
-    Tp = pinvs[key]
-    g[free] = Tp @ (target - T[:, active] @ fixed[active])
-    if np.all(g >= lo) and np.all(g <= hi) and np.linalg.norm(T @ g - target) <= np.linalg.norm(T @ f - target):
+    g = np.zeros(m)
+    free = np.empty(n_free, dtype=np.int64)
+    k = 0
+    for i in range(m):
+        if active[i]:
+            g[i] = lo[i] if f[i] <= lo[i] + tol[i] else hi[i]
+        else:
+            free[k] = i
+            k += 1
+    rhs = target - T @ g  # g is zero on the free thrusters here
+    # pinv(T_free) @ rhs as the minimum-norm least-squares solution (singular values below
+    # 1e-15 of the largest cut, as numpy.linalg.pinv)
+    gf = lstsq_small(_cols(T, free, n_free), rhs, 1e-15)
+    for jj in range(n_free):
+        g[free[jj]] = gf[jj]
+    for i in range(m):
+        if not (g[i] >= lo[i] and g[i] <= hi[i]):
+            return f
+    if _norm_diff(T @ g, target) <= _norm_diff(T @ f, target):
         return g
     return f
+
+
+def constrained_law(tau, T, lo, hi, lo_s, hi_s, Q, QT, A2, scale, thrust_scale, q_max, ptol):  # noqa: ANN001, ANN201
+    """The thrusts of :func:`allocate_constrained`, written once: the Python allocator and the
+    compiled closed loop call it compiled (:func:`constrained_kernel`).
+
+    Parameters
+    ----------
+    tau : 6 floats — demanded [X Y Z K M N], N and N·m (unactuated DOFs already zeroed)
+    T : (6, m) array — configuration matrix, – and m
+    lo, hi : m floats — thrust limits, N
+    lo_s, hi_s : m floats — the same with a degenerate pair (min = max) opened by 1e-12 N
+    Q : 6 floats — DOF weights, 1/N and 1/(N·m)
+    QT : (6, m) array — Q T
+    A2 : (6 + m, m) array — the stage-2 system [W T / |T|₂; I]
+    scale : float — |T|₂; thrust_scale : float — the largest |limit| (≥ 1), N; q_max : float — max Q
+    ptol : m floats — the polishing step's limit tolerance, N
+
+    Returns
+    -------
+    m floats — the thrusts, N
+    """
+    m = T.shape[1]
+    f1 = _clip_vec(bvls(QT, Q * tau, lo_s, hi_s, 1e-12), lo, hi)
+    a1 = T @ f1
+    b2 = np.zeros(6 + m)
+    for i in range(6):
+        b2[i] = _STAGE2_WEIGHT * a1[i] / scale
+    f2 = _clip_vec(bvls(A2, b2, lo_s, hi_s, 1e-12), lo, hi)
+    f2 = _polish(T, a1, f2, lo, hi, ptol)
+    a2 = T @ f2
+    q1 = 0.0
+    q2 = 0.0
+    for i in range(6):
+        q1 += (Q[i] * (a1[i] - tau[i])) ** 2
+        q2 += (Q[i] * (a2[i] - tau[i])) ** 2
+    if math.sqrt(q2) <= math.sqrt(q1) + 1e-8 * thrust_scale * q_max:
+        return f2
+    return f1  # defensive: stage 2 is designed not to lose residual (tested by forcing it)
+
+
+@functools.cache
+def constrained_kernel() -> Any:  # noqa: ANN401
+    """:func:`constrained_law` compiled with the laws it calls (numba is imported here, at the
+    first saturated allocation, not when this module is)."""
+    from hydrokit._numba import compile_law
+
+    lstsq = compile_law(lstsq_small, allocates=True)
+    cols = compile_law(_cols, allocates=True)
+    solver = compile_law(
+        bvls,
+        allocates=True,
+        lstsq_small=lstsq,
+        _cols=cols,
+        _on_bound_part=compile_law(_on_bound_part, allocates=True),
+        _kkt=compile_law(_kkt, allocates=True),
+    )
+    return compile_law(
+        constrained_law,
+        allocates=True,
+        bvls=solver,
+        _clip_vec=compile_law(_clip_vec, allocates=True),
+        _polish=compile_law(
+            _polish, allocates=True, lstsq_small=lstsq, _cols=cols, _norm_diff=compile_law(_norm_diff, allocates=True)
+        ),
+    )
 
 
 def pinv_allocate(P, tau, f_min, f_max, f):  # noqa: ANN001, ANN201

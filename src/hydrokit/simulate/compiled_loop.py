@@ -19,18 +19,17 @@ record, the fleet):
   rotation R(Θ) of the current into body axes (:func:`hydrokit.core.kinematics.rotation_zyx_entries`);
 - vehicle: the RK4 step :func:`hydrokit.simulate.compiled.deriv_rk4_step` with the thrust held;
 - the record: :func:`hydrokit.simulate.closed_loop.new_record` and ``record_result``;
-- the fleet's metrics: the path distance :func:`hydrokit.model.guidance.point_path_distance`.
+- the fleet's metrics: the path distance :func:`hydrokit.model.guidance.point_path_distance`;
+- allocation beyond a limit: :func:`hydrokit.model.allocation.constrained_kernel`, the two-stage
+  constrained allocation (bounded least squares, :mod:`hydrokit.model.bvls`, and the polishing
+  step) that the Python :class:`~hydrokit.model.allocation.Allocator` calls too.
 
-Still compiled *copies* of a numpy source (a debt, issue #50): when a limit would be broken,
-the two-stage constrained allocation of :func:`~hydrokit.model.allocation.allocate_constrained`
-with a line-by-line port of scipy's BVLS (:func:`scipy.optimize.lsq_linear`, ``method="bvls"``)
-and the polishing step. The advance speed is the law
-:func:`hydrokit.model.thrusters.advance_speed_law`, as in ``ThrusterSet.advance_speed``.
+The advance speed is the law :func:`hydrokit.model.thrusters.advance_speed_law`, as in
+``ThrusterSet.advance_speed``.
 
 Agreement is to round-off, not bit for bit: the small matrix–vector products (T f) are plain
 loops here, where numpy calls BLAS (calling BLAS from the loop made it three
-times slower), and the constrained allocation's least-squares solves go through numba's LAPACK
-where the Python loop calls scipy. States, τ and thrusts then agree to ~1e-13 of their scale.
+times slower). States, τ and thrusts then agree to ~1e-13 of their scale.
 Two places turn round-off into more, in both loops alike: a propeller command n = ±√(|f|/k)
 for a thrust demand that is zero up to round-off (±1e-14 N gives ±5e-7 rev/s), and the
 allocation's polishing step, kept only if it stays within the limits, when a thruster lands
@@ -53,7 +52,7 @@ from numpy.typing import ArrayLike
 
 from hydrokit.core.kinematics import wrap_angle
 from hydrokit.errors import InputError, SimulationError
-from hydrokit.model.allocation import Allocator, _ConstrainedSolver, pinv_allocate
+from hydrokit.model.allocation import Allocator, _ConstrainedSolver, constrained_kernel, pinv_allocate
 from hydrokit.model.control import (
     PID,
     Autopilot,
@@ -81,7 +80,6 @@ from hydrokit.simulate.compiled import propeller_thrust_compiled as _propeller_t
 from hydrokit.simulate.compiled import rotation_zyx_entries_compiled as _rotation_zyx
 from hydrokit.simulate.compiled import table_interp_compiled as _table_interp
 
-_EPS = float(np.finfo(float).eps)
 _depth_to_pitch = compile_law(depth_to_pitch)
 _pid_law = compile_law(pid_law)
 _splane_law = compile_law(splane_law)
@@ -91,6 +89,7 @@ _euler_rates_law = compile_law(_euler_rates)
 _los_guidance = compile_law(los_guidance)
 _path_distance = compile_law(point_path_distance)
 _pinv_allocate = compile_law(pinv_allocate)
+_constrained = constrained_kernel()
 # status codes of _loop
 _RUNNING, _DONE, _DIVERGED = 0, 1, 2
 
@@ -133,302 +132,6 @@ def _command(i, f, va, kind, tab_c, tab_f, tab_n, prop, kf, kr):  # noqa: ANN001
     if k == 1:
         return _table_interp(f, tab_f[i], tab_c[i], tab_n[i])
     return _prop_command(i, f, va, prop, kf, kr)
-
-
-# ============================================================================ BVLS (scipy port)
-@njit
-def _cols(A, idx, nf):  # noqa: ANN001, ANN202
-    out = np.empty((A.shape[0], nf))
-    for jj in range(nf):
-        for r in range(A.shape[0]):
-            out[r, jj] = A[r, idx[jj]]
-    return out
-
-
-@njit
-def _on_bound_part(x, on_bound):  # noqa: ANN001, ANN202
-    out = np.zeros_like(x)
-    for i in range(x.shape[0]):
-        if on_bound[i] != 0:
-            out[i] = x[i]
-    return out
-
-
-@njit
-def _kkt(g, on_bound):  # noqa: ANN001, ANN202
-    best = -np.inf
-    for i in range(g.shape[0]):
-        v = abs(g[i]) if on_bound[i] == 0 else g[i] * on_bound[i]
-        if v > best:
-            best = v
-    return best
-
-
-@njit
-def _lstsq(A, b, rcond):  # noqa: ANN001, ANN202
-    """np.linalg.lstsq(A, b, rcond)[0] for the allocation's small matrices.
-
-    When A has at least as many rows as columns and its Householder R has no diagonal below
-    1e-7 of its largest (so its condition number is far below 1/rcond for every rcond used
-    here, ≤ 1e-14, and LAPACK's SVD cuts no singular value), both give the unique
-    least-squares solution, equal to round-off; that case is solved by Householder QR in
-    place, without LAPACK's call overhead (the SVD path cost about a third of a fleet step).
-    Otherwise (fewer rows than columns, or nearly dependent columns): LAPACK's SVD, the
-    minimum-norm solution with rcond's cut-off, exactly as numpy.
-    """
-    m, n = A.shape
-    if n == 0 or m < n or rcond > 1e-14:
-        return np.linalg.lstsq(A, b, rcond=rcond)[0]
-    R = np.empty((m, n))
-    for i in range(m):
-        for j in range(n):
-            R[i, j] = A[i, j]
-    y = b.copy()
-    for k in range(n):
-        s2 = 0.0
-        for i in range(k + 1, m):
-            s2 += R[i, k] * R[i, k]
-        rkk = R[k, k]
-        norm = math.sqrt(s2 + rkk * rkk)
-        if norm == 0.0:
-            return np.linalg.lstsq(A, b, rcond=rcond)[0]
-        alpha = -norm if rkk >= 0.0 else norm
-        v0 = rkk - alpha
-        vv = v0 * v0 + s2  # |v|², v = (v0, R[k+1:, k])
-        R[k, k] = v0
-        for j in range(k + 1, n):
-            d = 0.0
-            for i in range(k, m):
-                d += R[i, k] * R[i, j]
-            f = 2.0 * d / vv
-            for i in range(k, m):
-                R[i, j] -= f * R[i, k]
-        d = 0.0
-        for i in range(k, m):
-            d += R[i, k] * y[i]
-        f = 2.0 * d / vv
-        for i in range(k, m):
-            y[i] -= f * R[i, k]
-        R[k, k] = alpha
-    big = 0.0
-    small = np.inf
-    for k in range(n):
-        big = max(big, abs(R[k, k]))
-        small = min(small, abs(R[k, k]))
-    if small <= 1e-7 * big:
-        return np.linalg.lstsq(A, b, rcond=rcond)[0]
-    x = np.empty(n)
-    for k in range(n - 1, -1, -1):
-        s = y[k]
-        for j in range(k + 1, n):
-            s -= R[k, j] * x[j]
-        x[k] = s / R[k, k]
-    return x
-
-
-@njit
-def _lsq_bvls(A, b, lb, ub, tol):  # noqa: ANN001, ANN202
-    """scipy.optimize.lsq_linear(A, b, bounds=(lb, ub), method="bvls", tol=tol).x"""
-    m, n = A.shape
-    x = _lstsq(A, b, _EPS)
-    inside = True
-    for i in range(n):
-        if not (x[i] >= lb[i] and x[i] <= ub[i]):
-            inside = False
-    if inside:
-        return x
-    rc = _EPS * max(m, n)
-    on_bound = np.zeros(n)
-    for i in range(n):
-        if x[i] <= lb[i]:
-            x[i] = lb[i]
-            on_bound[i] = -1.0
-        if x[i] >= ub[i]:
-            x[i] = ub[i]
-            on_bound[i] = 1.0
-    free = np.empty(n, dtype=np.int64)
-    nf = 0
-    for i in range(n):
-        if on_bound[i] == 0:
-            free[nf] = i
-            nf += 1
-    r = A @ x - b
-    cost = 0.5 * np.dot(r, r)
-    g = A.T @ r
-    iteration = 0
-    # initialisation loop
-    while nf > 0:
-        iteration += 1
-        b_free = b - A @ _on_bound_part(x, on_bound)
-        z = _lstsq(_cols(A, free, nf), b_free, rc)
-        any_v = False
-        keep = 0
-        for jj in range(nf):
-            i = free[jj]
-            if z[jj] < lb[i]:
-                x[i] = lb[i]
-                on_bound[i] = -1.0
-                any_v = True
-            elif z[jj] > ub[i]:
-                x[i] = ub[i]
-                on_bound[i] = 1.0
-                any_v = True
-            else:
-                x[i] = z[jj]
-        r = A @ x - b
-        cost = 0.5 * np.dot(r, r)
-        g = A.T @ r
-        if any_v:
-            for jj in range(nf):
-                i = free[jj]
-                if on_bound[i] == 0:
-                    free[keep] = i
-                    keep += 1
-            nf = keep
-        else:
-            break
-    max_iter = n + iteration
-    optimality = _kkt(g, on_bound)
-    lbv = np.empty(n, dtype=np.int64)
-    ubv = np.empty(n, dtype=np.int64)
-    for _ in range(iteration, max_iter):
-        if optimality < tol:
-            break
-        best = -np.inf
-        move = 0
-        for i in range(n):
-            v = g[i] * on_bound[i]
-            if v > best:
-                best = v
-                move = i
-        on_bound[move] = 0.0
-        while True:
-            nf = 0
-            for i in range(n):
-                if on_bound[i] == 0:
-                    free[nf] = i
-                    nf += 1
-            if nf == 0:  # every variable at a bound: lstsq of no columns changes nothing
-                break
-            b_free = b - A @ _on_bound_part(x, on_bound)
-            z = _lstsq(_cols(A, free, nf), b_free, rc)
-            nl = 0
-            nu_ = 0
-            for jj in range(nf):
-                i = free[jj]
-                if z[jj] < lb[i]:
-                    lbv[nl] = jj
-                    nl += 1
-            for jj in range(nf):
-                i = free[jj]
-                if z[jj] > ub[i]:
-                    ubv[nu_] = jj
-                    nu_ += 1
-            if nl + nu_ > 0:
-                alpha = np.inf
-                pick = -1
-                pick_lower = True
-                for q in range(nl + nu_):
-                    if q < nl:
-                        jj = lbv[q]
-                        a = (lb[free[jj]] - x[free[jj]]) / (z[jj] - x[free[jj]])
-                    else:
-                        jj = ubv[q - nl]
-                        a = (ub[free[jj]] - x[free[jj]]) / (z[jj] - x[free[jj]])
-                    if a < alpha:  # np.argmin: the first minimum
-                        alpha = a
-                        pick = jj
-                        pick_lower = q < nl
-                for jj in range(nf):
-                    i = free[jj]
-                    x[i] = x[i] * (1 - alpha) + alpha * z[jj]
-                on_bound[free[pick]] = -1.0 if pick_lower else 1.0
-            else:
-                for jj in range(nf):
-                    x[free[jj]] = z[jj]
-                break
-        r = A @ x - b
-        cost_new = 0.5 * np.dot(r, r)
-        cost_change = cost - cost_new
-        stop = cost_change < tol * cost
-        cost = cost_new
-        g = A.T @ r
-        optimality = _kkt(g, on_bound)
-        if stop:
-            break
-    return x
-
-
-@njit
-def _clip_vec(x, lo, hi):  # noqa: ANN001, ANN202
-    out = np.empty_like(x)
-    for i in range(x.shape[0]):
-        out[i] = min(max(x[i], lo[i]), hi[i])
-    return out
-
-
-@njit
-def _norm_diff(a, b):  # noqa: ANN001, ANN202
-    s = 0.0
-    for i in range(a.shape[0]):
-        s += (a[i] - b[i]) * (a[i] - b[i])
-    return math.sqrt(s)
-
-
-@njit
-def _polish(T, target, f, lo, hi, tol):  # noqa: ANN001, ANN202
-    m = f.shape[0]
-    active = np.empty(m, dtype=np.bool_)
-    n_free = 0
-    for i in range(m):
-        active[i] = f[i] <= lo[i] + tol[i] or f[i] >= hi[i] - tol[i]
-        if not active[i]:
-            n_free += 1
-    if n_free == 0:
-        return f
-    g = np.zeros(m)
-    free = np.empty(n_free, dtype=np.int64)
-    k = 0
-    for i in range(m):
-        if active[i]:
-            g[i] = lo[i] if f[i] <= lo[i] + tol[i] else hi[i]
-        else:
-            free[k] = i
-            k += 1
-    rhs = target - T @ g  # g is zero on the free thrusters here
-    # pinv(T_free) @ rhs as the minimum-norm least-squares solution (the same singular-value
-    # cut-off, 1e-15 of the largest; one LAPACK routine less to compile)
-    gf = _lstsq(_cols(T, free, n_free), rhs, 1e-15)
-    for jj in range(n_free):
-        g[free[jj]] = gf[jj]
-    for i in range(m):
-        if not (g[i] >= lo[i] and g[i] <= hi[i]):
-            return f
-    if _norm_diff(T @ g, target) <= _norm_diff(T @ f, target):
-        return g
-    return f
-
-
-@njit
-def _constrained(tau, T, lo, hi, lo_s, hi_s, Q, QT, A2, scale, thrust_scale, q_max, ptol):  # noqa: ANN001, ANN202
-    """_ConstrainedSolver.solve(tau)[0]."""
-    m = T.shape[1]
-    f1 = _clip_vec(_lsq_bvls(QT, Q * tau, lo_s, hi_s, 1e-12), lo, hi)
-    a1 = T @ f1
-    b2 = np.zeros(6 + m)
-    for i in range(6):
-        b2[i] = 1e5 * a1[i] / scale
-    f2 = _clip_vec(_lsq_bvls(A2, b2, lo_s, hi_s, 1e-12), lo, hi)
-    f2 = _polish(T, a1, f2, lo, hi, ptol)
-    a2 = T @ f2
-    q1 = 0.0
-    q2 = 0.0
-    for i in range(6):
-        q1 += (Q[i] * (a1[i] - tau[i])) ** 2
-        q2 += (Q[i] * (a2[i] - tau[i])) ** 2
-    if math.sqrt(q2) <= math.sqrt(q1) + 1e-8 * thrust_scale * q_max:
-        return f2
-    return f1
 
 
 @njit
@@ -1047,7 +750,7 @@ def _pack_common(
         f64(hi_s),
         f64(solver.Q),
         np.asfortranarray(solver.QT, dtype=np.float64),
-        np.asfortranarray(solver.A, dtype=np.float64),  # Fortran order like Q T: one _lsq_bvls
+        np.asfortranarray(solver.A, dtype=np.float64),  # as the Python allocator packs them: one specialization
         apar,
         f64(solver.polish_tol),
     )
