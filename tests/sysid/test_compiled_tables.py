@@ -124,3 +124,57 @@ def test_measured_thrust_column_is_held_as_given() -> None:
     want = np.interp(c, cv.commands, cv.thrusts)
     np.testing.assert_allclose(tab[after, 8], want, rtol=1e-12, atol=1e-12)
     assert np.all(tab[~after, 8] == 0.0) and tab[-1, 8] > 1.0
+
+
+def _problem(n_runs: int = 2, duration: float = 15.0) -> tuple[Any, np.ndarray, np.ndarray]:
+    from hydrokit.sysid.data import HIDDEN
+    from hydrokit.sysid.model import free_parameters, values_of
+    from hydrokit.sysid.problem import Problem
+    from hydrokit.sysid.smooth import initial_noise, smooth_run
+
+    base = hydrokit.load_vehicle("bluerov2-sysid")
+    runs = generate_runs(hidden_vehicle(base, 6), n_runs, duration, seed=6)
+    veh, params = free_parameters(base, list(HIDDEN)[:4])
+    sm = [smooth_run(r) for r in runs]
+    preps = [prepare_run(r, veh.thrusters, 0.01, surfaces=veh.surfaces.names) for r in runs]
+    est = [np.array([i for i in range(12) if s.known[i]], dtype=int) for s in sm]
+    problem = Problem(veh, params, preps, [s.at(s.time[0]) for s in sm], est, dict(initial_noise(sm)))
+    theta = values_of(veh, params)
+    z = np.concatenate([theta, *[s.at(s.time[0])[e] for s, e in zip(sm, est)]])
+    scale = np.concatenate([np.abs(theta), np.full(z.size - theta.size, 0.01)])
+    return problem, z, scale
+
+
+def test_jacobian_equals_the_residuals_of_each_nudged_variable() -> None:
+    problem, z, scale = _problem()
+    r, J, ok = problem.evaluate(z, scale, True)
+    assert ok and J is not None and J.shape == (r.size, z.size)
+    # second method: each column from two evaluations of the residuals alone, z and z with the
+    # variable nudged by 1e-6 of its scale (the same forward difference, rounded differently:
+    # the residuals are ~1e2, their difference ~1e-4, so ~1e-12 relative to a column's size)
+    for k in range(z.size):
+        z2 = z.copy()
+        z2[k] += 1e-6 * scale[k]
+        r2, _, ok2 = problem.evaluate(z2, scale, False)
+        assert ok2
+        col = (r2 - r) / 1e-6
+        np.testing.assert_allclose(J[:, k], col, rtol=0, atol=1e-6 * max(np.max(np.abs(col)), 1e-3))
+    assert np.all(np.abs(J).max(axis=0) > 0)  # every variable moves some residual
+
+
+def test_steps_a_diverged_vehicle_did_not_take_are_nan() -> None:
+    from hydrokit.model.uncertainty import with_coefficients
+
+    base = hydrokit.load_vehicle("bluerov2-sysid")
+    (run,) = generate_runs(hidden_vehicle(base, 7), 1, 5.0, seed=7)
+    prep = prepare_run(run, base.thrusters, 0.01, surfaces=base.surfaces.names)
+    wild = with_coefficients(base, {"linear_damping.surge": -1e7})  # energy fed in: u grows without bound
+    x0 = np.zeros((2, 12))
+    x0[:, 6] = 1.0
+    pred, done = simulate_run(prep, stack_packs([base, wild]), x0)
+    n_steps = int(np.ceil(prep.duration / prep.dt - 1e-9))
+    assert done[0] == n_steps and np.all(np.isfinite(pred[0]))
+    assert done[1] < n_steps
+    # the samples after the last step taken read no leftover memory: NaN
+    late = np.concatenate([ts for ts in prep.times]) > (done[1] + 1) * prep.dt
+    assert np.any(late) and np.all(np.isnan(pred[1][late]))

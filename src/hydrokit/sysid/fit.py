@@ -550,8 +550,14 @@ def _identify(
     J: np.ndarray | None = None
     lap("setup")
     if method == "output-error":
+        # whole runs: the check that the start can be simulated is the fit's first evaluation
+        # (with its Jacobian, handed to the fit); windows evaluate their own problem
+        prior: tuple[np.ndarray, np.ndarray] | None = None
         try:
-            problem.evaluate(z0, scale, False)[2] or _raise_diverged(z0)
+            r0, J0, ok0 = problem.evaluate(z0, scale, cut is None)
+            ok0 or _raise_diverged(z0)
+            if cut is None and J0 is not None:
+                prior = (r0, J0)
         except _Diverged:
             start = base.copy()
             z0[:p] = start
@@ -560,7 +566,6 @@ def _identify(
             # whole runs: the residuals and Jacobian at the fit's end are re-weighted in place of
             # simulating the runs again (rows scale with their weights); windows re-project their
             # initial states with the new weights, so they are evaluated again
-            prior: tuple[np.ndarray, np.ndarray] | None = None
             for _ in range(3):  # re-weight: σ of each channel from its residuals
                 if cut:
                     z, r, J, its = cut.lm(problem, z, scale, max_iter, progress, (lower, upper))

@@ -91,9 +91,39 @@ def rk4_batch_shared(
         )
 
 
+@njit(nogil=True)
+def sample_states(out, state, i0, w, pred):  # noqa: ANN001, ANN201
+    """``pred[v, j]`` = the state ``state[j]`` of vehicle v linearly interpolated between the
+    integration steps ``i0[j]`` and ``i0[j] + 1`` of ``out`` (nv, steps, 12) with weight ``w[j]``
+    (–): ``x[i0] (1 − w) + x[i0 + 1] w``, the samples of a run's channels."""
+    for v in range(out.shape[0]):
+        for j in range(i0.shape[0]):
+            a = out[v, i0[j], state[j]]
+            b = out[v, i0[j] + 1, state[j]]
+            pred[v, j] = a * (1 - w[j]) + b * w[j]
+
+
+@njit(nogil=True)
+def difference_columns(pred, w, cols, J):  # noqa: ANN001, ANN201
+    """The forward-difference Jacobian of weighted residuals r = (y − pred) w per 1e-6 of a
+    scaled variable: ``J[i, cols[k − 1]] = −(pred[k, i] − pred[0, i]) w[i] / 1e-6`` for every
+    perturbed vehicle k ≥ 1 (vehicle 0 is the nominal)."""
+    for i in range(pred.shape[1]):
+        for k in range(1, pred.shape[0]):
+            J[i, cols[k - 1]] = -(pred[k, i] - pred[0, i]) * w[i] / 1e-6
+
+
 def as_array(values: object) -> np.ndarray:
     """A curve's table or polynomial as a contiguous float array (the kernels' argument)."""
     return np.ascontiguousarray(np.asarray(values, dtype=float))
 
 
-__all__ = ["propeller_thrusts", "rk4_batch_shared", "rotor_nodes", "rotor_rows", "table_thrusts"]
+__all__ = [
+    "difference_columns",
+    "propeller_thrusts",
+    "rk4_batch_shared",
+    "rotor_nodes",
+    "rotor_rows",
+    "sample_states",
+    "table_thrusts",
+]

@@ -554,13 +554,13 @@ def simulate_run(prep: PreparedRun, packs: Mapping[str, Any], x0: np.ndarray) ->
     interpolated between integration steps, and the steps each vehicle took (fewer: it diverged).
     """
     from hydrokit.simulate.compiled import rk4_batch
-    from hydrokit.sysid.kernels import rk4_batch_shared
+    from hydrokit.sysid.kernels import rk4_batch_shared, sample_states
 
     x0 = np.ascontiguousarray(x0, dtype=float)
     nv = x0.shape[0]
     dt = prep.dt
     n_steps = max(1, int(math.ceil(prep.duration / dt - 1e-9)))
-    out = np.full((nv, n_steps + 1, 12), np.nan)
+    out = np.empty((nv, n_steps + 1, 12))  # the steps a vehicle did not take are NaN (below)
     done = np.empty(nv, dtype=np.int64)
     own = vehicle_tables(prep, list(packs["vehicles"])) if "vehicles" in packs else None
     # one table for all vehicles unless their thrusters differ (a copy per vehicle cost more than
@@ -586,11 +586,15 @@ def simulate_run(prep: PreparedRun, packs: Mapping[str, Any], x0: np.ndarray) ->
         out,
         done,
     )
-    pred = []
+    for k in np.nonzero(done < n_steps)[0]:
+        out[k, done[k] + 1 :] = np.nan
+    state, i0, w = [], [], []
     for c, ts in zip(prep.channels, prep.times):
         pos = ts / dt
-        i0 = np.clip(np.floor(pos).astype(int), 0, n_steps - 1)
-        w = pos - i0
-        col = out[:, :, CHANNELS.index(c)]
-        pred.append(col[:, i0] * (1 - w) + col[:, i0 + 1] * w)
-    return np.concatenate(pred, axis=1), done
+        i = np.clip(np.floor(pos).astype(np.int64), 0, n_steps - 1)
+        state.append(np.full(ts.size, CHANNELS.index(c), dtype=np.int64))
+        i0.append(i)
+        w.append(pos - i)
+    pred = np.empty((nv, sum(a.size for a in i0)))
+    sample_states(out, np.concatenate(state), np.concatenate(i0), np.concatenate(w), pred)
+    return pred, done

@@ -84,10 +84,12 @@ class Problem:
 
     def evaluate(self, z: np.ndarray, scale: np.ndarray, jac: bool) -> tuple[np.ndarray, np.ndarray | None, bool]:
         """Weighted residuals (and Jacobian w.r.t. z/scale) of every run."""
+        from hydrokit.sysid.kernels import difference_columns
+
         p = len(self.params)
         theta, x0s = self.unpack(z)
         packs = self.packs(theta, scale, jac)
-        res, blocks = [], []
+        res = []
         n_cols = p + self.n_nuisance
         col = p
         tasks = []
@@ -103,6 +105,9 @@ class Problem:
         # the runs (each with its perturbed vehicles and initial states) are independent tasks
         sims = [simulate_task(t) for t in tasks] if self.executor is None else self.executor.map(simulate_task, tasks)
         col = p
+        # the Jacobian written in place, run after run (one array instead of blocks joined)
+        J_all = np.zeros((sum(prep.n_samples for prep in self.preps), n_cols)) if jac else None
+        row = 0
         for prep, e, (pred, done, seconds) in zip(self.preps, self.est, sims):
             w = self.weights(prep)
             self.sim_seconds += seconds
@@ -110,21 +115,19 @@ class Problem:
                 return np.empty(0), None, False
             r = (prep.measured - pred[0]) * w
             res.append(r)
-            if jac:
-                J = np.zeros((r.size, n_cols))
-                d = -(pred[1:] - pred[0]) * w / 1e-6  # per unit of the scaled variable
-                J[:, :p] = d[:p].T
-                k = p
+            if J_all is not None:
+                J = J_all[row : row + r.size]
+                # the perturbed vehicles' columns: the p parameters, then the initial states
+                # that were simulated (per unit of the scaled variable)
+                cols = list(range(p)) + [col + j for j, i in enumerate(e) if i not in TRANSLATION]
+                difference_columns(pred, w, np.array(cols, dtype=np.int64), J)
                 for j, i in enumerate(e):
                     if i in TRANSLATION:  # the prediction of its channel shifts one for one
                         rows = channel_rows(prep, TRANSLATION[i])
                         J[rows, col + j] = -w[rows] * scale[col + j]
-                    else:
-                        J[:, col + j] = d[k]
-                        k += 1
-                blocks.append(J)
+            row += r.size
             col += e.size
-        return np.concatenate(res), (np.concatenate(blocks) if jac else None), True
+        return np.concatenate(res), J_all, True
 
 
 def simulate_task(task: tuple[PreparedRun, Any, np.ndarray]) -> tuple[np.ndarray, np.ndarray, float]:
