@@ -178,3 +178,18 @@ def test_steps_a_diverged_vehicle_did_not_take_are_nan() -> None:
     # the samples after the last step taken read no leftover memory: NaN
     late = np.concatenate([ts for ts in prep.times]) > (done[1] + 1) * prep.dt
     assert np.any(late) and np.all(np.isnan(pred[1][late]))
+
+
+def test_table_columns_read_only_as_far_as_the_vehicle_needs() -> None:
+    from tests.simulate.test_sysid_propeller_rudder import race_ship
+
+    from hydrokit.sysid.model import read_columns
+
+    rov = hydrokit.load_vehicle("bluerov2-sysid")
+    # no surfaces, no T()/n() terms: the six forces only (the shared-table test above compares
+    # such a cut table's simulation with the whole table's)
+    assert read_columns(stack_packs([rov]), 23) == 7
+    # a race rudder (a fin in the propeller's slipstream) and a T()·δ term read the thrust column
+    ship = race_ship()
+    assert read_columns(stack_packs([ship]), 10) == 10
+    assert read_columns({"t_kind": np.zeros((0, 5), np.int64)}, 9) == 9  # vehicles not at hand

@@ -547,6 +547,26 @@ def take(packs: Mapping[str, Any], index: Sequence[int]) -> dict[str, Any]:
     return {k: (v if k in shared else np.ascontiguousarray(v[ix])) for k, v in packs.items()}
 
 
+def read_columns(packs: Mapping[str, Any], n_columns: int) -> int:
+    """How many of a force table's ``n_columns`` columns [t, X … N, δ…, T…, n…] the vehicles of
+    ``packs`` read: up to their deflections when no term has a thrust or rotation-rate factor
+    (``T()``, ``n()``) and no control surface is a physical fin (whose slipstream reads a thrust);
+    all of them otherwise, or when the vehicles are not at hand. A column past the end reads as
+    0, as a missing input does (:func:`hydrokit.model.terms.add_term_forces`), and only these
+    read the T and n columns."""
+    from hydrokit.model.terms import RATE, THRUST
+
+    vehicles = packs.get("vehicles")
+    if vehicles is None or len(vehicles) == 0:
+        return n_columns
+    kinds = np.asarray(packs["t_kind"])
+    if np.any((kinds == THRUST) | (kinds == RATE)):
+        return n_columns
+    if any(s.fin is not None for v in vehicles for s in v.surfaces.surfaces):
+        return n_columns
+    return min(n_columns, 7 + max(len(v.surfaces.names) for v in vehicles))
+
+
 def simulate_run(prep: PreparedRun, packs: Mapping[str, Any], x0: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """Every vehicle of ``packs`` over ``prep`` from its initial state ``x0`` (nv, 12).
 
@@ -564,8 +584,13 @@ def simulate_run(prep: PreparedRun, packs: Mapping[str, Any], x0: np.ndarray) ->
     done = np.empty(nv, dtype=np.int64)
     own = vehicle_tables(prep, list(packs["vehicles"])) if "vehicles" in packs else None
     # one table for all vehicles unless their thrusters differ (a copy per vehicle cost more than
-    # the fit's linear algebra)
-    batch, tab = (rk4_batch, own) if own is not None else (rk4_batch_shared, np.ascontiguousarray(prep.table))
+    # the fit's linear algebra), cut to the columns the vehicles read (the integrator interpolates
+    # every column at every stage)
+    k = read_columns(packs, prep.table.shape[1])
+    if own is not None:
+        batch, tab = rk4_batch, np.ascontiguousarray(own[:, :, :k])
+    else:
+        batch, tab = rk4_batch_shared, np.ascontiguousarray(prep.table[:, :k])
     batch(
         x0,
         float(dt),
@@ -586,8 +611,8 @@ def simulate_run(prep: PreparedRun, packs: Mapping[str, Any], x0: np.ndarray) ->
         out,
         done,
     )
-    for k in np.nonzero(done < n_steps)[0]:
-        out[k, done[k] + 1 :] = np.nan
+    for v in np.nonzero(done < n_steps)[0]:
+        out[v, done[v] + 1 :] = np.nan
     state, i0, w = [], [], []
     for c, ts in zip(prep.channels, prep.times):
         pos = ts / dt
