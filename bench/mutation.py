@@ -681,12 +681,13 @@ EQUIVALENT: dict[tuple[str, str, str], str] = {
         "0.05° noise and by 7e-5 of β (under 1e-3 of its standard error) at 0.5° noise and 30 fps: the "
         "iteration has converged after three"
     ),
-    ("identify/damping.py", "q = np.linspace(0.0, a, 201)", "0.0 -> 1.0"): (
-        "R(a) is only used as a difference R(a1) − R(a2) (the energy lost in a half cycle): a lower limit "
-        "of 1 instead of 0 subtracts the same ∫₀¹ ρ from both, up to the trapezoid rule's error "
-        "(h² ρ''/12 with h = a/200: ~1e-6 of R)"
+    ("identify/estimators.py", "x = np.linspace(0.0, float(a), 201)", "0.0 -> 1.0"): (
+        "R(a) is only used as a difference R(a1) − R(a2) (the energy lost in a half cycle, damping.py) or "
+        "beside a fitted intercept E_0 (equation-error's energy balance): a lower limit of 1 instead of 0 "
+        "subtracts the same ∫₀¹ ρ from every R, up to the trapezoid rule's error (h² ρ''/12 with h = a/200: "
+        "~1e-6 of R)"
     ),
-    ("identify/damping.py", "q = np.linspace(0.0, a, 201)", "201 -> 202"): (
+    ("identify/estimators.py", "x = np.linspace(0.0, float(a), 201)", "201 -> 202"): (
         "equivalent in effect: 201 instead of 200 trapezoid intervals changes the quadrature error "
         "(~1e-6 of R for a cubic or table shape at 0.4 rad) by 1 %, i.e. ~1e-8 of the damping value"
     ),

@@ -94,13 +94,11 @@ def equivalent_damping(est: Any, rig: Rig, amplitudes: Sequence[float]) -> list[
 
 
 def _potential(c: Any, a: float) -> float:
-    """R(a) = ∫₀ᵃ ρ(q) dq of the rig's restoring shape (a ≥ 0; linear unless the floating rig's
-    shape is given: the pendulum's sin θ is refused by :func:`check_rig`)."""
-    if c.restoring is None:
-        return 0.5 * a * a
-    q = np.linspace(0.0, a, 201)
-    f = np.asarray(c.restoring(q), float)
-    return float(np.sum(0.5 * (f[1:] + f[:-1]) * np.diff(q)))
+    """R(a) = ∫₀ᵃ ρ(q) dq of the rig's restoring shape (a ≥ 0; the pendulum's sin θ is refused by
+    :func:`check_rig`): :func:`hydrokit.identify.estimators.restoring_potential`, the one law."""
+    from hydrokit.identify.estimators import restoring_potential
+
+    return float(restoring_potential(a, c))
 
 
 def damping_curve(t: Any, y: Any, est: Any, rig: Rig) -> list[dict[str, float]]:
