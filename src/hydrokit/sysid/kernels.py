@@ -1,8 +1,9 @@
-"""Compiled loops of identification over a run's rows and nodes (issue #50: bench/sysid.py under
-15 s): the rotor lag, the thrust curves and the batch RK4 of many vehicles sharing one force
-table. Each loop only calls the laws of :mod:`hydrokit.model.thrusters` compiled by
-``compile_law`` (:mod:`hydrokit.simulate.compiled`) and the RK4 run of the batch integrator —
-no law is written here. The kernels release the GIL, so independent runs can be built on threads.
+"""Compiled loops of identification (issue #50: bench/sysid.py under 15 s): the rotor lag over a
+run's rows and nodes, the table thrust curves, the samples of the simulated states, the
+forward-difference Jacobian columns, and the batch RK4 of many vehicles sharing one force table.
+Each loop only calls the laws of :mod:`hydrokit.model.thrusters` compiled by ``compile_law``
+(:mod:`hydrokit.simulate.compiled`) and the RK4 run of the batch integrator — no law is written
+here. The serial loops release the GIL (``nogil``).
 """
 
 from __future__ import annotations
@@ -12,7 +13,6 @@ import numpy as np
 
 from hydrokit._numba import njit
 from hydrokit.simulate.compiled import (
-    propeller_thrust_compiled,
     rk4_run,
     rotor_lag_compiled,
     table_interp_compiled,
@@ -48,16 +48,6 @@ def table_thrusts(x, xs, ys, out):  # noqa: ANN001, ANN201
     n = xs.shape[0]
     for j in range(x.shape[0]):
         out[j] = table_interp_compiled(x[j], xs, ys, n)
-
-
-@njit(nogil=True)
-def propeller_thrusts(n, va, D, rho, j_lo, j_hi, kt_forward, kt_reverse, loss_forward, loss_reverse, out):  # noqa: ANN001, ANN201, PLR0913
-    """``out[j]`` = :func:`~hydrokit.model.thrusters.propeller_thrust` at n[j] (rev/s) and
-    va[j] (m/s), the curve's arguments after them as the law takes them."""
-    for j in range(n.shape[0]):
-        out[j] = propeller_thrust_compiled(
-            n[j], va[j], D, rho, j_lo, j_hi, kt_forward, kt_reverse, loss_forward, loss_reverse
-        )
 
 
 @njit(parallel=True)
@@ -120,7 +110,6 @@ def as_array(values: object) -> np.ndarray:
 
 __all__ = [
     "difference_columns",
-    "propeller_thrusts",
     "rk4_batch_shared",
     "rotor_nodes",
     "rotor_rows",

@@ -354,22 +354,18 @@ def force_table(
 
 def curve_thrusts(curve: Any, command: np.ndarray, advance_speed: np.ndarray) -> np.ndarray:
     """The thrust (N) of one thruster's ``curve`` at each ``command`` (its unit) and advance
-    speed (m/s): ``type(curve).thrust_batch`` — for a table, a propeller and an ideal curve its
-    law (:func:`~hydrokit.model.thrusters.table_interp`,
-    :func:`~hydrokit.model.thrusters.propeller_thrust`) compiled and looped over the nodes."""
-    from hydrokit.model.thrusters import IdealCurve, PropellerCurve, TableCurve
-    from hydrokit.sysid.kernels import as_array, propeller_thrusts, table_thrusts
+    speed (m/s): ``type(curve).thrust_batch`` — for a table curve its law
+    (:func:`~hydrokit.model.thrusters.table_interp`) compiled and looped over the nodes, equal bit
+    for bit. A propeller curve keeps its Python law: compiled, its D⁴ is a product rather than
+    ``pow`` (an ulp apart), which moved the windows bench's unidentifiable X_vr, X_vv, X_rr by
+    0.003 σ."""
+    from hydrokit.model.thrusters import IdealCurve, TableCurve
+    from hydrokit.sysid.kernels import as_array, table_thrusts
 
     x = np.ascontiguousarray(command, dtype=float)
     out = np.empty(x.size)
     if type(curve) is TableCurve:
         table_thrusts(x, as_array(curve.commands), as_array(curve.thrusts), out)
-        return out
-    if type(curve) is PropellerCurve:
-        D, rho, j_lo, j_hi, kt_f, kt_r, loss_f, loss_r = curve.law_args
-        va = np.ascontiguousarray(advance_speed, dtype=float)
-        args = (float(D), float(rho), float(j_lo), float(j_hi), as_array(kt_f), as_array(kt_r))
-        propeller_thrusts(x, va, *args, float(loss_f), float(loss_r), out)
         return out
     if type(curve) is IdealCurve:
         return x.copy()
