@@ -356,7 +356,7 @@ class EquationErrorEstimator(_DecayEstimator):
     from g by the shape of q̈ within each cycle, where a harmonic of the motion weighs k² times
     its share of the angle. The KVLCC2 roll decays carry a third harmonic of about 0.1 % of the
     amplitude (below their 0.005° quantisation step at small angles), and the waveform alone read
-    B_e(5°) 19–20 % above the output-error and log-decrement values at zero speed; harmonics
+    B_e(5°) 19–21 % above the output-error and log-decrement values at zero speed; harmonics
     k ≥ 2 do no work against q̇ over a half cycle, so the energy form is blind to them (and it
     agrees with output error within 1.5–2 % there). When the model is exact the waveform
     separates b and g better (the energy form sees only the decay of the extremes), so it is kept
