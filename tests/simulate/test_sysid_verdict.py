@@ -14,6 +14,7 @@ from hydrokit.sysid.stats import (
     COLOURED,
     EXCESS,
     NRMSE_LIMIT,
+    PREFILTERED,
     SYSTEMATIC,
     channel_checks,
     verdict,
@@ -53,6 +54,26 @@ def test_white_residuals_at_the_sensor_noise_pass_and_a_slow_error_fails() -> No
     assert e["noise_ratio"] == pytest.approx(rms / sigma) and e["noise_ratio"] > EXCESS
     assert e["systematic"] == pytest.approx(np.sqrt(rms**2 - sigma**2) / np.std(y)) and e["systematic"] > SYSTEMATIC
     assert whiteness(slow)["lag1"] > COLOURED
+
+
+def test_a_channel_smoother_than_a_sensor_is_named_beside_its_ratio() -> None:
+    # r logged pre-filtered: its smoother's noise is 2e-6 of its motion (std 0.71), a real gyro's is
+    # 1e-3–1e-2. A 20 % model error then reads as ~7e4 × "the noise": the reason says the channel is
+    # smoother than a sensor, with that share (σ / std from the definitions); u, at a sensor's noise,
+    # is not named so
+    t = np.arange(0.0, 20.0, 0.02)
+    y = np.sin(0.5 * t)
+    err = 0.2 * np.sin(0.5 * t + 1.0)
+    tiny, real = 1.5e-6, 0.01
+    res = verdict([_row("pond", False, {"r": (y, err, tiny), "u": (y, err, real)})])
+    assert res["fits"] is False
+    share = tiny / np.std(y)
+    assert share < PREFILTERED
+    assert f"r is smoother than a sensor (noise {share:.1g} of its motion" in res["reasons"][0]
+    assert "u is" not in res["reasons"][0] and "r, u are" not in res["reasons"][0]
+    # at a sensor's noise the sentence is absent
+    plain = verdict([_row("pond", False, {"r": (y, err, real)})])
+    assert "smoother than a sensor" not in plain["reasons"][0]
 
 
 def test_a_held_out_channel_that_is_not_predicted_fails_on_its_nrmse() -> None:

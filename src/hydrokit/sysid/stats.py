@@ -110,6 +110,10 @@ COLOURED = 0.8
 #: … and a systematic part √(RMS² − σ²) above this fraction of the channel's standard
 #: deviation is an error of the model, not of the sensors
 SYSTEMATIC = 0.1
+#: a channel whose sensor noise (the smoother's residual) is below this fraction of its standard
+#: deviation is smoother than a sensor: pre-filtered or derived in the log (a real gyro, DVL or
+#: compass has 1e-3–1e-2 of the motion), so its ratio to that noise says little; the reasons say so
+PREFILTERED = 1e-4
 #: what to check when the model does not describe the runs
 ADVICE = (
     "the model does not describe these runs — check the base vehicle (mass, inertia, centres of gravity and "
@@ -171,6 +175,12 @@ def _lag1(entry: dict[str, Any]) -> str:
     return f"{entry['whiteness']['lag1']:.2f}"
 
 
+def _noise_share(entry: dict[str, Any]) -> float:
+    """The sensor noise σ over the channel's standard deviation (NRMSE / noise ratio), –."""
+    ratio, nrmse = entry.get("noise_ratio", float("nan")), entry.get("nrmse", float("nan"))
+    return nrmse / ratio if ratio > 0 and np.isfinite(ratio) and np.isfinite(nrmse) else float("inf")
+
+
 def _percent(entry: dict[str, Any]) -> str:
     return f"{100 * entry['systematic']:.0f} %"
 
@@ -224,6 +234,16 @@ def verdict(runs: Sequence[dict[str, Any]]) -> dict[str, Any]:
                 f"{_list([_lag1(e) for *_, e in top])} (a systematic error of "
                 f"{_list([_percent(e) for *_, e in top])} of the motion)"
             )
+            smooth = [(c, e) for _, c, e in top if _noise_share(e) < PREFILTERED]
+            if smooth:
+                names = _list([symbol(c) for c, _ in smooth])
+                shares = _list([f"{_noise_share(e):.1g}" for _, e in smooth])
+                one = len(smooth) == 1
+                parts[-1] += (
+                    f" — {names} {'is' if one else 'are'} smoother than a sensor (noise {shares} of "
+                    f"{'its' if one else 'their'} motion: pre-filtered in the log?), so a ratio to that noise "
+                    "says little; the systematic error does"
+                )
         use = "held out" if hold else "fitted"
         reasons.append(f"{row['name']} ({use}): {'; '.join(parts)}: {ADVICE}.")
     fits = not reasons
