@@ -47,16 +47,18 @@ MANOEUVRE_MODULES = ("laws", "compiled", "metrics", "samples")
 FORBIDDEN = {("io", "simulate"), ("io", "sysid"), ("io", "manoeuvre"), ("plot", "io"), ("plot", "api")}
 #: the one upward edge by design: the simulate, sysid and manoeuvre package objects are callable as
 #: hydrokit.api.simulate, .sysid, .manoeuvre (so each API name and its subpackage can share a name)
-#: old name → new name of the modules moved out of simulate/ (issue #50: rooms named after what
-#: users do); each old name is a shim that makes it the new module object, for one release
-MOVED = {
+ALLOWED = {("hydrokit._callable", "hydrokit.api")}
+#: old name → new home of the modules moved out of simulate/ (issue #50: rooms named after what
+#: users do, and the numba cache down to a base module); their shims were kept for one release and
+#: are gone (CHANGELOG.md, Removed)
+REMOVED = {
     "hydrokit.simulate.sysid": "hydrokit.sysid.fit",
     **{f"hydrokit.simulate.sysid_{n}": f"hydrokit.sysid.{n}" for n in SYSID_MODULES},
     "hydrokit.simulate.manoeuvre": "hydrokit.manoeuvre.run",
     **{f"hydrokit.simulate.manoeuvre_{n}": f"hydrokit.manoeuvre.{n}" for n in MANOEUVRE_MODULES},
     "hydrokit.simulate.replay": "hydrokit.manoeuvre.replay",
+    "hydrokit.simulate._cache": "hydrokit._numba",
 }
-ALLOWED = {("hydrokit._callable", "hydrokit.api"), *MOVED.items()}
 #: import circles that exist today and are being taken apart elsewhere: module sets. The list
 #: only shrinks — an entry that no longer is a circle fails. (Empty since issue #50: the windowed
 #: fit's circle with the whole-run fit went with hydrokit.sysid.problem.)
@@ -352,17 +354,22 @@ def test_checker_catches_a_violation(tmp_path: Path) -> None:
             bad.unlink()
 
 
-@pytest.mark.parametrize("old", sorted(MOVED))
-def test_moved_module_keeps_its_old_name(old: str) -> None:
-    """The old name of a moved module is the new module object itself (so a monkeypatch or a
-    private name through the old name reaches the code that runs), and its shim is tiny."""
+@pytest.mark.parametrize("old", sorted(REMOVED))
+def test_removed_module_name_is_gone(old: str) -> None:
+    """The old name of a moved module no longer imports (its one-release shim is gone); its new
+    home does."""
     import importlib
+    import re
 
-    new = MOVED[old]
-    assert importlib.import_module(old) is importlib.import_module(new)
-    shim = SRC.parent / (old.replace(".", "/") + ".py")
-    assert f"Moved to :mod:`{new}`" in shim.read_text(encoding="utf-8")
-    assert len(shim.read_text(encoding="utf-8").splitlines()) < 15, f"{shim} is a shim, not a second copy"
+    with pytest.raises(ModuleNotFoundError, match=re.escape(repr(old))):
+        importlib.import_module(old)
+    assert importlib.import_module(REMOVED[old]).__name__ == REMOVED[old]
+
+
+def test_no_compatibility_shims_left() -> None:
+    """No module in src/ is a shim that re-exports a moved module under an old name."""
+    shims = [str(p.relative_to(SRC)) for p in _modules() if "Moved to :mod:" in p.read_text(encoding="utf-8")]
+    assert shims == []
 
 
 def test_packages_named_like_api_functions_stay_callable() -> None:

@@ -1,6 +1,6 @@
 """Every numba kernel caches its compiled code on disk (``cache=True``): the CLI and a notebook
 start without recompiling (README, "Keep the CLI quick to start"). The cache is keyed on the
-source of every law a kernel reaches (simulate/_cache.py, issue #50): a changed law is seen by
+source of every law a kernel reaches (hydrokit/_numba.py, issue #50): a changed law is seen by
 the next process, never by touching a file by hand."""
 
 from __future__ import annotations
@@ -19,7 +19,7 @@ import pytest
 import hydrokit
 
 #: kernels still on numba's plain cache while calling a compiled function of another file (so a
-#: change there is not seen by their cache): each is to move onto ``hydrokit.simulate._cache.njit``
+#: change there is not seen by their cache): each is to move onto ``hydrokit._numba.njit``
 #: when its module is next touched. The set only shrinks: an entry that no longer applies fails.
 PENDING: set[str] = set()
 
@@ -45,7 +45,7 @@ def _reached_files(disp, seen=None) -> set[str]:  # noqa: ANN001
     """Source files of the compiled functions a kernel reaches (its own excluded)."""
     from numba.core.dispatcher import Dispatcher
 
-    from hydrokit.simulate._cache import referenced
+    from hydrokit._numba import referenced
 
     seen = set() if seen is None else seen
     files: set[str] = set()
@@ -61,7 +61,7 @@ def _reached_files(disp, seen=None) -> set[str]:  # noqa: ANN001
 def test_every_compiled_kernel_caches_to_disk():
     from numba.core.caching import FunctionCache
 
-    from hydrokit.simulate._cache import LawCache
+    from hydrokit._numba import LawCache
 
     kernels = _kernels()
     # the rig integrators, the vehicle RK4, the closed loop and the transport kernels at least
@@ -92,7 +92,7 @@ import sys
 
 import numba
 
-from hydrokit.simulate._cache import njit
+from hydrokit._numba import njit
 from hydrokit.simulate.compiled import compile_law
 from lawpkg import laws
 

@@ -10,8 +10,7 @@ drawn from the ``uncertainty:`` block); ``replay`` flies a model through a recor
 and measures both tracks with the same code.
 
 The package object itself is callable: ``hydrokit.manoeuvre(vehicle, zigzag(a, b), …)`` is
-:func:`hydrokit.api.manoeuvre`. The old names ``hydrokit.simulate.manoeuvre*`` and
-``hydrokit.simulate.replay`` are the same modules, kept for one release.
+:func:`hydrokit.api.manoeuvre`.
 """
 
 from __future__ import annotations

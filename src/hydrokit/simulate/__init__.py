@@ -5,9 +5,9 @@ is :func:`hydrokit.api.simulate`, so the top-level API name and this subpackage 
 name ``simulate`` without one hiding the other (``import hydrokit.simulate.driver`` and
 ``hydrokit.simulate(...)`` both work).
 
-Identification from logs moved to :mod:`hydrokit.sysid` and the standard manoeuvres and trial
-replay to :mod:`hydrokit.manoeuvre` (issue #50); their old names here
-(``hydrokit.simulate.sysid``, ``hydrokit.simulate.manoeuvre`` …) stay importable for one release.
+Identification from logs lives in :mod:`hydrokit.sysid` and the standard manoeuvres and trial
+replay in :mod:`hydrokit.manoeuvre` (issue #50); their old names here (``hydrokit.simulate.sysid``,
+``hydrokit.simulate.manoeuvre`` …) were removed one release later (CHANGELOG.md).
 """
 
 from __future__ import annotations

@@ -50,6 +50,7 @@ import numba
 import numpy as np
 from numpy.typing import ArrayLike
 
+from hydrokit._numba import njit
 from hydrokit.core.kinematics import wrap_angle
 from hydrokit.errors import InputError, SimulationError
 from hydrokit.model.allocation import Allocator, _ConstrainedSolver, constrained_kernel, pinv_allocate
@@ -65,7 +66,6 @@ from hydrokit.model.control import (
 )
 from hydrokit.model.guidance import Path, los_guidance, point_path_distance
 from hydrokit.model.thrusters import IdealCurve, PropellerCurve, TableCurve, ThrusterSet
-from hydrokit.simulate._cache import njit
 from hydrokit.simulate.closed_loop import RECORD_FIELDS, ClosedLoopResult, new_record, record_result
 from hydrokit.simulate.compiled import (
     BUF_SIZE,
@@ -190,7 +190,7 @@ def _work(m, ns):  # noqa: ANN001, ANN202
 #     model.dynamics.Packed), t_dof, t_coef, t_kind, t_idx, and the control surfaces' limits smax
 #     (rad), rate limits srate (rad/s), servo lags stc (s) and sfin [first fin index in scal, fins]
 # numba's on-disk cache of these kernels holds its own copy of compiled.deriv and of the laws;
-# it is keyed on their sources too (simulate/_cache.py), so a change there recompiles them.
+# it is keyed on their sources too (hydrokit/_numba.py), so a change there recompiles them.
 #   state (in/out): x (12), c (m), fstate [heading, integral×5, previous×5], istate
 #     [leg, j, limited_any, has_prev×5], arrivals (N,)
 #   W scratch (_work)

@@ -39,11 +39,11 @@ from typing import Any
 
 import numpy as np
 
+from hydrokit._numba import njit
 from hydrokit._result import Result, html_table, jsonable
 from hydrokit.errors import InputError
 from hydrokit.model.assembly import Assembly, check_model
 from hydrokit.model.dynamics import stack_scal
-from hydrokit.simulate._cache import njit
 from hydrokit.simulate.compiled import (
     BUF_SIZE,
     deriv,

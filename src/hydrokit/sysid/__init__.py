@@ -8,8 +8,7 @@ Levenberg–Marquardt), ``smooth`` (the smoother and the equation-error kernels)
 virtual dives, ``ship`` the surface-ship variant of the force table.
 
 The package object itself is callable: ``hydrokit.sysid(runs, vehicle, free, …)`` is
-:func:`hydrokit.api.sysid`. The old names ``hydrokit.simulate.sysid*`` are the same modules,
-kept for one release.
+:func:`hydrokit.api.sysid`.
 """
 
 from __future__ import annotations

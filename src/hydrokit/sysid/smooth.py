@@ -29,10 +29,10 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from hydrokit._numba import njit
 from hydrokit.errors import InputError
 from hydrokit.model.vehicle import Vehicle
 from hydrokit.simulate import compiled as _compiled
-from hydrokit.simulate._cache import njit
 from hydrokit.simulate.compiled import deriv
 from hydrokit.sysid.model import CHANNELS, Parameter, RunData, stack_packs, values_of, with_values
 
