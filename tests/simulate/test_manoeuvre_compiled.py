@@ -145,5 +145,5 @@ def test_the_compiled_thruster_laws_are_the_python_laws():
     from hydrokit.manoeuvre import compiled as C
     from hydrokit.model import thrusters as T
 
-    for compiled, law in ((C._propeller_thrust, T.propeller_thrust), (C._rotor_lag, T.rotor_lag)):
+    for compiled, law in ((C._thruster_inputs, T.thruster_inputs), (C._rotor_lag, T.rotor_lag)):
         assert getattr(compiled, "py_func", compiled).__code__ is law.__code__

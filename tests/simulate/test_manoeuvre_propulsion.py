@@ -98,9 +98,10 @@ def test_propeller_steady_straight_speed_from_the_open_water_curve():
 
 
 def test_rotor_lag_from_rest_and_the_advance_speed_in_a_current():
-    """The rotor follows n(1 − e^(−t/τ)) from rest; the step's thrust is taken at the step's midpoint
-    (closed form of the first-order lag, to round-off); the advance speed is the velocity through
-    the water: u = 2 m/s heading north in a 0.5 m/s current from the south (flowing north) gives
+    """The rotor follows n(1 − e^(−t/τ)) from rest; a stage h s into a step reads the rotor at
+    that instant (closed form of the first-order lag, to round-off), and the rotation rate the
+    ``n()`` factors read is that rotor state; the advance speed is the velocity through the
+    water: u = 2 m/s heading north in a 0.5 m/s current from the south (flowing north) gives
     V_a = (1 − w)(2 − 0.5) m/s."""
     v = boat()
     n, tau_r, dt = 20.0, 0.3, 0.05
@@ -110,10 +111,17 @@ def test_rotor_lag_from_rest_and_the_advance_speed_in_a_current():
     for k in range(1, 8):
         drive.begin_step((k - 1) * dt, dt)
         assert drive.c[0] == pytest.approx(n * (1 - math.exp(-k * dt / tau_r)), rel=1e-13)
-        mid = n * (1 - math.exp(-(k - 0.5) * dt / tau_r))
-        assert drive.c_step[0] == pytest.approx(mid, rel=1e-13)
-        J = (1 - W) * 1.5 / (mid * D)
-        thrust = (KT0 - KT1 * J) * RHO * D**4 * mid**2 if J < 1 else 0.0  # K_T clamped at ≥ 0
+        for h in (0.0, 0.5 * dt, dt):
+            rotor = n * (1 - math.exp(-((k - 1) * dt + h) / tau_r))
+            J = (1 - W) * 1.5 / (rotor * D) if rotor > 0 else math.inf
+            thrust = (KT0 - KT1 * J) * RHO * D**4 * rotor**2 if J < 1 else 0.0  # K_T clamped at ≥ 0
+            tau, f, rate = drive.inputs((k - 1) * dt + h, x, h)
+            assert f[0] == pytest.approx(thrust, rel=1e-12, abs=1e-12)
+            assert rate[0] == pytest.approx(rotor, rel=1e-13)
+            np.testing.assert_allclose(tau, [thrust, 0, 0, 0, 0, 0], rtol=1e-12, atol=1e-12)
+        # between steps: the rotor state now, the step's end
+        J = (1 - W) * 1.5 / (drive.c[0] * D)
+        thrust = (KT0 - KT1 * J) * RHO * D**4 * drive.c[0] ** 2 if J < 1 else 0.0
         assert drive.thrust(x)[0] == pytest.approx(thrust, rel=1e-12, abs=1e-12)
         np.testing.assert_allclose(drive(x), [thrust, 0, 0, 0, 0, 0], rtol=1e-12, atol=1e-12)
 

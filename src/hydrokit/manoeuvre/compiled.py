@@ -37,9 +37,10 @@ from hydrokit.simulate.compiled import (
     njit_noalloc,
     servo_step_compiled,
 )
-from hydrokit.simulate.compiled import advance_speed_compiled as _advance_speed
-from hydrokit.simulate.compiled import propeller_thrust_compiled as _propeller_thrust
+from hydrokit.simulate.compiled import rk4_combine_compiled as _rk4_combine
+from hydrokit.simulate.compiled import rk4_stage_compiled as _rk4_stage
 from hydrokit.simulate.compiled import rotor_lag_compiled as _rotor_lag
+from hydrokit.simulate.compiled import thruster_inputs_compiled as _thruster_inputs
 
 #: the loop's two entry kernels run without the GIL, so drawn vehicles fly on threads at once
 #: (``manoeuvre --samples``: :func:`hydrokit.manoeuvre.samples.fly_samples`)
@@ -130,11 +131,12 @@ def _rk4(t, x, dt, tau_tab, ctab, V, buf, W):  # noqa: ANN001, ANN202
 
 
 @njit_noalloc
-def _probe(x, surface, limit, index, tau_tab, ctab, V, buf, out):  # noqa: ANN001, ANN202
+def _probe(x, surface, limit, index, n_s, tau_tab, ctab, V, buf, out):  # noqa: ANN001, ANN202
     """∂(angular acceleration at ``index``)/∂δ of ``surface`` in the state ``x`` (1/s² per rad):
-    the difference quotient of :func:`hydrokit.manoeuvre.run._probe`, at δ = 0 elsewhere."""
+    the difference quotient of :func:`hydrokit.manoeuvre.run._probe`, at δ = 0 elsewhere (the
+    ``n_s`` deflections; the thrusters' inputs as ``tau_tab`` holds them)."""
     Minv, Mc, DL, DQ, scal, t_dof, t_coef, t_kind, t_idx = V
-    for j in range(7, tau_tab.shape[1]):
+    for j in range(7, 7 + n_s):
         tau_tab[0, j] = 0.0
     eps = 0.1 * limit
     tau_tab[0, 7 + surface] = eps
@@ -149,68 +151,85 @@ def _probe(x, surface, limit, index, tau_tab, ctab, V, buf, out):  # noqa: ANN00
 def _tune(K, t, x, lim, tau_tab, ctab, V, buf, out):  # noqa: ANN001, ANN202
     """The hold's probes and gain scheduling (:func:`~hydrokit.manoeuvre.laws.keeper_tune`)."""
     plane, rudder = int(K[L.K_PLANE]), int(K[L.K_RUDDER])
-    g_q = _probe(x, plane, lim[plane], 10, tau_tab, ctab, V, buf, out) if plane >= 0 else 0.0
-    g_r = _probe(x, rudder, lim[rudder], 11, tau_tab, ctab, V, buf, out) if rudder >= 0 else 0.0
+    n_s = lim.shape[0]
+    g_q = _probe(x, plane, lim[plane], 10, n_s, tau_tab, ctab, V, buf, out) if plane >= 0 else 0.0
+    g_r = _probe(x, rudder, lim[rudder], 11, n_s, tau_tab, ctab, V, buf, out) if rudder >= 0 else 0.0
     _keeper_tune(K, t, x, g_q, g_r)
 
 
 @njit_noalloc
-def _set_inputs(tau_tab, delta):  # noqa: ANN001, ANN202
-    for j in range(7, tau_tab.shape[1]):
-        tau_tab[0, j] = 0.0
+def _set_deflections(tau_tab, delta):  # noqa: ANN001, ANN202
+    """The deflections (rad) into the first columns of the input vector; the thrusters' columns
+    after them are the drive's (:func:`_drive_inputs`; 0 without a drive)."""
     for j in range(delta.shape[0]):
         tau_tab[0, 7 + j] = delta[j]
 
 
 @njit_noalloc
-def _drive_tau(x, tau_tab, Dr):  # noqa: ANN001, ANN202
-    """τ = force + T f(c_step, V_a(ν)) of :class:`hydrokit.manoeuvre.run.ThrusterDrive` in
-    the state ``x`` (still water), written to the force columns of ``tau_tab`` (N, N·m)."""
-    kind, prop, kf, kr, lim, tc, wake, dirs, arms, T, force, target, c, c_step, f = Dr
+def _drive_inputs(x, h, n_s, tau_tab, Dr):  # noqa: ANN001, ANN202
+    """The thrusters' part of the input vector in the still-water state ``x`` into ``tau_tab``:
+    τ (N, N·m) to the force columns, each thruster's thrust (N) and rotation rate (rev/s) to its
+    input columns after the ``n_s`` deflections (:func:`hydrokit.model.thrusters.thruster_inputs`,
+    compiled), at the rotor state ``h`` s into the step begun last (``h`` < 0: the state now)."""
+    kind, prop, kf, kr, lim, tc, wake, dirs, arms, T, force, target, c, c0, cs, f, rate, tau = Dr
     m = kind.shape[0]
     for j in range(m):
-        # ThrusterSet.thrust: the command clipped to its limits, the thrust to the thrust limits
-        cj = c_step[j]
-        cj = lim[j, 0] if cj < lim[j, 0] else (lim[j, 1] if cj > lim[j, 1] else cj)
-        if kind[j] == 2:
-            va = _advance_speed(
-                wake[j],
-                dirs[j, 0],
-                dirs[j, 1],
-                dirs[j, 2],
-                arms[j, 0],
-                arms[j, 1],
-                arms[j, 2],
-                x[6],
-                x[7],
-                x[8],
-                x[9],
-                x[10],
-                x[11],
-            )
-            fj = _propeller_thrust(
-                cj, va, prop[j, 0], prop[j, 1], prop[j, 2], prop[j, 3], kf[j], kr[j], prop[j, 4], prop[j, 5]
-            )
-        else:  # ideal: the command is the thrust
-            fj = cj
-        f[j] = lim[j, 2] if fj < lim[j, 2] else (lim[j, 3] if fj > lim[j, 3] else fj)
+        if h < 0.0:
+            cs[j] = c[j]
+        else:
+            ct = target[j]
+            ct = lim[j, 0] if ct < lim[j, 0] else (lim[j, 1] if ct > lim[j, 1] else ct)
+            cs[j] = _rotor_lag(c0[j], ct, h, tc[j])
+    _thruster_inputs(kind, prop, kf, kr, lim, wake, dirs, arms, T, force, cs, x[6:12], f, rate, tau)
     for i in range(6):
-        s = 0.0
+        tau_tab[0, 1 + i] = tau[i]
+    if tau_tab.shape[1] >= 7 + n_s + 2 * m:  # the input vector holds the thrusters (≤ MAX_THRUSTERS)
         for j in range(m):
-            s += T[i, j] * f[j]
-        tau_tab[0, 1 + i] = force[i] + s
+            tau_tab[0, 7 + n_s + j] = f[j]
+            tau_tab[0, 7 + n_s + m + j] = rate[j]
 
 
 @njit_noalloc
 def _drive_begin(dt, Dr):  # noqa: ANN001, ANN202
-    """ThrusterDrive.begin_step: the rotors over the step of ``dt`` (s), the step's thrust at
-    their midpoint (c_step); in place."""
-    kind, prop, kf, kr, lim, tc, wake, dirs, arms, T, force, target, c, c_step, f = Dr
+    """ThrusterDrive.begin_step: c0 the rotor state at the step's start, c at its end (in place)."""
+    kind, prop, kf, kr, lim, tc, wake, dirs, arms, T, force, target, c, c0, cs, f, rate, tau = Dr
     for j in range(kind.shape[0]):
         ct = target[j]
         ct = lim[j, 0] if ct < lim[j, 0] else (lim[j, 1] if ct > lim[j, 1] else ct)
-        c_step[j] = _rotor_lag(c[j], ct, 0.5 * dt, tc[j])
-        c[j] = _rotor_lag(c[j], ct, dt, tc[j])
+        c0[j] = c[j]
+        c[j] = _rotor_lag(c0[j], ct, dt, tc[j])
+
+
+@njit_noalloc
+def _drive_rk4(t, x, dt, n_s, tau_tab, ctab, V, buf, W, Dr):  # noqa: ANN001, ANN202
+    """x advanced in place by one RK4 step of ``dt`` (s) with the thrusters' inputs evaluated at
+    every stage, at its state and rotor state (as ``simulate --command``,
+    :func:`hydrokit.simulate.commands.fly_commands`); the stages and the update are
+    :mod:`hydrokit.core.integrate`'s. False when the new state is not finite."""
+    Minv, Mc, DL, DQ, scal, t_dof, t_coef, t_kind, t_idx = V
+    k1, k2, k3, k4, tmp = W[0], W[1], W[2], W[3], W[4]
+    _drive_begin(dt, Dr)
+    _drive_inputs(x, 0.0, n_s, tau_tab, Dr)
+    deriv(t, x, False, tau_tab, ctab, Minv, Mc, DL, DQ, scal, t_dof, t_coef, t_kind, t_idx, buf, k1)
+    _rk4_stage(x, k1, 0.5 * dt, tmp)
+    _drive_inputs(tmp, 0.5 * dt, n_s, tau_tab, Dr)
+    deriv(t + 0.5 * dt, tmp, False, tau_tab, ctab, Minv, Mc, DL, DQ, scal, t_dof, t_coef, t_kind, t_idx, buf, k2)
+    _rk4_stage(x, k2, 0.5 * dt, tmp)
+    _drive_inputs(tmp, 0.5 * dt, n_s, tau_tab, Dr)
+    deriv(t + 0.5 * dt, tmp, False, tau_tab, ctab, Minv, Mc, DL, DQ, scal, t_dof, t_coef, t_kind, t_idx, buf, k3)
+    _rk4_stage(x, k3, dt, tmp)
+    _drive_inputs(tmp, dt, n_s, tau_tab, Dr)
+    deriv(t + dt, tmp, False, tau_tab, ctab, Minv, Mc, DL, DQ, scal, t_dof, t_coef, t_kind, t_idx, buf, k4)
+    return _rk4_combine(x, k1, k2, k3, k4, dt)
+
+
+@njit_noalloc
+def _step(t, x, dt, n_s, tau_tab, ctab, V, buf, W, Dr):  # noqa: ANN001, ANN202
+    """One step of the manoeuvre: the drive's (:func:`_drive_rk4`) or, with a constant force, RK4
+    with the inputs held (:func:`_rk4`)."""
+    if Dr[0].shape[0] > 0:
+        return _drive_rk4(t, x, dt, n_s, tau_tab, ctab, V, buf, W, Dr)
+    return _rk4(t, x, dt, tau_tab, ctab, V, buf, W)
 
 
 @_njit_nogil
@@ -223,18 +242,15 @@ def _approach(x, n_app, window, dt, K, lim, rate, tc, delta, cmd, new, rows, use
         if K[L.K_ON] > 0:
             if _keeper_due(K, t):
                 if drive:
-                    _drive_tau(x, tau_tab, Dr)
+                    _drive_inputs(x, -1.0, n_s, tau_tab, Dr)
                 _tune(K, t, x, lim, tau_tab, ctab, V, buf, W[5])
             _keeper_command(K, x, dt, cmd, True)
         servo_step_compiled(delta, cmd, dt, lim, rate, tc, new)
         for j in range(n_s):
             delta[j] = new[j]
             used[k, j] = new[j]
-        _set_inputs(tau_tab, delta)
-        if drive:
-            _drive_begin(dt, Dr)
-            _drive_tau(x, tau_tab, Dr)
-        if not _rk4(t, x, dt, tau_tab, ctab, V, buf, W):
+        _set_deflections(tau_tab, delta)
+        if not _step(t, x, dt, n_s, tau_tab, ctab, V, buf, W, Dr):
             return k, _DIVERGED
         for i in range(12):
             rows[k + 1, i] = x[i]
@@ -280,7 +296,7 @@ def _fly(
         t = k * dt
         if _keeper_due(K, t_start + t):
             if drive:
-                _drive_tau(x, tau_tab, Dr)
+                _drive_inputs(x, -1.0, n_s, tau_tab, Dr)
             _tune(K, t_start + t, x, lim, tau_tab, ctab, V, buf, W[5])
         _manoeuvre_command(P, S, H, R, K, t, x, dt, cmd, surface)
         servo_step_compiled(delta, cmd, dt, lim, rate, tc, new)
@@ -291,11 +307,8 @@ def _fly(
             states[k, i] = x[i]
         if S[L.S_DONE] > 0 or k == n_max:
             return k, _DONE
-        _set_inputs(tau_tab, delta)
-        if drive:
-            _drive_begin(dt, Dr)
-            _drive_tau(x, tau_tab, Dr)
-        if not _rk4(t, x, dt, tau_tab, ctab, V, buf, W):
+        _set_deflections(tau_tab, delta)
+        if not _step(t, x, dt, n_s, tau_tab, ctab, V, buf, W, Dr):
             return k, _DIVERGED
     return k_end - 1, _RUNNING
 
@@ -313,7 +326,8 @@ def _pack_drive(drive: Any) -> tuple[np.ndarray, ...]:
     """The drive group of the kernels: (kind 0 ideal / 2 propeller, propeller constants
     [D, ρ, J_lo, J_hi, loss_f, loss_r], K_T forward and reverse padded with leading zeros to one
     length, limits [c_min, c_max, f_min, f_max], τ (s), 1 − w, e_i, r_i × e_i, T (6 × m), force,
-    target, rotor state c and c_step (the drive's own arrays, advanced in place), scratch)."""
+    target, rotor state c now and c0 at the step's start (the drive's own arrays, advanced in
+    place), scratch: the stage's rotor state, thrusts, rates and τ)."""
     ts = drive.thrusters
     m = len(ts)
     kind = np.zeros(m, dtype=np.int64)
@@ -332,18 +346,22 @@ def _pack_drive(drive: Any) -> tuple[np.ndarray, ...]:
             kr[j, n_poly - len(k_r) :] = k_r
     lim = np.column_stack([ts.command_min, ts.command_max, ts.f_min, ts.f_max]).astype(float)
     drive.c = np.ascontiguousarray(drive.c, dtype=float)
-    drive.c_step = np.ascontiguousarray(drive.c_step, dtype=float)
+    drive.c0 = np.ascontiguousarray(drive.c0, dtype=float)
     return (
         kind, prop, kf, kr, np.ascontiguousarray(lim), np.asarray(ts.time_constants, float),
         np.asarray(ts._wake_factor, float), np.ascontiguousarray(ts.directions, dtype=float),
         np.ascontiguousarray(ts._moment_arms, dtype=float), np.ascontiguousarray(drive.T, dtype=float),
-        np.asarray(drive.force, float), np.asarray(drive.target, float), drive.c, drive.c_step, np.zeros(m),
+        np.asarray(drive.force, float), np.asarray(drive.target, float), drive.c, drive.c0, np.zeros(m),
+        np.zeros(m), np.zeros(m), np.zeros(6),
     )  # fmt: skip
 
 
 def _no_drive() -> tuple[np.ndarray, ...]:
     e1, e2 = np.zeros(0), np.zeros((0, 1))
-    return (np.zeros(0, dtype=np.int64), e2, e2, e2, e2, e1, e1, e2, e2, np.zeros((6, 0)), np.zeros(6), e1, e1, e1, e1)
+    return (
+        np.zeros(0, dtype=np.int64), e2, e2, e2, e2, e1, e1, e2, e2, np.zeros((6, 0)), np.zeros(6), e1, e1, e1, e1,
+        e1, e1, np.zeros(6),
+    )  # fmt: skip
 
 
 class Engine:

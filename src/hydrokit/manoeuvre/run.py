@@ -28,11 +28,15 @@ during a depth change or vertical zigzag the rudder holds the heading — PID lo
 its own axis too (an AUV on autopilot), and the execute hands it to the manoeuvre.
 
 **Propulsion** is a constant force, or the vehicle's thrusters at held commands
-(:class:`ThrusterDrive`, ``run_manoeuvre(commands=…)``): every step each thruster's thrust comes
-from its own curve (:meth:`hydrokit.model.thrusters.ThrusterSet.thrust`) at its advance speed, so a
-propeller at constant revolutions gives more thrust as the vehicle slows in a turn (K_T rises as J
-falls) — the speed loss in a turn comes out of the propeller's K_T(J), as in a real trial. The
-rotors spin up from rest with their lag during the approach; the commands are held throughout.
+(:class:`ThrusterDrive`, ``run_manoeuvre(commands=…)``): at every RK4 stage each thruster's thrust
+comes from its own curve (:meth:`hydrokit.model.thrusters.ThrusterSet.thrust`) at its advance
+speed, so a propeller at constant revolutions gives more thrust as the vehicle slows in a turn (K_T
+rises as J falls) — the speed loss in a turn comes out of the propeller's K_T(J), as in a real
+trial. The rotors spin up from rest with their lag during the approach; the commands are held
+throughout. The whole input vector reaches the right-hand side — τ, every deflection, every
+thruster's thrust and rotation rate — so ``T()`` and ``n()`` term factors and a rudder in the
+propeller race see the thrust: the model flown is the one ``simulate --command`` flies and
+``sysid`` fits (issue #56: until then both manoeuvre loops set the thrust inputs to zero).
 
 The sense of a turn is read from the vehicle's response (a positive rudder turns a REMUS to
 port: Prestero's N_uuδr < 0), never assumed. Commands reach the surfaces through the servo law
@@ -110,6 +114,9 @@ DEPTH_BAND, DEPTH_BAND_MIN, DEPTH_SETTLE = L.DEPTH_BAND, L.DEPTH_BAND_MIN, L.DEP
 
 Dynamics = Callable[..., np.ndarray]
 Servo = Callable[..., Any]
+#: the whole right-hand side of a manoeuvre given the deflections: rhs(t, x, δ, h) → ẋ, with
+#: h the time (s) into the step begun last for a thruster drive's rotor state (None: now)
+Rhs = Callable[[float, np.ndarray, np.ndarray, "float | None"], np.ndarray]
 
 
 # --------------------------------------------------------------------------------------------
@@ -277,8 +284,7 @@ class _Keeper:
 
     def __init__(
         self,
-        f: Dynamics,
-        tau_of: Callable[[np.ndarray], np.ndarray],
+        rhs: Rhs,
         n_s: int,
         hold: tuple[int | None, int | None],
         steering: int,
@@ -286,7 +292,7 @@ class _Keeper:
         length: float | None,
         x0: np.ndarray,
     ) -> None:
-        self.f, self.tau_of, self.n_s = f, tau_of, n_s
+        self.rhs, self.n_s = rhs, n_s
         self.plane, self.rudder = hold
         self.lim = lim
         self.K = np.zeros(L.K_SIZE)
@@ -315,14 +321,9 @@ class _Keeper:
 
     def tune(self, t: float, x: np.ndarray) -> None:
         """Probe the holding surfaces' effect in the state ``x`` and schedule the gains (t in s)."""
-        tau = self.tau_of(x)
-        g_q = (
-            0.0 if self.plane is None else _probe(self.f, x, tau, self.n_s, self.plane, float(self.lim[self.plane]), 10)
-        )
+        g_q = 0.0 if self.plane is None else _probe(self.rhs, x, self.n_s, self.plane, float(self.lim[self.plane]), 10)
         g_r = (
-            0.0
-            if self.rudder is None
-            else _probe(self.f, x, tau, self.n_s, self.rudder, float(self.lim[self.rudder]), 11)
+            0.0 if self.rudder is None else _probe(self.rhs, x, self.n_s, self.rudder, float(self.lim[self.rudder]), 11)
         )
         L.keeper_tune(self.K, t, x, g_q, g_r)
 
@@ -343,17 +344,18 @@ class _Keeper:
 
 
 class ThrusterDrive:
-    """The vehicle's thrusters at held commands, as the force ``τ(x)`` of :func:`fly_manoeuvre`.
+    """The vehicle's thrusters at held commands: the thrusters' part of the input vector of
+    :func:`fly_manoeuvre` (τ, each thruster's thrust and rotation rate) at any state.
 
     ``τ(x) = force + T f(c, V_a(ν_r))``: T the thrusters' configuration matrix, f each thruster's
     thrust from its own curve (:meth:`ThrusterSet.thrust`: a propeller's K_T(J) ρ D⁴ |n| n, a
     table, or the command itself for an ideal thruster) at the advance speed of the velocity
     relative to the water (:meth:`ThrusterSet.advance_speed`), c the rotor state. The rotors start
     from rest and follow the commands with their first-order lag (:meth:`ThrusterSet.rotor_step`,
-    exact for a held command); over each step the thrust is taken at the rotor state of the step's
-    midpoint and held with the step's start state (the zero-order hold of the closed loop). The
-    surge force τ_X that the fin law reads for a rudder in the propeller race is this τ's X — the
-    thrusters' X-force plus ``force``'s X.
+    exact for a held command). The thrust, the rotation rate (read by ``T()`` and ``n()`` term
+    factors and by a rudder in the propeller race) and τ are evaluated at every RK4 stage, at the
+    stage's state and rotor state (:meth:`inputs`) — the same model as ``simulate --command``
+    (:meth:`hydrokit.simulate.commands.CommandForce.inputs`), issue #56.
 
     Parameters
     ----------
@@ -371,32 +373,40 @@ class ThrusterDrive:
         self.target = np.asarray(command, float)
         self.force = np.asarray(force, float)
         self.T = thrusters.configuration_matrix()
-        self.c = np.zeros(len(thrusters))  # rotor state: from rest
-        self.c_step = self.c.copy()
-        self.current = current_table(current_ned)
-        self.vc = self.current[0, 1:].copy()
+        self.c = np.zeros(len(thrusters))  # rotor state now: from rest
+        self.c0 = self.c.copy()  # the rotor state at the start of the step being taken
+        self.current = current_table(current_ned)[:, :4]  # the water's: the wind does not reach the propellers
 
     def begin_step(self, t: float, dt: float) -> None:
-        """Advance the rotors over the step [t, t + dt] (s); the step's thrust uses their midpoint."""
+        """Start the step [t, t + dt] (s): its stages read the rotors from the state now
+        (:meth:`inputs` with ``h``); ``c`` becomes the state at its end (both in place, so the
+        compiled loop's packed copy is the same array)."""
+        self.c0[:] = self.c
+        self.c[:] = self.thrusters.rotor_step(self.c0, self.target, dt)
+
+    def inputs(self, t: float, x: np.ndarray, h: float | None = None) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """(τ in N and N·m, each thruster's thrust in N, its rotation rate in rev/s) in the
+        12-state ``x`` (Euler angles) at time ``t`` (s; the current's): at the rotor state ``h``
+        s into the step begun last (:meth:`begin_step`), or at the rotor state now (``h`` None)."""
         from hydrokit.model.dynamics import interp_table
 
         ts = self.thrusters
-        self.c_step = ts.rotor_step(self.c, self.target, 0.5 * dt)
-        self.c = ts.rotor_step(self.c, self.target, dt)
-        self.vc = interp_table(self.current, t + 0.5 * dt)[0]
+        c = self.c if h is None else ts.rotor_step(self.c0, self.target, h)
+        nu_r = np.asarray(x[6:12], float)
+        if np.any(self.current[:, 1:]):
+            vc = interp_table(self.current, t)[0]
+            nu_r = nu_r.copy()
+            nu_r[:3] -= rotation_zyx(float(x[3]), float(x[4]), float(x[5])).T @ vc
+        f = ts.thrust(c, ts.advance_speed(nu_r))
+        return self.force + self.T @ f, f, ts.rotation_rate(f, command=c)
 
     def thrust(self, x: np.ndarray) -> np.ndarray:
-        """Each thruster's thrust (N) in the 12-state ``x`` (Euler angles) at the step's rotor state."""
-        nu_r = np.asarray(x[6:12], float)
-        if np.any(self.vc):
-            nu_r = nu_r.copy()
-            nu_r[:3] -= rotation_zyx(float(x[3]), float(x[4]), float(x[5])).T @ self.vc
-        ts = self.thrusters
-        return ts.thrust(self.c_step, ts.advance_speed(nu_r))
+        """Each thruster's thrust (N) in the 12-state ``x`` at the rotor state now."""
+        return self.inputs(0.0, x)[1]
 
     def __call__(self, x: np.ndarray) -> np.ndarray:
-        """τ (N, N·m) in the state ``x``."""
-        return self.force + self.T @ self.thrust(x)
+        """τ (N, N·m) in the state ``x`` at the rotor state now."""
+        return self.inputs(0.0, x)[0]
 
 
 def commands_from_text(text: str) -> dict[str, float]:
@@ -502,6 +512,7 @@ def fly_manoeuvre(
         if tau_c.shape != (6,) or not np.all(np.isfinite(tau_c)):
             raise InputError(f"force {tau_c.tolist()}: expected 6 finite numbers (N, N·m)")
         tau_of = lambda x: tau_c  # noqa: E731
+    rhs = right_hand_side(f, tau, tau_of)
     x = np.zeros(12) if x0 is None else np.asarray(x0, float).copy()
     if x.shape != (12,) or not np.all(np.isfinite(x)):
         raise InputError(f"initial state {x.tolist()}: expected 12 finite numbers")
@@ -511,8 +522,8 @@ def fly_manoeuvre(
         for h in hold:
             if h is not None and not (0 <= h < n_s):
                 raise InputError(f"hold surface index {h}: expected 0 … {n_s - 1}")
-        keeper = _Keeper(f, tau_of, n_s, hold, surface, lim, length, x)
-    loop = engine if engine is not None else _PythonLoop(f, tau, tau_of, servo_step)
+        keeper = _Keeper(rhs, n_s, hold, surface, lim, length, x)
+    loop = engine if engine is not None else _PythonLoop(f, tau, tau_of, servo_step, rhs)
     sv = _Servo(lim, rate, tc, np.zeros(n_s), np.zeros(n_s), np.zeros(n_s))
 
     # the approach: straight, surfaces at zero, until ν is steady over a window
@@ -546,15 +557,13 @@ def fly_manoeuvre(
         )
     time_scale = length / u_exec if length and u_exec > 1e-6 else 1.0
     limit = float(lim[surface])
-    probe = _probe(f, x, tau_of(x), n_s, surface, limit, 10 if manoeuvre.kind in VERTICAL else 11)
+    probe = _probe(rhs, x, n_s, surface, limit, 10 if manoeuvre.kind in VERTICAL else 11)
     logic = _make_logic(manoeuvre, limit, probe, time_scale, dt)
     logic.start(x)
     x_exec = x.copy()
     if logic.code == L.DEPTH_PILOT:
         if keeper is None or keeper.plane != surface:
-            keeper = _Keeper(
-                f, tau_of, n_s, (surface, None if keeper is None else keeper.rudder), surface, lim, length, x
-            )
+            keeper = _Keeper(rhs, n_s, (surface, None if keeper is None else keeper.rudder), surface, lim, length, x)
         keeper.trim = float(x[4])
     t_start = n_rows * dt  # the keeper's clock runs on from the approach
     if duration is None:  # the logic's own budget, scaled by the vehicle's L/U
@@ -613,17 +622,22 @@ class _PythonLoop:
     :mod:`hydrokit.manoeuvre.compiled`, wires the same laws). Both methods advance ``x``
     in place and return (last step index, status: 1 done, 0 not yet, −1 non-finite)."""
 
-    def __init__(self, f: Dynamics, tau: Any, tau_of: Callable[[np.ndarray], np.ndarray], servo_step: Servo) -> None:
-        self.f, self.tau_of, self.servo_step = f, tau_of, servo_step
+    def __init__(
+        self, f: Dynamics, tau: Any, tau_of: Callable[[np.ndarray], np.ndarray], servo_step: Servo, rhs: Rhs
+    ) -> None:
+        self.f, self.tau_of, self.servo_step, self.rhs = f, tau_of, servo_step, rhs
         self.begin_step = getattr(tau, "begin_step", None)  # a ThrusterDrive: rotor lag, step by step
 
     def _step(self, t: float, x: np.ndarray, dt: float, delta: np.ndarray) -> bool:
         from hydrokit.simulate.integrators import rk4_step
 
-        f = self.f
-        if self.begin_step is not None:
+        if self.begin_step is not None:  # the thrusters' inputs at every stage, at its rotor state
             self.begin_step(t, dt)
-        y = rk4_step(lambda s, y, u: f(s, y, u[:6], u[6:]), t, x, dt, u=np.concatenate([self.tau_of(x), delta]))
+            rhs = self.rhs
+            y = rk4_step(lambda s, y, u: rhs(s, y, u, s - t), t, x, dt, u=delta)
+        else:  # a force held over the step (zero-order hold)
+            f, tau = self.f, self.tau_of(x)
+            y = rk4_step(lambda s, y, u: f(s, y, tau, u), t, x, dt, u=delta)
         x[:] = y
         return bool(np.all(np.isfinite(y)))
 
@@ -689,12 +703,37 @@ class _PythonLoop:
 _NO_KEEPER = np.zeros(L.K_SIZE)
 
 
-def _probe(f: Dynamics, x: np.ndarray, tau: np.ndarray, n_s: int, surface: int, limit: float, index: int) -> float:
-    """∂(angular acceleration at ``index``)/∂δ of the surface at the execute state, 1/s² per rad."""
+def _probe(rhs: Rhs, x: np.ndarray, n_s: int, surface: int, limit: float, index: int) -> float:
+    """∂(angular acceleration at ``index``)/∂δ of the surface in the state ``x``, 1/s² per rad
+    (the other surfaces at 0; the thrusters' inputs as they are now)."""
     eps = 0.1 * limit
     d = np.zeros(n_s)
     d[surface] = eps
-    return float((f(0.0, x, tau, d)[index] - f(0.0, x, tau, np.zeros(n_s))[index]) / eps)
+    return float((rhs(0.0, x, d, None)[index] - rhs(0.0, x, np.zeros(n_s), None)[index]) / eps)
+
+
+def right_hand_side(f: Dynamics, tau: Any, tau_of: Callable[[np.ndarray], np.ndarray]) -> Rhs:
+    """The manoeuvre's right-hand side given the deflections: ``f`` with the force of ``tau``,
+    and for a :class:`ThrusterDrive` its whole thrusters' part of the input vector (τ, each
+    thrust and rotation rate, :meth:`ThrusterDrive.inputs`), as ``simulate --command`` feeds
+    the same ``f`` (:func:`hydrokit.simulate.commands.fly_commands`)."""
+    from hydrokit.model.terms import MAX_THRUSTERS
+
+    inputs = getattr(tau, "inputs", None)
+    if inputs is None:
+
+        def held(t: float, x: np.ndarray, d: np.ndarray, h: float | None = None) -> np.ndarray:
+            return f(t, x, tau_of(x), d)
+
+        return held
+    # the input vector of the compiled right-hand side holds up to MAX_THRUSTERS thrusters
+    full = len(tau.thrusters) <= MAX_THRUSTERS
+
+    def rhs(t: float, x: np.ndarray, d: np.ndarray, h: float | None = None) -> np.ndarray:
+        tq, thrust, rate = inputs(t, x, h)
+        return f(t, x, tq, d, thrust, rate) if full else f(t, x, tq, d)
+
+    return rhs
 
 
 def _make_logic(m: Manoeuvre, limit: float, probe: float, scale: float, dt: float = 0.0) -> _Logic:
@@ -954,7 +993,6 @@ def _propulsion(drive: ThrusterDrive, time: np.ndarray, states: np.ndarray) -> d
     from hydrokit.simulate.mission import COMMAND_UNITS
 
     ts = drive.thrusters
-    drive.c_step = drive.c
     k0 = int(np.searchsorted(time, 0.0))
     names = ts.names
     return {

@@ -208,6 +208,46 @@ def advance_speed_law(
     return wake * ((ex * u + ey * v + ez * w) + (ax * p + ay * q + az * r))
 
 
+def thruster_inputs(kind, prop, kf, kr, lim, wake, dirs, arms, T, force, c, nr, f, rate, tau):  # noqa: ANN001, ANN201
+    """The thrusters' part of a vehicle's input vector at one instant, in place: each thruster's
+    thrust ``f`` (N) and rotation rate ``rate`` (rev/s; a propeller's rotor state, 0 for an ideal
+    thruster) at the rotor state ``c`` (each thruster's command unit) and the body velocity
+    relative to the water ``nr`` (6 floats, m/s, rad/s), and ``tau = force + T f`` (N, N·m).
+
+    The packed description (:func:`hydrokit.manoeuvre.compiled._pack_drive`): ``kind`` 0 ideal
+    (the command is the thrust) or 2 propeller (K_T(J) at the advance speed, wake included);
+    ``prop`` rows [D, ρ, J_lo, J_hi, loss_f, loss_r]; ``kf``, ``kr`` the K_T polynomials padded
+    with leading zeros; ``lim`` rows [c_min, c_max, f_min, f_max]; ``wake`` 1 − w; ``dirs`` e_i;
+    ``arms`` r_i × e_i; ``T`` the 6 × m configuration matrix (thrust deduction included);
+    ``force`` 6 floats (N, N·m). The same law as :meth:`ThrusterSet.thrust` at
+    :meth:`ThrusterSet.advance_speed` (the command clipped to its limits, the thrust to the
+    thrust limits) and :meth:`ThrusterSet.rotation_rate`; plain floats and loops, compiled by
+    ``compile_law`` for the compiled manoeuvre loop, where it is evaluated at every RK4 stage
+    as :func:`hydrokit.simulate.commands.fly_commands` evaluates its thrust."""
+    m = kind.shape[0]
+    for j in range(m):
+        cj = c[j]
+        cj = lim[j, 0] if cj < lim[j, 0] else (lim[j, 1] if cj > lim[j, 1] else cj)
+        if kind[j] == 2:
+            va = advance_speed_law(
+                wake[j], dirs[j, 0], dirs[j, 1], dirs[j, 2], arms[j, 0], arms[j, 1], arms[j, 2],
+                nr[0], nr[1], nr[2], nr[3], nr[4], nr[5],
+            )  # fmt: skip
+            fj = propeller_thrust(
+                cj, va, prop[j, 0], prop[j, 1], prop[j, 2], prop[j, 3], kf[j], kr[j], prop[j, 4], prop[j, 5]
+            )
+            rate[j] = cj
+        else:  # ideal: the command is the thrust, and there is no rotor rate
+            fj = cj
+            rate[j] = 0.0
+        f[j] = lim[j, 2] if fj < lim[j, 2] else (lim[j, 3] if fj > lim[j, 3] else fj)
+    for i in range(6):
+        s = 0.0
+        for j in range(m):
+            s += T[i, j] * f[j]
+        tau[i] = force[i] + s
+
+
 def rotor_lag(c: float, target: float, dt: float, time_constant: float) -> float:
     """The rotor state (command unit) after ``dt`` (s) of the first-order lag τ ċ = c_t − c
     from ``c`` towards the held ``target``, exactly: ``c_t + (c − c_t) e^(−dt/τ)``; τ =

@@ -39,7 +39,14 @@ from hydrokit.core.integrate import rk4_combine_into, rk4_stage, rk4_stage_into,
 from hydrokit.core.kinematics import quaternion_rotation_entries, rotation_zyx_entries, rotation_zyx_into
 from hydrokit.model.surfaces import FIN_WIDTH, MAX_SURFACES, fin_wrench, servo_step, steer_surfaces
 from hydrokit.model.terms import MAX_THRUSTERS, add_term_forces
-from hydrokit.model.thrusters import advance_speed_law, propeller_speed, propeller_thrust, rotor_lag, table_interp
+from hydrokit.model.thrusters import (
+    advance_speed_law,
+    propeller_speed,
+    propeller_thrust,
+    rotor_lag,
+    table_interp,
+    thruster_inputs,
+)
 from hydrokit.model.wind import wind_coefficients, wind_wrench
 
 #: scratch length of :func:`deriv` (40 numbers, then the force table's values and slopes:
@@ -62,6 +69,10 @@ propeller_thrust_compiled = compile_law(propeller_thrust)
 propeller_speed_compiled = compile_law(propeller_speed, propeller_thrust=propeller_thrust_compiled)
 rotor_lag_compiled = compile_law(rotor_lag)
 advance_speed_compiled = compile_law(advance_speed_law)
+#: the thrusters' part of the input vector (thrusts, rates, τ) at a rotor state and ν_r
+thruster_inputs_compiled = compile_law(
+    thruster_inputs, advance_speed_law=advance_speed_compiled, propeller_thrust=propeller_thrust_compiled
+)
 #: a table thrust curve (and its inverse): np.interp for one number, on the first n points
 table_interp_compiled = compile_law(table_interp)
 # the rotation matrices (core/kinematics.py) and the RK4 step's arithmetic (core/integrate.py),
