@@ -10,7 +10,7 @@ notebook view. Units are SI and radians throughout.
 from __future__ import annotations
 
 import os
-from collections.abc import Callable, Sequence
+from collections.abc import Callable, Mapping, Sequence
 from dataclasses import replace
 from typing import TYPE_CHECKING, Any
 
@@ -339,15 +339,18 @@ def identify_runs(
     method: str = "output-error",
     dt: float = 0.01,
     on_read: Callable[[list[Any], list[Any]], None] | None = None,
+    document: Mapping[str, Any] | None = None,
     **options: Any,
 ) -> SysidResult:
     """Read the run files and identify: the one path of :func:`sysid`, ``hydrokit sysid`` and the
     main job's ``sysid:`` source.
 
-    Every option is checked before a run is read (a bad free name or method costs no reading),
-    then the runs are read with the vehicle's thrusters and surfaces
-    (:func:`hydrokit.io.runlog.read_runs`), a ``window`` longer than a run is refused, and
-    :func:`hydrokit.sysid.fit.identify` fits.
+    Every option is checked before a run is read (a bad free name or method costs no reading) —
+    with ``document``, the free names are also written at their start values into a copy of it
+    and loaded back (:func:`hydrokit.io.vehicle.check_writable`), so a name the fit could not
+    write into its vehicle file fails before the fit, not after it — then the runs are read with
+    the vehicle's thrusters and surfaces (:func:`hydrokit.io.runlog.read_runs`), a ``window``
+    longer than a run is refused, and :func:`hydrokit.sysid.fit.identify` fits.
 
     Parameters
     ----------
@@ -358,6 +361,8 @@ def identify_runs(
     dt : float — integration step, s
     on_read : callable(training, holdout) or None — called with the runs once they are read and
         checked, before the fit (the CLI prints them)
+    document : mapping or None — the base vehicle file's fields the result will be written into
+        (``hydrokit sysid``'s vehicle.yaml, :func:`hydrokit.io.vehicle.identified_vehicle_document`)
     **options : the rest of :func:`hydrokit.sysid.fit.identify`'s keywords (samples, seed,
         progress, workers, scheduler, window — s, "auto" or None …)
 
@@ -370,7 +375,11 @@ def identify_runs(
     from hydrokit.sysid.window import check_window
 
     names = list(free)
-    check_options(vehicle, names, method, dt)  # every option before a run is read
+    start, params = check_options(vehicle, names, method, dt)  # every option before a run is read
+    if document is not None:  # and every name the writer must hold, at its start value
+        from hydrokit.io.vehicle import check_writable
+
+        check_writable(document, start, [p.name for p in params])
     train, held = read_runs(runs, vehicle), read_runs(holdout, vehicle)
     check_window(options.get("window"), train)  # a window longer than a run: refused before the fit
     if on_read is not None:

@@ -88,7 +88,7 @@ def compare(
     from hydrokit.cli._common import check_out_dir, progress_bar, write_all
     from hydrokit.errors import InputError
     from hydrokit.io.runlog import read_runs
-    from hydrokit.io.vehicle import resolve_vehicle
+    from hydrokit.io.vehicle import check_writable, resolve_vehicle
     from hydrokit.io.yamlfile import read_yaml
     from hydrokit.report.sysid_compare import output_files
     from hydrokit.sysid.compare import Candidate, check_candidates
@@ -112,8 +112,9 @@ def compare(
     for (name, spec), free in zip(specs, free_lists):
         try:
             base = load_vehicle(spec)
-            check_options(base, free, opts["method"], opts["dt"])
+            start, params = check_options(base, free, opts["method"], opts["dt"])
             docs[name] = read_yaml(resolve_vehicle(spec))
+            check_writable(docs[name], start, [p.name for p in params])  # before the fit, not after
         except InputError as exc:
             raise InputError(f"--candidate {name}={spec}: {exc}") from None
         th = base.thrusters

@@ -102,6 +102,7 @@ def fit(
 
     check_out_dir(out_dir)
     base = load_vehicle(vehicle)
+    base_data = read_yaml(resolve_vehicle(vehicle))  # what vehicle.yaml is written from
 
     bar = progress_bar()
     task = bar.add_task("output-error fit", total=None)
@@ -116,10 +117,14 @@ def fit(
 
     step = lambda it, cost: bar.update(task, advance=1, description=f"iteration {it}: cost {cost:.6g}")  # noqa: E731
     try:
-        result = identify_runs(base, runs, _names(free), _names(holdout), on_read=said, progress=step, **opts)
+        # every --free name written into base_data before a run is read: one it could not write
+        # fails now, not after the fit
+        result = identify_runs(
+            base, runs, _names(free), _names(holdout), on_read=said, progress=step, document=base_data, **opts
+        )
     finally:
         bar.stop()
-    files = output_files(result, read_yaml(resolve_vehicle(vehicle)), out_dir)
+    files = output_files(result, base_data, out_dir)
     write_all(files)
     for line in verdict_lines(result):
         click.echo(line)

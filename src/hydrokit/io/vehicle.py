@@ -723,23 +723,7 @@ def identified_vehicle_document(result: Any, base_data: Mapping[str, Any]) -> di
     """
     doc = {k: v for k, v in base_data.items() if k != "uncertainty"}
     names = list(result.parameters)
-    for coef in COEFFICIENTS:
-        values = doc.get(coef)
-        matrix = isinstance(values, list) and bool(values) and all(isinstance(r, list) for r in values)
-        vals: Any = [list(map(float, r)) for r in values] if matrix else [float(x) for x in values]  # type: ignore[union-attr]
-        for i, dof in enumerate(DOF_NAMES):
-            name = f"{coef}.{dof}"
-            if name in names:
-                v = float(result.values[names.index(name)])
-                if matrix:
-                    vals[i][i] = v
-                else:
-                    vals[i] = v
-        doc[coef] = vals
-    write_terms(doc, [(n, float(v)) for n, v in zip(names, result.values) if n.startswith(TERM_PREFIX)])
-    # surface, thruster and wind fields where the file keeps them, so the written vehicle flies
-    # the fitted values and its uncertainty block is centred on them
-    write_fields(doc, [(n, float(v)) for n, v in zip(names, result.values) if is_field(n)])
+    write_identified(doc, [(n, float(v)) for n, v in zip(names, result.values)])
     cov = np.asarray(result.covariance, float)
     se = {c: [0.0] * 6 for c in COEFFICIENTS}
     for k, name in enumerate(names):
@@ -764,6 +748,78 @@ def identified_vehicle_document(result: Any, base_data: Mapping[str, Any]) -> di
     return doc
 
 
+def write_identified(doc: dict[str, Any], values: Sequence[tuple[str, float]]) -> dict[str, Any]:
+    """Write identified values into the vehicle document ``doc`` (changed in place and returned)
+    where the file keeps them, as :func:`identified_vehicle_document` writes a fit.
+
+    Parameters
+    ----------
+    doc : dict — a vehicle file's fields, as read
+    values : (name, value) pairs — ``<coefficient>.<dof>`` into ``added_mass`` /
+        ``linear_damping`` / ``quadratic_damping`` (6 numbers or a 6×6 matrix, as ``doc`` has
+        them; SI), ``terms.<term>`` (:func:`write_terms`; SI), and surface, thruster and wind
+        fields (:func:`hydrokit.io.fields.write_fields`; in the file's units), so the written
+        vehicle flies the fitted values and its uncertainty block is centred on them
+
+    Raises
+    ------
+    InputError
+        A term or field the document cannot hold (one line naming it).
+    """
+    names = [n for n, _ in values]
+    for coef in COEFFICIENTS:
+        entries = doc.get(coef)
+        matrix = isinstance(entries, list) and bool(entries) and all(isinstance(r, list) for r in entries)
+        vals: Any = [list(map(float, r)) for r in entries] if matrix else [float(x) for x in entries]  # type: ignore[union-attr]
+        for i, dof in enumerate(DOF_NAMES):
+            name = f"{coef}.{dof}"
+            if name in names:
+                v = float(values[names.index(name)][1])
+                if matrix:
+                    vals[i][i] = v
+                else:
+                    vals[i] = v
+        doc[coef] = vals
+    write_terms(doc, [(n, float(v)) for n, v in values if n.startswith(TERM_PREFIX)])
+    write_fields(doc, [(n, float(v)) for n, v in values if is_field(n)])
+    return doc
+
+
+def check_writable(
+    base_data: Mapping[str, Any], start: Vehicle, names: Sequence[str], source: str = "--free"
+) -> Vehicle:
+    """The vehicle a fit of ``names`` writes, at their start values: each name's value in
+    ``start`` written into a copy of ``base_data`` by :func:`write_identified`, with an
+    ``uncertainty:`` block over them, and loaded back. ``hydrokit sysid`` calls it before any run
+    is read, so a name the fit could not write into vehicle.yaml (or that would not load back)
+    fails in the first second, not after the fit.
+
+    Parameters
+    ----------
+    base_data : mapping — the base vehicle file's fields, as read (not changed)
+    start : Vehicle — the fit's start: the base with its absent free terms added at 0
+        (:func:`hydrokit.sysid.fit.check_options`)
+    names : the free parameter names (:mod:`hydrokit.model.uncertainty`)
+    source : str — what errors are prefixed with (the option that named the parameters)
+
+    Raises
+    ------
+    InputError
+        One line: the term, field or block that could not be written or read back.
+    """
+    import copy
+
+    from hydrokit.model.uncertainty import parameter_value
+
+    doc = copy.deepcopy({k: v for k, v in base_data.items() if k != "uncertainty"})
+    doc["uncertainty"] = {"parameters": list(names), "covariance": [[0.0] * len(names) for _ in names]}
+    try:
+        write_identified(doc, [(n, parameter_value(start, n)) for n in names])
+        return parse_vehicle(doc, "")
+    except InputError as exc:
+        raise InputError(f"the fit could not be written into a vehicle file: {exc}", source) from None
+
+
 def doc_surfaces(doc: Mapping[str, Any]) -> tuple[str, ...]:
     """The control-surface names of a vehicle document (its ``control_surfaces:`` entries)."""
     entries = doc.get("control_surfaces") or []
@@ -774,22 +830,23 @@ def write_terms(doc: dict[str, Any], values: Sequence[tuple[str, float]]) -> dic
     """Write identified ``terms.<term>`` values (SI, as :mod:`hydrokit.model.uncertainty` names
     them) into the vehicle document ``doc`` (changed in place and returned).
 
-    ``delta(NAME)`` factors name the document's ``control_surfaces``. A velocity term replaces
+    ``delta(NAME)`` factors name the document's ``control_surfaces``, ``T(NAME)`` and ``n(NAME)``
+    its ``thrusters`` (``n()`` a propeller), as its loader reads them. A velocity term replaces
     the file's entry of the same term (however spelt) with its SI
     value; an acceleration term (``terms.Y_vdot``, value −M_A[dof, acceleration]) is written as
     the file term that, with the document's ``added_mass`` entry, gives that M_A entry:
     term = added_mass[dof][acceleration] + value (the file subtracts a term from M_A).
     """
     terms = dict(doc.get("terms") or {})
-    surfaces = doc_surfaces(doc)
+    named = (doc_surfaces(doc), *_thruster_names(doc.get("thrusters")))  # surfaces, thrusters, propellers
     spelt = {}
     for key in terms:
         try:
-            spelt[location(check_parameter(TERM_PREFIX + str(key), "term", "", surfaces))] = key
+            spelt[location(check_parameter(TERM_PREFIX + str(key), "term", "", *named))] = key
         except InputError:  # not a term this document's vehicle could load: never a free one
             continue
     for name, v in values:
-        ref = check_parameter(name, "parameter", "", surfaces)
+        ref = check_parameter(name, "parameter", "", *named)
         key = spelt.get(location(ref), name[len(TERM_PREFIX) :])
         value = float(v)
         if ref.kind == "accel":

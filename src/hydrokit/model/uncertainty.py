@@ -146,13 +146,20 @@ def _field_parameter(text: str, what: str, source: str, surfaces: tuple[str, ...
 
 
 def check_parameter(
-    name: Any, what: str, source: str, surfaces: tuple[str, ...] = (), thrusters: tuple[str, ...] = ()
+    name: Any,
+    what: str,
+    source: str,
+    surfaces: tuple[str, ...] = (),
+    thrusters: tuple[str, ...] = (),
+    propellers: tuple[str, ...] | None = None,
 ) -> ParameterRef:
     """The :class:`ParameterRef` of ``"<coefficient>.<dof>"``, ``"terms.<term>"``,
     ``"control_surfaces.<NAME>.<FIELD>"`` or ``"thrusters.<NAME>.<FIELD>"``, or an error starting
     with ``what`` (``"field 'uncertainty.parameters[2]' ="``, ``"variation"``). ``surfaces`` are
     the control-surface names a ``delta(NAME)`` factor may use, ``thrusters`` the thruster names
-    (file order) of ``T(NAME)`` and ``n(NAME)``."""
+    (file order) of ``T(NAME)`` and ``n(NAME)``, ``propellers`` those of them with a rotation rate
+    that ``n(NAME)`` may use (None: all). A term of a vehicle document is checked with all three of
+    the document's lists, as its loader checks it (:func:`hydrokit.io.vehicle.write_terms`)."""
     text = str(name)
     if isinstance(name, str):
         field_ref = _field_parameter(text, what, source, tuple(surfaces), tuple(thrusters))
@@ -168,7 +175,7 @@ def check_parameter(
             return ParameterRef("wind", 5 if field in ("C_N", "s_L") else force, -1, None, text[len(WIND_PREFIX) :])
     if isinstance(name, str) and text.startswith(TERM_PREFIX) and text[len(TERM_PREFIX) :].strip():
         try:
-            term = parse_term(text[len(TERM_PREFIX) :], "", surfaces, thrusters)
+            term = parse_term(text[len(TERM_PREFIX) :], "", surfaces, thrusters, propellers)
         except InputError as exc:
             raise InputError(f"{what} {text[:80]!r}: {exc}", source) from None
         if term.acceleration is not None:

@@ -189,7 +189,15 @@ def _named_surfaces(name: str) -> tuple[str, ...]:
     return tuple(re.findall(r"delta\(\s*([^()\s]+)\s*\)", name))
 
 
+def _named_thrusters(name: str) -> tuple[str, ...]:
+    """The thruster names a term's ``T(NAME)`` and ``n(NAME)`` factors use, as
+    :func:`_named_surfaces` (``terms.N_T(prop)*delta(rudder)`` → prop)."""
+    import re
+
+    return tuple(re.findall(r"(?<![A-Za-z])[Tn]\(\s*([^()\s]+)\s*\)", name))
+
+
 def term_dof(name: str) -> str:
     """The DOF whose force a ``terms.<term>`` parameter enters (``terms.N_r|r|`` → yaw;
-    ``terms.N_uu*delta(rudder)`` → yaw)."""
-    return DOF_NAMES[check_parameter(name, "parameter", "", _named_surfaces(name)).dof]
+    ``terms.N_uu*delta(rudder)`` → yaw; ``terms.Y_T(prop)*delta(rudder)`` → sway)."""
+    return DOF_NAMES[check_parameter(name, "parameter", "", _named_surfaces(name), _named_thrusters(name)).dof]
