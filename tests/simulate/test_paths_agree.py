@@ -1,0 +1,234 @@
+"""Every path that flies a vehicle flies the same model (issue #56 items 1–2).
+
+A matrix: vehicles that each carry one feature of the input vector — ``delta()``, ``T()`` and
+``n()`` term factors, a physical fin, a rudder in the propeller race with each inflow (the
+actuator disc and the MMG method), a propeller with rotor lag and wake, a table thruster, a
+current, a planar ship and a 6-DOF AUV — flown by ``hydrokit manoeuvre``'s two loops (compiled and
+Python). Each manoeuvre's own record (state, held deflections, held propeller command) is then
+fed, step by step, to ``simulate``'s open-loop driver with thrusters
+(:func:`hydrokit.simulate.commands.fly_commands`: the compiled right-hand side given τ and each
+thruster's thrust and rotation rate at every RK4 stage): the two must agree to round-off, step
+after step. The reference is a second path — not the same code run twice — so the tolerance is a
+relative 1e-9 per step (round-off is ~1e-14; a dropped input moves a step by 1e-4 or more).
+
+Then each feature's coefficient, moved, must move every path's result: the defect this guards
+against (the manoeuvre loops set every thrust input to zero, so a ``T()`` term or a race rudder
+changed nothing) changed the manoeuvre by 0.0 %. ``bench/paths.py`` prints the matrix.
+"""
+
+from __future__ import annotations
+
+import copy
+import math
+from collections.abc import Callable
+from typing import Any
+
+import numpy as np
+import pytest
+from tests.simulate.test_sysid_propeller_rudder import RACE_RUDDER
+from tests.simulate.test_sysid_surfaces import SHIP
+
+#: the propeller speed the ships fly at, rev/s
+N_PROP = 20.0
+#: REMUS 100's propeller speed and torque trim (docs/manoeuvre.md), rev/s and N·m
+REMUS = {"commands": {"propeller": 11.567}, "tau": (0, 0, 0, -0.543, 0, 0)}
+#: a BlueROV2 T200-like table thruster pushing the ship (command –, thrust N)
+TABLE_THRUSTER = {
+    "name": "prop",
+    "position": [-1.45, 0, 0],
+    "direction": [1, 0, 0],
+    "thrust_table": {"command": [-1.0, 0.0, 1.0], "thrust": [-20.0, 0.0, 25.0]},
+    "max_thrust": 25.0,
+    "min_thrust": -20.0,
+}
+
+
+def _ship(change: Callable[[dict[str, Any]], None]) -> dict[str, Any]:
+    d = copy.deepcopy(SHIP)
+    d["terms"] = {k: v for k, v in SHIP["terms"].items() if "delta" not in k}
+    change(d)
+    return d
+
+
+def _terms(t: dict[str, float]) -> Callable[[dict[str, Any]], None]:
+    return lambda d: d["terms"].update(t)
+
+
+def _fin(slipstream: dict[str, Any] | None) -> Callable[[dict[str, Any]], None]:
+    def change(d: dict[str, Any]) -> None:
+        fin = {k: v for k, v in RACE_RUDDER.items() if k != "slipstream"}
+        if slipstream is not None:
+            fin["slipstream"] = dict(slipstream)
+        d["control_surfaces"] = [fin]
+
+    return change
+
+
+def _rudder_terms(d: dict[str, Any]) -> None:
+    d["terms"].update({"Y_uu*delta(rudder)": 40.0, "N_uu*delta(rudder)": -80.0})
+
+
+def _both(*changes: Callable[[dict[str, Any]], None]) -> Callable[[dict[str, Any]], None]:
+    def change(d: dict[str, Any]) -> None:
+        for c in changes:
+            c(d)
+
+    return change
+
+
+def _lag_wake(d: dict[str, Any]) -> None:
+    _rudder_terms(d)
+    d["thrusters"][0].update(time_constant=2.0, wake_fraction=0.3)
+
+
+def _table(d: dict[str, Any]) -> None:
+    _rudder_terms(d)
+    d["thrusters"] = [copy.deepcopy(TABLE_THRUSTER)]
+
+
+#: feature → (vehicle document change, the coefficient path to move, its factor, run options)
+FEATURES: dict[str, tuple[Callable[[dict[str, Any]], None], tuple[Any, ...], float, dict[str, Any]]] = {
+    "delta()": (_rudder_terms, ("terms", "N_uu*delta(rudder)"), 1.5, {}),
+    "T()": (
+        _terms({"Y_T(prop)*delta(rudder)": 0.15, "N_T(prop)*delta(rudder)": -0.3}),
+        ("terms", "N_T(prop)*delta(rudder)"),
+        1.5,
+        {},
+    ),
+    "n()": (
+        _terms({"Y_n(prop)*delta(rudder)": 0.04, "N_n(prop)*delta(rudder)": -0.08}),
+        ("terms", "N_n(prop)*delta(rudder)"),
+        1.5,
+        {},
+    ),
+    "fin": (_fin(None), ("control_surfaces", 0, "area"), 1.5, {}),
+    "race (actuator disc)": (_fin({"thruster": "prop"}), ("control_surfaces", 0, "area"), 1.5, {}),
+    "race (MMG)": (_fin(RACE_RUDDER["slipstream"]), ("control_surfaces", 0, "slipstream", "kappa"), 1.6, {}),
+    "propeller lag + wake": (_lag_wake, ("thrusters", 0, "wake_fraction"), 0.3, {}),
+    "table thruster": (_table, ("thrusters", 0, "thrust_table", "thrust", 2), 1.3, {"command": 0.8}),
+    "current": (_rudder_terms, ("terms", "N_uu*delta(rudder)"), 1.5, {"current_ned": [0.05, 0.02, 0.0]}),
+}
+
+
+def feature_vehicle(feature: str, scale: float = 1.0) -> Any:
+    """The ship of ``feature`` with its coefficient times ``scale``."""
+    from hydrokit.api import vehicle_from_dict
+
+    change, where, _, _ = FEATURES[feature]
+    d = _ship(change)
+    node: Any = d
+    for p in where[:-1]:
+        node = node[p]
+    node[where[-1]] = node[where[-1]] * scale
+    return vehicle_from_dict(d, f"path-{feature}")
+
+
+def fly(vehicle: Any, loop: bool, options: dict[str, Any], deflection_deg: float = 35.0, **kw: Any) -> Any:
+    """A turning circle of ``deflection_deg`` (°) (cut at ``duration``) of ``vehicle`` by the compiled loop (``loop``
+    True) or the Python loop; the propeller at :data:`N_PROP` unless ``options`` say."""
+    from hydrokit.manoeuvre.definitions import turning_circle
+    from hydrokit.manoeuvre.run import run_manoeuvre
+
+    name = vehicle.thruster_names[0]
+    opts = {"commands": {name: options.get("command", N_PROP)}, **kw}
+    if "current_ned" in options:
+        opts["current_ned"] = options["current_ned"]
+    return run_manoeuvre(
+        vehicle, turning_circle(math.radians(deflection_deg)), dt=0.05, approach=150.0, compiled_loop=loop, **opts
+    )
+
+
+def step_errors(vehicle: Any, res: Any, commands: dict[str, float], tau: Any = (0, 0, 0, 0, 0, 0), **kw: Any) -> float:
+    """The largest relative difference between the manoeuvre's steps and ``simulate``'s from the
+    same state with the same held deflections and propeller command (15 steps across the
+    record, the rotors settled: the approach spun them up)."""
+    from hydrokit.simulate.commands import CommandForce, command_table, fly_commands
+
+    table = command_table(vehicle, commands)
+    worst = 0.0
+    for k in np.linspace(0, res.time.size - 2, 15).astype(int):
+        dt = float(res.time[k + 1] - res.time[k])
+        cf = CommandForce(vehicle.thrusters, table, force=tau, start="settled", current_ned=kw.get("current_ned"))
+        tr = fly_commands(vehicle, dt, dt, cf, eta0=res.eta[k], nu0=res.nu[k], deflection=res.deflection[k], **kw)
+        got = np.concatenate([tr.eta[-1], tr.nu[-1]])
+        ref = np.concatenate([res.eta[k + 1], res.nu[k + 1]])
+        worst = max(worst, float(np.max(np.abs(got - ref) / (1e-3 + np.abs(ref)))))
+    return worst
+
+
+def loops_for(feature: str) -> list[bool]:
+    """The manoeuvre loops a feature flies in: both, or the Python loop alone where the compiled
+    one hands over (a table curve, a current with thrusters: :func:`drive_compiles`)."""
+    return [False] if feature in ("table thruster", "current") else [True, False]
+
+
+@pytest.mark.parametrize("feature", list(FEATURES))
+def test_manoeuvre_flies_simulates_model(feature: str) -> None:
+    """Each loop's steps are simulate's steps, to round-off (module docstring)."""
+    v = feature_vehicle(feature)
+    _, _, _, options = FEATURES[feature]
+    name = v.thruster_names[0]
+    cmd = {name: options.get("command", N_PROP)}
+    kw = {"current_ned": options["current_ned"]} if "current_ned" in options else {}
+    for loop in loops_for(feature):
+        res = fly(v, loop, options, duration=30.0)
+        assert step_errors(v, res, cmd, **kw) < 1e-9, (feature, "compiled" if loop else "python")
+
+
+@pytest.mark.parametrize("feature", list(FEATURES))
+def test_a_features_coefficient_moves_every_path(feature: str) -> None:
+    """The feature's coefficient, moved, moves the manoeuvre of every loop and simulate's run: the
+    heading after 30 s of the turn changes by more than 0.1° (the thrust-blind loops changed it by
+    0.0 for ``T()``, ``n()`` and the race)."""
+    from hydrokit.simulate.commands import CommandForce, command_table, fly_commands
+
+    _, _, factor, options = FEATURES[feature]
+    base, moved = feature_vehicle(feature), feature_vehicle(feature, factor)
+    name = base.thruster_names[0]
+    cmd = {name: options.get("command", N_PROP)}
+    for loop in loops_for(feature):
+        a, b = fly(base, loop, options, duration=30.0), fly(moved, loop, options, duration=30.0)
+        assert abs(a.eta[-1, 5] - b.eta[-1, 5]) > math.radians(0.1), (feature, loop)
+    # simulate --command with the same rudder schedule (35° held after 5 s)
+    kw = {"current_ned": options["current_ned"]} if "current_ned" in options else {}
+    rows = np.array([[0.0, 0.0], [5.0, 0.0], [5.5, math.radians(35)], [40.0, math.radians(35)]])
+    heads = []
+    for v in (base, moved):
+        cf = CommandForce(v.thrusters, command_table(v, cmd), current_ned=kw.get("current_ned"))
+        tr = fly_commands(v, 40.0, 0.05, cf, nu0=(0.3, 0, 0, 0, 0, 0), deflection=rows, **kw)
+        heads.append(float(tr.eta[-1, 5]))
+    assert abs(heads[0] - heads[1]) > math.radians(0.1), feature
+
+
+def test_a_six_dof_auv_flies_simulates_model() -> None:
+    """The bundled REMUS 100 with physical fins (6 DOF, depth and pitch held by the stern planes,
+    the propeller at 11.567 rev/s against its torque): the same step-by-step agreement."""
+    from hydrokit.api import load_vehicle
+
+    v = load_vehicle("remus100-fins")
+    for loop in (True, False):
+        opts = {"command": REMUS["commands"]["propeller"]}
+        res = fly(v, loop, opts, deflection_deg=15.0, duration=10.0, tau=REMUS["tau"])
+        assert step_errors(v, res, REMUS["commands"], tau=REMUS["tau"]) < 1e-9, loop
+
+
+def test_the_bundled_mariner_agrees_with_simulate() -> None:
+    """A planar ship from the bundled files (the Mariner, a constant force: no thrusters) by both
+    loops against simulate's driver with the same held force and deflections."""
+    from hydrokit.api import load_vehicle
+    from hydrokit.manoeuvre.definitions import zigzag
+    from hydrokit.manoeuvre.run import run_manoeuvre
+    from hydrokit.simulate.driver import simulate
+
+    v = load_vehicle("mariner")
+    tau = (727000.0, 0, 0, 0, 0, 0)
+    for loop in (True, False):
+        res = run_manoeuvre(v, zigzag(math.radians(10), math.radians(10)), tau=tau, dt=0.5, compiled_loop=loop)
+        worst = 0.0
+        for k in np.linspace(0, res.time.size - 2, 10).astype(int):
+            dt = float(res.time[k + 1] - res.time[k])
+            tr = simulate(v, dt, dt, tau, eta0=res.eta[k], nu0=res.nu[k], deflection=res.deflection[k])
+            got = np.concatenate([tr.eta[-1], tr.nu[-1]])
+            ref = np.concatenate([res.eta[k + 1], res.nu[k + 1]])
+            worst = max(worst, float(np.max(np.abs(got - ref) / (1e-3 + np.abs(ref)))))
+        assert worst < 1e-9, loop
