@@ -24,7 +24,11 @@ SHAPES = {
 
 @pytest.fixture
 def interpreted(monkeypatch):
-    """The kernels' helpers as plain Python (the kernels look them up as module globals)."""
+    """The kernels' helpers as plain Python (the kernels look them up as module globals), patched
+    once the compiled kernel is built: compiled while patched (a cold cache, e.g. a fresh clone or
+    .ci/run's generic-CPU pass), numba would meet a Python function for its callee and fail."""
+    for shape in SHAPES.values():
+        rm.simulate_normalised(np.linspace(0.0, 0.1, 3), 4.0, 0.2, 1.5, 0.3, restoring=shape, jacobian=True)
     monkeypatch.setattr(rm, "_restore", rm._restore_py)
     monkeypatch.setattr(rm, "_deriv", rm._deriv_py)
 
