@@ -25,7 +25,7 @@ if TYPE_CHECKING:  # pragma: no cover - imports for annotations only
     from hydrokit.model.assembly import Assembly
     from hydrokit.model.mission import Mission
     from hydrokit.model.thrusters import ThrusterSet
-    from hydrokit.model.vehicle import Vehicle
+    from hydrokit.model.vehicle import Service, Vehicle
     from hydrokit.simulate.batch import BatchTrajectory
     from hydrokit.simulate.driver import Trajectory
     from hydrokit.simulate.fleet import FleetResult
@@ -85,7 +85,63 @@ def vehicle_from_dict(data: dict[str, Any], source: str = "vehicle") -> Vehicle:
     vehicle = parse_vehicle(data, source)
     if data.get("thrusters"):
         vehicle = replace(vehicle, thrusters=parse_thrusters(data, source))
+        _check_service_commands(vehicle, source)
     return vehicle
+
+
+def _check_service_commands(vehicle: Vehicle, source: str) -> None:
+    """Each command of the ``service:`` block within its thruster's command limits (one line
+    naming the field, the value and the limits, in the thruster's unit)."""
+    from hydrokit.simulate.commands import thruster_commands
+
+    if vehicle.service is not None and vehicle.service.command:
+        try:
+            thruster_commands(vehicle, vehicle.service.commands)
+        except InputError as exc:
+            raise InputError(f"field 'service.command': {exc}", source) from None
+
+
+def service_propulsion(vehicle: Vehicle, tau: Any = None, commands: Any = None) -> Service | None:
+    """The vehicle's service condition when the caller gives no propulsion, else None.
+
+    No propulsion is no thruster ``commands`` and ``tau`` None or six zeros (N, N·m); a non-zero
+    constant, a force table or a callable ``tau`` is the caller's propulsion, flown as given.
+
+    Parameters
+    ----------
+    vehicle : Vehicle — its ``service`` (the file's ``service:`` block) or None
+    tau : None, 6 floats (N, N·m), rows [t, X … N] or a callable — the caller's force
+    commands : None or {thruster name: command} — the caller's thruster commands
+
+    Returns
+    -------
+    Service or None — what to fly instead (``service.commands`` in each thruster's unit,
+    ``service.tau`` in N and N·m, reaching ``service.speed`` m/s); None when the caller gave
+    propulsion or the vehicle states no service condition
+    """
+    if vehicle.service is None or commands is not None or callable(tau):
+        return None
+    if tau is not None:
+        import numpy as np
+
+        f = np.asarray(tau, dtype=float)
+        if f.shape != (6,) or np.any(f != 0.0):
+            return None
+    return vehicle.service
+
+
+def with_service(vehicle: Vehicle, options: dict[str, Any]) -> tuple[dict[str, Any], Service | None]:
+    """``options`` of :func:`manoeuvre` with the vehicle's service condition filled in when they
+    give no propulsion (:func:`service_propulsion`): ``tau`` its force, ``commands`` its thruster
+    commands, and ``nu0`` (when not given) its speed ahead, so the approach starts where it ends.
+    Returns the options (a new dict) and the service flown (None: the options unchanged)."""
+    service = service_propulsion(vehicle, options.get("tau"), options.get("commands"))
+    if service is None:
+        return dict(options), None
+    out = {**options, "tau": service.tau, "commands": service.commands or None}
+    if out.get("nu0") is None:
+        out["nu0"] = (service.speed, 0.0, 0.0, 0.0, 0.0, 0.0)
+    return out, service
 
 
 def load_rig(path: PathLike) -> Rig:
@@ -268,13 +324,18 @@ def manoeuvre(vehicle: Vehicle | PathLike, manoeuvre: Any, **options: Any) -> An
         from rest through the rotor lag; ``tau`` adds to their thrust) — see
         :func:`hydrokit.manoeuvre.run.run_manoeuvre`
 
+    Without propulsion (no ``commands``, ``tau`` not given or zeros) the vehicle file's
+    ``service:`` block is flown (:func:`with_service`): its commands and force, the approach
+    starting at its speed unless ``nu0`` is given; a vehicle without one is refused.
+
     Returns
     -------
     ManoeuvreResult — metrics from the execute point, ``to_dict()``, ``plot()``
     """
     from hydrokit.manoeuvre.run import run_manoeuvre
 
-    return run_manoeuvre(_as_vehicle(vehicle), manoeuvre, **options)
+    veh = _as_vehicle(vehicle)
+    return run_manoeuvre(veh, manoeuvre, **with_service(veh, options)[0])
 
 
 def sysid(

@@ -54,6 +54,20 @@ drag strips and viscous lift of a body of revolution from its profile) is read b
 ``covariance``; the ``--samples`` option of the simulate and mission commands draws
 vehicles from it.
 
+``service:`` (issue #55 item 2; :class:`hydrokit.model.vehicle.Service`) how the vehicle moves at
+its service speed, flown by ``hydrokit manoeuvre`` and ``hydrokit simulate`` when they are given no
+propulsion (docs/model.md):
+
+```yaml
+service:
+  command: {propeller: 11.567}      # per thruster, in its unit (rev/s, the table's unit, N)
+  force: [0, 0, 0, -0.543, 0, 0]    # N, N m body axes, added (optional)
+  speed: 1.526                      # m/s: the steady speed through the water it reaches
+```
+
+``speed`` (> 0) and a ``command`` or a ``force`` are required; a command's thruster must be in
+the ``thrusters:`` block.
+
 ``identification:`` (issue #48; :mod:`hydrokit.model.identification`) what the fit that wrote the
 file claims of it; ``hydrokit sysid fit`` and ``sysid compare`` write it, whatever the verdict:
 
@@ -102,7 +116,7 @@ from hydrokit.io.yamlfile import check_keys, read_yaml
 from hydrokit.model.identification import VERDICTS, Identification
 from hydrokit.model.terms import TermSet, parse_term
 from hydrokit.model.uncertainty import COEFFICIENTS, TERM_PREFIX, check_parameter, location
-from hydrokit.model.vehicle import Vehicle, make_vehicle
+from hydrokit.model.vehicle import Service, Vehicle, make_vehicle
 
 VEHICLES_DIR = Path(__file__).resolve().parents[1] / "data" / "vehicles"
 REQUIRED = (
@@ -142,7 +156,10 @@ KNOWN = set(REQUIRED) | {
     "hull",
     "wind",
     "identification",
+    "service",
 }
+#: the keys of the ``service`` block (issue #55 item 2: how the vehicle moves at its service speed)
+SERVICE_KEYS = ("command", "force", "speed")
 #: the keys of the ``identification`` block (issue #48: what the fit that wrote the file claims)
 IDENTIFICATION_KEYS = ("verdict", "reasons", "holdout_nrmse", "runs", "holdout", "method", "tool", "date")
 #: the keys of the ``wind`` block (frozen, issue #48 item 4)
@@ -671,6 +688,32 @@ def parse_vehicle(data: dict[str, Any], source: str) -> Vehicle:
         thrusters,
         _wind(data["wind"], source) if data.get("wind") is not None else None,
         identification,
+        _service(data.get("service"), source),
+    )
+
+
+def _service(value: Any, source: str) -> Service | None:
+    """The ``service:`` block (module docstring) as a :class:`~hydrokit.model.vehicle.Service`, or
+    None when the file has none; :func:`hydrokit.model.vehicle.make_vehicle` checks the speed's
+    sign and the thruster names against the vehicle's."""
+    if value is None:
+        return None
+    block = mapping(value, "service", source)
+    check_keys(block, SERVICE_KEYS, "service", source)
+    if "speed" not in block:
+        raise InputError("field 'service' has no 'speed': expected the steady speed it reaches (m/s)", source)
+    commands = mapping(block.get("command") or {}, "service.command", source)
+    command = tuple((str(name), number(c, f"service.command.{cut(str(name))}", source)) for name, c in commands.items())
+    force = block.get("force")
+    if force is not None and not (isinstance(force, list) and len(force) == 6):
+        raise InputError(
+            f"field 'service.force' = {cut_repr(force)}: expected 6 numbers X, Y, Z (N), K, M, N (N·m), body axes",
+            source,
+        )
+    return Service(
+        number(block["speed"], "service.speed", source),
+        command,
+        None if force is None else tuple(_vector(force, 6, "service.force", source).tolist()),
     )
 
 

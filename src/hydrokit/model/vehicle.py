@@ -30,6 +30,37 @@ from hydrokit.model.wind import WindModel
 SYMMETRY_TOLERANCE = 1e-3
 
 
+@dataclass(frozen=True)
+class Service:
+    """How a vehicle moves at its service speed: the vehicle file's ``service:`` block, flown by
+    ``hydrokit manoeuvre`` and ``hydrokit simulate`` when they are given no propulsion.
+
+    Attributes
+    ----------
+    speed : float — the steady straight-line speed this propulsion reaches, m/s (> 0; stated by
+        the file, checked against a run for the bundled vehicles)
+    command : tuple of (str, float) — each thruster's held command in its unit (rev/s for a
+        propeller, the table's unit for a table curve, N for an ideal thruster), in file order;
+        thrusters not named are at 0; empty: no thruster driven
+    force : tuple of 6 floats or None — a constant force X, Y, Z (N), K, M, N (N·m) in body
+        axes, added to the thrusters' (e.g. the propeller's torque K); None: none
+    """
+
+    speed: float
+    command: tuple[tuple[str, float], ...] = ()
+    force: tuple[float, ...] | None = None
+
+    @property
+    def commands(self) -> dict[str, float]:
+        """The commands as {thruster name: command} (each in its thruster's unit)."""
+        return dict(self.command)
+
+    @property
+    def tau(self) -> tuple[float, ...]:
+        """The constant force as 6 floats (zeros without one), N and N·m."""
+        return self.force if self.force is not None else (0.0,) * 6
+
+
 @dataclass(frozen=True, eq=False)
 class Vehicle:
     """Vehicle parameters (SI, NED body axes). Build with :func:`make_vehicle`.
@@ -73,6 +104,9 @@ class Vehicle:
         a measured or given wind on the part above the water; None: the wind does not act
     identification : Identification or None — the file's ``identification:`` block, what the fit
         that wrote it claims (:mod:`hydrokit.model.identification`); None: no claim
+    service : Service or None — the file's ``service:`` block, how the vehicle moves at its
+        service speed (thruster commands and/or a constant force); the model does not use it, the
+        manoeuvre and simulate commands fly it when given no propulsion; None: the file states none
 
     A vehicle is equal only to itself (``eq=False``): its fields are arrays, which have no
     single truth value; compare the fields of two vehicles with numpy.
@@ -102,6 +136,7 @@ class Vehicle:
     thruster_names: tuple[str, ...] = ()
     wind: WindModel | None = field(default=None, repr=False)
     identification: Identification | None = field(default=None, repr=False)
+    service: Service | None = field(default=None, repr=False)
 
     @property
     def n_inputs(self) -> int:
@@ -216,6 +251,7 @@ def make_vehicle(
     thruster_names: tuple[str, ...] = (),
     wind: WindModel | None = None,
     identification: Identification | None = None,
+    service: Service | None = None,
 ) -> Vehicle:
     """Validate and build a :class:`Vehicle`.
 
@@ -223,7 +259,8 @@ def make_vehicle(
     (an asymmetry below 0.1 % of the largest entry — e.g. RexROV's 10.774 vs 10.775 — is
     symmetrised with a warning) and positive definite; drag elements with 3 finite numbers
     each for position (m), linear (N·s/m) and quadratic (N·s²/m²), coefficients ≥ 0 (a negative
-    one feeds energy in) and unique names.
+    one feeds energy in) and unique names; a ``service`` with a speed > 0 m/s, commands naming
+    the vehicle's ``thruster_names``, 6 finite numbers of force, and a command or a force.
 
     Raises
     ------
@@ -320,7 +357,38 @@ def make_vehicle(
         thruster_names=tuple(thruster_names),
         wind=wind,
         identification=identification,
+        service=_service(service, tuple(thruster_names), source),
     )
+
+
+def _service(service: object, thrusters: tuple[str, ...], source: str) -> Service | None:
+    """``service`` checked: a speed > 0 m/s, commands naming the vehicle's thrusters, 6 finite
+    numbers of force, and something that propels (one line naming the field otherwise)."""
+    if service is None:
+        return None
+    if not isinstance(service, Service):
+        raise InputError(f"field 'service' = {service!r}: expected a Service", source)
+    if not (isinstance(service.speed, (int, float)) and math.isfinite(service.speed) and service.speed > 0):
+        raise InputError(f"field 'service.speed' = {service.speed!r}: expected a speed > 0 (m/s)", source)
+    for name, value in service.command:
+        if name not in thrusters:
+            expected = f"thrusters {', '.join(thrusters)}; expected one of them"
+            if not thrusters:
+                expected = "no 'thrusters:' block; expected a 'force' only"
+            raise InputError(f"field 'service.command.{name}': the vehicle has {expected}", source)
+        if not (isinstance(value, (int, float)) and math.isfinite(value)):
+            raise InputError(f"field 'service.command.{name}' = {value!r}: expected a finite number", source)
+    if service.force is not None:
+        f = np.asarray(service.force, dtype=float)
+        if f.shape != (6,) or not np.all(np.isfinite(f)):
+            raise InputError(f"field 'service.force' = {service.force!r}: expected 6 finite numbers (N, N·m)", source)
+    if not service.command and service.force is None:
+        raise InputError("field 'service': no 'command' and no 'force'; expected one of them or both", source)
+    return Service(float(service.speed), tuple((n, float(c)) for n, c in service.command), _floats(service.force))
+
+
+def _floats(values: object) -> tuple[float, ...] | None:
+    return None if values is None else tuple(float(x) for x in np.asarray(values, dtype=float))
 
 
 def _dofs(dofs: object, source: str) -> tuple[int, ...]:
