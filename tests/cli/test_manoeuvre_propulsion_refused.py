@@ -1,6 +1,7 @@
 """``hydrokit manoeuvre`` refuses, fast and writing nothing, a manoeuvre with no propulsion
-(no forward force, no thruster command, starting at rest) and one whose approach ends too slow
-to steer (below the hold's minimum speed)."""
+(no forward force, no thruster command, starting at rest, and no ``service:`` block in the vehicle
+file: the bundled vehicles fly theirs, tests/cli/test_service_condition.py) and one whose approach
+ends too slow to steer (below the hold's minimum speed)."""
 
 from __future__ import annotations
 
@@ -52,13 +53,6 @@ def test_no_propulsion_exits_2_at_once_and_writes_nothing(run_cli, boat, tmp_pat
     assert not out.exists()
     # refused before anything is flown (the hang it replaces ran > 120 s)
     assert took < 10.0
-
-
-def test_remus_spiral_without_propulsion_is_refused(run_cli, tmp_path):
-    out = tmp_path / "out"
-    code, _, err = run_cli("manoeuvre", "remus100", "--spiral", "direct", "--out", out)
-    assert code == 2 and "no propulsion" in err
-    assert not out.exists()
 
 
 def test_an_initial_surge_speed_or_a_forward_force_is_propulsion_enough():

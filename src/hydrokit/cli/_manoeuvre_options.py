@@ -59,7 +59,9 @@ _OPTIONS: tuple[tuple[tuple[str, ...], dict[str, Any]], ...] = (
             "default": "0,0,0,0,0,0",
             "show_default": True,
             "help": "Constant force X,Y,Z,K,M,N (body): N, N·m — the propulsion, or added to --command's thrust "
-            "(e.g. the propeller's torque K).",
+            "(e.g. the propeller's torque K). All zero and no --command: no propulsion given, so the vehicle "
+            "file's service: condition (its commands and force) is flown; a file without one coasts from "
+            "--initial-velocity, and is refused from rest.",
         },
     ),
     (
@@ -68,10 +70,18 @@ _OPTIONS: tuple[tuple[tuple[str, ...], dict[str, Any]], ...] = (
             "metavar": "NAME=VALUE[,NAME=VALUE]",
             "help": "Propulsion by the vehicle's thrusters, held from rest: each thruster's command in its unit "
             "(rev/s for a propeller, the table's unit for a table curve, N for an ideal thruster); others 0. "
-            "The thrust follows each propeller's advance ratio.",
+            "The thrust follows each propeller's advance ratio. Given (or a non-zero --force), the file's service: "
+            "condition is not used.",
         },
     ),
-    (("--initial-velocity",), {"type": Numbers(6, "m/s, rad/s"), "help": "Approach start u,v,w,p,q,r: m/s, rad/s."}),
+    (
+        ("--initial-velocity",),
+        {
+            "type": Numbers(6, "m/s, rad/s"),
+            "help": "Approach start u,v,w,p,q,r: m/s, rad/s (default: at rest, or at the service speed ahead when "
+            "the service: condition is flown).",
+        },
+    ),
     (("--dt",), {"type": SECONDS, "default": 0.02, "show_default": True, "help": "Integration step, s."}),
     (
         ("--duration",),

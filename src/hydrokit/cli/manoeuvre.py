@@ -12,6 +12,7 @@ from hydrokit.cli._identification import strict_option
 from hydrokit.cli._manoeuvre_options import manoeuvre_options
 from hydrokit.cli._replay import run_replay
 from hydrokit.cli._samples import samples_options
+from hydrokit.cli._service import service_line, service_record
 
 
 @click.command()
@@ -51,7 +52,9 @@ def manoeuvre(
     DIR/trajectory.csv (time,x,y,z,phi,theta,psi,u,v,w,p,q,r then one column per surface, rad;
     positions from the execute point, time 0 at the execute), track.png, time.png and report.html.
     Propulsion: --force (constant) and/or --command (the vehicle's thrusters; their thrust at the
-    execute and at the end goes into manoeuvre.json's "propulsion").
+    execute and at the end goes into manoeuvre.json's "propulsion"). Given neither, the vehicle
+    file's service: condition is flown, the approach starting at its speed (one stderr line and
+    manoeuvre.json's "propulsion_source": "service" and "service" say so); without one, refused.
     A manoeuvre that never reaches the heading it measures at is an error (exit 2); the track is
     still written.
 
@@ -65,7 +68,7 @@ def manoeuvre(
     """
     if replay is not None:  # the manoeuvre and its inputs come from the trial
         return run_replay(**locals())
-    from hydrokit.api import load_vehicle
+    from hydrokit.api import load_vehicle, with_service
     from hydrokit.cli._common import check_out_dir, json_text, progress_bar, write_all
     from hydrokit.errors import InputError
     from hydrokit.io.trajectory import table_csv
@@ -80,11 +83,11 @@ def manoeuvre(
     v = load_vehicle(vehicle)
     check_samples(v, samples)
     settings: dict[str, Any] = dict(surface=surface, tau=force, nu0=initial_velocity, dt=dt, duration=duration)
-    settings |= dict(loop=loop, hold=hold, commands=commands)
+    settings, service = with_service(v, settings | dict(loop=loop, hold=hold, commands=commands))
     with progress_bar(time_based=True) as bar:
         task = bar.add_task(m.kind.replace("_", " "), total=duration)
         res = run_manoeuvre(v, m, **settings, progress=lambda t, total: bar.update(task, completed=t, total=total))
-    files: dict[Any, Any] = {out / "trajectory.csv": table_csv(*_columns(res))}
+    files: dict[Any, Any] = {out / "trajectory.csv": table_csv(res.columns, res.array())}
     if res.problem:
         write_all(files)
         raise InputError(f"{res.problem}; the track was written to {out / 'trajectory.csv'}")
@@ -93,7 +96,7 @@ def manoeuvre(
             drawn = bar.add_task(f"{samples} drawn vehicles", total=samples)
             fly = lambda veh: run_manoeuvre(veh, m, **settings)  # noqa: E731
             add_intervals(res, v, samples, seed, fly, lambda k, n: bar.update(drawn, completed=k, total=n))
-    files[out / "manoeuvre.json"] = json_text(res.to_dict())
+    files[out / "manoeuvre.json"] = json_text(res.to_dict() | service_record(v, service))
     if not no_plots:
         from hydrokit.plot._mpl import to_png
         from hydrokit.plot.manoeuvre import figures
@@ -105,6 +108,8 @@ def manoeuvre(
     write_all(files)
     for w in res.warnings:
         click.echo(f"warning: {w}", err=True)
+    if service is not None:
+        click.echo(service_line(v, service), err=True)
     if res.propulsion:
         a, b = res.propulsion["thrust_at_execute"], res.propulsion["thrust_at_end"]
         click.echo(
@@ -140,7 +145,3 @@ def _setting(res: Any) -> str:
     if "mode" in p:
         return f" ({p['mode']}" + ("" if a is None else f", up to {a:.4g}°") + ")"
     return f" at ±{abs(a):.4g}°" if res.kind == "pull_out" else f" at {a:.4g}°"
-
-
-def _columns(res: Any) -> tuple[list[str], Any]:
-    return res.columns, res.array()

@@ -11,6 +11,7 @@ from hydrokit.cli._command import command_force, command_options, simulator
 from hydrokit.cli._deflection import deflection_input, deflection_options
 from hydrokit.cli._identification import strict_option
 from hydrokit.cli._samples import check_samples, sampled_files, samples_options
+from hydrokit.cli._service import no_service_option, service_line, simulate_service
 from hydrokit.cli._types import SECONDS, Count, Numbers
 from hydrokit.cli._wind import wind_input, wind_options
 
@@ -67,6 +68,7 @@ from hydrokit.cli._wind import wind_input, wind_options
 @deflection_options
 @wind_options
 @command_options
+@no_service_option
 @samples_options("OUT_envelope.csv (5/50/95 %, min, max per state and time; SI), OUT_samples.csv, envelope.png")
 @strict_option
 def simulate(
@@ -90,10 +92,13 @@ def simulate(
     deflection_csv: str | None,
     command_text: str | None,
     command_csv: str | None,
+    no_service: bool,
 ) -> None:
     """Simulate VEHICLE (a vehicle YAML file or a bundled name: bluerov2-heavy, minerva,
     lingyun, udrobot) under a constant or tabulated force and/or its thrusters' commands
-    (--command, --command-csv), from rest unless told otherwise."""
+    (--command, --command-csv), from rest unless told otherwise. Given none of these, a vehicle
+    file with a service: block flies its service condition (one stderr line says which; see
+    --no-service); deflections and --initial-velocity do not propel."""
     from hydrokit.api import load_vehicle  # with its thrusters: --command drives them
     from hydrokit.cli._common import check_out_dir, check_out_file, progress_bar, write_all
 
@@ -110,25 +115,15 @@ def simulate(
     delta = deflection_input(v, deflection, deflection_csv)
     check_samples(v, samples, force_csv or deflection_csv, integrator, attitude)  # before the run, like every input
     tau = command_force(v, command_text, command_csv, tau, cur, samples)
+    given = no_service or any(x is not None for x in (force_csv, command_text, command_csv))
+    tau, service = simulate_service(v, tau, given, samples, integrator, attitude, cur)
     from hydrokit.io.trajectory import trajectory_csv
 
     run = simulator(tau, integrator, attitude)  # the driver, or the thrusters' own loop under --command
     with progress_bar(time_based=True) as bar:
         task = bar.add_task("simulating", total=duration)
-        traj = run(
-            v,
-            duration,
-            dt,
-            tau,
-            eta0,
-            nu0,
-            cur,
-            integrator,
-            attitude,
-            output_every,
-            progress=lambda t: bar.update(task, completed=t),
-            deflection=delta,
-        )
+        advance = lambda t: bar.update(task, completed=t)  # noqa: E731
+        traj = run(v, duration, dt, tau, eta0, nu0, cur, integrator, attitude, output_every, advance, delta)
     import numpy as np
 
     files = {out_file: trajectory_csv(np.column_stack([traj.time, traj.eta, traj.nu])).encode()}
@@ -143,6 +138,8 @@ def simulate(
     write_all(files | extra)
     for w in traj.warnings:
         click.echo(f"warning: {w}", err=True)
+    if service is not None:
+        click.echo(service_line(v, service), err=True)
     u, p = (", ".join(f"{x:.4g}" for x in part) for part in (traj.nu[-1][:3], traj.nu[-1][3:]))
     click.echo(f"final velocity u,v,w (m/s) = {u}; p,q,r (rad/s) = {p}" + spread)
     click.echo(
