@@ -232,3 +232,16 @@ def test_the_bundled_mariner_agrees_with_simulate() -> None:
             ref = np.concatenate([res.eta[k + 1], res.nu[k + 1]])
             worst = max(worst, float(np.max(np.abs(got - ref) / (1e-3 + np.abs(ref)))))
         assert worst < 1e-9, loop
+
+
+def test_simulate_with_commands_and_no_deflection_holds_the_surfaces_at_zero() -> None:
+    """``fly_commands`` on a vehicle with control surfaces and no ``deflection`` (it failed with
+    '0 deflections'): the same run as with every surface at zero given."""
+    from hydrokit.simulate.commands import CommandForce, command_table, fly_commands
+
+    v = feature_vehicle("race (MMG)")
+    cf = CommandForce(v.thrusters, command_table(v, {"prop": N_PROP}))
+    a = fly_commands(v, 5.0, 0.05, cf)
+    b = fly_commands(v, 5.0, 0.05, cf, deflection=[0.0])
+    np.testing.assert_array_equal(a.nu, b.nu)  # the same code run twice: bit for bit
+    assert a.nu[-1, 0] > 0.1  # the propeller pushed it ahead

@@ -4,7 +4,6 @@ parser, :func:`hydrokit.manoeuvre.run.commands_from_text`)."""
 
 from __future__ import annotations
 
-import math
 from collections.abc import Callable
 from typing import Any
 
@@ -96,16 +95,6 @@ def simulator(tau: Any, integrator: str, attitude: str) -> Callable[..., Any]:
         progress: Any = None,
         deflection: Any = None,
     ) -> Any:
-        from hydrokit.simulate.budget import check_memory
-
-        # fly_commands allocates every recorded row at once: sized first, as the driver does
-        steps = duration / dt
-        if not math.isfinite(steps):
-            raise InputError(f"--dt {dt:.4g} s: duration / dt = {steps} steps; expected a step of a realistic size")
-        n_out = math.floor(steps + 1e-9) // output_every + 1
-        check_memory(8.0 * n_out * 13, f"the recorded trajectory ({n_out:.4g} rows)")
-        if deflection is None and len(vehicle.surfaces):  # surfaces at zero, as the driver holds them
-            deflection = [0.0] * len(vehicle.surfaces)
         return fly_commands(vehicle, duration, dt, force, eta0, nu0, current_ned, deflection, output_every, progress)
 
     return run

@@ -266,7 +266,7 @@ def input_vector(vehicle: Vehicle, delta: object = None, thrust: object = None, 
     ns, m = len(vehicle.surfaces), len(vehicle.thruster_names)
     first_t, first_n, size = input_layout(ns, m)
     out = np.zeros(size)
-    d = np.zeros(0) if delta is None else np.atleast_1d(np.asarray(delta, float))
+    d = np.zeros(ns) if delta is None else np.atleast_1d(np.asarray(delta, float))
     if d.shape[0] not in (ns, size) or (d.shape[0] == size != ns and (thrust is not None or rate is not None)):
         raise InputError(
             f"{d.shape[0]} deflections: expected {ns} (one per control surface, rad) or a whole input vector of {size}"

@@ -176,6 +176,14 @@ def fly_commands(
         raise InputError(f"dt = {dt}: expected 0 < dt ≤ duration (s)")
     if not (isinstance(output_every, int) and output_every >= 1):
         raise InputError(f"output_every = {output_every}: expected a whole number ≥ 1")
+    from hydrokit.simulate.budget import check_memory
+
+    # every recorded row is allocated at once: sized first, as the driver does
+    steps = duration / dt
+    if not math.isfinite(steps):
+        raise InputError(f"dt = {dt:.4g} s: duration / dt = {steps} steps; expected a step of a realistic size")
+    n_out = math.floor(steps + 1e-9) // output_every + 1
+    check_memory(8.0 * n_out * 13, f"the recorded trajectory ({n_out:.4g} rows)")
     x0 = np.concatenate([np.asarray(eta0, float), np.asarray(nu0, float)])
     if x0.shape != (12,) or not np.all(np.isfinite(x0)):
         raise InputError(f"initial pose and velocity {x0.tolist()}: expected 6 + 6 finite numbers")
