@@ -419,7 +419,7 @@ def test_a_fit_that_does_not_describe_the_runs_says_so_first(tmp_path, monkeypat
     monkeypatch.setattr("hydrokit.pipeline.sysid._figures", lambda result: [])
     res = run(make_project(tmp_path), tmp_path / "out")
     step = res.document["sysid"]
-    assert step["verdict"] == {"fits": False, "reasons": [reason]}
+    assert step["verdict"] == {"fits": False, "reasons": [reason], "details": []}
     assert step["warnings"][0] == f"sysid: {reason}"
     html = run_report(res)
     section = html[html.index("System identification from the vehicle") :]

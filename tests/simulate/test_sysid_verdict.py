@@ -46,8 +46,13 @@ def test_white_residuals_at_the_sensor_noise_pass_and_a_slow_error_fails() -> No
     slow = 0.2 * np.sin(0.5 * t + 1.0) + white
     bad = verdict([_row("d1", False, {"p": (y, slow, sigma)})])
     assert bad["fits"] is False
-    assert bad["reasons"][0].startswith("d1 (fitted): residuals of p at")
-    assert "the model does not describe these runs — check the base vehicle" in bad["reasons"][0]
+    assert bad["details"][0].startswith("d1 (fitted): residuals of p at")
+    assert "the model does not describe these runs — check the base vehicle" in bad["details"][0]
+    # what a user reads: the verdict, then one line for the run with its systematic share
+    assert bad["reasons"][0].startswith("The model does not describe these runs: 1 of 1 run(s)")
+    e = channel_checks(y, slow, sigma)
+    assert bad["reasons"][1].startswith(f"d1 (fitted): systematic error of p {100 * e['systematic']:.0f} %")
+    assert "check the base vehicle" in bad["reasons"][1]
     # the checks it relies on, from their definitions
     e = channel_checks(y, slow, sigma)
     rms = np.sqrt(np.mean(slow**2))
@@ -69,11 +74,12 @@ def test_a_channel_smoother_than_a_sensor_is_named_beside_its_ratio() -> None:
     assert res["fits"] is False
     share = tiny / np.std(y)
     assert share < PREFILTERED
-    assert f"r is smoother than a sensor (noise {share:.1g} of its motion" in res["reasons"][0]
-    assert "u is" not in res["reasons"][0] and "r, u are" not in res["reasons"][0]
+    assert f"r is smoother than a sensor (noise {share:.1g} of its motion" in res["details"][0]
+    assert "u is" not in res["details"][0] and "r, u are" not in res["details"][0]
+    assert "r smoother than a sensor" in res["reasons"][1]
     # at a sensor's noise the sentence is absent
     plain = verdict([_row("pond", False, {"r": (y, err, real)})])
-    assert "smoother than a sensor" not in plain["reasons"][0]
+    assert "smoother than a sensor" not in plain["details"][0] and "smoother" not in plain["reasons"][1]
 
 
 def test_a_held_out_channel_that_is_not_predicted_fails_on_its_nrmse() -> None:
@@ -84,8 +90,9 @@ def test_a_held_out_channel_that_is_not_predicted_fails_on_its_nrmse() -> None:
     res = verdict([_row("d3", True, {"phi": (y, e, 0.01)})])
     assert res["fits"] is False
     nrmse = np.sqrt(np.mean(e**2)) / np.std(y)  # the definition: RMS error over the channel's spread
-    assert f"held-out NRMSE of φ {nrmse:.2f} > {NRMSE_LIMIT:g} and residuals lag-1 ρ 1.00" in res["reasons"][0]
-    assert "understate" in res["reasons"][-1]
+    assert f"held-out NRMSE of φ {nrmse:.2f} > {NRMSE_LIMIT:g} and residuals lag-1 ρ 1.00" in res["details"][0]
+    assert res["reasons"][1].startswith("d3 (held out): ") and f"held-out NRMSE φ {nrmse:.2f}" in res["reasons"][1]
+    assert "understate" in res["reasons"][0]
 
 
 def test_a_still_channel_is_not_judged_by_its_nrmse() -> None:
@@ -132,7 +139,7 @@ def test_the_correct_base_vehicle_fits(dives: Any) -> None:
     start, runs = dives
     res = identify(start, runs[:1], FREE, holdout=runs[2:], samples=0, check_step=False)
     assert res.verdict["fits"] is True, res.verdict["reasons"]
-    assert res.to_dict()["verdict"] == {"fits": True, "reasons": res.verdict["reasons"]}
+    assert res.to_dict()["verdict"] == {"fits": True, "reasons": res.verdict["reasons"], "details": []}
     # the residuals are the sensor noise: within 2 × its σ in every channel of every run
     ratios = [d["noise_ratio"] for r in res.runs for d in r["channels"].values()]
     assert max(ratios) < EXCESS
@@ -149,5 +156,28 @@ def test_a_wrong_base_vehicle_never_passes_silently(dives: Any, what: str) -> No
     assert res.verdict["fits"] is False
     reasons = res.verdict["reasons"]
     assert any("the model does not describe these runs — check the base vehicle" in r for r in reasons)
-    named = " ".join(r.split(":")[1] for r in reasons[:-1])  # the evidence of each failing run
+    named = " ".join(r.split(":")[1] for r in reasons[1:])  # the evidence of each failing run
     assert any(f" {c} " in named or f" {c}," in named for c in spoiled), reasons
+
+
+def test_one_line_per_run_with_advice_for_the_channel() -> None:
+    """Windows of one run make one line (issue #56 item 6: 67–109 sentences, one per window, each
+    pointing at the buoyancy of a floating ship whose worst channel was its speed): a speed channel
+    points at the resistance, propeller curve, wake and thrust deduction; a yaw channel at the hull's
+    manoeuvring terms and the rudder; neither at the base vehicle's buoyancy."""
+    t = np.arange(0.0, 20.0, 0.02)
+    y = np.sin(0.5 * t)
+    sigma = 0.01
+    err = 0.3 * np.sin(0.5 * t + 1.0)
+    rows = [_row(f"pond_1@{a:g}s", False, {"u": (y, err, sigma), "r": (y, 0.5 * err, sigma)}) for a in (0, 20, 40)]
+    rows += [_row(f"zigzag_2@{a:g}s", True, {"r": (y, err, sigma)}) for a in (0, 20.5)]
+    res = verdict(rows)
+    assert res["fits"] is False
+    assert len(res["details"]) == 5  # every window, for sysid.json
+    assert len(res["reasons"]) == 3  # the verdict and one line per run
+    assert "2 of 2 run(s)" in res["reasons"][0]
+    speed, turn = res["reasons"][1], res["reasons"][2]
+    assert speed.startswith("pond_1 (fitted, 3 of 3 windows): systematic error of u ")
+    assert "propeller curve" in speed and "thrust deduction" in speed and "buoyancy" not in speed
+    assert turn.startswith("zigzag_2 (held out, 2 of 2 windows)") and "held-out NRMSE r " in turn
+    assert "rudder" in turn and "buoyancy" not in turn

@@ -163,7 +163,11 @@ class SysidResult(Result):
         ]
         return jsonable(
             {
-                "verdict": {"fits": bool(self.verdict["fits"]), "reasons": list(self.verdict["reasons"])},
+                "verdict": {
+                    "fits": bool(self.verdict["fits"]),
+                    "reasons": list(self.verdict["reasons"]),
+                    "details": list(self.verdict.get("details", [])),
+                },
                 "method": self.method,
                 "parameters": params,
                 "covariance": self.covariance,

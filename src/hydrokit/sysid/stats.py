@@ -14,6 +14,7 @@ the cost is that of a few passes over G.
 from __future__ import annotations
 
 import math
+import re
 from collections.abc import Sequence
 from typing import Any
 
@@ -114,11 +115,37 @@ SYSTEMATIC = 0.1
 #: deviation is smoother than a sensor: pre-filtered or derived in the log (a real gyro, DVL or
 #: compass has 1e-3–1e-2 of the motion), so its ratio to that noise says little; the reasons say so
 PREFILTERED = 1e-4
-#: what to check when the model does not describe the runs
+#: what to check when the model does not describe the runs: the base vehicle, where heave, roll or
+#: pitch is modelled and spoiled (a buoyancy, centre or inertia error shows there first)
 ADVICE = (
     "the model does not describe these runs — check the base vehicle (mass, inertia, centres of gravity and "
     "buoyancy) and which coefficients are free"
 )
+#: … a speed channel: what sets the speed at given revolutions
+ADVICE_SPEED = (
+    "the speed is not modelled — check the surge resistance (X_u|u|, quadratic_damping.surge), the propeller "
+    "curve K_T(J), the wake fraction and the thrust deduction (free them, or measure them)"
+)
+#: … sway and yaw: the hull's manoeuvring terms and the rudder
+ADVICE_TURN = (
+    "the sway and yaw are not modelled — check the hull's sway and yaw terms (Y_uv, Y_ur, N_uv, N_ur and their "
+    "modulus terms), the rudder's force and its neutral angle"
+)
+#: … only the track: it integrates the speed and the heading
+ADVICE_TRACK = "the track drifts — it integrates the speed and heading: check the surge, sway and yaw terms"
+#: the channels whose error each piece of advice answers (positions last: they integrate the others)
+ADVICE_OF = {
+    "u": ADVICE_SPEED,
+    "v": ADVICE_TURN,
+    "r": ADVICE_TURN,
+    "psi": ADVICE_TURN,
+    "w": ADVICE,
+    "p": ADVICE,
+    "q": ADVICE,
+    "phi": ADVICE,
+    "theta": ADVICE,
+    "z": ADVICE,
+}
 _SYMBOL = {"phi": "φ", "theta": "θ", "psi": "ψ"}
 
 
@@ -185,11 +212,31 @@ def _percent(entry: dict[str, Any]) -> str:
     return f"{100 * entry['systematic']:.0f} %"
 
 
+#: a window row's name: RUN@START s (:func:`hydrokit.sysid.window` names them so)
+_WINDOW = re.compile(r"(.+)@[-+0-9.eE]+s")
+
+
+def _run_name(name: str) -> str:
+    """The run a window row belongs to (``RUN@12.5s`` → ``RUN``; a whole run's row is its own)."""
+    m = _WINDOW.fullmatch(name)
+    return m.group(1) if m else name
+
+
+def _advice(channels: Sequence[str]) -> str:
+    """The advice for the failing ``channels`` (worst first): that of the worst channel that has
+    one (a velocity or attitude), else the track's."""
+    for c in channels:
+        if c in ADVICE_OF:
+            return ADVICE_OF[c]
+    return ADVICE_TRACK
+
+
 def verdict(runs: Sequence[dict[str, Any]]) -> dict[str, Any]:
-    """Does the identified model describe the runs? ``{"fits": bool, "reasons": [sentences]}``.
+    """Does the identified model describe the runs? ``{"fits": bool, "reasons": [sentences],
+    "details": [sentences]}``.
 
     ``runs`` are the result's run rows (name, holdout, channels → residual_rms, whiteness,
-    :func:`channel_checks`). A channel fails when
+    :func:`channel_checks`; a window's row is named ``RUN@START s``). A channel fails when
 
     - held out, moving, and its NRMSE exceeds :data:`NRMSE_LIMIT` (not predicted), or
     - its residual exceeds :data:`EXCESS` × the sensor noise, is coloured (lag-1 ρ above
@@ -198,27 +245,45 @@ def verdict(runs: Sequence[dict[str, Any]]) -> dict[str, Any]:
       expected at 50 Hz: a tiny systematic error is coloured, and so is a disturbance).
 
     A correct model leaves residuals at the sensor noise (ratio ≈ 1, lag-1 ρ ≈ 0); a wrong base
-    vehicle leaves several times the noise, coloured (ratio 2–150, lag-1 ρ 0.8–1.0). The reasons
-    say why either way; a failing run's sentence names its worst three channels.
+    vehicle leaves several times the noise, coloured (ratio 2–150, lag-1 ρ 0.8–1.0).
+    ``reasons`` is what a user reads (issue #56 item 6): the one verdict first, then at most one
+    line per run (its windows taken together): its worst channels with their systematic share,
+    the held-out NRMSE, and advice that fits the channel — a speed channel points at the
+    resistance, the propeller curve, wake and thrust deduction; sway and yaw at the hull's
+    manoeuvring terms and the rudder; only heave, roll and pitch (which only a vehicle that
+    models them has) at the base vehicle's mass, inertia and centres. ``details`` keeps one
+    sentence per failing row (window), for sysid.json.
     """
-    reasons: list[str] = []
+    details: list[str] = []
     worst_nrmse: tuple[float, str] = (0.0, "")
     worst_ratio: tuple[float, str] = (0.0, "")
+    # per run: rows, failing rows, the worst systematic share and the worst held-out NRMSE per channel
+    per_run: dict[str, dict[str, Any]] = {}
     for row in runs:
         hold = bool(row["holdout"])
+        run = per_run.setdefault(
+            _run_name(str(row["name"])), {"rows": 0, "bad": 0, "hold": hold, "sys": {}, "nrmse": {}, "smooth": {}}
+        )
+        run["rows"] += 1
         bad_n, bad_r = [], []
         for c, e in row["channels"].items():
             fn, fr = _fails(e, hold)
             if fn:
                 bad_n.append((e["nrmse"], c, e))
+            if hold and e.get("moving") and np.isfinite(e.get("nrmse", np.nan)):
+                run["nrmse"][c] = max(run["nrmse"].get(c, 0.0), float(e["nrmse"]))
             if fr:
                 bad_r.append((e["noise_ratio"], c, e))
+                run["sys"][c] = max(run["sys"].get(c, 0.0), float(e["systematic"]))
+                if _noise_share(e) < PREFILTERED:
+                    run["smooth"][c] = _noise_share(e)
             if hold and e.get("moving") and np.isfinite(e.get("nrmse", np.nan)) and e["nrmse"] > worst_nrmse[0]:
                 worst_nrmse = (float(e["nrmse"]), c)
             if np.isfinite(e.get("noise_ratio", np.nan)) and e["noise_ratio"] > worst_ratio[0]:
                 worst_ratio = (float(e["noise_ratio"]), c)
         if not (bad_n or bad_r):
             continue
+        run["bad"] += 1
         parts = []
         if bad_n:
             top = sorted(bad_n, key=lambda x: -x[0])[:3]
@@ -245,8 +310,9 @@ def verdict(runs: Sequence[dict[str, Any]]) -> dict[str, Any]:
                     "says little; the systematic error does"
                 )
         use = "held out" if hold else "fitted"
-        reasons.append(f"{row['name']} ({use}): {'; '.join(parts)}: {ADVICE}.")
-    fits = not reasons
+        worst = [c for c, _ in sorted(_order(bad_r, bad_n).items(), key=lambda x: -x[1])]
+        details.append(f"{row['name']} ({use}): {'; '.join(parts)}: {_advice(worst)}.")
+    fits = not details
     if fits:
         held = [r for r in runs if r["holdout"]]
         said = (
@@ -255,10 +321,47 @@ def verdict(runs: Sequence[dict[str, Any]]) -> dict[str, Any]:
             if held and worst_nrmse[1]
             else "no held-out run (give --holdout to test the prediction): judged on the fitted runs"
         )
-        reasons.append(
+        reasons = [
             f"The model describes these runs: {said}; no residual is a systematic error above the sensor noise "
             f"(largest RMS {worst_ratio[0]:.2g} × the noise, in {symbol(worst_ratio[1]) or '–'})."
+        ]
+        return {"fits": True, "reasons": reasons, "details": []}
+    failing = {name: r for name, r in per_run.items() if r["bad"]}
+    reasons = [
+        f"The model does not describe these runs: {len(failing)} of {len(per_run)} run(s) show errors the sensors "
+        "cannot make (below, one line per run; sysid.json's verdict.details has every window). The stated σ hold "
+        "only for a model that describes the runs: here they understate the error."
+    ]
+    for name, r in failing.items():
+        reasons.append(_run_line(name, r))
+    return {"fits": False, "reasons": reasons, "details": details}
+
+
+def _order(
+    bad_r: Sequence[tuple[float, str, dict[str, Any]]], bad_n: Sequence[tuple[float, str, dict[str, Any]]]
+) -> dict[str, float]:
+    """The failing channels of a row and how bad each is (systematic share, else NRMSE), –."""
+    out = {c: float(e["systematic"]) for _, c, e in bad_r}
+    for v, c, _ in bad_n:
+        out.setdefault(c, float(v))
+    return out
+
+
+def _run_line(name: str, r: dict[str, Any]) -> str:
+    """One line for a failing run: its windows, worst channels, held-out NRMSE and advice."""
+    use = "held out" if r["hold"] else "fitted"
+    windows = f", {r['bad']} of {r['rows']} windows" if r["rows"] > 1 else ""
+    parts = []
+    sys_top = sorted(r["sys"].items(), key=lambda x: -x[1])[:3]
+    if sys_top:
+        parts.append(
+            "systematic error of " + _list([f"{symbol(c)} {100 * v:.0f} %" for c, v in sys_top]) + " of the motion"
         )
-    else:
-        reasons.append("The stated σ hold only for a model that describes the runs: here they understate the error.")
-    return {"fits": fits, "reasons": reasons}
+    n_top = sorted(r["nrmse"].items(), key=lambda x: -x[1])[:3]
+    if n_top:
+        parts.append("held-out NRMSE " + _list([f"{symbol(c)} {v:.2f}" for c, v in n_top]))
+    if r["smooth"]:
+        names = _list([symbol(c) for c in r["smooth"]])
+        parts.append(f"{names} smoother than a sensor (pre-filtered in the log?): read the systematic share")
+    order = [c for c, _ in sys_top] + [c for c, v in n_top if c not in r["sys"] and v > NRMSE_LIMIT]
+    return f"{name} ({use}{windows}): {'; '.join(parts)} — {_advice(order)}."
