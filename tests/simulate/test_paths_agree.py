@@ -245,3 +245,48 @@ def test_simulate_with_commands_and_no_deflection_holds_the_surfaces_at_zero() -
     b = fly_commands(v, 5.0, 0.05, cf, deflection=[0.0])
     np.testing.assert_array_equal(a.nu, b.nu)  # the same code run twice: bit for bit
     assert a.nu[-1, 0] > 0.1  # the propeller pushed it ahead
+
+
+def test_missions_feed_the_thrust_to_the_model(tmp_path: Any) -> None:
+    """A finned AUV with a ``T()`` term (rudder moment per N of thrust) on a mission: both closed
+    loops (Python and compiled) and the fleet give the model each step's thrust and rotation
+    rate (they gave none before issue #56), agree to round-off, and each recorded step is
+    simulate's right-hand side fed the recorded state, thrust and deflections (an ideal thruster
+    without lag: its thrust is held over the step, its rate 0); the term, moved, moves the run."""
+    import yaml
+    from tests.simulate.test_closed_loop_surfaces import AUV, MISSION
+
+    import hydrokit
+    from hydrokit.simulate.compiled import make_dynamics
+    from hydrokit.simulate.fleet import fly_fleet
+    from hydrokit.simulate.integrators import rk4_step
+    from hydrokit.simulate.mission import fly_mission
+
+    def load(n_t: float) -> tuple[Any, Any]:
+        doc = copy.deepcopy(AUV)
+        doc["terms"]["N_T(prop)*delta(rudder)"] = n_t
+        v = tmp_path / f"auv{n_t}.yaml"
+        v.write_text(yaml.safe_dump(doc))
+        m = tmp_path / f"mission{n_t}.yaml"
+        m.write_text(yaml.safe_dump(dict(MISSION, vehicle=str(v), duration=40)))
+        return hydrokit.load_mission(m), hydrokit.load_vehicle(v)
+
+    mission, vehicle = load(-0.05)
+    a = fly_mission(mission, vehicle, loop="python")
+    b = fly_mission(mission, vehicle, loop="compiled")
+    np.testing.assert_allclose(b.eta, a.eta, rtol=0, atol=1e-9)  # two loops: round-off
+    fleet = fly_fleet(mission, [vehicle], paths_every=mission.output_every)
+    np.testing.assert_allclose(fleet.paths[0], b.eta, rtol=0, atol=1e-9)
+    f = make_dynamics(vehicle)
+    run, T = b.run, vehicle.thrusters.configuration_matrix()
+    worst = 0.0
+    for k in np.linspace(0, run.time.size - 2, 12).astype(int):
+        x = np.concatenate([run.eta[k], run.nu[k]])
+        thrust = run.thrust[k]
+        d, rate = run.deflection[k], np.zeros(len(thrust))
+        y = rk4_step(lambda t_, x_, u_: f(t_, x_, u_, d, thrust, rate), run.time[k], x, mission.dt, u=T @ thrust)
+        ref = np.concatenate([run.eta[k + 1], run.nu[k + 1]])
+        worst = max(worst, float(np.max(np.abs(y - ref) / (1e-3 + np.abs(ref)))))
+    assert worst < 1e-9
+    other = fly_mission(*load(-0.15), loop="compiled")
+    assert float(np.max(np.abs(other.eta[:, 5] - b.eta[:, 5]))) > math.radians(0.5)

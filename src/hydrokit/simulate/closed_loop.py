@@ -165,6 +165,7 @@ def run_closed_loop(
     progress: Callable[[float], None] | None = None,
     stop_when_done: bool = False,
     steering: Steering | None = None,
+    inputs: bool = False,
 ) -> ClosedLoopResult:
     """Run guidance, autopilot, allocation and thrusters in the loop with the vehicle.
 
@@ -190,6 +191,10 @@ def run_closed_loop(
         autopilot's demanded moments (:func:`hydrokit.model.surfaces.steer_surfaces`) and the
         deflections, held over the step, reach ``dynamics`` as its fourth argument (rad); the
         thrusters are allocated the whole demand as before
+    inputs : bool — ``thrusters`` are the vehicle's own: each step's thrust (N) and rotation
+        rate (rev/s; a propeller's mean rotor state over the step) reach ``dynamics`` as its
+        ``thrust`` and ``rate`` arguments (:func:`hydrokit.model.dynamics.vehicle_dynamics`), so
+        ``T()``/``n()`` term factors and a race rudder see them, as on every other path (issue #56)
 
     Raises
     ------
@@ -287,7 +292,13 @@ def run_closed_loop(
             limited_any = limited_any or sat
         if k == n_steps or (stop_when_done and gstate.leg > n_legs):
             break
-        if law is None:
+        if inputs:
+            held_d = delta.copy() if law is not None else None
+            rate = thrusters.rotation_rate(f_act, command=c_mean)
+            x = rk4_step(
+                lambda t_, x_, u_, d=held_d, f=f_act, n=rate: dynamics(t_, x_, u_, d, f, n), t, x, dt, u=tau_act
+            )
+        elif law is None:
             x = rk4_step(dynamics, t, x, dt, u=tau_act)
         else:
             held = delta.copy()

@@ -152,11 +152,12 @@ def _allocate_limited(tau_d, A, f_cmd):  # noqa: ANN001, ANN202
 
 # ============================================================================ the loop
 @njit
-def _work(m, ns):  # noqa: ANN001, ANN202
+def _work(m, ns, first):  # noqa: ANN001, ANN202
     """Scratch arrays of one flight (one set per fleet member); ``ns`` control surfaces, whose
-    deflections (rad, the servo's state) live in tau_tab[0, 7:]."""
+    deflections (rad, the servo's state) live in tau_tab[0, 7:], then (``first`` ≥ 0: the
+    vehicle's input vector holds its thrusters) each thruster's thrust and rotation rate."""
     return (
-        np.zeros((1, 7 + ns)),  # tau_tab
+        np.zeros((1, 7 + ns + (2 * m if first >= 0 else 0))),  # tau_tab
         np.empty(BUF_SIZE),  # buf
         np.empty(12),  # k1v
         np.empty(12),  # k2v
@@ -184,7 +185,7 @@ def _work(m, ns):  # noqa: ANN001, ANN202
 #   A allocation: P, f_min, f_max, unactuated, T, lo_s, hi_s, Q, QT, A2, [scale, thrust_scale,
 #     q_max], polish tol
 #   H thrusters: kind, dirs, arms, wake, cmd_min, cmd_max, decay, mean_w, tab_c, tab_f, tab_n,
-#     prop, kf, kr
+#     prop, kf, kr, [first thrust column of tau_tab or −1] (input_columns)
 #   ctl (5, 6) rows [kind, p1..p5] and angle flags (5,); vc (3,) NED current, m/s
 #   V vehicle: current table, Minv, Mc, DL, DQ, scal (with the drag elements and fins, see
 #     model.dynamics.Packed), t_dof, t_coef, t_kind, t_idx, and the control surfaces' limits smax
@@ -252,8 +253,9 @@ def _control(k, dt, G, A, ctl, ctl_angle, x, fstate, istate, arrivals, W):  # no
 def _thrusters(vc, x, c, A, H, W, limited):  # noqa: ANN001, ANN202
     """Thruster commands and thrusts for W's f_cmd at state x: fills W's c_cmd and f_act and
     returns whether any thruster saturated (or the allocation was limited)."""
-    kind, dirs, arms, wake, cmd_min, cmd_max, decay, mean_w, tab_c, tab_f, tab_n, prop, kf, kr = H
-    _tt, _b, _k1, _k2, _k3, _k4, _tmp, _tau, f_cmd, va, pa, c_cmd, f_act, _me, _se, _ra, _ou = W
+    kind, dirs, arms, wake, cmd_min, cmd_max, decay, mean_w, tab_c, tab_f, tab_n, prop, kf, kr, inp = H
+    tau_tab, _b, _k1, _k2, _k3, _k4, _tmp, _tau, f_cmd, va, pa, c_cmd, f_act, _me, _se, _ra, _ou = W
+    first = inp[0]
     f_min, f_max = A[1], A[2]
     m = f_cmd.shape[0]
     still = vc[0] == 0.0 and vc[1] == 0.0 and vc[2] == 0.0
@@ -286,6 +288,9 @@ def _thrusters(vc, x, c, A, H, W, limited):  # noqa: ANN001, ANN202
         cm = min(max(cm, cmd_min[i]), cmd_max[i])
         fa = _thrust(i, cm, va[i], kind, tab_c, tab_f, tab_n, prop, kf, kr)
         f_act[i] = min(max(fa, f_min[i]), f_max[i])
+        if first >= 0:  # the vehicle's input vector: the thrust held over the step and the rotor's rate
+            tau_tab[0, first + i] = f_act[i]
+            tau_tab[0, first + m + i] = cm if kind[i] == 2 else 0.0
         if ci >= cmd_max[i] * (1 - 1e-9) or ci <= cmd_min[i] * (1 - 1e-9):
             sat = True
     return sat
@@ -368,7 +373,7 @@ def _loop(
     m = T.shape[1]
     n_legs = G[1].shape[0] - 1
     ns = V[10].shape[0]
-    W = _work(m, ns)
+    W = _work(m, ns, H[14][0])
     tau_tab = W[0]
     # the deflections persist between chunks in fstate[11:] (the servo's state)
     for i in range(ns):
@@ -437,7 +442,7 @@ def _fleet_member(
     m = T.shape[1]
     pts, legs = G[0], G[1]
     n_legs = legs.shape[0] - 1
-    W = _work(m, V[10].shape[0])
+    W = _work(m, V[10].shape[0], H[14][0])
     f_act = W[12]
     c = np.zeros(m)
     fstate = np.zeros(11)
@@ -541,6 +546,7 @@ def _own_h(H):  # noqa: ANN001, ANN202
         H[11].copy(),
         H[12].copy(),
         H[13].copy(),
+        H[14].copy(),
     )
 
 
@@ -687,6 +693,16 @@ def _pack_thrusters(thrusters: ThrusterSet) -> tuple[np.ndarray, ...]:
     return kind, tab_c, tab_f, tab_n, prop, kf, kr
 
 
+def input_columns(vehicle: Any, thrusters: ThrusterSet) -> np.ndarray:
+    """[the input table's first thrust column]: 7 + the vehicle's surfaces when its input vector
+    holds ``thrusters`` (its own, at most MAX_THRUSTERS: each thrust and rotation rate reach its
+    ``T()``/``n()`` factors and a race rudder, as on every other path, issue #56), else [-1]."""
+    from hydrokit.model.terms import MAX_THRUSTERS
+
+    own = thrusters is getattr(vehicle, "thrusters", None) and len(thrusters) <= MAX_THRUSTERS
+    return np.array([7 + len(vehicle.surfaces) if own else -1], dtype=np.int64)
+
+
 def _pack_vehicle(vehicle: Any, vc: np.ndarray) -> tuple[np.ndarray, ...]:
     """V: the vehicle group of the kernel (current table and the packed model)."""
     from hydrokit.model.dynamics import current_table, pack, scal_fins
@@ -811,6 +827,7 @@ def run_closed_loop_compiled(
     vc = _check_current(current_ned)
     m = len(thrusters)
     G, A, H = _pack_common(thrusters, path, dt, weights)
+    H = (*H, input_columns(vehicle, thrusters))
     ctl, ctl_angle = _pack_autopilot(autopilot)
     V = _pack_vehicle(vehicle, vc)
 

@@ -232,6 +232,7 @@ def fly_fleet(
         _pack_autopilot,
         _pack_common,
         _pack_vehicle,
+        input_columns,
         unsupported_reason,
     )
 
@@ -324,6 +325,7 @@ def fly_fleet(
 
     V_all = tuple(stacked(j) for j in range(14))
     G, A, H = _pack_common(thrusters, mission.path, dt, mission.weights)
+    H = (*H, input_columns(vlist[0], thrusters))
     m = len(thrusters)
     if all(th.diameter is not None for th in thrusters.thrusters):
         area = np.array([math.pi * th.diameter**2 / 4 for th in thrusters.thrusters])  # type: ignore[operator]

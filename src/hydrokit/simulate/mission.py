@@ -221,6 +221,7 @@ def fly_mission(
             warnings.warn(f"compiled closed loop: {why}; flying the Python loop instead", stacklevel=2)
     if run is None:
         from hydrokit.model.dynamics import steering
+        from hydrokit.simulate.compiled_loop import input_columns
 
         run = run_closed_loop(
             make_dynamics(vehicle, current),
@@ -231,5 +232,6 @@ def fly_mission(
             mission.nu0,
             **common,
             steering=steering(vehicle),
+            inputs=int(input_columns(vehicle, thrusters)[0]) >= 0,
         )
     return MissionResult(mission, kind, run, thrusters, run.metrics(thrusters))
