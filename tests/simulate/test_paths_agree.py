@@ -284,7 +284,9 @@ def test_missions_feed_the_thrust_to_the_model(tmp_path: Any) -> None:
         x = np.concatenate([run.eta[k], run.nu[k]])
         thrust = run.thrust[k]
         d, rate = run.deflection[k], np.zeros(len(thrust))
-        y = rk4_step(lambda t_, x_, u_: f(t_, x_, u_, d, thrust, rate), run.time[k], x, mission.dt, u=T @ thrust)
+        y = rk4_step(
+            lambda t_, x_, u_, d=d, th=thrust, n=rate: f(t_, x_, u_, d, th, n), run.time[k], x, mission.dt, u=T @ thrust
+        )
         ref = np.concatenate([run.eta[k + 1], run.nu[k + 1]])
         worst = max(worst, float(np.max(np.abs(y - ref) / (1e-3 + np.abs(ref)))))
     assert worst < 1e-9
