@@ -292,3 +292,26 @@ def test_missions_feed_the_thrust_to_the_model(tmp_path: Any) -> None:
     assert worst < 1e-9
     other = fly_mission(*load(-0.15), loop="compiled")
     assert float(np.max(np.abs(other.eta[:, 5] - b.eta[:, 5]))) > math.radians(0.5)
+
+
+@pytest.mark.parametrize("feature", ["T()", "n()", "race (actuator disc)", "race (MMG)", "delta()", "fin"])
+def test_transport_refuses_what_it_cannot_feed(feature: str) -> None:
+    """The transport models feed no per-vehicle thrust: a part whose terms or race rudder read
+    it is refused in one line instead of flown at zero thrust (issue #56); a deflection or a
+    plain fin is no reason."""
+    import dataclasses
+
+    import hydrokit as hk
+    from hydrokit.errors import InputError
+    from hydrokit.simulate.transport import fly_transport, reads_thrust
+
+    v = feature_vehicle(feature)
+    reads = feature in ("T()", "n()", "race (actuator disc)", "race (MMG)")
+    assert bool(reads_thrust(v)) is reads
+    asm = hk.load_assembly("rehman_transport")
+    spoiled = dataclasses.replace(asm, bodies=(v, *asm.bodies[1:]))
+    if reads:
+        with pytest.raises(InputError, match="read its thrusters' thrust"):
+            fly_transport(spoiled, 1.0, 0.1)
+    else:
+        assert fly_transport(asm, 1.0, 0.1).time.size > 1

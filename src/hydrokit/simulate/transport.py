@@ -374,6 +374,21 @@ def _multibody(
 
 
 # ============================================================================ packing
+def reads_thrust(vehicle: Any) -> str:
+    """What of ``vehicle`` reads its thrusters' thrust or rotation rate: ``T()``/``n()`` term
+    factors and rudders in a propeller race ('' for nothing)."""
+    from hydrokit.model.terms import RATE, THRUST
+
+    kinds = np.asarray(vehicle.terms.kinds)
+    out = []
+    if kinds.size and np.isin(kinds, (THRUST, RATE)).any():
+        out.append("T()/n() terms")
+    fins = vehicle.surfaces.pack_fins(vehicle.density, len(vehicle.thruster_names))
+    if fins.size and np.any(fins[:, 17] > 0):
+        out.append("a rudder in a propeller race")
+    return " and ".join(out)
+
+
 def _vehicle_group(vehicle: Any) -> tuple[np.ndarray, ...]:
     from hydrokit.model.dynamics import pack
 
@@ -574,6 +589,13 @@ def fly_transport(
     TransportResult
     """
     check_model(model)
+    for part in assembly.bodies:
+        what = reads_thrust(part)
+        if what:
+            raise InputError(
+                f"transport: part vehicle {part.name!r} has {what}, which read its thrusters' thrust; the transport "
+                "models feed no per-vehicle thrust to them yet (it would be 0) — expected a vehicle without them"
+            )
     n_steps = _steps(duration, dt, output_every)
     n_rows = n_steps // output_every + 1 + (1 if n_steps % output_every else 0)
     asm = assembly
