@@ -442,19 +442,16 @@ def replay(
         f = vehicle_dynamics(vehicle, current_ned)
     else:
         raise InputError(f"loop = {loop!r}: expected compiled or python")
-    from hydrokit.model.terms import MAX_THRUSTERS
-    from hydrokit.simulate.commands import CommandForce
+    from hydrokit.simulate.commands import CommandForce, driven_rhs
     from hydrokit.simulate.integrators import rk4_step
 
-    inputs = force.inputs if isinstance(force, CommandForce) else None
-    if not 0 < len(vehicle.thruster_names) <= MAX_THRUSTERS:
-        inputs = None  # no thrust or rate in the input vector (a vehicle without thrusters)
+    if isinstance(force, CommandForce):  # T(), n() factors and a rudder's race read the thrust: simulate's inputs
+        cf = force
+        g = driven_rhs(f, lambda t, y: cf.inputs(t, y[:6], y[6:]), len(vehicle.thruster_names))
+    else:  # a vehicle without thrusters: the constant force
 
-    def g(t: float, y: np.ndarray, d: np.ndarray) -> np.ndarray:
-        if inputs is None:
+        def g(t: float, y: np.ndarray, d: np.ndarray) -> np.ndarray:
             return f(t, y, force(t, y[:6], y[6:]), d)
-        tau, thrust, rate = inputs(t, y[:6], y[6:])  # T(), n() factors and a rudder's race read them
-        return f(t, y, tau, d, thrust, rate)
 
     pred = np.empty((n + 1, 12))
     d_grid = np.empty((n + 1, len(names)))

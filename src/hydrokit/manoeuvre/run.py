@@ -717,7 +717,7 @@ def right_hand_side(f: Dynamics, tau: Any, tau_of: Callable[[np.ndarray], np.nda
     and for a :class:`ThrusterDrive` its whole thrusters' part of the input vector (τ, each
     thrust and rotation rate, :meth:`ThrusterDrive.inputs`), as ``simulate --command`` feeds
     the same ``f`` (:func:`hydrokit.simulate.commands.fly_commands`)."""
-    from hydrokit.model.terms import MAX_THRUSTERS
+    from hydrokit.simulate.commands import driven_rhs
 
     inputs = getattr(tau, "inputs", None)
     if inputs is None:
@@ -726,12 +726,12 @@ def right_hand_side(f: Dynamics, tau: Any, tau_of: Callable[[np.ndarray], np.nda
             return f(t, x, tau_of(x), d)
 
         return held
-    # the input vector of the compiled right-hand side holds up to MAX_THRUSTERS thrusters
-    full = len(tau.thrusters) <= MAX_THRUSTERS
+    stage: list[float | None] = [None]  # the time into the step of the stage being evaluated
+    g = driven_rhs(f, lambda t, x: inputs(t, x, stage[0]), len(tau.thrusters))
 
     def rhs(t: float, x: np.ndarray, d: np.ndarray, h: float | None = None) -> np.ndarray:
-        tq, thrust, rate = inputs(t, x, h)
-        return f(t, x, tq, d, thrust, rate) if full else f(t, x, tq, d)
+        stage[0] = h
+        return g(t, x, d)
 
     return rhs
 

@@ -134,6 +134,29 @@ class CommandForce:
         return interp_table(self.force_table, t)[0] + self.T @ f, f, rate
 
 
+def driven_rhs(
+    f: Callable[..., np.ndarray],
+    inputs: Callable[[float, np.ndarray], tuple[np.ndarray, np.ndarray, np.ndarray]],
+    n_thrusters: int,
+) -> Callable[[float, np.ndarray, Any], np.ndarray]:
+    """``rhs(t, x, δ) → ẋ``: the right-hand side ``f(t, x, τ, δ, thrust, rate)`` fed the whole
+    input vector — τ (N, N·m), each thruster's thrust (N) and rotation rate (rev/s) from
+    ``inputs(t, x)`` at that instant and state (a :class:`CommandForce`'s, a manoeuvre's thruster
+    drive's), the deflections ``δ`` (rad) given. The one place the thrusters' inputs reach the
+    model on the open-loop paths: ``simulate --command`` (:func:`fly_commands`), ``manoeuvre
+    --replay`` and the manoeuvre loop in Python (issue #56). The input vector holds up to
+    MAX_THRUSTERS thrusters; beyond that only τ is given."""
+    from hydrokit.model.terms import MAX_THRUSTERS
+
+    full = 0 < n_thrusters <= MAX_THRUSTERS
+
+    def rhs(t: float, x: np.ndarray, d: Any) -> np.ndarray:
+        tau, thrust, rate = inputs(t, x)
+        return f(t, x, tau, d, thrust, rate) if full else f(t, x, tau, d)
+
+    return rhs
+
+
 def fly_commands(
     vehicle: Any,
     duration: float,
@@ -165,7 +188,6 @@ def fly_commands(
     """
     from hydrokit.core.kinematics import PITCH_WARNING
     from hydrokit.model.dynamics import interp_table
-    from hydrokit.model.terms import MAX_THRUSTERS
     from hydrokit.simulate.compiled import make_dynamics
     from hydrokit.simulate.driver import Trajectory, deflection_table
     from hydrokit.simulate.integrators import rk4
@@ -187,14 +209,13 @@ def fly_commands(
     x0 = np.concatenate([np.asarray(eta0, float), np.asarray(nu0, float)])
     if x0.shape != (12,) or not np.all(np.isfinite(x0)):
         raise InputError(f"initial pose and velocity {x0.tolist()}: expected 6 + 6 finite numbers")
-    f = make_dynamics(vehicle, current_ned)
     dtab = deflection_table(vehicle, deflection)
-    thrusters = 0 < len(vehicle.thruster_names) <= MAX_THRUSTERS  # the input vector holds them
+    g = driven_rhs(
+        make_dynamics(vehicle, current_ned), lambda t, x: force.inputs(t, x[:6], x[6:]), len(vehicle.thruster_names)
+    )
 
     def rhs(t: float, x: np.ndarray) -> np.ndarray:
-        tau, thrust, rate = force.inputs(t, x[:6], x[6:])
-        d = None if dtab is None else interp_table(dtab, t)[0]
-        return f(t, x, tau, d, thrust, rate) if thrusters else f(t, x, tau, d)
+        return g(t, x, None if dtab is None else interp_table(dtab, t)[0])
 
     n_steps = math.floor(duration / dt + 1e-9)
     prog = None if progress is None else (lambda k: progress(k * dt))
