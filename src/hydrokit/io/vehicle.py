@@ -89,6 +89,12 @@ are not trustworthy`` first in ``Vehicle.warnings`` (every result that flies it 
 ``--strict`` of the simulate and manoeuvre commands refuses it. A file without the block (deleted
 by hand) makes no claim.
 
+``envelope:`` (issue #56 item 7; :mod:`hydrokit.model.envelope`, read by :mod:`hydrokit.io.envelope`)
+what the identification's fitted runs covered — each held command's steady straight speed, the
+ranges of command, speed, deflection, yaw rate and drift; ``hydrokit sysid`` writes it beside
+``identification:``, and ``hydrokit manoeuvre`` and ``hydrokit simulate`` say when a prediction
+leaves it.
+
 Writing: :func:`vehicle_text` is the one writer of vehicle files (``hydrokit sysid``, ``sysid
 compare`` and ``hydrokit run`` all write through it); :func:`identified_vehicle_document` builds
 the document of an identified vehicle and :func:`write_terms` puts identified ``terms.<term>``
@@ -157,6 +163,7 @@ KNOWN = set(REQUIRED) | {
     "wind",
     "identification",
     "service",
+    "envelope",
 }
 #: the keys of the ``service`` block (issue #55 item 2: how the vehicle moves at its service speed)
 SERVICE_KEYS = ("command", "force", "speed")
@@ -603,11 +610,13 @@ def parse_vehicle(data: dict[str, Any], source: str) -> Vehicle:
     default_nd = data.get("terms_nondimensional", False)
     if not isinstance(default_nd, bool):
         raise InputError(f"field 'terms_nondimensional' = {cut_repr(default_nd)}: expected true or false", source)
+    from hydrokit.io.envelope import read_envelope
     from hydrokit.io.surfaces import read_control_surfaces, read_dofs
 
     thrusters, propellers = _thruster_names(data.get("thrusters"))
     surfaces = read_control_surfaces(data.get("control_surfaces"), source, thrusters, data.get("thrusters"))
     dofs = read_dofs(data.get("dofs"), source)
+    envelope = read_envelope(data.get("envelope"), source, thrusters, surfaces.names)
     terms_raw = data.get("terms") or {}
     if not isinstance(terms_raw, dict):
         raise InputError(f"field 'terms' = {cut_repr(terms_raw)}: expected a mapping of term names to values", source)
@@ -689,6 +698,7 @@ def parse_vehicle(data: dict[str, Any], source: str) -> Vehicle:
         _wind(data["wind"], source) if data.get("wind") is not None else None,
         identification,
         _service(data.get("service"), source),
+        envelope,
     )
 
 
@@ -762,7 +772,8 @@ def identified_vehicle_document(result: Any, base_data: Mapping[str, Any]) -> di
     the σ of the diagonal coefficients and the full covariance (SI²) over every free parameter,
     ``terms.*`` included, which ``simulate --samples`` and ``mission --samples`` read. The
     ``identification`` block holds the fit's verdict, reasons, held-out NRMSE, runs, tool and date
-    (:func:`identification_block`; replacing the base's own, if any).
+    (:func:`identification_block`; replacing the base's own, if any), and the ``envelope`` block
+    what the fitted runs covered (the result's ``envelope``, :mod:`hydrokit.model.envelope`).
     """
     doc = {k: v for k, v in base_data.items() if k != "uncertainty"}
     names = list(result.parameters)
@@ -785,9 +796,13 @@ def identified_vehicle_document(result: Any, base_data: Mapping[str, Any]) -> di
     doc["sources"] = sources + [f"hydrokit sysid ({result.method}) from runs {runs}; free: {', '.join(names)}"]
     doc["name"] = f"{base_data.get('name', 'vehicle')}-sysid"
     doc.pop("identification", None)  # the base's claim is not this fit's
+    doc.pop("envelope", None)  # nor are its runs
     block = identification_block(result)
     if block is not None:
         doc["identification"] = block
+    envelope = getattr(result, "envelope", None)
+    if envelope is not None:
+        doc["envelope"] = envelope.to_dict()
     return doc
 
 

@@ -21,6 +21,7 @@ import numpy as np
 from hydrokit.core.drag import DragElement, pack_elements
 from hydrokit.core.rigid_body import rigid_body_mass_matrix
 from hydrokit.errors import InputError
+from hydrokit.model.envelope import Envelope
 from hydrokit.model.identification import Identification
 from hydrokit.model.surfaces import SurfaceSet
 from hydrokit.model.terms import TermSet
@@ -107,6 +108,9 @@ class Vehicle:
     service : Service or None — the file's ``service:`` block, how the vehicle moves at its
         service speed (thruster commands and/or a constant force); the model does not use it, the
         manoeuvre and simulate commands fly it when given no propulsion; None: the file states none
+    envelope : Envelope or None — the file's ``envelope:`` block, what the identification's runs
+        covered (:mod:`hydrokit.model.envelope`); the model does not use it, the manoeuvre and
+        simulate commands compare their predictions with it; None: no claim
 
     A vehicle is equal only to itself (``eq=False``): its fields are arrays, which have no
     single truth value; compare the fields of two vehicles with numpy.
@@ -137,6 +141,7 @@ class Vehicle:
     wind: WindModel | None = field(default=None, repr=False)
     identification: Identification | None = field(default=None, repr=False)
     service: Service | None = field(default=None, repr=False)
+    envelope: Envelope | None = field(default=None, repr=False)
 
     @property
     def n_inputs(self) -> int:
@@ -252,6 +257,7 @@ def make_vehicle(
     wind: WindModel | None = None,
     identification: Identification | None = None,
     service: Service | None = None,
+    envelope: Envelope | None = None,
 ) -> Vehicle:
     """Validate and build a :class:`Vehicle`.
 
@@ -358,6 +364,7 @@ def make_vehicle(
         wind=wind,
         identification=identification,
         service=_service(service, tuple(thruster_names), source),
+        envelope=envelope,
     )
 
 

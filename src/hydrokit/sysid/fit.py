@@ -33,7 +33,9 @@ import numpy as np
 
 from hydrokit._result import Result, jsonable
 from hydrokit.errors import InputError
+from hydrokit.model.envelope import Envelope
 from hydrokit.model.vehicle import Vehicle
+from hydrokit.sysid.envelope import run_envelope
 from hydrokit.sysid.lm import Diverged as _Diverged
 from hydrokit.sysid.lm import projected_lm
 from hydrokit.sysid.model import (
@@ -101,6 +103,9 @@ class SysidResult(Result):
     windows : dict — of a windowed fit: ``count``, ``length_s`` (s), ``continuity`` (–) and
         ``largest_jump_sigma``, the largest jump of a measured state at a join in σ of its
         channel's noise; {} for whole runs
+    envelope : Envelope or None — what the fitted runs covered: speed per held command, the
+        commands', speeds', deflections', yaw rates' and drift's ranges
+        (:func:`hydrokit.sysid.envelope.run_envelope`); written into the identified vehicle
     """
 
     vehicle: Vehicle
@@ -126,6 +131,7 @@ class SysidResult(Result):
     step_check: float = float("nan")
     timing: dict[str, float] = field(default_factory=dict)
     windows: dict[str, Any] = field(default_factory=dict)
+    envelope: Envelope | None = None
 
     def interval(self, level: float = 0.95) -> np.ndarray:
         """(p, 2) two-sided normal interval of each parameter (SI)."""
@@ -181,6 +187,7 @@ class SysidResult(Result):
                 "warnings": list(self.warnings),
                 "timing_s": self.timing,
                 "windows": self.windows,
+                "envelope": None if self.envelope is None else self.envelope.to_dict(),
             }
         )
 
@@ -722,6 +729,7 @@ def _identify(
         step_check=step_check,
         timing={"total": _time.perf_counter() - t_start, "simulation": problem.sim_seconds, **stages},
         windows=_window_summary(cut, problem),
+        envelope=run_envelope(runs, veh),
     )
 
 
