@@ -304,7 +304,10 @@ def simulate(
     """
     from hydrokit.simulate.driver import simulate as _simulate
 
-    return _simulate(_as_vehicle(vehicle), duration, dt, tau, **options)
+    veh = _as_vehicle(vehicle)
+    traj = _simulate(veh, duration, dt, tau, **options)
+    simulate_envelope(veh, traj, tau, options.get("deflection"))
+    return traj
 
 
 def manoeuvre(vehicle: Vehicle | PathLike, manoeuvre: Any, **options: Any) -> Any:
@@ -335,7 +338,148 @@ def manoeuvre(vehicle: Vehicle | PathLike, manoeuvre: Any, **options: Any) -> An
     from hydrokit.manoeuvre.run import run_manoeuvre
 
     veh = _as_vehicle(vehicle)
-    return run_manoeuvre(veh, manoeuvre, **with_service(veh, options)[0])
+    settings = with_service(veh, options)[0]
+    res = run_manoeuvre(veh, manoeuvre, **settings)
+    manoeuvre_envelope(veh, res, settings.get("commands"), settings.get("tau"))
+    return res
+
+
+def command_units(vehicle: Vehicle) -> dict[str, str]:
+    """Each thruster's command unit ({name: "rev/s" | the table's | "N"}; empty without thrusters)."""
+    from hydrokit.simulate.mission import COMMAND_UNITS
+
+    ts = vehicle.thrusters
+    return {} if ts is None else {n: COMMAND_UNITS[t.model] for n, t in zip(ts.names, ts.thrusters)}
+
+
+def _surge_force(tau: Any) -> float | None:
+    """The largest |X| (N) of a constant force or a force table ([t, X … N] rows); 0 for None;
+    None for a callable (not known before it is flown)."""
+    import numpy as np
+
+    if tau is None:
+        return 0.0
+    if callable(tau):
+        return None
+    f = np.asarray(tau, dtype=float)
+    return float(abs(f[0])) if f.ndim == 1 else float(np.max(np.abs(f[:, 1])))
+
+
+def _envelope_lines(result: Any, findings: Any, check: Any, runs: Sequence[str]) -> list[str]:
+    """The envelope's lines of ``findings``, added to the result's warnings (and, where it has
+    the field, its ``envelope`` record)."""
+    from hydrokit.model.envelope import lines
+
+    out = lines(findings)
+    if hasattr(result, "envelope"):
+        result.envelope = {
+            "holds": not any(f.kind == "does not hold" for f in findings),
+            "speed_check": check,
+            "findings": [f.to_dict() for f in findings],
+            "runs": list(runs),
+        }
+    result.warnings.extend(out)
+    return out
+
+
+def manoeuvre_envelope(vehicle: Vehicle, result: Any, commands: Any = None, tau: Any = None) -> list[str]:
+    """A flown manoeuvre compared with the envelope of the vehicle's identification (issue #56
+    item 7; :func:`hydrokit.model.envelope.compare`): the approach's steady speed at its held
+    thruster ``commands`` (under no surge force in ``tau``) against the runs' speed there, and its
+    commands, largest deflections, yaw rate, drift and speed against the runs' ranges.
+
+    Parameters
+    ----------
+    vehicle : Vehicle — its ``envelope`` (None: nothing compared, nothing said)
+    result : ManoeuvreResult — ``envelope`` set to {holds, speed_check, findings, runs} and the
+        lines added to its ``warnings``
+    commands : {thruster: command} or None — as flown (each in its unit)
+    tau : the constant force flown (6 floats, N, N·m), rows, a callable or None
+
+    Returns
+    -------
+    list of str — the lines to print (``envelope: the model does not hold …``, ``envelope: the
+    prediction extrapolates …``); empty when the prediction stays inside or there is no envelope
+    """
+    from hydrokit.model.envelope import compare, extremes
+
+    env = vehicle.envelope
+    if env is None:
+        return []
+    ext = extremes(result.nu, result.deflection, result.surface_names)
+    held = {str(n): float(c) for n, c in (commands or {}).items()}
+    settled = not any(w.startswith("the approach was not steady") for w in result.warnings)
+    steady = (held, float(result.approach_speed)) if held and _surge_force(tau) == 0.0 and settled else None
+    findings, check = compare(
+        env,
+        commands={n: [c] for n, c in held.items()},
+        steady=steady,
+        deflection=ext["deflection"],
+        yaw_rate=ext["yaw_rate"],
+        drift=ext["drift"],
+        speed=ext["speed"],
+        units=command_units(vehicle),
+    )
+    return _envelope_lines(result, findings, check, env.runs)
+
+
+def simulate_envelope(vehicle: Vehicle, trajectory: Any, tau: Any = None, deflection: Any = None) -> list[str]:
+    """A simulated run compared with the envelope of the vehicle's identification (issue #56 item
+    7): the thruster commands and the deflections given against the runs' ranges, and — when the
+    run ends steady and nearly straight (its last hold's second half:
+    :func:`hydrokit.model.envelope.straight_and_steady`) — its speed there against the runs' speed
+    at the same commands (under no surge force) and their largest speed.
+
+    Parameters
+    ----------
+    vehicle : Vehicle — its ``envelope`` (None: nothing compared, nothing said)
+    trajectory : Trajectory — the lines are added to its ``warnings``
+    tau : the force flown: 6 floats (N, N·m), rows [t, X … N], a callable, or a
+        :class:`hydrokit.simulate.commands.CommandForce` (thruster commands over time)
+    deflection : None, one deflection per surface (rad) or rows [t, δ…]
+
+    Returns
+    -------
+    list of str — the lines to print; empty inside the envelope or without one
+    """
+    import numpy as np
+
+    from hydrokit.model.envelope import compare, straight_and_steady
+    from hydrokit.simulate.commands import CommandForce
+
+    env = vehicle.envelope
+    if env is None:
+        return []
+    names = list(vehicle.thrusters.names) if vehicle.thrusters is not None else []
+    commands: dict[str, Any] = {}
+    held: dict[str, float] = {}
+    start = float(trajectory.time[0])
+    surge = _surge_force(tau)
+    if isinstance(tau, CommandForce):
+        commands = {n: tau.values[:, k].tolist() for k, n in enumerate(names)}
+        held = {n: float(tau.values[-1, k]) for k, n in enumerate(names)}
+        start = max(start, float(tau.time[-1]))
+        surge = float(np.max(np.abs(tau.force_table[:, 1])))
+    defl: dict[str, float] = {}
+    if deflection is not None:
+        d = np.asarray(deflection, float)
+        cols = d[:, 1:] if d.ndim == 2 else d[None, :]  # rows [t, δ…], or one δ per surface
+        defl = {n: float(np.max(np.abs(cols[:, k]))) for k, n in enumerate(vehicle.surfaces.names)}
+    t = np.asarray(trajectory.time, float)
+    part = t >= start + 0.5 * (t[-1] - start)  # the second half of the last hold
+    speed = np.linalg.norm(np.asarray(trajectory.nu, float)[part, :3], axis=1)
+    steady, straight = straight_and_steady(t[part], speed, trajectory.nu[part, 5], env.length)
+    final = float(np.mean(speed[straight])) if steady and surge is not None else None
+    findings, check = compare(
+        env,
+        commands=commands,
+        steady=(held, final) if final is not None and held and surge == 0.0 else None,
+        deflection=defl,
+        speed=final,
+        units=command_units(vehicle),
+        what="steady speed at the end",
+    )
+    return _envelope_lines(trajectory, findings, check, env.runs)
 
 
 def sysid(

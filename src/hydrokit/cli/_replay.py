@@ -22,12 +22,13 @@ def run_replay(
     duration: float | None = None,
     samples: int = 0,
     seed: int = 1,
+    strict: bool = False,
     **others: Any,
 ) -> None:
     """Replay the trial ``replay`` with ``vehicle`` into ``out_dir`` (the arguments of ``hydrokit
     manoeuvre``; ``duration`` is unused: the trial sets it). ``others``: the options that set a
     manoeuvre, its propulsion or its start — each must be None or False (a replay reads them from
-    the trial). ``samples`` vehicles drawn from the file's covariance replay the trial too: the
+    the trial; ``strict`` was checked before). ``samples`` vehicles drawn from the file's covariance replay the trial too: the
     predicted metrics' 95 % intervals (manoeuvre.json's ``intervals``)."""
     from hydrokit.api import load_vehicle
     from hydrokit.cli._common import check_out_dir, json_text, progress_bar, write_all

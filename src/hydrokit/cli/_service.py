@@ -26,10 +26,9 @@ def no_service_option(f: Callable[..., Any]) -> Callable[..., Any]:
 
 
 def _units(vehicle: Any) -> dict[str, str]:
-    from hydrokit.simulate.mission import COMMAND_UNITS
+    from hydrokit.api import command_units
 
-    ts = vehicle.thrusters
-    return {} if ts is None else {n: COMMAND_UNITS[t.model] for n, t in zip(ts.names, ts.thrusters)}
+    return command_units(vehicle)
 
 
 def service_line(vehicle: Any, service: Any) -> str:

@@ -8,8 +8,9 @@ from typing import Any
 
 import click
 
-from hydrokit.cli._identification import strict_option
+from hydrokit.cli._identification import refuse_not_holding, strict_option
 from hydrokit.cli._manoeuvre_options import manoeuvre_options
+from hydrokit.cli._manoeuvre_print import print_result, print_warnings
 from hydrokit.cli._replay import run_replay
 from hydrokit.cli._samples import samples_options
 from hydrokit.cli._service import service_line, service_record
@@ -43,6 +44,7 @@ def manoeuvre(
     no_plots: bool,
     samples: int,
     seed: int,
+    strict: bool = False,
 ) -> None:
     """Fly a standard manoeuvre with VEHICLE (a vehicle YAML file or bundled name): a straight
     approach until steady, then the execute; every metric is measured from the execute point
@@ -68,13 +70,12 @@ def manoeuvre(
     """
     if replay is not None:  # the manoeuvre and its inputs come from the trial
         return run_replay(**locals())
-    from hydrokit.api import load_vehicle, with_service
+    from hydrokit.api import load_vehicle, manoeuvre_envelope, with_service
     from hydrokit.cli._common import check_out_dir, json_text, progress_bar, write_all
     from hydrokit.errors import InputError
     from hydrokit.io.trajectory import table_csv
-    from hydrokit.manoeuvre.metrics import describe
     from hydrokit.manoeuvre.run import commands_from_text, from_options, run_manoeuvre
-    from hydrokit.manoeuvre.samples import add_intervals, check_samples, interval_lines
+    from hydrokit.manoeuvre.samples import add_intervals, check_samples
 
     out = check_out_dir(out_dir)
     kinds = dict(turning_circle=turning_circle, zigzag=zigzag, spiral=spiral, pull_out=pull_out)
@@ -91,6 +92,8 @@ def manoeuvre(
     if res.problem:
         write_all(files)
         raise InputError(f"{res.problem}; the track was written to {out / 'trajectory.csv'}")
+    # the approach against its own runs' speed, the rest against their ranges (issue #56 item 7)
+    refuse_not_holding(manoeuvre_envelope(v, res, settings.get("commands"), settings.get("tau")), strict)
     if samples:
         with progress_bar() as bar:
             drawn = bar.add_task(f"{samples} drawn vehicles", total=samples)
@@ -106,42 +109,8 @@ def manoeuvre(
         files |= {out / k: p for k, p in pngs.items()}
         files[out / "report.html"] = render(res, pngs)
     write_all(files)
-    for w in res.warnings:
-        click.echo(f"warning: {w}", err=True)
+    print_warnings(res.warnings)
     if service is not None:
         click.echo(service_line(v, service), err=True)
-    if res.propulsion:
-        a, b = res.propulsion["thrust_at_execute"], res.propulsion["thrust_at_end"]
-        click.echo(
-            "thrust: " + ", ".join(f"{k} {a[k]:.4g} N at the execute, {b[k]:.4g} N at the end" for k in a), err=True
-        )
-    trim = ", ".join(f"{k} {v * 57.29577951308232:+.2f}°" for k, v in res.approach_deflection.items() if abs(v) > 1e-3)
-    if res.hold and (res.hold != {"heading": f"{res.surface} (approach)"} or trim):  # more than a straight approach
-        trim = f"; approach trim {trim}" if trim else ""
-        click.echo("held: " + ", ".join(f"{k} by {n}" for k, n in res.hold.items()) + trim, err=True)
-    click.echo(f"{'pull-out' if m.kind == 'pull_out' else m.kind.replace('_', ' ')}{_setting(res)}, {res.surface}:")
-    for line in describe(m.kind, res.metrics):
-        click.echo("  " + line)
-    if res.intervals is not None:
-        click.echo(f"95 % intervals of {samples} vehicles from the file's covariance (seed {seed}):")
-        for line in interval_lines(res.intervals):
-            click.echo("  " + line)
-    for c in res.imo():
-        verdict = "–" if c["passed"] is None else "pass" if c["passed"] else "FAIL"
-        click.echo(f"IMO {c['criterion']}: {verdict}")
+    print_result(res, samples, seed)
     click.echo(f"wrote {len(files)} files to {out}", err=True)
-
-
-def _setting(res: Any) -> str:
-    """The manoeuvre's settings as a person reads them: " at 35°", " 10°/10°", " +5 m at 15°",
-    " (direct)"."""
-    p = res.manoeuvre.parameters()
-    a = p.get("deflection_deg")
-    if "check_angle_deg" in p:
-        return f" {a:.4g}°/{p['check_angle_deg']:.4g}°"
-    if "depth_change" in p:
-        how = f" at {abs(a):.4g}° (open loop)" if p["loop"] == "open" else f", pitch within ±{p['max_pitch_deg']:.4g}°"
-        return f" {p['depth_change']:+.4g} m{how}"
-    if "mode" in p:
-        return f" ({p['mode']}" + ("" if a is None else f", up to {a:.4g}°") + ")"
-    return f" at ±{abs(a):.4g}°" if res.kind == "pull_out" else f" at {a:.4g}°"

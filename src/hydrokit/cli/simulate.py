@@ -9,7 +9,8 @@ import click
 
 from hydrokit.cli._command import command_force, command_options, simulator
 from hydrokit.cli._deflection import deflection_input, deflection_options
-from hydrokit.cli._identification import strict_option
+from hydrokit.cli._identification import refuse_not_holding, strict_option
+from hydrokit.cli._manoeuvre_print import print_warnings
 from hydrokit.cli._samples import check_samples, sampled_files, samples_options
 from hydrokit.cli._service import no_service_option, service_line, simulate_service
 from hydrokit.cli._types import SECONDS, Count, Numbers
@@ -93,13 +94,14 @@ def simulate(
     command_text: str | None,
     command_csv: str | None,
     no_service: bool,
+    strict: bool = False,
 ) -> None:
     """Simulate VEHICLE (a vehicle YAML file or a bundled name: bluerov2-heavy, minerva,
     lingyun, udrobot) under a constant or tabulated force and/or its thrusters' commands
     (--command, --command-csv), from rest unless told otherwise. Given none of these, a vehicle
     file with a service: block flies its service condition (one stderr line says which; see
     --no-service); deflections and --initial-velocity do not propel."""
-    from hydrokit.api import load_vehicle  # with its thrusters: --command drives them
+    from hydrokit.api import load_vehicle, simulate_envelope  # with its thrusters: --command drives them
     from hydrokit.cli._common import check_out_dir, check_out_file, progress_bar, write_all
 
     check_out_file(out_file, "--out")  # before the run: it must not be lost to a bad path
@@ -124,6 +126,7 @@ def simulate(
         task = bar.add_task("simulating", total=duration)
         advance = lambda t: bar.update(task, completed=t)  # noqa: E731
         traj = run(v, duration, dt, tau, eta0, nu0, cur, integrator, attitude, output_every, advance, delta)
+    refuse_not_holding(simulate_envelope(v, traj, tau, delta), strict)  # the identification's runs (#56)
     import numpy as np
 
     files = {out_file: trajectory_csv(np.column_stack([traj.time, traj.eta, traj.nu])).encode()}
@@ -136,8 +139,7 @@ def simulate(
     setup = (duration, dt, tau, eta0, nu0, cur, output_every, delta)
     extra, spread = sampled_files(v, traj, samples, seed, setup, out_file, plots_dir)
     write_all(files | extra)
-    for w in traj.warnings:
-        click.echo(f"warning: {w}", err=True)
+    print_warnings(traj.warnings)
     if service is not None:
         click.echo(service_line(v, service), err=True)
     u, p = (", ".join(f"{x:.4g}" for x in part) for part in (traj.nu[-1][:3], traj.nu[-1][3:]))

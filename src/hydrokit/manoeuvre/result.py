@@ -60,6 +60,11 @@ class ManoeuvreResult(Result):
         None with a constant force only
     problem : str or None — what the run did not reach (the metrics it needs are None)
     warnings : list of str
+    envelope : dict or None — the run compared with the envelope of the vehicle's identification
+        (:func:`hydrokit.api.manoeuvre_envelope`): ``holds`` (False: the model missed its own runs'
+        speed at the approach's commands), ``speed_check`` (the approach's speed, the runs' speed,
+        scatter and the tolerance; None when no held level of the runs matched), ``findings`` (kind,
+        quantity, value, limit, unit, text) and ``runs``; None: the vehicle has no envelope
     """
 
     manoeuvre: Manoeuvre
@@ -83,6 +88,7 @@ class ManoeuvreResult(Result):
     intervals: dict[str, Any] | None = None
     sampling: dict[str, Any] | None = None
     sample_tracks: list[np.ndarray] = field(default_factory=list)
+    envelope: dict[str, Any] | None = None
 
     @property
     def kind(self) -> str:
@@ -143,6 +149,8 @@ class ManoeuvreResult(Result):
         if self.intervals is not None:
             doc["intervals"] = self.intervals
             doc["sampling"] = self.sampling
+        if self.envelope is not None:
+            doc["envelope"] = self.envelope
         return rounded(jsonable(doc))
 
     def summary_rows(self) -> list[tuple[str, Any]]:

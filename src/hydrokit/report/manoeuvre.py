@@ -3,13 +3,16 @@
 Sections: the run (vehicle, surface, settings, approach speed); the metrics with units and the
 definitions they follow (IMO MSC.137(76), ITTC 7.5-04-02-01); for surface craft the IMO criteria
 with pass/fail; the track and time figures; warnings. A vehicle whose ``identification:`` block
-says "does not fit" has its warning as a banner above everything. User text is escaped.
+says "does not fit", or whose approach misses its own runs' speed (the ``envelope:`` block: "the
+model does not hold"), has its warning as a banner above everything; a prediction that leaves
+the envelope is said under the run's description. User text is escaped.
 """
 
 from __future__ import annotations
 
 from typing import Any
 
+from hydrokit.model.envelope import does_not_hold, is_envelope_line
 from hydrokit.model.identification import is_unfit_warning
 from hydrokit.report.html import esc, figure, fmt, page, table, warnings_block
 
@@ -52,13 +55,16 @@ def render(result: Any, figures: dict[str, bytes] | None = None) -> str:
     doc = result.to_dict()
     params = ", ".join(f"{k} = {fmt(v) if not isinstance(v, str) else v}" for k, v in doc["parameters"].items())
     # a vehicle whose fit said "does not fit" (issue #48): said before anything it predicts
-    unfit = [w for w in result.warnings if is_unfit_warning(w)]
+    # and a model that misses its own runs' speed (issue #56 item 7)
+    unfit = [w for w in result.warnings if is_unfit_warning(w) or does_not_hold(w)]
+    outside = [w for w in result.warnings if is_envelope_line(w) and w not in unfit]
     parts = [] if not unfit else [warnings_block(unfit)]
     parts += [
         f"<p>Vehicle <b>{esc(result.vehicle)}</b>, steered by <b>{esc(result.surface)}</b>; {esc(params)}. "
         f"Approach speed {fmt(result.approach_speed)} m/s"
         + (f", reference length L = {fmt(result.reference_length)} m" if result.reference_length else "")
         + ".</p>",
+        *(f"<p><b>{esc(w)}</b></p>" for w in outside),
         f'<p class="note">{esc(DEFINITIONS)}</p>',
     ]
     if result.problem:
@@ -115,7 +121,7 @@ def render(result: Any, figures: dict[str, bytes] | None = None) -> str:
     }
     for name, png in figures.items():
         parts.append(figure(png, captions.get(name, name)))
-    others = [w for w in result.warnings if w not in unfit]
+    others = [w for w in result.warnings if w not in unfit and w not in outside]
     if others:
         parts.append("<h2>Warnings</h2>" + warnings_block(others))
     return page(f"hydrokit manoeuvre — {result.vehicle}: {result.kind.replace('_', ' ')}", parts)
