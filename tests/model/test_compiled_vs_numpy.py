@@ -23,7 +23,7 @@ from hydrokit.core.coriolis import coriolis_force
 from hydrokit.core.kinematics import euler_rate_matrix, quaternion_rate, quaternion_to_rotation, rotation_zyx
 from hydrokit.io.vehicle import load_vehicle, parse_vehicle
 from hydrokit.model.dynamics import current_table, pack, vehicle_dynamics
-from hydrokit.simulate.compiled import make_dynamics, rk4_run
+from hydrokit.simulate.compiled import make_dynamics, no_drive, rk4_run
 from hydrokit.simulate.integrators import rk4_step
 
 # a current that changes over time (rows t s, v_N, v_E, v_D m/s): exercises the table slope
@@ -183,6 +183,7 @@ def test_compiled_rk4_step_equals_numpy_rk4_step(attitude: str) -> None:
             p.t_coef,
             p.t_kind,
             p.t_idx,
+            no_drive(),
             out,
         )
         assert taken == 1

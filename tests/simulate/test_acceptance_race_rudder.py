@@ -101,7 +101,7 @@ def wind_ship_runs(
     :func:`hydrokit.sysid.ship.ship_runs` does); the wind acts through the vehicle's own
     wind model on the compiled RK4."""
     from hydrokit.model.dynamics import environment_table
-    from hydrokit.simulate.compiled import rk4_run
+    from hydrokit.simulate.compiled import no_drive, rk4_run
 
     rng = np.random.default_rng(seed)
     packs = stack_packs([truth])
@@ -134,7 +134,7 @@ def wind_ship_runs(
             table = force_table(probe, truth.thrusters, dt, truth.surfaces.names)
             full = np.empty((n_steps + 1, 12))
             x = np.ascontiguousarray(x0)
-            done = rk4_run(x, 0.0, dt, n_steps, 1, False, table, cur, *args, *terms, full)
+            done = rk4_run(x, 0.0, dt, n_steps, 1, False, table, cur, *args, *terms, no_drive(), full)
             assert done == n_steps, "the truth diverged"
             states = full[rows]
             chans = {c: (time, states[:, CHANNELS.index(c)]) for c in ("u", "v", "r")}

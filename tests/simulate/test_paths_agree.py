@@ -315,3 +315,33 @@ def test_transport_refuses_what_it_cannot_feed(feature: str) -> None:
             fly_transport(spoiled, 1.0, 0.1)
     else:
         assert fly_transport(asm, 1.0, 0.1).time.size > 1
+
+
+@pytest.mark.parametrize("feature", ["T()", "race (MMG)", "propeller lag + wake"])
+def test_sysid_simulates_simulates_model(feature: str) -> None:
+    """sysid's batch simulation of a run (the output-error fit's and the held-out prediction's)
+    is simulate's model: a run flown by ``simulate --command`` (propeller at 20 rev/s, rotors
+    settled, rudder held at 15°) and logged at 1 Hz, simulated by sysid from the same start,
+    agrees to round-off at every sample. The propeller's thrust is evaluated at each stage's
+    simulated advance speed (issue #56); before, sysid took it at the *logged* velocity
+    interpolated between samples (here 1 s apart: a difference of ~1e-4 of the motion)."""
+    from hydrokit.io.runlog import RunLog
+    from hydrokit.simulate.commands import CommandForce, command_table, fly_commands
+    from hydrokit.sysid.model import CHANNELS, prepare_run, simulate_run, stack_packs
+
+    v = feature_vehicle(feature)
+    dt, rudder = 0.05, math.radians(15.0)
+    cf = CommandForce(v.thrusters, command_table(v, {"prop": N_PROP}), start="settled")
+    tr = fly_commands(v, 40.0, dt, cf, nu0=(0.35, 0, 0, 0, 0, 0), deflection=[rudder])
+    every = int(round(1.0 / dt))
+    t = tr.time[::every]
+    x = np.concatenate([tr.eta, tr.nu], axis=1)[::every]
+    chans = {c: (t, x[:, CHANNELS.index(c)]) for c in ("x", "y", "psi", "u", "v", "r")}
+    run = RunLog("r", "", t, chans, {"prop": np.full(t.size, N_PROP)}, deflections={"rudder": np.full(t.size, rudder)})
+    prep = prepare_run(run, v.thrusters, dt, surfaces=v.surfaces.names)
+    pred, done = simulate_run(prep, stack_packs([v]), np.concatenate([tr.eta[0], tr.nu[0]])[None, :])
+    assert done[0] == int(round(40.0 / dt))
+    ref = np.concatenate(prep.values)
+    scale = np.concatenate([np.full(y.size, np.std(y) + 1e-3) for y in prep.values])
+    err = float(np.max(np.abs(pred[0] - ref) / scale))
+    assert err < 1e-9, err

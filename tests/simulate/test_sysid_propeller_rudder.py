@@ -92,7 +92,7 @@ def test_force_table_carries_thrust_and_rate_at_the_wake_of_each_candidate() -> 
     u, n, D = 0.37, 20.0, 0.084
     run = _steady_run(u, n)
     tab = force_table(run, v.thrusters, 0.05, v.surfaces.names)
-    assert tab.shape[1] == 1 + 6 + 1 + 2  # t, X..N, δ, T, n
+    assert tab.shape[1] == 1 + 6 + 1 + 2 + 1  # t, X..N, δ, T, n, the propeller's rotor state
 
     def by_hand(w: float) -> float:
         J = (1 - w) * u / (n * D)
@@ -100,6 +100,7 @@ def test_force_table_carries_thrust_and_rate_at_the_wake_of_each_candidate() -> 
 
     np.testing.assert_allclose(tab[:, 8], by_hand(0.3), rtol=1e-12)  # same formula, round-off only
     np.testing.assert_allclose(tab[:, 9], n, rtol=0)
+    np.testing.assert_allclose(tab[:, 10], n, rtol=0)  # the rotor state the simulation drives it from
     np.testing.assert_allclose(tab[:, 1], tab[:, 8], rtol=1e-12)  # X = T (no thrust deduction)
     prep = prepare_run(run, v.thrusters, 0.05, surfaces=v.surfaces.names)
     assert vehicle_tables(prep, [v, with_coefficients(v, {"control_surfaces.rudder.lift_slope": 3.0})]) is None

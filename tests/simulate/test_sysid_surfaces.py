@@ -130,7 +130,10 @@ def test_force_table_holds_deflections_and_thrust_at_the_measured_advance_speed(
     u = 0.3 + 0.1 * t  # measured surge speed at the rows
     run = RunLog("r", "r", t, {"u": (t, u)}, {"prop": np.full(t.size, N_PROP)}, deflections={"rudder": rudder})
     tab = force_table(run, th, 0.02, ["rudder"])
-    assert tab.shape[1] == 10  # [t, X..N, δ, T, n]: the vehicle's input vector follows the forces
+    # [t, X..N, δ, T, n]: the vehicle's input vector follows the forces, then the propeller's rotor
+    # state, from which the simulation evaluates its thrust at the simulated advance speed (#56)
+    assert tab.shape[1] == 11
+    assert tab[-1, 10] == N_PROP
     at = lambda tq, j: float(np.interp(tq, tab[:, 0], tab[:, j]))  # noqa: E731
     # held deflection: the old value up to the row, the new one right after (zero-order hold)
     assert at(0.3, 7) == pytest.approx(-0.1) and at(0.3 + 1e-7, 7) == pytest.approx(0.2)
@@ -166,7 +169,7 @@ def test_equation_error_with_delta_terms_on_a_short_run() -> None:
     tab = prep.table.copy()
     tab[:, 0] += prep.t0
     taus = [tau_on_grid(tab, sm.time)]
-    assert taus[0].shape == (sm.time.size, 9)  # forces, the rudder, T(prop) and n(prop)
+    assert taus[0].shape == (sm.time.size, 10)  # forces, the rudder, T(prop), n(prop), its rotor state
     true = values_of(truth, params)
     ee = equation_error(veh, params, [sm], taus)
     assert ee.dofs == (1, 5)  # sway and yaw: the only equations these terms enter (planar)

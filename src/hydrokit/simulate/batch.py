@@ -117,7 +117,7 @@ def simulate_batch(
     BatchTrajectory — ``time`` (n_out,), ``states`` (n_vehicles, n_out, 12 or 13), ``steps``
     (n_vehicles,): steps taken (fewer when a vehicle's state became non-finite).
     """
-    from hydrokit.simulate.compiled import rk4_batch
+    from hydrokit.simulate.compiled import no_drive_batch, rk4_batch
 
     nv = len(vehicles)
     if nv == 0:
@@ -179,6 +179,7 @@ def simulate_batch(
         stack("t_coef"),
         packs[0].t_kind,
         packs[0].t_idx,
+        no_drive_batch(nv),
         out,
         done,
     )

@@ -281,11 +281,76 @@ def deriv_rk4_step(
     return rk4_combine_compiled(x, k1, k2, k3, k4, dt)
 
 
+def no_drive() -> tuple[np.ndarray, ...]:
+    """The drive argument of :func:`rk4_run` for a table whose thrusts are given (no propeller
+    evaluated at the simulated state)."""
+    e2 = np.zeros((0, 3))
+    return (
+        np.zeros(3, dtype=np.int64), np.zeros(0, dtype=np.int64), np.zeros(0), e2, e2, np.zeros((6, 0)),
+        np.zeros((0, 6)), np.zeros((0, 1)), np.zeros((0, 1)), np.zeros((0, 4)),
+    )  # fmt: skip
+
+
+@njit_noalloc
+def _drive_row(t, x, quat, tau_tab, cur_tab, D, row, slope):  # noqa: ANN001, ANN202
+    """The input row at ``t`` (``row[0, 1:]``, ``tau_tab`` interpolated) with each driven
+    propeller's thrust evaluated at the state ``x`` (the advance speed of the simulated velocity
+    through the water, issue #56) instead of the table's: the table holds each driven propeller's
+    rotor state (value index ``cols[0] + j``), its thrust at the measured advance speed (``cols[1]
+    + idx[j]``) and rate (``cols[2] + idx[j]``); τ trades that thrust for the new one through the
+    configuration columns ``Tv`` (thrust deduction included; the table was built with the same
+    thrusters). The laws: :func:`hydrokit.model.thrusters.advance_speed_law` and
+    ``propeller_thrust``, compiled."""
+    cols, idx, wake, dirs, arms, Tv, prop, kf, kr, lim = D
+    val = row[0, 1:]
+    _interp(tau_tab, t, val, slope)
+    o = 7 if quat else 6
+    u, v, w = x[o], x[o + 1], x[o + 2]
+    m_env = cur_tab.shape[1] - 1
+    if m_env >= 3:
+        vc = slope[0:3]  # scratch: the current now (its slope is not needed here)
+        cs = slope[3:6]
+        _interp(cur_tab, t, vc, cs)
+        if vc[0] != 0.0 or vc[1] != 0.0 or vc[2] != 0.0:
+            if quat:
+                q0, q1, q2, q3 = x[3], x[4], x[5], x[6]
+                nq = math.sqrt(q0 * q0 + q1 * q1 + q2 * q2 + q3 * q3)
+                R00, R01, R02, R10, R11, R12, R20, R21, R22 = quaternion_rotation_compiled(
+                    q0 / nq, q1 / nq, q2 / nq, q3 / nq
+                )
+            else:
+                R00, R01, R02, R10, R11, R12, R20, R21, R22 = rotation_zyx_entries_compiled(
+                    math.cos(x[3]), math.sin(x[3]), math.cos(x[4]), math.sin(x[4]), math.cos(x[5]), math.sin(x[5])
+                )
+            u -= R00 * vc[0] + R10 * vc[1] + R20 * vc[2]
+            v -= R01 * vc[0] + R11 * vc[1] + R21 * vc[2]
+            w -= R02 * vc[0] + R12 * vc[1] + R22 * vc[2]
+    p, q, r = x[o + 3], x[o + 4], x[o + 5]
+    for j in range(idx.shape[0]):
+        g = idx[j]
+        c = val[cols[0] + j]
+        c = lim[j, 0] if c < lim[j, 0] else (lim[j, 1] if c > lim[j, 1] else c)
+        va = advance_speed_compiled(
+            wake[j], dirs[j, 0], dirs[j, 1], dirs[j, 2], arms[j, 0], arms[j, 1], arms[j, 2], u, v, w, p, q, r
+        )
+        f = propeller_thrust_compiled(
+            c, va, prop[j, 0], prop[j, 1], prop[j, 2], prop[j, 3], kf[j], kr[j], prop[j, 4], prop[j, 5]
+        )
+        f = lim[j, 2] if f < lim[j, 2] else (lim[j, 3] if f > lim[j, 3] else f)
+        f_old = val[cols[1] + g]
+        for i in range(6):
+            val[i] += Tv[i, j] * (f - f_old)
+        val[cols[1] + g] = f
+        val[cols[2] + g] = c
+
+
 @njit
 def rk4_run(
-    x0, t0, dt, n_steps, every, quat, tau_tab, cur_tab, Minv, Mc, DL, DQ, scal, t_dof, t_coef, t_kind, t_idx, out
+    x0, t0, dt, n_steps, every, quat, tau_tab, cur_tab, Minv, Mc, DL, DQ, scal, t_dof, t_coef, t_kind, t_idx, D, out
 ):  # noqa: ANN001, ANN201
     """Integrate n_steps RK4 steps from x0; store every ``every``-th state in ``out`` (rows).
+    ``D``: the propellers whose thrust is evaluated at every stage's state (:func:`_drive_row`;
+    :func:`no_drive` for none: the table's inputs as they are).
 
     Returns the number of steps taken (< n_steps if the state became non-finite).
     """
@@ -300,6 +365,29 @@ def rk4_run(
     for i in range(n):
         out[0, i] = x[i]
     j = 1
+    if D[1].shape[0] > 0:  # driven propellers: each stage's inputs at its own state
+        row = np.zeros((1, tau_tab.shape[1]))
+        slope = np.empty(max(tau_tab.shape[1] - 1, 6))
+        for step in range(n_steps):
+            t = t0 + step * dt
+            _drive_row(t, x, quat, tau_tab, cur_tab, D, row, slope)
+            deriv(t, x, quat, row, cur_tab, Minv, Mc, DL, DQ, scal, t_dof, t_coef, t_kind, t_idx, buf, k1)
+            rk4_stage_compiled(x, k1, 0.5 * dt, tmp)
+            _drive_row(t + 0.5 * dt, tmp, quat, tau_tab, cur_tab, D, row, slope)
+            deriv(t + 0.5 * dt, tmp, quat, row, cur_tab, Minv, Mc, DL, DQ, scal, t_dof, t_coef, t_kind, t_idx, buf, k2)
+            rk4_stage_compiled(x, k2, 0.5 * dt, tmp)
+            _drive_row(t + 0.5 * dt, tmp, quat, tau_tab, cur_tab, D, row, slope)
+            deriv(t + 0.5 * dt, tmp, quat, row, cur_tab, Minv, Mc, DL, DQ, scal, t_dof, t_coef, t_kind, t_idx, buf, k3)
+            rk4_stage_compiled(x, k3, dt, tmp)
+            _drive_row(t + dt, tmp, quat, tau_tab, cur_tab, D, row, slope)
+            deriv(t + dt, tmp, quat, row, cur_tab, Minv, Mc, DL, DQ, scal, t_dof, t_coef, t_kind, t_idx, buf, k4)
+            if not rk4_combine_compiled(x, k1, k2, k3, k4, dt):
+                return step
+            if (step + 1) % every == 0:
+                for i in range(n):
+                    out[j, i] = x[i]
+                j += 1
+        return n_steps
     for step in range(n_steps):
         t = t0 + step * dt
         # the stages written out rather than deriv_rk4_step: 1.30 M against 1.10 M steps/s (BlueROV2
@@ -320,12 +408,47 @@ def rk4_run(
     return n_steps
 
 
+def drive_member(D_all, k):  # noqa: ANN001, ANN201
+    """Vehicle ``k``'s drive from a batch's (its wake factors and configuration columns)."""
+    cols, idx, wake, dirs, arms, Tv, prop, kf, kr, lim = D_all
+    return (cols, idx, wake[k], dirs, arms, Tv[k], prop, kf, kr, lim)
+
+
+drive_member_compiled = njit(drive_member)
+
+
+def no_drive_batch(nv: int) -> tuple[np.ndarray, ...]:
+    """The batch drive argument of :func:`rk4_batch` for no driven propeller."""
+    d = no_drive()
+    return (d[0], d[1], np.zeros((nv, 0)), d[3], d[4], np.zeros((nv, 6, 0)), d[6], d[7], d[8], d[9])
+
+
 @njit(parallel=True)
 def rk4_batch(
-    x0, dt, n_steps, every, quat, tau_tab, cur_tab, Minv, Mc, DL, DQ, scal, t_dof, t_coef, t_kind, t_idx, out, done
+    x0,
+    dt,
+    n_steps,
+    every,
+    quat,
+    tau_tab,
+    cur_tab,
+    Minv,
+    Mc,
+    DL,
+    DQ,
+    scal,
+    t_dof,
+    t_coef,
+    t_kind,
+    t_idx,
+    D_all,
+    out,
+    done,
 ):  # noqa: ANN001, ANN201
     """Many vehicles at once: leading axis of x0, tau_tab, Minv, Mc, DL, DQ, scal, t_coef and
-    out is the vehicle; ``done`` receives each vehicle's number of steps taken."""
+    out is the vehicle; ``done`` receives each vehicle's number of steps taken; ``D_all`` the
+    driven propellers with each vehicle's wake factors and configuration columns
+    (:func:`drive_member`; :func:`no_drive_batch` for none)."""
     nv = x0.shape[0]
     for k in numba.prange(nv):
         done[k] = rk4_run(
@@ -346,6 +469,7 @@ def rk4_batch(
             t_coef[k],
             t_kind,
             t_idx,
+            drive_member_compiled(D_all, k),
             out[k],
         )
 

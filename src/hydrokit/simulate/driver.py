@@ -154,7 +154,7 @@ def simulate(
     ctab = current_table(current_ned)
     check_wind(vehicle, ctab)
     if integrator == "rk4" and ttab is not None:
-        from hydrokit.simulate.compiled import rk4_run
+        from hydrokit.simulate.compiled import no_drive, rk4_run
 
         p = pack(vehicle)
         out = np.empty((n_steps // output_every + 1, x0.size))
@@ -176,6 +176,7 @@ def simulate(
             p.t_coef,
             p.t_kind,
             p.t_idx,
+            no_drive(),
             out,
         )
         if done < n_steps:

@@ -13,6 +13,7 @@ import numpy as np
 
 from hydrokit._numba import njit
 from hydrokit.simulate.compiled import (
+    drive_member_compiled,
     rk4_run,
     rotor_lag_compiled,
     table_interp_compiled,
@@ -52,11 +53,30 @@ def table_thrusts(x, xs, ys, out):  # noqa: ANN001, ANN201
 
 @njit(parallel=True)
 def rk4_batch_shared(
-    x0, dt, n_steps, every, quat, tau_tab, cur_tab, Minv, Mc, DL, DQ, scal, t_dof, t_coef, t_kind, t_idx, out, done
+    x0,
+    dt,
+    n_steps,
+    every,
+    quat,
+    tau_tab,
+    cur_tab,
+    Minv,
+    Mc,
+    DL,
+    DQ,
+    scal,
+    t_dof,
+    t_coef,
+    t_kind,
+    t_idx,
+    D_all,
+    out,
+    done,
 ):  # noqa: ANN001, ANN201
     """:func:`hydrokit.simulate.compiled.rk4_batch` with one force table ``tau_tab`` (k, columns)
     shared by all vehicles (the batch of a run's perturbed vehicles, whose thrusters agree),
-    instead of one copy per vehicle."""
+    instead of one copy per vehicle; ``D_all`` the driven propellers per vehicle
+    (:func:`hydrokit.simulate.compiled.drive_member`)."""
     nv = x0.shape[0]
     for k in numba.prange(nv):
         done[k] = rk4_run(
@@ -77,6 +97,7 @@ def rk4_batch_shared(
             t_coef[k],
             t_kind,
             t_idx,
+            drive_member_compiled(D_all, k),
             out[k],
         )
 

@@ -16,14 +16,18 @@
   candidate vehicle's table is built with its own thrusters (:func:`vehicle_tables`);
 - many vehicles over one run on the compiled batch RK4, read at each channel's sample times.
 
-Advance speed: a propeller curve (K_T(J)) is evaluated at the advance speed of the run's
-*measured* body velocity, V_a = (1 − w) e·(v + ω × r) (:meth:`ThrusterSet.advance_speed`, the
-velocity channels linearly interpolated, an unmeasured one taken as 0), and at zero advance
-speed (bollard pull) when the run measures no velocity. Table and ideal curves do not depend
-on it. Using the measured rather than the simulated velocity keeps the thrust history
-independent of the parameters (computed once per run) — the thrust is then an input derived
-from measurements, as a ship's propeller thrust at its measured speed is in a captive test;
-velocity noise enters the thrust through J only.
+Advance speed: the simulation evaluates a propeller's thrust (K_T(J)) at every RK4 stage at the
+advance speed of the *simulated* body velocity through the water, V_a = (1 − w) e·(v + ω × r),
+from its rotor state, which the table carries after the input vector
+(:func:`hydrokit.simulate.compiled.rk4_run`'s drive, :func:`drive_pack`; issue #56) — the model
+``simulate --command`` and ``manoeuvre`` fly, so the fitted model is the flown one (the speed
+lost in a turn comes from the fitted resistance and the propeller curve together). The table's
+own thrust and τ columns hold the thrust at the *measured* velocity (linearly interpolated, an
+unmeasured component 0; bollard pull without any): what the equation error uses, where the
+state is the measured one, and what the simulation trades for the simulated one. Table and
+ideal curves and measured thrusts do not depend on it. (Until issue #56 the simulation too took
+the measured velocity's thrust — an input derived from measurements, as in a captive test —
+and so fitted a different model from the one flown.)
 """
 
 from __future__ import annotations
@@ -338,6 +342,10 @@ def force_table(
     d[jump] = defl[np.maximum(seg[jump] - 1, 0)]  # held: node t_k keeps the old deflection
     if not inputs or m > MAX_THRUSTERS:
         return np.column_stack([nodes, tau, d])
+    # the driven propellers' rotor states, after the input vector: the batch RK4 evaluates their
+    # thrust at each stage's simulated advance speed (simulate_run, issue #56)
+    drv = driven(run, thrusters)
+    rotor = np.clip(c[:, drv], thrusters.command_min[drv], thrusters.command_max[drv])
     rate = np.zeros_like(f)
     for i, cv in enumerate(thrusters.curves):
         if not isinstance(cv, PropellerCurve):
@@ -349,7 +357,57 @@ def force_table(
             one = np.zeros(m)
             one[i] = f[k, i]
             rate[k, i] = thrusters.command_for_thrust(one, va[k])[i]
-    return np.column_stack([nodes, tau, d, f, rate])
+    return np.column_stack([nodes, tau, d, f, rate, rotor])
+
+
+def driven(run: RunData, thrusters: Any) -> list[int]:
+    """The thrusters (file order) of ``run`` whose thrust the simulation evaluates at the
+    simulated state: propeller curves under commands (not a measured thrust)."""
+    from hydrokit.model.thrusters import PropellerCurve
+
+    return [
+        i
+        for i, (n, cv) in enumerate(zip(thrusters.names, thrusters.curves))
+        if isinstance(cv, PropellerCurve) and n in run.commands
+    ]
+
+
+def drive_pack(prep: PreparedRun, vehicles: Sequence[Vehicle]) -> tuple[np.ndarray, ...]:
+    """The batch RK4's driven propellers over ``prep`` for ``vehicles``
+    (:func:`hydrokit.simulate.compiled.drive_member`): value indices [rotor state, thrust, rate]
+    in the table, the thruster indices, each vehicle's wake factor 1 − w and configuration
+    columns, and the curves' constants and limits; no driven propeller when the table holds no
+    rotor columns (no input vector, or more than MAX_THRUSTERS thrusters) or the run is not at
+    hand."""
+    from hydrokit.model.thrusters import PropellerCurve
+    from hydrokit.simulate.compiled import no_drive_batch
+
+    nv = len(vehicles)
+    th = vehicles[0].thrusters if nv else None
+    if th is None or prep.run is None or prep.surfaces is None:
+        return no_drive_batch(nv)
+    drv = driven(prep.run, th)
+    m, ns = len(th), len(prep.surfaces)
+    if not drv or prep.table.shape[1] != 1 + 6 + ns + 2 * m + len(drv):
+        return no_drive_batch(nv)
+    curves = [th.curves[i] for i in drv]
+    assert all(isinstance(cv, PropellerCurve) for cv in curves)
+    n_poly = max(max(len(cv.law_args[4]), len(cv.law_args[5])) for cv in curves)  # type: ignore[attr-defined]
+    kf, kr, prop = np.zeros((len(drv), n_poly)), np.zeros((len(drv), n_poly)), np.zeros((len(drv), 6))
+    for j, cv in enumerate(curves):
+        D, rho, jlo, jhi, k_f, k_r, lf, lr = cv.law_args  # type: ignore[attr-defined]
+        prop[j] = (D, rho, jlo, jhi, lf, lr)
+        kf[j, n_poly - len(k_f) :] = k_f  # leading zeros keep Horner's value
+        kr[j, n_poly - len(k_r) :] = k_r
+    lim = np.column_stack([th.command_min[drv], th.command_max[drv], th.f_min[drv], th.f_max[drv]])
+    wake = np.array([[v.thrusters._wake_factor[i] for i in drv] for v in vehicles], dtype=float)
+    Tv = np.array([v.thrusters.configuration_matrix()[:, drv] for v in vehicles], dtype=float)
+    cols = np.array([6 + ns + 2 * m, 6 + ns, 6 + ns + m], dtype=np.int64)
+    f64 = lambda a: np.ascontiguousarray(a, dtype=float)  # noqa: E731
+    return (
+        cols, np.array(drv, dtype=np.int64), f64(wake), f64(th.directions[drv]), f64(th._moment_arms[drv]), f64(Tv),
+        f64(prop), f64(kf), f64(kr), f64(lim),
+    )  # fmt: skip
 
 
 def curve_thrusts(curve: Any, command: np.ndarray, advance_speed: np.ndarray) -> np.ndarray:
@@ -551,10 +609,13 @@ def read_columns(packs: Mapping[str, Any], n_columns: int) -> int:
     0, as a missing input does (:func:`hydrokit.model.terms.add_term_forces`), and only these
     read the T and n columns."""
     from hydrokit.model.terms import RATE, THRUST
+    from hydrokit.model.thrusters import PropellerCurve
 
     vehicles = packs.get("vehicles")
     if vehicles is None or len(vehicles) == 0:
         return n_columns
+    if any(isinstance(cv, PropellerCurve) for cv in getattr(vehicles[0].thrusters, "curves", ())):
+        return n_columns  # a propeller's thrust is evaluated at the simulated state: its rotor columns
     kinds = np.asarray(packs["t_kind"])
     if np.any((kinds == THRUST) | (kinds == RATE)):
         return n_columns
@@ -569,7 +630,7 @@ def simulate_run(prep: PreparedRun, packs: Mapping[str, Any], x0: np.ndarray) ->
     Returns the predictions (nv, n_samples) at the sample times, channel after channel, linearly
     interpolated between integration steps, and the steps each vehicle took (fewer: it diverged).
     """
-    from hydrokit.simulate.compiled import rk4_batch
+    from hydrokit.simulate.compiled import no_drive_batch, rk4_batch
     from hydrokit.sysid.kernels import rk4_batch_shared, sample_states
 
     x0 = np.ascontiguousarray(x0, dtype=float)
@@ -587,6 +648,8 @@ def simulate_run(prep: PreparedRun, packs: Mapping[str, Any], x0: np.ndarray) ->
         batch, tab = rk4_batch, np.ascontiguousarray(own[:, :, :k])
     else:
         batch, tab = rk4_batch_shared, np.ascontiguousarray(prep.table[:, :k])
+    vehicles = packs.get("vehicles")
+    drive = drive_pack(prep, list(vehicles)) if vehicles is not None and k == prep.table.shape[1] else None
     batch(
         x0,
         float(dt),
@@ -604,6 +667,7 @@ def simulate_run(prep: PreparedRun, packs: Mapping[str, Any], x0: np.ndarray) ->
         packs["t_coef"],
         packs["t_kind"],
         packs["t_idx"],
+        drive if drive is not None else no_drive_batch(nv),
         out,
         done,
     )
