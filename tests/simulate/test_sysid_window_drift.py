@@ -38,9 +38,11 @@ def test_heading_turn_against_closed_forms(duration: float) -> None:
 def test_drift_names_a_heading_that_keeps_turning_when_the_velocities_settle() -> None:
     """Near Clarke's stability limit (N_uv −1000 against the course-stable −150) an initial
     velocity error of the ship's zigzag settles to within 1.2× of itself, but the heading it
-    turns keeps growing (more than twice the first window's turn over 150 s), while the
-    course-stable ship's heading settles within a window (below 1.1×). At a threshold of 2 the
-    velocities alone flag neither run; the heading flags the slow one."""
+    turns keeps growing (about twice the first window's turn over 150 s), while the
+    course-stable ship's heading settles within a window (below 1.1×). At a threshold of 1.5 the
+    velocities alone flag neither run; the heading flags the slow one. (The slow ship's turn was
+    2.1× before issue #56 and is 1.8–2.0× since its propeller's thrust follows the simulated
+    speed, which damps a surge error: the threshold was 2.)"""
     from hydrokit.sysid.smooth import smooth_run
     from hydrokit.sysid.window import drift
 
@@ -52,7 +54,7 @@ def test_drift_names_a_heading_that_keeps_turning_when_the_velocities_settle() -
         veh, params = free_parameters(truth, names)
         prep = prepare_run(run, veh.thrusters, 0.05, surfaces=veh.surfaces.names)
         sm = smooth_run(run)
-        found[label] = drift(veh, params, values_of(veh, params), [prep], [sm.at(0.0)], [sm.known], threshold=2.0)
+        found[label] = drift(veh, params, values_of(veh, params), [prep], [sm.at(0.0)], [sm.known], threshold=1.5)
     assert found["stable"] == [], found
     assert len(found["slow"]) == 1 and "turns its heading" in found["slow"][0], found
     assert "more over the run than over its first 30 s" in found["slow"][0]
