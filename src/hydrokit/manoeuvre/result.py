@@ -62,9 +62,10 @@ class ManoeuvreResult(Result):
     warnings : list of str
     envelope : dict or None — the run compared with the envelope of the vehicle's identification
         (:func:`hydrokit.api.manoeuvre_envelope`): ``holds`` (False: the model missed its own runs'
-        speed at the approach's commands), ``speed_check`` (the approach's speed, the runs' speed,
-        scatter and the tolerance; None when no held level of the runs matched), ``findings`` (kind,
-        quantity, value, limit, unit, text) and ``runs``; None: the vehicle has no envelope
+        speed at the approach's commands; None: nothing compared), ``speed_check`` (the approach's
+        speed, the runs' speed, scatter and the tolerance; None when no held level of the runs
+        matched), ``findings`` (kind, quantity, value, limit, unit, text) and ``runs``; None: the
+        vehicle has no envelope
     """
 
     manoeuvre: Manoeuvre
