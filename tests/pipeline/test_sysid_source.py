@@ -396,9 +396,11 @@ def test_the_bundled_project_recovers_the_hidden_coefficients(tmp_path):
         assert abs(r["sysid"] - t) < 3.5 * r["sysid_sigma"], r
         assert abs(r["sysid"] / t - 1) < 0.1, r
     assert (tmp_path / "report.html").read_text().count("data:image/png") == 4  # 3 runs + correlation
-    assert yaml.safe_load((tmp_path / "vehicle.yaml").read_text())["uncertainty"]["parameters"] == [
-        f"{r['coefficient']}.{r['dof']}" for r in rows
-    ]
+    written = yaml.safe_load((tmp_path / "vehicle.yaml").read_text())
+    assert written["uncertainty"]["parameters"] == [f"{r['coefficient']}.{r['dof']}" for r in rows]
+    # and what the fitted runs covered (issue #56 item 7), as sysid.json has it
+    assert written["envelope"] == res.document["sysid"]["result"]["envelope"]
+    assert written["envelope"]["runs"] == ["dive1", "dive2"]
 
 
 def test_a_fit_that_does_not_describe_the_runs_says_so_first(tmp_path, monkeypatch):

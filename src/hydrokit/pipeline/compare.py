@@ -304,10 +304,13 @@ def vehicle_document(
     ``sysid`` is the sysid step document: its free ``terms.*`` are written into ``terms`` (as
     :func:`hydrokit.io.vehicle.write_terms`) when their DOF's rule is sysid
     (:func:`sysid_terms`), with their σ under ``uncertainty.parameters``; when any value comes
-    from sysid the file carries the fit's ``identification:`` block (its verdict), so that
-    ``simulate`` and ``manoeuvre`` warn when they fly a vehicle whose fit does not describe its runs.
+    from sysid the file carries the fit's ``identification:`` block (its verdict) and its ``envelope:``
+    block (what its runs covered), so that ``simulate`` and ``manoeuvre`` warn when they fly a vehicle
+    whose fit does not describe its runs, or fly it outside them.
     """
-    doc = {k: v for k, v in base_data.items() if k != "identification"}  # the base's claim is not ours
+    doc = {
+        k: v for k, v in base_data.items() if k not in ("identification", "envelope")
+    }  # the base's claim is not ours
     doc["name"] = f"{project.name}-identified"
     for coef in COEFFICIENTS:
         values = doc[coef]
@@ -354,6 +357,9 @@ def vehicle_document(
         if idx and block:  # the vehicle flies the fit's values: it carries the fit's verdict (no date:
             # the main job's files are the same on every run of the same inputs)
             doc["identification"] = {k: v for k, v in block.items() if k != "date"}
+            envelope = (sysid.get("result") or {}).get("envelope")
+            if envelope:  # and what its runs covered (issue #56 item 7)
+                doc["envelope"] = envelope
         if idx:
             cov = np.asarray(sysid["covariance"], float)[np.ix_(idx, idx)]
             blocks.append(0.5 * (cov + cov.T))
