@@ -189,6 +189,7 @@ def test_a_5_m_depth_change_through_pitch_stays_within_the_pitch_limit(tmp_path)
     data["thrusters"] = [
         {"name": "prop", "position": [-0.7, 0, 0], "direction": [1, 0, 0], "model": "ideal", "max_thrust": 10}
     ]
+    data.pop("service")  # the bundled service condition names the file's own propeller
     parse_vehicle(data, "remus100 with a propeller")  # loads as a vehicle
     vehicle_path = tmp_path / "remus.yaml"
     vehicle_path.write_text(yaml.safe_dump(data))
