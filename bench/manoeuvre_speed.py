@@ -80,7 +80,7 @@ def _open_loop(v: Any, n: int, dt: float) -> float:
     x0 = np.zeros(12)
     x0[6:] = APPROACH
     out = np.empty((2, 12))
-    args = (p.Minv, p.Mc, p.DL, p.DQ, p.scal, p.t_dof, p.t_coef, p.t_kind, p.t_idx, no_drive(), out)
+    args = (p.V, no_drive(), out)
     rk4_run(x0, 0.0, dt, 10, 10, False, tau, current_table(None), *args)
     best = math.inf
     for _ in range(3):

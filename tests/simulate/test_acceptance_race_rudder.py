@@ -134,7 +134,7 @@ def wind_ship_runs(
             table = force_table(probe, truth.thrusters, dt, truth.surfaces.names)
             full = np.empty((n_steps + 1, 12))
             x = np.ascontiguousarray(x0)
-            done = rk4_run(x, 0.0, dt, n_steps, 1, False, table, cur, *args, *terms, no_drive(), full)
+            done = rk4_run(x, 0.0, dt, n_steps, 1, False, table, cur, (*args, *terms), no_drive(), full)
             assert done == n_steps, "the truth diverged"
             states = full[rows]
             chans = {c: (time, states[:, CHANNELS.index(c)]) for c in ("u", "v", "r")}

@@ -303,7 +303,8 @@ def test_transport_refuses_what_it_cannot_feed(feature: str) -> None:
 
     import hydrokit as hk
     from hydrokit.errors import InputError
-    from hydrokit.simulate.transport import fly_transport, reads_thrust
+    from hydrokit.model.dynamics import reads_thrust
+    from hydrokit.simulate.transport import fly_transport
 
     v = feature_vehicle(feature)
     reads = feature in ("T()", "n()", "race (actuator disc)", "race (MMG)")

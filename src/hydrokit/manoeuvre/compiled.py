@@ -102,7 +102,6 @@ def _rk4(t, x, dt, tau_tab, ctab, V, buf, W):  # noqa: ANN001, ANN202
     """x advanced in place by one RK4 step of ``dt`` (s) with the inputs of ``tau_tab`` held
     (:func:`hydrokit.simulate.compiled.deriv_rk4_step`, the one RK4 of the package); False
     when the new state is not finite."""
-    Minv, Mc, DL, DQ, scal, t_dof, t_coef, t_kind, t_idx = V
     k1, k2, k3, k4, tmp = W[0], W[1], W[2], W[3], W[4]
     return deriv_rk4_step(
         t,
@@ -111,15 +110,7 @@ def _rk4(t, x, dt, tau_tab, ctab, V, buf, W):  # noqa: ANN001, ANN202
         False,
         tau_tab,
         ctab,
-        Minv,
-        Mc,
-        DL,
-        DQ,
-        scal,
-        t_dof,
-        t_coef,
-        t_kind,
-        t_idx,
+        V,
         buf,
         k1,
         k2,
@@ -135,15 +126,14 @@ def _probe(x, surface, limit, index, n_s, tau_tab, ctab, V, buf, out):  # noqa: 
     """∂(angular acceleration at ``index``)/∂δ of ``surface`` in the state ``x`` (1/s² per rad):
     the difference quotient of :func:`hydrokit.manoeuvre.run._probe`, at δ = 0 elsewhere (the
     ``n_s`` deflections; the thrusters' inputs as ``tau_tab`` holds them)."""
-    Minv, Mc, DL, DQ, scal, t_dof, t_coef, t_kind, t_idx = V
     for j in range(7, 7 + n_s):
         tau_tab[0, j] = 0.0
     eps = 0.1 * limit
     tau_tab[0, 7 + surface] = eps
-    deriv(0.0, x, False, tau_tab, ctab, Minv, Mc, DL, DQ, scal, t_dof, t_coef, t_kind, t_idx, buf, out)
+    deriv(0.0, x, False, tau_tab, ctab, V, buf, out)
     a = out[index]
     tau_tab[0, 7 + surface] = 0.0
-    deriv(0.0, x, False, tau_tab, ctab, Minv, Mc, DL, DQ, scal, t_dof, t_coef, t_kind, t_idx, buf, out)
+    deriv(0.0, x, False, tau_tab, ctab, V, buf, out)
     return (a - out[index]) / eps
 
 
@@ -206,20 +196,19 @@ def _drive_rk4(t, x, dt, n_s, tau_tab, ctab, V, buf, W, Dr):  # noqa: ANN001, AN
     every stage, at its state and rotor state (as ``simulate --command``,
     :func:`hydrokit.simulate.commands.fly_commands`); the stages and the update are
     :mod:`hydrokit.core.integrate`'s. False when the new state is not finite."""
-    Minv, Mc, DL, DQ, scal, t_dof, t_coef, t_kind, t_idx = V
     k1, k2, k3, k4, tmp = W[0], W[1], W[2], W[3], W[4]
     _drive_begin(dt, Dr)
     _drive_inputs(x, 0.0, n_s, tau_tab, Dr)
-    deriv(t, x, False, tau_tab, ctab, Minv, Mc, DL, DQ, scal, t_dof, t_coef, t_kind, t_idx, buf, k1)
+    deriv(t, x, False, tau_tab, ctab, V, buf, k1)
     _rk4_stage(x, k1, 0.5 * dt, tmp)
     _drive_inputs(tmp, 0.5 * dt, n_s, tau_tab, Dr)
-    deriv(t + 0.5 * dt, tmp, False, tau_tab, ctab, Minv, Mc, DL, DQ, scal, t_dof, t_coef, t_kind, t_idx, buf, k2)
+    deriv(t + 0.5 * dt, tmp, False, tau_tab, ctab, V, buf, k2)
     _rk4_stage(x, k2, 0.5 * dt, tmp)
     _drive_inputs(tmp, 0.5 * dt, n_s, tau_tab, Dr)
-    deriv(t + 0.5 * dt, tmp, False, tau_tab, ctab, Minv, Mc, DL, DQ, scal, t_dof, t_coef, t_kind, t_idx, buf, k3)
+    deriv(t + 0.5 * dt, tmp, False, tau_tab, ctab, V, buf, k3)
     _rk4_stage(x, k3, dt, tmp)
     _drive_inputs(tmp, dt, n_s, tau_tab, Dr)
-    deriv(t + dt, tmp, False, tau_tab, ctab, Minv, Mc, DL, DQ, scal, t_dof, t_coef, t_kind, t_idx, buf, k4)
+    deriv(t + dt, tmp, False, tau_tab, ctab, V, buf, k4)
     return _rk4_combine(x, k1, k2, k3, k4, dt)
 
 
@@ -383,7 +372,7 @@ class Engine:
         # the layout of make_dynamics: [t, τ (6), the vehicle's input vector]
         self.tau_tab = np.zeros((1, 7 + (vehicle.n_inputs if m <= MAX_THRUSTERS else ns)))
         self.tau_tab[0, 1:7] = np.asarray(tau, float)
-        self.V = (p.Minv, p.Mc, p.DL, p.DQ, p.scal, p.t_dof, p.t_coef, p.t_kind, p.t_idx)
+        self.V = p.V
         self.buf = np.empty(BUF_SIZE)
         self.W = np.empty((6, 12))
         if drive is not None and not drive_compiles(drive):

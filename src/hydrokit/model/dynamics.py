@@ -69,6 +69,13 @@ class Packed:
     t_kind: np.ndarray
     t_idx: np.ndarray
 
+    @property
+    def V(self) -> tuple[np.ndarray, ...]:
+        """The packed vehicle as the one tuple every compiled path passes to the right-hand side
+        (:func:`hydrokit.simulate.compiled.deriv`): Minv, Mc, DL, DQ, scal, t_dof, t_coef,
+        t_kind, t_idx."""
+        return (self.Minv, self.Mc, self.DL, self.DQ, self.scal, self.t_dof, self.t_coef, self.t_kind, self.t_idx)
+
 
 def pack(v: Vehicle) -> Packed:
     """Flatten ``v`` for the compiled integrators."""
@@ -103,6 +110,21 @@ def pack(v: Vehicle) -> Packed:
         t_kind=v.terms.kinds,
         t_idx=v.terms.idx,
     )
+
+
+def reads_thrust(vehicle: Vehicle) -> str:
+    """What of ``vehicle`` reads its thrusters' thrust or rotation rate: ``T()``/``n()`` term
+    factors and rudders in a propeller race ('' for nothing)."""
+    from hydrokit.model.terms import RATE, THRUST
+
+    kinds = np.asarray(vehicle.terms.kinds)
+    out = []
+    if kinds.size and np.isin(kinds, (THRUST, RATE)).any():
+        out.append("T()/n() terms")
+    fins = vehicle.surfaces.pack_fins(vehicle.density, len(vehicle.thruster_names))
+    if fins.size and np.any(fins[:, 17] > 0):
+        out.append("a rudder in a propeller race")
+    return " and ".join(out)
 
 
 def scal_elements(scal: np.ndarray) -> np.ndarray:

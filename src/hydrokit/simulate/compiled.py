@@ -116,14 +116,17 @@ def _interp(tab, t, val, slope):  # noqa: ANN001, ANN202
 
 
 @njit_noalloc
-def deriv(t, x, quat, tau_tab, cur_tab, Minv, Mc, DL, DQ, scal, t_dof, t_coef, t_kind, t_idx, buf, out):  # noqa: ANN001, ANN201
-    """ẋ into ``out``; ``buf`` is scratch of length ≥ BUF_SIZE.
+def deriv(t, x, quat, tau_tab, cur_tab, V, buf, out):  # noqa: ANN001, ANN201
+    """ẋ into ``out``; ``buf`` is scratch of length ≥ BUF_SIZE; ``V`` the vehicle packed once
+    (:attr:`hydrokit.model.dynamics.Packed.V`: Minv, Mc, DL, DQ, scal, t_dof, t_coef, t_kind,
+    t_idx — every path passes this one tuple, issue #56).
 
     ``tau_tab`` rows are [t, X, Y, Z, K, M, N, δ_1 … δ_n, T_1 … T_m, n_1 … n_m] (s, N, N·m, rad,
     N, rev/s): the input vector of the vehicle (its control surfaces' deflections, then its
     thrusters' thrusts and rotation rates, :func:`hydrokit.model.terms.input_layout`) may follow
     the six forces (missing ones are 0).
     """
+    Minv, Mc, DL, DQ, scal, t_dof, t_coef, t_kind, t_idx = V
     if quat:
         q0, q1, q2, q3 = x[3], x[4], x[5], x[6]
         nq = math.sqrt(q0 * q0 + q1 * q1 + q2 * q2 + q3 * q3)
@@ -248,15 +251,7 @@ def deriv_rk4_step(
     quat,
     tau_tab,
     cur_tab,
-    Minv,
-    Mc,
-    DL,
-    DQ,
-    scal,
-    t_dof,
-    t_coef,
-    t_kind,
-    t_idx,
+    V,
     buf,
     k1,
     k2,
@@ -271,13 +266,13 @@ def deriv_rk4_step(
     ``k1`` unless ``k1_ready`` (the caller has it already, e.g. to record loads); k1…k4 and tmp
     are scratch of the state's length. Returns False when the new state is not finite."""
     if not k1_ready:
-        deriv(t, x, quat, tau_tab, cur_tab, Minv, Mc, DL, DQ, scal, t_dof, t_coef, t_kind, t_idx, buf, k1)
+        deriv(t, x, quat, tau_tab, cur_tab, V, buf, k1)
     rk4_stage_compiled(x, k1, 0.5 * dt, tmp)
-    deriv(t + 0.5 * dt, tmp, quat, tau_tab, cur_tab, Minv, Mc, DL, DQ, scal, t_dof, t_coef, t_kind, t_idx, buf, k2)
+    deriv(t + 0.5 * dt, tmp, quat, tau_tab, cur_tab, V, buf, k2)
     rk4_stage_compiled(x, k2, 0.5 * dt, tmp)
-    deriv(t + 0.5 * dt, tmp, quat, tau_tab, cur_tab, Minv, Mc, DL, DQ, scal, t_dof, t_coef, t_kind, t_idx, buf, k3)
+    deriv(t + 0.5 * dt, tmp, quat, tau_tab, cur_tab, V, buf, k3)
     rk4_stage_compiled(x, k3, dt, tmp)
-    deriv(t + dt, tmp, quat, tau_tab, cur_tab, Minv, Mc, DL, DQ, scal, t_dof, t_coef, t_kind, t_idx, buf, k4)
+    deriv(t + dt, tmp, quat, tau_tab, cur_tab, V, buf, k4)
     return rk4_combine_compiled(x, k1, k2, k3, k4, dt)
 
 
@@ -345,9 +340,7 @@ def _drive_row(t, x, quat, tau_tab, cur_tab, D, row, slope):  # noqa: ANN001, AN
 
 
 @njit
-def rk4_run(
-    x0, t0, dt, n_steps, every, quat, tau_tab, cur_tab, Minv, Mc, DL, DQ, scal, t_dof, t_coef, t_kind, t_idx, D, out
-):  # noqa: ANN001, ANN201
+def rk4_run(x0, t0, dt, n_steps, every, quat, tau_tab, cur_tab, V, D, out):  # noqa: ANN001, ANN201
     """Integrate n_steps RK4 steps from x0; store every ``every``-th state in ``out`` (rows).
     ``D``: the propellers whose thrust is evaluated at every stage's state (:func:`_drive_row`;
     :func:`no_drive` for none: the table's inputs as they are).
@@ -371,16 +364,16 @@ def rk4_run(
         for step in range(n_steps):
             t = t0 + step * dt
             _drive_row(t, x, quat, tau_tab, cur_tab, D, row, slope)
-            deriv(t, x, quat, row, cur_tab, Minv, Mc, DL, DQ, scal, t_dof, t_coef, t_kind, t_idx, buf, k1)
+            deriv(t, x, quat, row, cur_tab, V, buf, k1)
             rk4_stage_compiled(x, k1, 0.5 * dt, tmp)
             _drive_row(t + 0.5 * dt, tmp, quat, tau_tab, cur_tab, D, row, slope)
-            deriv(t + 0.5 * dt, tmp, quat, row, cur_tab, Minv, Mc, DL, DQ, scal, t_dof, t_coef, t_kind, t_idx, buf, k2)
+            deriv(t + 0.5 * dt, tmp, quat, row, cur_tab, V, buf, k2)
             rk4_stage_compiled(x, k2, 0.5 * dt, tmp)
             _drive_row(t + 0.5 * dt, tmp, quat, tau_tab, cur_tab, D, row, slope)
-            deriv(t + 0.5 * dt, tmp, quat, row, cur_tab, Minv, Mc, DL, DQ, scal, t_dof, t_coef, t_kind, t_idx, buf, k3)
+            deriv(t + 0.5 * dt, tmp, quat, row, cur_tab, V, buf, k3)
             rk4_stage_compiled(x, k3, dt, tmp)
             _drive_row(t + dt, tmp, quat, tau_tab, cur_tab, D, row, slope)
-            deriv(t + dt, tmp, quat, row, cur_tab, Minv, Mc, DL, DQ, scal, t_dof, t_coef, t_kind, t_idx, buf, k4)
+            deriv(t + dt, tmp, quat, row, cur_tab, V, buf, k4)
             if not rk4_combine_compiled(x, k1, k2, k3, k4, dt):
                 return step
             if (step + 1) % every == 0:
@@ -392,13 +385,13 @@ def rk4_run(
         t = t0 + step * dt
         # the stages written out rather than deriv_rk4_step: 1.30 M against 1.10 M steps/s (BlueROV2
         # Heavy, CPU time, best of 15 × 600 s, 2026-11-29): the call of the step kernel costs ~15 %
-        deriv(t, x, quat, tau_tab, cur_tab, Minv, Mc, DL, DQ, scal, t_dof, t_coef, t_kind, t_idx, buf, k1)
+        deriv(t, x, quat, tau_tab, cur_tab, V, buf, k1)
         rk4_stage_compiled(x, k1, 0.5 * dt, tmp)
-        deriv(t + 0.5 * dt, tmp, quat, tau_tab, cur_tab, Minv, Mc, DL, DQ, scal, t_dof, t_coef, t_kind, t_idx, buf, k2)
+        deriv(t + 0.5 * dt, tmp, quat, tau_tab, cur_tab, V, buf, k2)
         rk4_stage_compiled(x, k2, 0.5 * dt, tmp)
-        deriv(t + 0.5 * dt, tmp, quat, tau_tab, cur_tab, Minv, Mc, DL, DQ, scal, t_dof, t_coef, t_kind, t_idx, buf, k3)
+        deriv(t + 0.5 * dt, tmp, quat, tau_tab, cur_tab, V, buf, k3)
         rk4_stage_compiled(x, k3, dt, tmp)
-        deriv(t + dt, tmp, quat, tau_tab, cur_tab, Minv, Mc, DL, DQ, scal, t_dof, t_coef, t_kind, t_idx, buf, k4)
+        deriv(t + dt, tmp, quat, tau_tab, cur_tab, V, buf, k4)
         if not rk4_combine_compiled(x, k1, k2, k3, k4, dt):
             return step
         if (step + 1) % every == 0:
@@ -406,6 +399,15 @@ def rk4_run(
                 out[j, i] = x[i]
             j += 1
     return n_steps
+
+
+def vehicle_member(V_all, k):  # noqa: ANN001, ANN201
+    """Vehicle ``k``'s packed tuple from a batch's stacked one (the term structure is shared)."""
+    Minv, Mc, DL, DQ, scal, t_dof, t_coef, t_kind, t_idx = V_all
+    return (Minv[k], Mc[k], DL[k], DQ[k], scal[k], t_dof, t_coef[k], t_kind, t_idx)
+
+
+vehicle_member_compiled = njit(vehicle_member)
 
 
 def drive_member(D_all, k):  # noqa: ANN001, ANN201
@@ -432,21 +434,13 @@ def rk4_batch(
     quat,
     tau_tab,
     cur_tab,
-    Minv,
-    Mc,
-    DL,
-    DQ,
-    scal,
-    t_dof,
-    t_coef,
-    t_kind,
-    t_idx,
+    V_all,
     D_all,
     out,
     done,
 ):  # noqa: ANN001, ANN201
-    """Many vehicles at once: leading axis of x0, tau_tab, Minv, Mc, DL, DQ, scal, t_coef and
-    out is the vehicle; ``done`` receives each vehicle's number of steps taken; ``D_all`` the
+    """Many vehicles at once: leading axis of x0, tau_tab, out and of V_all's Minv, Mc, DL, DQ,
+    scal and t_coef is the vehicle (:func:`vehicle_member`); ``done`` receives each vehicle's number of steps taken; ``D_all`` the
     driven propellers with each vehicle's wake factors and configuration columns
     (:func:`drive_member`; :func:`no_drive_batch` for none)."""
     nv = x0.shape[0]
@@ -460,15 +454,7 @@ def rk4_batch(
             quat,
             tau_tab[k],
             cur_tab,
-            Minv[k],
-            Mc[k],
-            DL[k],
-            DQ[k],
-            scal[k],
-            t_dof,
-            t_coef[k],
-            t_kind,
-            t_idx,
+            vehicle_member_compiled(V_all, k),
             drive_member_compiled(D_all, k),
             out[k],
         )
@@ -494,7 +480,7 @@ def make_dynamics(vehicle, current_ned=None, attitude: str = "euler"):  # noqa: 
     # the thrusts and rates fit the scratch of deriv up to MAX_THRUSTERS thrusters
     tau_tab = np.zeros((1, 7 + (vehicle.n_inputs if m <= MAX_THRUSTERS else ns)))
     buf = np.empty(BUF_SIZE)
-    args = (p.Minv, p.Mc, p.DL, p.DQ, p.scal, p.t_dof, p.t_coef, p.t_kind, p.t_idx)
+    V = p.V
 
     def f(
         t: float,
@@ -514,7 +500,7 @@ def make_dynamics(vehicle, current_ned=None, attitude: str = "euler"):  # noqa: 
             d = np.asarray(delta, float)
             tau_tab[0, 7 : 7 + d.shape[0]] = d
         out = np.empty(n)
-        deriv(float(t), np.asarray(x, dtype=float), quat, tau_tab, ctab, *args, buf, out)
+        deriv(float(t), np.asarray(x, dtype=float), quat, tau_tab, ctab, V, buf, out)
         return out
 
     return f

@@ -323,6 +323,7 @@ def _integrate(t, dt, x, c, T, decay, V, W):  # noqa: ANN001, ANN202
     """One RK4 step of the vehicle with W's thrust f_act and deflections held, then the rotor
     lag; False when the state became non-finite."""
     ctab, Minv, Mc, DL, DQ, scal, t_dof, t_coef, t_kind, t_idx, _smax, _srate, _stc, _sfin = V
+    VP = (Minv, Mc, DL, DQ, scal, t_dof, t_coef, t_kind, t_idx)  # the packed vehicle of deriv
     tau_tab, buf, k1v, k2v, k3v, k4v, tmp, _td, _fc, _va, _pa, c_cmd, f_act, _me, _se, _ra, _ou = W
     m = T.shape[1]
     for jd in range(6):
@@ -338,15 +339,7 @@ def _integrate(t, dt, x, c, T, decay, V, W):  # noqa: ANN001, ANN202
         False,
         tau_tab,
         ctab,
-        Minv,
-        Mc,
-        DL,
-        DQ,
-        scal,
-        t_dof,
-        t_coef,
-        t_kind,
-        t_idx,
+        VP,
         buf,
         k1v,
         k2v,
@@ -695,12 +688,15 @@ def _pack_thrusters(thrusters: ThrusterSet) -> tuple[np.ndarray, ...]:
 
 def input_columns(vehicle: Any, thrusters: ThrusterSet) -> np.ndarray:
     """[the input table's first thrust column]: 7 + the vehicle's surfaces when its input vector
-    holds ``thrusters`` (its own, at most MAX_THRUSTERS: each thrust and rotation rate reach its
-    ``T()``/``n()`` factors and a race rudder, as on every other path, issue #56), else [-1]."""
+    holds ``thrusters`` (its own, at most MAX_THRUSTERS) and something reads them (``T()``/``n()``
+    factors, a race rudder: :func:`hydrokit.model.dynamics.reads_thrust`): each thrust and
+    rotation rate then reach them, as on every other path (issue #56); else [-1] (nothing reads
+    them: the columns would only cost interpolation)."""
+    from hydrokit.model.dynamics import reads_thrust
     from hydrokit.model.terms import MAX_THRUSTERS
 
     own = thrusters is getattr(vehicle, "thrusters", None) and len(thrusters) <= MAX_THRUSTERS
-    return np.array([7 + len(vehicle.surfaces) if own else -1], dtype=np.int64)
+    return np.array([7 + len(vehicle.surfaces) if own and reads_thrust(vehicle) else -1], dtype=np.int64)
 
 
 def _pack_vehicle(vehicle: Any, vc: np.ndarray) -> tuple[np.ndarray, ...]:

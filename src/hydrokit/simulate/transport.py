@@ -92,7 +92,7 @@ def _rigid(x0, dt, n_steps, every, cmd, sel, P, E, TH, tau_ext, V, SJ, out_x, ou
     """One rigid body under held thrust; records state, thrust and subtree loads every
     ``every`` steps (and the last). ``sel`` masks the thrusters this body carries. Returns
     (steps taken, rows written)."""
-    Minv, Mc, DL, DQ, scal, t_dof, t_coef, t_kind, t_idx = V
+    t_dof, t_coef, t_kind, t_idx = V[5], V[6], V[7], V[8]
     S_M, S_Mc, S_DL, S_DQ, S_scal, S_ext, S_mask, jp = SJ
     m = P.shape[0]
     nj = jp.shape[0]
@@ -128,7 +128,7 @@ def _rigid(x0, dt, n_steps, every, cmd, sel, P, E, TH, tau_ext, V, SJ, out_x, ou
             for i in range(m):
                 s += T[a, i] * f[i]
             tau_tab[0, 1 + a] = s
-        deriv(t, x, False, tau_tab, ctab, Minv, Mc, DL, DQ, scal, t_dof, t_coef, t_kind, t_idx, buf, k1)
+        deriv(t, x, False, tau_tab, ctab, V, buf, k1)
         if step % every == 0 or step == n_steps:
             for a in range(12):
                 out_x[row, a] = x[a]
@@ -141,15 +141,7 @@ def _rigid(x0, dt, n_steps, every, cmd, sel, P, E, TH, tau_ext, V, SJ, out_x, ou
                     False,
                     zero_tab,
                     ctab,
-                    eye,
-                    S_Mc[jj],
-                    S_DL[jj],
-                    S_DQ[jj],
-                    S_scal[jj],
-                    t_dof,
-                    t_coef,
-                    t_kind,
-                    t_idx,
+                    (eye, S_Mc[jj], S_DL[jj], S_DQ[jj], S_scal[jj], t_dof, t_coef, t_kind, t_idx),
                     buf,
                     fs,
                 )  # noqa: E501
@@ -177,15 +169,7 @@ def _rigid(x0, dt, n_steps, every, cmd, sel, P, E, TH, tau_ext, V, SJ, out_x, ou
             False,
             tau_tab,
             ctab,
-            Minv,
-            Mc,
-            DL,
-            DQ,
-            scal,
-            t_dof,
-            t_coef,
-            t_kind,
-            t_idx,
+            V,
             buf,
             k1,
             k2,
@@ -281,15 +265,7 @@ def _mb_rhs(t, X, TAU, par, a_p, a_c, K, C, B, W, OUT, JW, SEP):  # noqa: ANN001
             False,
             tau_tab,
             ctab,
-            B_Minv[i],
-            B_Mc[i],
-            B_DL[i],
-            B_DQ[i],
-            B_scal[i],
-            t_dof,
-            t_coef,
-            t_kind,
-            t_idx,
+            (B_Minv[i], B_Mc[i], B_DL[i], B_DQ[i], B_scal[i], t_dof, t_coef, t_kind, t_idx),
             buf,
             OUT[i],
         )  # noqa: E501
@@ -374,26 +350,11 @@ def _multibody(
 
 
 # ============================================================================ packing
-def reads_thrust(vehicle: Any) -> str:
-    """What of ``vehicle`` reads its thrusters' thrust or rotation rate: ``T()``/``n()`` term
-    factors and rudders in a propeller race ('' for nothing)."""
-    from hydrokit.model.terms import RATE, THRUST
-
-    kinds = np.asarray(vehicle.terms.kinds)
-    out = []
-    if kinds.size and np.isin(kinds, (THRUST, RATE)).any():
-        out.append("T()/n() terms")
-    fins = vehicle.surfaces.pack_fins(vehicle.density, len(vehicle.thruster_names))
-    if fins.size and np.any(fins[:, 17] > 0):
-        out.append("a rudder in a propeller race")
-    return " and ".join(out)
-
-
 def _vehicle_group(vehicle: Any) -> tuple[np.ndarray, ...]:
     from hydrokit.model.dynamics import pack
 
     p = pack(vehicle)
-    return (p.Minv, p.Mc, p.DL, p.DQ, p.scal, p.t_dof, p.t_coef, p.t_kind, p.t_idx)
+    return p.V
 
 
 def _thruster_group(asm: Assembly) -> tuple[np.ndarray, np.ndarray, np.ndarray, tuple[Any, ...]]:
@@ -589,6 +550,8 @@ def fly_transport(
     TransportResult
     """
     check_model(model)
+    from hydrokit.model.dynamics import reads_thrust
+
     for part in assembly.bodies:
         what = reads_thrust(part)
         if what:

@@ -191,15 +191,13 @@ def _integrate(packs: Mapping[str, np.ndarray], x0: np.ndarray, table: np.ndarra
     """The first vehicle of ``packs`` from ``x0`` over ``n`` steps of ``dt`` (s) under the force
     table rows [t, X … N] (t from 0) on the compiled RK4: the (n + 1, 12) states; InputError if
     it diverged."""
-    from hydrokit.simulate.compiled import no_drive, rk4_run
+    from hydrokit.simulate.compiled import no_drive, rk4_run, vehicle_member
+    from hydrokit.sysid.model import vehicle_arrays
 
     out = np.empty((n + 1, 12))
-    args = [packs[k][0] for k in ("Minv", "Mc", "DL", "DQ", "scal")]
-    terms = (packs["t_dof"], packs["t_coef"][0], packs["t_kind"], packs["t_idx"])
+    V = vehicle_member(vehicle_arrays(packs), 0)
     x = np.ascontiguousarray(x0, dtype=float)
-    done = rk4_run(
-        x, 0.0, dt, n, 1, False, np.ascontiguousarray(table), np.zeros((1, 4)), *args, *terms, no_drive(), out
-    )  # type: ignore[call-arg]
+    done = rk4_run(x, 0.0, dt, n, 1, False, np.ascontiguousarray(table), np.zeros((1, 4)), V, no_drive(), out)
     if done < n:
         raise InputError(f"the truth vehicle diverged at t = {done * dt:.2f} s; lower the amplitude")
     return out

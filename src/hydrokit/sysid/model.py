@@ -594,6 +594,16 @@ def stack_packs(vehicles: Sequence[Vehicle]) -> dict[str, Any]:
     }
 
 
+#: the stacked per-vehicle arrays of :func:`stack_packs`, in the order of the compiled right-hand
+#: side's packed tuple (:attr:`hydrokit.model.dynamics.Packed.V`)
+VEHICLE_KEYS = ("Minv", "Mc", "DL", "DQ", "scal", "t_dof", "t_coef", "t_kind", "t_idx")
+
+
+def vehicle_arrays(packs: Mapping[str, Any]) -> tuple[np.ndarray, ...]:
+    """The stacked packs as the batch integrators' one tuple (V_all)."""
+    return tuple(packs[k] for k in VEHICLE_KEYS)
+
+
 def take(packs: Mapping[str, Any], index: Sequence[int]) -> dict[str, Any]:
     """The stacked arrays of the vehicles ``index`` (repeats allowed)."""
     ix = np.asarray(index, int)
@@ -658,15 +668,7 @@ def simulate_run(prep: PreparedRun, packs: Mapping[str, Any], x0: np.ndarray) ->
         False,
         tab,
         np.zeros((1, 4)) if prep.env is None else np.ascontiguousarray(prep.env),
-        packs["Minv"],
-        packs["Mc"],
-        packs["DL"],
-        packs["DQ"],
-        packs["scal"],
-        packs["t_dof"],
-        packs["t_coef"],
-        packs["t_kind"],
-        packs["t_idx"],
+        vehicle_arrays(packs),
         drive if drive is not None else no_drive_batch(nv),
         out,
         done,

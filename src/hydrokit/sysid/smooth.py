@@ -34,7 +34,7 @@ from hydrokit.errors import InputError
 from hydrokit.model.vehicle import Vehicle
 from hydrokit.simulate import compiled as _compiled
 from hydrokit.simulate.compiled import deriv
-from hydrokit.sysid.model import CHANNELS, Parameter, RunData, stack_packs, values_of, with_values
+from hydrokit.sysid.model import CHANNELS, Parameter, RunData, stack_packs, values_of, vehicle_arrays, with_values
 
 
 @dataclass(frozen=True)
@@ -262,13 +262,15 @@ _BUF = _compiled.BUF_SIZE
 
 
 @njit
-def _accelerations(T, X, U, env, Minv, Mc, DL, DQ, scal, t_dof, t_coef, t_kind, t_idx, out):  # noqa: ANN001, ANN202
-    """ν̇ for every vehicle k and state row i at time T[i] and input row U[i] = [X..N, δ_1 … δ_n]
-    in the current and wind of ``env`` at T[i] (the compiled right-hand side)."""
+def _accelerations(T, X, U, env, V_all, out):  # noqa: ANN001, ANN202
+    """ν̇ for every vehicle k of the stacked packs ``V_all`` and state row i at time T[i] and
+    input row U[i] = [X..N, δ_1 … δ_n] in the current and wind of ``env`` at T[i] (the compiled
+    right-hand side)."""
     tau = np.zeros((1, 1 + U.shape[1]))
     buf = np.empty(_BUF)
     xd = np.empty(12)
-    for k in range(Minv.shape[0]):
+    for k in range(V_all[0].shape[0]):
+        V = _compiled.vehicle_member_compiled(V_all, k)
         for i in range(X.shape[0]):
             for j in range(U.shape[1]):
                 tau[0, 1 + j] = U[i, j]
@@ -278,15 +280,7 @@ def _accelerations(T, X, U, env, Minv, Mc, DL, DQ, scal, t_dof, t_coef, t_kind, 
                 False,
                 tau,
                 env,
-                Minv[k],
-                Mc[k],
-                DL[k],
-                DQ[k],
-                scal[k],
-                t_dof,
-                t_coef[k],
-                t_kind,
-                t_idx,
+                V,
                 buf,
                 xd,
             )
@@ -325,15 +319,7 @@ def model_force(
         np.ascontiguousarray(states, float),
         np.ascontiguousarray(U),
         np.zeros((1, 4)) if env is None else np.ascontiguousarray(env, float),
-        p["Minv"],
-        p["Mc"],
-        p["DL"],
-        p["DQ"],
-        p["scal"],
-        p["t_dof"],
-        p["t_coef"],
-        p["t_kind"],
-        p["t_idx"],
+        vehicle_arrays(p),
         out,
     )
     return np.einsum("kij,knj->kni", np.stack([v.M for v in vehicles]), out)
