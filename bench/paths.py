@@ -11,7 +11,10 @@ Python), this prints
 * ``moves °``: how far the heading after 30 s of a 35° turn moves when the feature's
   coefficient is moved (the factor in the table), in degrees — 0.00 means the path does not see
   the feature;
-* ``TD m``: the tactical diameter of the full turning circle.
+* ``TD m``: the tactical diameter of the full turning circle;
+* then, per feature with a propeller, sysid's batch simulation of a run flown by ``simulate
+  --command`` and logged at 1 Hz, against that run (in each channel's standard deviation;
+  ~1e-4 before sysid evaluated the thrust at the simulated state).
 
     python bench/paths.py
 
@@ -34,6 +37,7 @@ from tests.simulate.test_paths_agree import (  # noqa: E402
     fly,
     loops_for,
     step_errors,
+    sysid_error,
 )
 
 
@@ -55,6 +59,9 @@ def main() -> None:
             loop_name = "compiled" if loop else "python"
             td_text = f"{td:8.2f}" if td is not None else "       -"
             print(f"{feature:<22} {loop_name:<9} {err:9.1e} {factor:7.2f} {moves:8.2f} {td_text}")
+    print(f"{'feature':<22} {'path':<9} {'err / std':>9}")
+    for feature in ("T()", "n()", "race (actuator disc)", "race (MMG)", "propeller lag + wake"):
+        print(f"{feature:<22} {'sysid':<9} {sysid_error(feature):9.1e}")
     print(f"({time.perf_counter() - t0:.0f} s)")
 
 
