@@ -358,40 +358,30 @@ def rk4_run(x0, t0, dt, n_steps, every, quat, tau_tab, cur_tab, V, D, out):  # n
     for i in range(n):
         out[0, i] = x[i]
     j = 1
-    if D[1].shape[0] > 0:  # driven propellers: each stage's inputs at its own state
-        row = np.zeros((1, tau_tab.shape[1]))
-        slope = np.empty(max(tau_tab.shape[1] - 1, 6))
-        for step in range(n_steps):
-            t = t0 + step * dt
-            _drive_row(t, x, quat, tau_tab, cur_tab, D, row, slope)
-            deriv(t, x, quat, row, cur_tab, V, buf, k1)
-            rk4_stage_compiled(x, k1, 0.5 * dt, tmp)
-            _drive_row(t + 0.5 * dt, tmp, quat, tau_tab, cur_tab, D, row, slope)
-            deriv(t + 0.5 * dt, tmp, quat, row, cur_tab, V, buf, k2)
-            rk4_stage_compiled(x, k2, 0.5 * dt, tmp)
-            _drive_row(t + 0.5 * dt, tmp, quat, tau_tab, cur_tab, D, row, slope)
-            deriv(t + 0.5 * dt, tmp, quat, row, cur_tab, V, buf, k3)
-            rk4_stage_compiled(x, k3, dt, tmp)
-            _drive_row(t + dt, tmp, quat, tau_tab, cur_tab, D, row, slope)
-            deriv(t + dt, tmp, quat, row, cur_tab, V, buf, k4)
-            if not rk4_combine_compiled(x, k1, k2, k3, k4, dt):
-                return step
-            if (step + 1) % every == 0:
-                for i in range(n):
-                    out[j, i] = x[i]
-                j += 1
-        return n_steps
+    # driven propellers: each stage's inputs at its own state, in ``row`` (else the table itself)
+    driven = D[1].shape[0] > 0
+    row = np.zeros((1, tau_tab.shape[1]))
+    slope = np.empty(max(tau_tab.shape[1] - 1, 6))
+    tab = row if driven else tau_tab
     for step in range(n_steps):
         t = t0 + step * dt
         # the stages written out rather than deriv_rk4_step: 1.30 M against 1.10 M steps/s (BlueROV2
         # Heavy, CPU time, best of 15 × 600 s, 2026-11-29): the call of the step kernel costs ~15 %
-        deriv(t, x, quat, tau_tab, cur_tab, V, buf, k1)
+        if driven:
+            _drive_row(t, x, quat, tau_tab, cur_tab, D, row, slope)
+        deriv(t, x, quat, tab, cur_tab, V, buf, k1)
         rk4_stage_compiled(x, k1, 0.5 * dt, tmp)
-        deriv(t + 0.5 * dt, tmp, quat, tau_tab, cur_tab, V, buf, k2)
+        if driven:
+            _drive_row(t + 0.5 * dt, tmp, quat, tau_tab, cur_tab, D, row, slope)
+        deriv(t + 0.5 * dt, tmp, quat, tab, cur_tab, V, buf, k2)
         rk4_stage_compiled(x, k2, 0.5 * dt, tmp)
-        deriv(t + 0.5 * dt, tmp, quat, tau_tab, cur_tab, V, buf, k3)
+        if driven:
+            _drive_row(t + 0.5 * dt, tmp, quat, tau_tab, cur_tab, D, row, slope)
+        deriv(t + 0.5 * dt, tmp, quat, tab, cur_tab, V, buf, k3)
         rk4_stage_compiled(x, k3, dt, tmp)
-        deriv(t + dt, tmp, quat, tau_tab, cur_tab, V, buf, k4)
+        if driven:
+            _drive_row(t + dt, tmp, quat, tau_tab, cur_tab, D, row, slope)
+        deriv(t + dt, tmp, quat, tab, cur_tab, V, buf, k4)
         if not rk4_combine_compiled(x, k1, k2, k3, k4, dt):
             return step
         if (step + 1) % every == 0:
