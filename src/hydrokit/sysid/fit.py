@@ -97,15 +97,18 @@ class SysidResult(Result):
         the sensor noise and their whiteness)
     method : str; iterations : int; step_check : float — max |Δθ|/σ on halving the step
     timing : dict — seconds: total, simulation (the fit's and the integrator check's), and each
-        stage in order: smoothing, force tables, equation error, feedback check, setup, output
-        error (with its simulations), covariance, step check, bands (the Monte Carlo predictions),
-        held-out preparation, report
+        stage in order: smoothing, force tables, equation error, feedback check, setup, windows
+        first (when the windows' fit starts the whole runs'), output error (with its simulations),
+        covariance, step check, bands (the Monte Carlo predictions), held-out preparation, report
     windows : dict — of a windowed fit: ``count``, ``length_s`` (s), ``continuity`` (–) and
         ``largest_jump_sigma``, the largest jump of a measured state at a join in σ of its
         channel's noise; {} for whole runs
     envelope : Envelope or None — what the fitted runs covered: speed per held command, the
         commands', speeds', deflections', yaw rates' and drift's ranges
         (:func:`hydrokit.sysid.envelope.run_envelope`); written into the identified vehicle
+    estimator : dict — which estimator fitted the runs and why: ``method`` (words), ``window_s``
+        (s, None for whole runs), ``jacobian_step_s`` (s: the step of the parameters' Jacobian
+        columns when coarser than the fit's, else None) and ``why``
     """
 
     vehicle: Vehicle
@@ -132,6 +135,7 @@ class SysidResult(Result):
     timing: dict[str, float] = field(default_factory=dict)
     windows: dict[str, Any] = field(default_factory=dict)
     envelope: Envelope | None = None
+    estimator: dict[str, Any] = field(default_factory=dict)
 
     def interval(self, level: float = 0.95) -> np.ndarray:
         """(p, 2) two-sided normal interval of each parameter (SI)."""
@@ -139,6 +143,25 @@ class SysidResult(Result):
 
         z = float(norm.ppf(0.5 + level / 2))
         return np.column_stack([self.values - z * self.sigma, self.values + z * self.sigma])
+
+    def uncertain_vehicle(self) -> Vehicle:
+        """The identified vehicle carrying the fit's covariance as its uncertainty block — what the
+        written vehicle.yaml holds and ``manoeuvre --samples`` draws from
+        (:func:`hydrokit.model.uncertainty.make_uncertainty`)."""
+        from dataclasses import replace
+
+        from hydrokit.model.uncertainty import make_uncertainty
+
+        v = self.vehicle
+        unc = make_uncertainty(
+            list(self.parameters),
+            self.covariance,
+            {},
+            "fit",
+            surfaces=tuple(v.surfaces.names),
+            thrusters=v.thruster_names,
+        )
+        return replace(v, uncertainty=unc)
 
     def to_dict(self) -> dict[str, Any]:
         """sysid.json, led by the verdict (``fits``, ``reasons``): parameters (value, σ, start,
@@ -187,6 +210,7 @@ class SysidResult(Result):
                 "warnings": list(self.warnings),
                 "timing_s": self.timing,
                 "windows": self.windows,
+                "estimator": self.estimator,
                 "envelope": None if self.envelope is None else self.envelope.to_dict(),
             }
         )
@@ -361,18 +385,29 @@ def _predict(
     preps: Sequence[PreparedRun],
     samples: int,
     seed: int,
+    coarse: Sequence[PreparedRun] | None = None,
 ) -> list[tuple[np.ndarray, np.ndarray, np.ndarray]]:
-    """Nominal prediction and 2.5/97.5 % Monte Carlo band per run (samples at the sample times)."""
+    """Nominal prediction and 2.5/97.5 % Monte Carlo band per run (samples at the sample times);
+    with ``coarse`` (the same runs at a coarser step) the draws are simulated there and the band
+    is their spread about the coarse nominal, put about the nominal at the fit's step."""
+    from hydrokit.sysid.model import take
+
     rng = np.random.default_rng(seed)
     draws = rng.multivariate_normal(theta, cov, size=samples, method="eigh") if samples else np.zeros((0, theta.size))
     vehicles = [with_values(problem.vehicle, problem.params, th) for th in (theta, *draws)]
     packs = stack_packs(vehicles)
     out = []
-    for prep, x0 in zip(preps, x0s):
-        pred, _ = simulate_run(prep, packs, np.repeat(x0[None], len(vehicles), axis=0))
-        mc = pred[1:]
-        lo, hi = np.percentile(mc, [2.5, 97.5], axis=0) if samples else (pred[0], pred[0])
-        out.append((pred[0], lo, hi))
+    for k, (prep, x0) in enumerate(zip(preps, x0s)):
+        X0 = np.repeat(x0[None], len(vehicles), axis=0)
+        if coarse is not None and samples:
+            nominal = simulate_run(prep, take(packs, [0]), X0[:1])[0][0]
+            twin, _ = simulate_run(coarse[k], packs, X0)
+            mc = nominal + (twin[1:] - twin[0])
+        else:
+            pred, _ = simulate_run(prep, packs, X0)
+            nominal, mc = pred[0], pred[1:]
+        lo, hi = np.percentile(mc, [2.5, 97.5], axis=0) if samples else (nominal, nominal)
+        out.append((nominal, lo, hi))
     return out
 
 
@@ -551,13 +586,19 @@ def _identify(
         from hydrokit.sysid.window import cut_runs, parse_window
 
         cut = cut_runs(parse_window(window), veh, params, start, runs, smoothed, preps, window_continuity)
+    first_iterations = 0
     if cut is not None:
+        if cut.first is not None and method == "output-error":  # windows first, whole runs from their estimate
+            lap("setup")
+            start, first_iterations = _first_stage(cut.first, problem, start, base, max_iter, progress, (lower, upper))
+            warnings.append(cut.first.note)
+            lap("windows first")
         preps, smoothed, est = cut.preps, cut.smoothed, cut.est
         problem = cut.problem(problem)
         warnings.append(cut.note)
     z0 = np.concatenate([start, *[x[e] for x, e in zip(problem.x0, est)]])
     scale = np.concatenate([np.maximum(np.abs(start), np.maximum(np.abs(base), 1e-3)), np.full(z0.size - p, 0.01)])
-    iterations = 0
+    iterations = first_iterations
     J: np.ndarray | None = None
     lap("setup")
     if method == "output-error":
@@ -661,7 +702,7 @@ def _identify(
         problem.sim_seconds += half.sim_seconds
     lap("step check")
     _, x0s = problem.unpack(z)
-    fitted = _predict(problem, theta, cov, x0s, preps, samples, seed)
+    fitted = _predict(problem, theta, cov, x0s, preps, samples, seed, cut.coarse if cut is not None else None)
     lap("bands")
     hold_preps = [prepare_run(r, th, dt, surfaces=veh.surfaces.names) for r in holdout]
     hold_smoothed = [smooth_run(r) for r in holdout]
@@ -730,6 +771,7 @@ def _identify(
         timing={"total": _time.perf_counter() - t_start, "simulation": problem.sim_seconds, **stages},
         windows=_window_summary(cut, problem),
         envelope=run_envelope(runs, veh),
+        estimator=_estimator(method, window, cut),
     )
 
 
@@ -803,6 +845,57 @@ def _abs_table(prep: PreparedRun) -> np.ndarray:
     tab = prep.table.copy()
     tab[:, 0] += prep.t0
     return tab
+
+
+def _first_stage(
+    stage: Any,
+    runs_problem: Problem,
+    start: np.ndarray,
+    base: np.ndarray,
+    max_iter: int,
+    progress: Callable[[int, float], None] | None,
+    bounds: tuple[np.ndarray, np.ndarray],
+) -> tuple[np.ndarray, int]:
+    """The fit of the windows ``stage`` (:class:`hydrokit.sysid.window.Windows`) from ``start``
+    (SI), re-weighted as the main fit is, whose estimate starts the fit of the whole runs: their
+    parameters (SI) and its iterations; ``start`` unchanged when the windows cannot be fitted.
+    The channels' noise σ it re-estimates carry on (the problems share them)."""
+    problem = stage.problem(runs_problem)
+    scale = np.maximum(np.abs(start), np.maximum(np.abs(base), 1e-3))
+    z, iterations = start.copy(), 0
+    try:
+        for _ in range(3):
+            z, r, _, its = stage.lm(problem, z, scale, max_iter, progress, bounds)
+            iterations += its
+            sig = _channel_rms(problem, r)
+            if all(abs(sig[c] / problem.sigma[c] - 1) < 0.02 for c in sig):
+                break
+            problem.sigma.update(sig)
+    except _Diverged:
+        return start, iterations
+    runs_problem.sim_seconds = problem.sim_seconds  # it started from the runs' count
+    return z, iterations
+
+
+def _estimator(method: str, window: Any, cut: Any) -> dict[str, Any]:
+    """Which estimator fitted the runs and why (:class:`SysidResult` ``estimator``)."""
+    if method == "equation-error":
+        return {"method": "equation error", "window_s": None, "jacobian_step_s": None, "why": "as asked (method)"}
+    if cut is None:
+        why = (
+            "as asked (window none)"
+            if window is None
+            else "window auto: no run drifts open loop at the start values, or none is long enough to cut"
+        )
+        return {"method": "output error, whole runs", "window_s": None, "jacobian_step_s": None, "why": why}
+    whole = len(cut.preps) == len(set(cut.owner))
+    what = "output error, whole runs (each run's initial state projected out)" if whole else "output error in windows"
+    return {
+        "method": what,
+        "window_s": None if whole else cut.length,
+        "jacobian_step_s": cut.jacobian_dt,
+        "why": cut.why,
+    }
 
 
 def _window_summary(cut: Any, problem: Any) -> dict[str, Any]:

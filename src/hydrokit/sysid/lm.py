@@ -63,8 +63,11 @@ def projected_lm(
     start : (residuals, Jacobian) at ``z0`` (already inside the box), or None — spares the
         first evaluation
     chi2_tol : float or None — stop when an accepted step lowers the weighted cost χ² by less
-        than this (–; a change of χ² by 1 moves an estimate by one σ); None: stop when the
-        relative drop is below 1e-9 or every step is below 1e-3 of its standard error
+        than this (–; a change of χ² by 1 moves an estimate by one σ), or when a step the fit
+        rejects was promised less than this by the linear model (the Jacobian's — approximate
+        when its columns come from a coarser step — cannot take the cost lower by more than
+        that: raising the damping would only spend evaluations); None: stop when the relative
+        drop is below 1e-9 or every step is below 1e-3 of its standard error
 
     Raises
     ------
@@ -100,6 +103,8 @@ def projected_lm(
             if ok and J_new is not None and float(r_new @ r_new) < cost:
                 break
             J_new = None
+            if chi2_tol is not None and _predicted_drop(r, J, (z_new - z) / scale) < chi2_tol:
+                break  # even the linear model promises less than chi2_tol: converged, no λ hunt
             lam *= 10.0
         if J_new is None:
             break
@@ -122,6 +127,13 @@ def projected_lm(
         if drop / (cost + drop) < 1e-9 or np.all(np.abs(step) <= 1e-3 * np.maximum(res_sd, 1e-300)):
             break
     return z, r, J, it
+
+
+def _predicted_drop(r: np.ndarray, J: np.ndarray, step: np.ndarray) -> float:
+    """The drop of the weighted cost χ² the linear model r + J step promises for ``step`` (scaled
+    variables): ‖r‖² − ‖r + J step‖² (–)."""
+    lin = r + J @ step
+    return float(r @ r - lin @ lin)
 
 
 __all__ = ["RUNAWAY", "Diverged", "Problem", "projected_lm"]

@@ -143,8 +143,9 @@ def crop(prep: PreparedRun, a: float, b: float, last: bool) -> PreparedRun:
             chans.append(c)
             times.append(t[keep] - a)
             values.append(y[keep])
+    whole = a <= 0.0 and last and b >= prep.duration - 1e-9
     return PreparedRun(
-        f"{prep.name}@{a:g}s",
+        prep.name if whole else f"{prep.name}@{a:g}s",
         prep.t0 + a,
         b - a,
         tab,
@@ -167,7 +168,12 @@ class Windows:
     each window's start); x0 : (12,) initial state of each window (SI); est : empty index
     arrays (no initial state estimated); smoothed : the smoothed run of each window's run;
     note : str — what was done and why, for the warnings; owner : the run of each window
-    (index); continuity : float — weight of the joins (–, :func:`cut_runs`), 0: not tied
+    (index); continuity : float — weight of the joins (–, :func:`cut_runs`), 0: not tied;
+    coarse : the same windows prepared at ``jacobian_dt`` (s), whose simulations give the
+    parameters' Jacobian columns (the residuals and the initial states' columns stay at the fit's
+    step), or None: every column at the fit's step; why : str — why these windows (the
+    estimator's reason, for sysid.json); first : windows fitted before these, from the start
+    values, whose estimate starts these (:func:`cut_runs`), or None
     """
 
     length: float
@@ -178,6 +184,10 @@ class Windows:
     note: str
     owner: tuple[int, ...] = ()
     continuity: float = 0.0
+    coarse: list[PreparedRun] | None = None
+    jacobian_dt: float | None = None
+    why: str = ""
+    first: Windows | None = None
 
     @property
     def lm(self) -> Callable[..., tuple[np.ndarray, np.ndarray, np.ndarray, int]]:
@@ -194,7 +204,14 @@ class Windows:
         window's measured initial states projected out, from its own ``x0``."""
         states = [np.array([i for i in range(12) if s.known[i]], dtype=int) for s in self.smoothed]
         return _window_problem(
-            problem, problem.preps, [x.copy() for x in problem.x0], problem.est, states, self.owner, self.continuity
+            problem,
+            problem.preps,
+            [x.copy() for x in problem.x0],
+            problem.est,
+            states,
+            self.owner,
+            self.continuity,
+            self.coarse,
         )
 
     def problem(self, whole: Any) -> Any:
@@ -202,7 +219,7 @@ class Windows:
         windows, with every measured initial state projected out (module docstring)."""
         states = [np.array([i for i in range(12) if s.known[i]], dtype=int) for s in self.smoothed]
         return _window_problem(
-            whole, self.preps, [x.copy() for x in self.x0], self.est, states, self.owner, self.continuity
+            whole, self.preps, [x.copy() for x in self.x0], self.est, states, self.owner, self.continuity, self.coarse
         )
 
     def prepare(self, runs: Sequence[RunData], thrusters: Any, dt: float, surfaces: Sequence[str]) -> list[PreparedRun]:
@@ -228,6 +245,7 @@ def _window_problem(
     states: list[np.ndarray],
     owner: Sequence[int] = (),
     continuity: float = 0.0,
+    coarse: Sequence[PreparedRun] | None = None,
 ) -> Any:
     split = [_split_states(prep, e) for prep, e in zip(preps, states)]
     # the windows of one run, in order: tied by continuity, their initial states projected out together
@@ -241,6 +259,8 @@ def _window_problem(
     # the states tied at a join: the measured ones (a channel, hence a noise σ, of their own)
     tied = [np.array([i for i in st if CHANNELS[int(i)] in whole.sigma], dtype=int) for st in states]
     sims_of = [_with_end(prep, t) for prep, t in zip(preps, tied)]
+    # the parameters' Jacobian columns at a coarser step (Windows.jacobian_dt): the same windows and samples
+    coarse_of = None if coarse is None else [_with_end(c, t) for c, t in zip(coarse, tied)]
     root = math.sqrt(max(float(continuity), 0.0))
 
     class WindowProblem(Problem):
@@ -256,17 +276,23 @@ def _window_problem(
         def evaluate(self, z: np.ndarray, scale: np.ndarray, jac: bool) -> tuple[np.ndarray, np.ndarray | None, bool]:
             p = len(self.params)
             packs = self.packs(z[:p], scale, jac)
-            n_veh = p + 1 if jac else 1
+            # with a coarse twin, the window at the fit's step simulates the nominal vehicle only (the
+            # residuals) and the coarse one the nominal and every nudge (the Jacobian's columns)
+            mixed = jac and coarse_of is not None
             tasks = []
-            for prep, x, (e, _) in zip(sims_of, self.x0, split):
-                n_x = e.size if jac else 0
+            for prep, x, (e, _) in zip(sims_of if not mixed else coarse_of or [], self.x0, split):
+                n_veh, n_x = (p + 1, e.size) if jac else (1, 0)
                 X0 = np.repeat(x[None], n_veh + n_x, axis=0)
                 for j, i in enumerate(e[:n_x]):
-                    X0[p + 1 + j, i] += _STATE_STEP
+                    X0[n_veh + j, i] += _STATE_STEP
                 tasks.append((prep, _take(packs, list(range(n_veh)) + [0] * n_x), X0))
+            if mixed:
+                tasks = [(prep, _take(packs, [0]), x[None].copy()) for prep, x in zip(sims_of, self.x0)] + tasks
             sims = (
                 [simulate_task(t) for t in tasks] if self.executor is None else self.executor.map(simulate_task, tasks)
             )
+            n_win = len(sims_of)
+            self.sim_seconds += sum(extra[2] for extra in sims[n_win:])
             res: list[np.ndarray] = [np.empty(0)] * len(self.preps)
             blocks: list[np.ndarray] = [np.empty((0, p))] * len(self.preps)
             tails, tail_blocks, jumps = [], [], []
@@ -286,10 +312,13 @@ def _window_problem(
                     ends.append((-r[m:], tied[i]))  # the end state's tied values, in σ
                     if not jac:
                         continue
-                    d = -(pred[1:] - pred[0]) * w
+                    # the nudges' differences: of the coarse twin's simulations when there is one
+                    nudged = sims[n_win + i][0] if mixed else pred
+                    d = -(nudged[1:] - nudged[0]) * w
+                    d_t, d_x = d[:p], d[p:]
                     # per unit of the state (SI): simulated, then the rigid moves of the track
-                    Jx = np.hstack([(d[p:] / _STATE_STEP).T, -_rigid_columns(sim, pred[0], x, rigid) * w[:, None]])
-                    rows_t.append((d[:p] / 1e-6).T)  # per unit of the scaled parameter
+                    Jx = np.hstack([(d_x / _STATE_STEP).T, -_rigid_columns(sim, pred[0], x, rigid) * w[:, None]])
+                    rows_t.append((d_t / 1e-6).T)  # per unit of the scaled parameter
                     rows_x.append(Jx)
                     cols.append(cols[-1] + Jx.shape[1])
                 # the joins: the end of each window against the start of the next (in σ)
@@ -581,7 +610,21 @@ def cut_runs(
     if window is None:
         return None
     x0 = [s.at(float(p.t0)) for s, p in zip(smoothed, preps)]
-    if window == "auto":
+    ship = ship_estimator(vehicle, runs, preps) if window == "auto" else None
+    first = None
+    if ship is not None:
+        length, why = ship
+        if length >= max(p.duration for p in preps) and any(
+            len(spans(p.duration, DEFAULT_WINDOW, p.dt)) > 1 for p in preps
+        ):
+            drifting = drift(vehicle, params, start, preps, x0, [sm.known for sm in smoothed])
+            if drifting:  # a start the whole runs would leave: windows first, whole runs from their estimate
+                why_first = (
+                    f"the open-loop simulation at the start values (equation error) drifts: {', '.join(drifting)}"
+                )
+                first = _windows(DEFAULT_WINDOW, why_first, vehicle, runs, smoothed, preps, continuity)
+                why += f"; {DEFAULT_WINDOW:g} s windows first ({why_first})"
+    elif window == "auto":
         if all(len(spans(p.duration, DEFAULT_WINDOW, p.dt)) == 1 for p in preps):
             return None  # no run long enough to cut: whole runs
         drifting = drift(vehicle, params, start, preps, x0, [sm.known for sm in smoothed])
@@ -593,14 +636,33 @@ def cut_runs(
         length = float(window)
         check_window(length, runs)
         why = "as asked"
+    return dataclasses.replace(_windows(length, why, vehicle, runs, smoothed, preps, continuity), first=first)
+
+
+def _windows(
+    length: float,
+    why: str,
+    vehicle: Vehicle,
+    runs: Sequence[RunData],
+    smoothed: Sequence[Any],
+    preps: Sequence[PreparedRun],
+    continuity: float,
+) -> Windows:
+    """The runs cut into windows of about ``length`` s (:class:`Windows`), ``why`` said in its note."""
     dt = preps[0].dt
     cut, owner = _cut_preps(preps, length, dt)
+    coarse, coarse_dt = None, jacobian_step(runs, dt)
+    if coarse_dt is not None:
+        th, names = vehicle.thrusters, vehicle.surfaces.names
+        coarse = _cut_preps([prepare_run(r, th, coarse_dt, surfaces=names) for r in runs], length, dt)[0]
     tie = (
         f", tied at their joins by continuity (weight {continuity:g})"
         if continuity > 0
         else ", each started from the smoothed state"
     )
     note = f"windowed output error: {len(cut)} windows of about {length:g} s ({why}){tie}; predictions and residuals are per window"
+    if len(cut) == len(preps):
+        note = f"output error over whole runs, each run's measured initial state projected out ({why})"
     return Windows(
         length,
         cut,
@@ -610,7 +672,48 @@ def cut_runs(
         note,
         tuple(owner),
         continuity,
+        coarse,
+        coarse_dt,
+        why,
     )
+
+
+#: a planar ship's runs this long or longer are fitted by :func:`ship_estimator`'s estimator, s
+LONG_RUN = 60.0
+#: the longest step of the parameters' Jacobian columns (:class:`Windows` ``coarse``), s
+JACOBIAN_STEP_MAX = 0.05
+#: the windows of :func:`ship_estimator`, s (None: each run whole)
+SHIP_WINDOW: float | None = None
+
+
+def ship_estimator(vehicle: Vehicle, runs: Sequence[RunData], preps: Sequence[PreparedRun]) -> tuple[float, str] | None:
+    """The estimator of ``window="auto"`` for a planar ship's long runs (issue #56): a vehicle in
+    surge, sway and yaw with a commanded propeller and a control surface, every run at least
+    :data:`LONG_RUN` s. Returns the window length (s) and why, or None for other runs."""
+    from hydrokit.model.thrusters import PropellerCurve
+
+    th = vehicle.thrusters
+    planar = tuple(sorted(vehicle.dofs)) == (0, 1, 5)
+    if th is None or not planar or not vehicle.surfaces.names or not preps:
+        return None
+    props = [n for n, cv in zip(th.names, th.curves) if isinstance(cv, PropellerCurve)]
+    if not all(any(n in r.commands for n in props) for r in runs) or min(p.duration for p in preps) < LONG_RUN:
+        return None
+    why = (
+        f"a planar ship's runs of {LONG_RUN:g} s or more with a propeller: each run whole, as the speed a turn "
+        "loses rests on surge terms (X_vv, X_vr, X_rr) that whole runs see best (generated zigzags of a tanker, "
+        "bench/zigzag_turns.py: their σ 1.7× smaller than in 30 s windows, the 35° turns' intervals half as wide)"
+    )
+    return (max(p.duration for p in preps) if SHIP_WINDOW is None else SHIP_WINDOW), why
+
+
+def jacobian_step(runs: Sequence[RunData], dt: float) -> float | None:
+    """The step of the parameters' Jacobian columns (s): the largest multiple of ``dt`` (s) within
+    the runs' shortest row interval and :data:`JACOBIAN_STEP_MAX` (held inputs change on rows, so
+    they stay on its steps), or None when that is ``dt`` itself."""
+    rows = min(float(np.min(np.diff(np.asarray(r.time, float)))) for r in runs if np.size(r.time) > 1)
+    k = int(math.floor(min(rows, JACOBIAN_STEP_MAX) / dt + 1e-9))
+    return k * dt if k >= 2 else None
 
 
 def check_continuity(value: Any, source: str = "--window-continuity") -> float:
@@ -639,6 +742,8 @@ __all__ = [
     "check_continuity",
     "check_window",
     "crop",
+    "jacobian_step",
+    "ship_estimator",
     "cut_runs",
     "drift",
     "parse_window",
