@@ -50,7 +50,11 @@ def test_identify_writes_all_outputs(run_sysid: Any, tmp_path: Path) -> None:
     assert out_text.index("verdict: ") < out_text.index("quadratic_damping.yaw = ")
     # the identified file is a vehicle that simulate --samples reads, with the fitted values
     doc = json.loads((out / "sysid.json").read_text())
-    assert list(doc)[0] == "verdict" and set(doc["verdict"]) == {"fits", "reasons", "details"} and doc["verdict"]["reasons"]
+    assert (
+        list(doc)[0] == "verdict"
+        and set(doc["verdict"]) == {"fits", "reasons", "details"}
+        and doc["verdict"]["reasons"]
+    )
     v = hydrokit.load_vehicle(out / "vehicle.yaml")
     assert v.uncertainty.parameters == ("added_mass.yaw", "quadratic_damping.yaw")
     assert v.M_A[5, 5] == doc["parameters"][0]["value"] and v.D_Q[5] == doc["parameters"][1]["value"]
