@@ -59,7 +59,8 @@ def generate(
 ) -> None:
     """Write virtual pool dives of VEHICLE with hidden added mass and damping (surge, sway, heave,
     yaw): attitude and gyro at 50 Hz, depth at 10 Hz, DVL at 5 Hz, commands at 50 Hz. --zigzags:
-    zigzag trials of a tanker model at 20 Hz (zigzagA-B{s,p}.csv, truth.yaml, start.yaml, truth.json)."""
+    zigzag trials of a tanker model at 20 Hz (zigzagA-B{s,p}.csv, truth.yaml, start.yaml, truth.json,
+    free.txt)."""
     from hydrokit.api import load_vehicle, sysid_dive_files
     from hydrokit.cli._common import check_out_dir, write_all
 
@@ -72,7 +73,8 @@ def generate(
         n, length = min(n_runs or 12, 12), duration or 150.0
         write_all(zigzag_files(out_dir, n, length, seed, spread, noise))
         click.echo(
-            f"wrote {n} zigzag run(s) of {length:g} s, truth.yaml, start.yaml, truth.json to {out_dir}", err=True
+            f"wrote {n} zigzag run(s) of {length:g} s, truth.yaml, start.yaml, truth.json, free.txt to {out_dir}",
+            err=True,
         )
         return
     n, length = n_runs or 4, duration or 90.0

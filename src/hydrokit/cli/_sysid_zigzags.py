@@ -25,8 +25,8 @@ def zigzag_files(out_dir: str, n_runs: int, duration: float, seed: int, spread: 
     Returns
     -------
     dict — path → text: zigzagA-B{s,p}.csv (:func:`hydrokit.io.runlog.run_csv`), the ship
-    (:data:`hydrokit.sysid.ship.TANKER`) as truth.yaml, the start as start.yaml and truth.json
-    (the free names and their true values, SI)
+    (:data:`hydrokit.sysid.ship.TANKER`) as truth.yaml, the start as start.yaml, truth.json (the
+    free names and their true values, SI) and free.txt (the free names, for ``--free "$(cat …)"``)
     """
     import numpy as np
 
@@ -58,4 +58,5 @@ def zigzag_files(out_dir: str, n_runs: int, duration: float, seed: int, spread: 
         "hidden": {f"terms.{k}": v for k, v in TANKER_TERMS.items()},
     }
     files[str(out / "truth.json")] = json.dumps(doc, indent=2) + "\n"
+    files[str(out / "free.txt")] = ",".join(TANKER_FREE) + "\n"
     return files

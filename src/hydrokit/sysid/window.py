@@ -293,6 +293,8 @@ def _window_problem(
             )
             n_win = len(sims_of)
             self.sim_seconds += sum(extra[2] for extra in sims[n_win:])
+            if any(not np.all(np.isfinite(twin[0][0])) for twin in sims[n_win:]):
+                return np.empty(0), None, False  # the coarse twin's nominal vehicle diverged: a step to refuse
             res: list[np.ndarray] = [np.empty(0)] * len(self.preps)
             blocks: list[np.ndarray] = [np.empty((0, p))] * len(self.preps)
             tails, tail_blocks, jumps = [], [], []
