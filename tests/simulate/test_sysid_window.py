@@ -162,7 +162,9 @@ def test_auto_windows_a_drifting_run_and_says_so() -> None:
     res = identify(truth, runs, names, window="auto", samples=0, check_step=False, dt=0.05)
     note = next(w for w in res.warnings if w.startswith("windowed output error"))
     assert "windows of about 30 s (the open-loop simulation at the start values" in note and "run1" in note
-    assert res.estimator["method"].startswith("output error, whole runs") and "30 s windows first" in res.estimator["why"]
+    assert (
+        res.estimator["method"].startswith("output error, whole runs") and "30 s windows first" in res.estimator["why"]
+    )
     assert len(res.runs) == 2  # the whole runs, fitted after 2 × 5 windows of 30 s
     assert np.all(np.abs(res.values - true) < 4 * res.sigma), (res.values - true) / res.sigma
     assert math.isfinite(res.condition)
