@@ -60,7 +60,7 @@ def main() -> None:
             td_text = f"{td:8.2f}" if td is not None else "       -"
             print(f"{feature:<22} {loop_name:<9} {err:9.1e} {factor:7.2f} {moves:8.2f} {td_text}")
     print(f"{'feature':<22} {'path':<9} {'err / std':>9}")
-    for feature in ("T()", "n()", "race (actuator disc)", "race (MMG)", "propeller lag + wake"):
+    for feature in ("T()", "n()", "race (actuator disc)", "race (MMG)", "propeller lag + wake", "wind"):
         print(f"{feature:<22} {'sysid':<9} {sysid_error(feature):9.1e}")
     print(f"({time.perf_counter() - t0:.0f} s)")
 

@@ -321,20 +321,45 @@ def test_transport_refuses_what_it_cannot_feed(feature: str) -> None:
 
 def sysid_error(feature: str) -> float:
     """The largest difference, in each channel's standard deviation, between sysid's simulation
-    of a run flown by ``simulate --command`` and logged at 1 Hz and that run (see below)."""
+    of a run flown by ``simulate --command`` and logged at 1 Hz and that run (see below);
+    ``feature`` "wind": the ``T()`` ship with a Blendermann wind model in a logged wind of 4 m/s
+    from 60°."""
+    from hydrokit.api import vehicle_from_dict
     from hydrokit.io.runlog import RunLog
+    from hydrokit.model.dynamics import environment_table
     from hydrokit.simulate.commands import CommandForce, command_table, fly_commands
     from hydrokit.sysid.model import CHANNELS, prepare_run, simulate_run, stack_packs
 
-    v = feature_vehicle(feature)
+    wind = feature == "wind"
+    if wind:
+        from tests.simulate.test_acceptance_race_rudder import WIND
+
+        change, *_ = FEATURES["T()"]
+        doc = _ship(change)
+        doc["wind"] = dict(WIND)
+        v = vehicle_from_dict(doc, "path-wind")
+    else:
+        v = feature_vehicle(feature)
     dt, rudder = 0.05, math.radians(15.0)
-    cf = CommandForce(v.thrusters, command_table(v, {"prop": N_PROP}), start="settled")
-    tr = fly_commands(v, 40.0, dt, cf, nu0=(0.35, 0, 0, 0, 0, 0), deflection=[rudder])
+    t_w = np.array([0.0, 40.0])
+    speed, direction = np.full(2, 4.0), np.full(2, math.radians(60.0))
+    env = environment_table(None, np.column_stack([t_w, speed, direction])) if wind else None
+    cf = CommandForce(v.thrusters, command_table(v, {"prop": N_PROP}), start="settled", current_ned=env)
+    tr = fly_commands(v, 40.0, dt, cf, nu0=(0.35, 0, 0, 0, 0, 0), current_ned=env, deflection=[rudder])
     every = int(round(1.0 / dt))
     t = tr.time[::every]
     x = np.concatenate([tr.eta, tr.nu], axis=1)[::every]
     chans = {c: (t, x[:, CHANNELS.index(c)]) for c in ("x", "y", "psi", "u", "v", "r")}
-    run = RunLog("r", "", t, chans, {"prop": np.full(t.size, N_PROP)}, deflections={"rudder": np.full(t.size, rudder)})
+    logged = {"wind_speed": np.full(t.size, 4.0), "wind_direction": np.full(t.size, math.radians(60.0))}
+    run = RunLog(
+        "r",
+        "",
+        t,
+        chans,
+        {"prop": np.full(t.size, N_PROP)},
+        deflections={"rudder": np.full(t.size, rudder)},
+        environment=logged if wind else {},
+    )
     prep = prepare_run(run, v.thrusters, dt, surfaces=v.surfaces.names)
     pred, done = simulate_run(prep, stack_packs([v]), np.concatenate([tr.eta[0], tr.nu[0]])[None, :])
     if done[0] != int(round(40.0 / dt)):
@@ -344,7 +369,7 @@ def sysid_error(feature: str) -> float:
     return float(np.max(np.abs(pred[0] - ref) / scale))
 
 
-@pytest.mark.parametrize("feature", ["T()", "race (MMG)", "propeller lag + wake"])
+@pytest.mark.parametrize("feature", ["T()", "race (MMG)", "propeller lag + wake", "wind"])
 def test_sysid_simulates_simulates_model(feature: str) -> None:
     """sysid's batch simulation of a run (the output-error fit's and the held-out prediction's)
     is simulate's model: a run flown by ``simulate --command`` (propeller at 20 rev/s, rotors
