@@ -149,8 +149,9 @@ def test_windowed_and_whole_run_fits_agree_on_a_course_stable_ship() -> None:
 
 @pytest.mark.needs_jit(reason="an output-error fit of 2 parameters over 2 × 150 s of a course-unstable ship")
 def test_auto_windows_a_drifting_run_and_says_so() -> None:
-    """A planar ship's long runs that drift at the start values: 30 s windows first, then the whole
-    runs from their estimate (issue #56: windows alone lose the slow surge terms), said in the
+    """A planar ship's long runs that drift at the start values: 30 s windows (issue #56: windows
+    first and then whole runs from their estimate chased the drift on the Esso Osaka pond trials,
+    0 of 6 held-out overshoots inside their intervals against the windows' 4 of 6), said in the
     warnings and in the result's estimator."""
     from hydrokit.sysid.fit import identify
 
@@ -161,10 +162,9 @@ def test_auto_windows_a_drifting_run_and_says_so() -> None:
     true = values_of(truth, params)
     res = identify(truth, runs, names, window="auto", samples=0, check_step=False, dt=0.05)
     note = next(w for w in res.warnings if w.startswith("windowed output error"))
-    assert "windows of about 30 s (the open-loop simulation at the start values" in note and "run1" in note
-    assert (
-        res.estimator["method"].startswith("output error, whole runs") and "30 s windows first" in res.estimator["why"]
-    )
-    assert len(res.runs) == 2  # the whole runs, fitted after 2 × 5 windows of 30 s
+    assert "windows of about 30 s (" in note and "the open-loop simulation at the start values" in note
+    assert "run1" in note
+    assert res.estimator["method"] == "output error in windows" and "drifts" in res.estimator["why"]
+    assert len(res.runs) == 10  # 2 runs × 5 windows of 30 s
     assert np.all(np.abs(res.values - true) < 4 * res.sigma), (res.values - true) / res.sigma
     assert math.isfinite(res.condition)
