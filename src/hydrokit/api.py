@@ -408,8 +408,9 @@ def manoeuvre_envelope(vehicle: Vehicle, result: Any, commands: Any = None, tau:
         return []
     ext = extremes(result.nu, result.deflection, result.surface_names)
     held = {str(n): float(c) for n, c in (commands or {}).items()}
-    settled = not any(w.startswith("the approach was not steady") for w in result.warnings)
-    steady = (held, float(result.approach_speed)) if held and _surge_force(tau) == 0.0 and settled else None
+    # an approach that had not settled is still speeding up: a speed already too high is said
+    rising = any(w.startswith("the approach was not steady") for w in result.warnings)
+    steady = (held, float(result.approach_speed)) if held and _surge_force(tau) == 0.0 else None
     findings, check = compare(
         env,
         commands={n: [c] for n, c in held.items()},
@@ -419,6 +420,7 @@ def manoeuvre_envelope(vehicle: Vehicle, result: Any, commands: Any = None, tau:
         drift=ext["drift"],
         speed=ext["speed"],
         units=command_units(vehicle),
+        rising=rising,
     )
     return _envelope_lines(result, findings, check, env.runs)
 

@@ -22,13 +22,14 @@ ENVELOPE_KEYS = (
     "length",
     "command_range",
     "speed_per_command",
+    "speed_manoeuvring",
     "speed",
     "deflection_deg",
     "yaw_rate",
     "drift_deg",
 )
 #: the keys of one ``speed_per_command`` entry
-LEVEL_KEYS = ("command", "speed", "scatter", "runs", "samples")
+LEVEL_KEYS = ("command", "speed", "scatter", "turning", "runs", "samples")
 
 
 def _pair(value: Any, field: str, source: str, unit: str, nonneg: bool = False) -> tuple[float, float]:
@@ -57,8 +58,8 @@ def _count(value: Any, field: str, source: str) -> int:
     return int(value)
 
 
-def _level(entry: Any, k: int, thrusters: tuple[str, ...], source: str) -> SpeedLevel:
-    where = f"envelope.speed_per_command[{k}]"
+def _level(entry: Any, k: int, thrusters: tuple[str, ...], source: str, key: str = "speed_per_command") -> SpeedLevel:
+    where = f"envelope.{key}[{k}]"
     block = mapping(entry, where, source)
     check_keys(block, LEVEL_KEYS, where, source)
     for key in ("command", "speed", "scatter"):
@@ -78,7 +79,18 @@ def _level(entry: Any, k: int, thrusters: tuple[str, ...], source: str) -> Speed
         number(block["scatter"], f"{where}.scatter", source, nonneg=True),
         _count(block.get("runs", 1), f"{where}.runs", source),
         _count(block.get("samples", 1), f"{where}.samples", source),
+        None if block.get("turning") is None else number(block["turning"], f"{where}.turning", source, nonneg=True),
     )
+
+
+def _levels(block: Any, key: str, thrusters: tuple[str, ...], source: str) -> tuple[SpeedLevel, ...]:
+    levels = block.get(key) or []
+    if not isinstance(levels, list):
+        raise InputError(
+            f"field 'envelope.{key}' = {cut_repr(levels)}: expected a list of {{command, speed, scatter, runs, samples}}",
+            source,
+        )
+    return tuple(_level(e, k, thrusters, source, key) for k, e in enumerate(levels))
 
 
 def read_envelope(
@@ -114,13 +126,6 @@ def read_envelope(
         )
         for n, r in ranges.items()
     )
-    levels = block.get("speed_per_command") or []
-    if not isinstance(levels, list):
-        raise InputError(
-            f"field 'envelope.speed_per_command' = {cut_repr(levels)}: expected a list of "
-            "{command, speed, scatter, runs, samples}",
-            source,
-        )
     deflection = tuple(
         (
             _named(n, surfaces, "envelope.deflection_deg", "control surfaces", source),
@@ -136,7 +141,8 @@ def read_envelope(
             f"field 'envelope.drift_deg' = {cut_repr(drift)}: expected an angle from 0 to 180 (deg)", source
         )
     return Envelope(
-        speed_per_command=tuple(_level(e, k, thrusters, source) for k, e in enumerate(levels)),
+        speed_per_command=_levels(block, "speed_per_command", thrusters, source),
+        speed_manoeuvring=_levels(block, "speed_manoeuvring", thrusters, source),
         command_range=command_range,
         speed=None if speed is None else _pair(speed, "envelope.speed", source, "m/s", nonneg=True),
         deflection=deflection,

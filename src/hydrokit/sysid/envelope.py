@@ -14,6 +14,13 @@ commands, deflections, ``u``, ``v``, ``w`` and ``r``):
   runs within 2 % of one another are one level: its command is their samples' mean, its speed the
   mean over the runs of each run's mean speed, its scatter the standard deviation of those run
   means (of the samples, with one run).
+- **speed while manoeuvring per command.** The same holds' second halves, turning or not, when
+  steady within :data:`~hydrokit.model.envelope.MANOEUVRING_CHANGE` (20 %: a zigzag's speed
+  swings with each turn, and a model ship's settles slowly) over at least 2 L, grouped the same way but run by run (each
+  run's own turning bounds the straight speed), each level with its turning r' = rms(r) L / mean
+  speed (–): runs that never go straight (a pond's random-rudder and zigzag
+  trials) still bound the straight speed at their commands from both sides
+  (:func:`hydrokit.model.envelope.largest_speed_loss`).
 - **ranges.** Each thruster's least and largest command; the least and largest speed through the
   water |(u, v, w)| (the channels logged); each surface's largest |δ|; the largest |r|; the
   largest drift |atan2(−v, u)| where u > 0.1 × the largest speed.
@@ -32,6 +39,7 @@ import numpy as np
 
 from hydrokit.model.envelope import (
     DRIFT_SPEED_FRACTION,
+    MANOEUVRING_CHANGE,
     Envelope,
     SpeedLevel,
     command_tolerance,
@@ -39,6 +47,9 @@ from hydrokit.model.envelope import (
     vehicle_length,
 )
 
+#: a hold's part: its run (index), the command vector per sample, the speeds (m/s) and, for the
+#: manoeuvring levels, the yaw rates (rad/s)
+Hold = tuple[int, np.ndarray, np.ndarray, np.ndarray | None]
 #: the fewest speed samples in the part of a hold used
 MIN_SAMPLES = 10
 
@@ -91,7 +102,9 @@ def run_envelope(runs: Sequence[Any], vehicle: Any) -> Envelope:
     surfaces = [s for s in vehicle.surfaces.names if all(s in d for d in defl)]
     deflection = tuple((s, max(float(np.max(np.abs(d[s]))) for d in defl)) for s in surfaces)
     speeds, rates, drifts = [], [], []
-    holds: list[tuple[int, np.ndarray, np.ndarray]] = []  # run (index), command vector per sample, speeds
+    # run (index), command vector per sample, speeds, and manoeuvring the yaw rates (rad/s)
+    holds: list[Hold] = []
+    turning: list[Hold] = []
     for k_run, run in enumerate(runs):
         r_ch = run.channels.get("r")
         if r_ch is not None and len(r_ch[1]):
@@ -116,7 +129,10 @@ def run_envelope(runs: Sequence[Any], vehicle: Any) -> Envelope:
             part = slice(half, b)
             steady, straight = straight_and_steady(t[part], U[part], None if r is None else r[part], length)
             if steady and int(np.sum(straight)) >= MIN_SAMPLES:
-                holds.append((k_run, cmds[a:b][straight.nonzero()[0] + (half - a)], U[half:b][straight]))
+                holds.append((k_run, cmds[a:b][straight.nonzero()[0] + (half - a)], U[half:b][straight], None))
+            rp = np.zeros(b - half) if r is None else r[part]
+            if straight_and_steady(t[part], U[part], rp, length, MANOEUVRING_CHANGE, 0.0)[0]:
+                turning.append((k_run, cmds[half:b], U[half:b], rp))
     top = max((float(np.max(U)) for U in speeds), default=None)
     drift = None
     if drifts and top:
@@ -124,6 +140,10 @@ def run_envelope(runs: Sequence[Any], vehicle: Any) -> Envelope:
         drift = max((float(np.max(b)) for b in betas if b.size), default=None)
     return Envelope(
         speed_per_command=_levels(holds, names, scale),
+        # run by run: each run's own turning bounds the straight speed
+        speed_manoeuvring=tuple(
+            lv for k in range(len(runs)) for lv in _levels([h for h in turning if h[0] == k], names, scale, length)
+        ),
         command_range=command_range,
         speed=None if not speeds else (min(float(np.min(U)) for U in speeds), float(top or 0.0)),
         deflection=deflection,
@@ -135,10 +155,11 @@ def run_envelope(runs: Sequence[Any], vehicle: Any) -> Envelope:
 
 
 def _levels(
-    holds: list[tuple[int, np.ndarray, np.ndarray]], names: list[str], scale: np.ndarray
+    holds: list[Hold], names: list[str], scale: np.ndarray, length: float | None = None
 ) -> tuple[SpeedLevel, ...]:
-    """The holds of every run grouped into levels (module docstring), by command."""
-    groups: list[list[tuple[int, np.ndarray, np.ndarray]]] = []
+    """The holds of every run grouped into levels (module docstring), by command; for holds with
+    their yaw rates, each level's turning r' = rms(r) L / mean speed (``length`` L, m)."""
+    groups: list[list[Hold]] = []
     for hold in sorted(holds, key=lambda h: tuple(h[1][0])):
         first = hold[1][0]
         for g in groups:
@@ -152,11 +173,16 @@ def _levels(
     for g in groups:
         cmds = np.concatenate([h[1] for h in g])
         per_run: dict[int, list[np.ndarray]] = {}
-        for k_run, _, U in g:
+        for k_run, _, U, _ in g:
             per_run.setdefault(k_run, []).append(U)
         means = np.array([float(np.mean(np.concatenate(us))) for us in per_run.values()])
         samples = np.concatenate([h[2] for h in g])
         scatter = float(np.std(means, ddof=1)) if means.size > 1 else float(np.std(samples, ddof=1))
+        turning = None
+        yaw = [h[3] for h in g if h[3] is not None]
+        if yaw:
+            rr = np.concatenate(yaw)
+            turning = float(np.sqrt(np.mean(rr**2)) * (length or 0.0) / max(float(np.mean(samples)), 1e-9))
         out.append(
             SpeedLevel(
                 command=tuple((n, float(np.mean(cmds[:, j]))) for j, n in enumerate(names)),
@@ -164,6 +190,7 @@ def _levels(
                 scatter=scatter if math.isfinite(scatter) else 0.0,
                 runs=int(means.size),
                 samples=int(samples.size),
+                turning=turning,
             )
         )
     return tuple(sorted(out, key=lambda lv: tuple(c for _, c in lv.command)))
