@@ -347,3 +347,86 @@ def quantities(value: Any, what: str, n: int | None = None, source: str = "") ->
     if not all(_is_real(x) and math.isfinite(float(x)) for x in items):
         raise InputError(f"{what} = {cut_repr(value)}: expected {expected}", source)
     return tuple(float(x) for x in items)
+
+
+# ---------------------------------------------------------------------------- sysid windows
+#: words of a sysid window that mean whole runs (``--window none``)
+WHOLE_RUNS = ("none", "off", "whole")
+
+
+def window_length(value: Any, label: str = "window", source: str = "") -> float | str | None:
+    """A sysid window as given: ``hydrokit sysid --window`` or a project's ``sysid.window``.
+
+    Parameters
+    ----------
+    value : object
+        ``"auto"``; None or ``"none"`` / ``"off"`` / ``"whole"`` (whole runs); or a window length
+        in seconds > 0 (a number, ``"30"`` or ``"30s"``). A bool (YAML's ``yes``, ``off``) is refused.
+    label : str, optional
+        How the message names the value: ``window`` (the option) or ``field 'sysid.window' =``.
+    source : str, optional
+        The option or file, prefixed to the message.
+
+    Returns
+    -------
+    "auto", None or float
+        ``"auto"``, None for whole runs, or the window length, s.
+
+    Raises
+    ------
+    InputError
+        ``<label> <value!r>: expected a length in seconds …, 'auto' or 'none'`` (one line).
+    """
+    if value is None:
+        return None
+    expected = "expected a length in seconds (e.g. 30), 'auto' or 'none'"
+    if isinstance(value, str):
+        text = value.strip().lower()
+        if text == "auto":
+            return "auto"
+        if text in WHOLE_RUNS:
+            return None
+        try:
+            value = float(text.removesuffix("s"))  # the message shows the number read
+        except ValueError:
+            raise InputError(f"{label} {cut_repr(value)}: {expected}", source) from None
+    elif isinstance(value, bool):
+        raise InputError(f"{label} {value!r}: {expected} (YAML reads yes/no/on/off as true/false)", source)
+    elif not _is_real(value):
+        raise InputError(f"{label} {cut_repr(value)}: {expected}", source)
+    s = float(value)
+    if not (math.isfinite(s) and s > 0):
+        raise InputError(f"{label} {cut_repr(value)}: expected a length > 0 s, 'auto' or 'none'", source)
+    return s
+
+
+def window_within(window: Any, runs: Iterable[Any], label: str = "window", source: str = "") -> float | str | None:
+    """``window`` (:func:`window_length`) checked against the runs' lengths.
+
+    Parameters
+    ----------
+    window : object — as :func:`window_length` takes it
+    runs : objects with ``name`` and ``time`` (row times, s) — the training runs
+    label, source : str — as in :func:`window_length`
+
+    Returns
+    -------
+    "auto", None or float — as :func:`window_length`; a length is at most every run's, s
+
+    Raises
+    ------
+    InputError
+        A bad value, or a window longer than a run (naming the run and both lengths, s).
+    """
+    length = window_length(window, label, source)
+    if isinstance(length, float):
+        for r in runs:
+            t = np.asarray(r.time, float)
+            duration = float(t[-1] - t[0]) if t.size else 0.0
+            if length > duration + 1e-9:
+                raise InputError(
+                    f"{label} {length:g} s is longer than run {r.name} ({duration:g} s); expected a window ≤ "
+                    f"{duration:g} s, or 'none' to fit whole runs",
+                    source,
+                )
+    return length

@@ -27,10 +27,12 @@ source with a ``source`` text, shown in the comparison), ``choose`` as a mapping
 ``{surge: cfd, default: tank}``, ``virtual: true`` and ``description``. ``sysid`` takes
 ``runs`` and ``holdout`` (a glob or a list of run files, docs/sysid.md), ``free`` (a list or
 comma-separated text of ``<coefficient>.<dof>`` / ``terms.<term>`` names), ``method``
-(output-error or equation-error), ``dt`` (integration step, s) and ``truth`` (the
+(output-error or equation-error), ``dt`` (integration step, s), ``truth`` (the
 ``truth.json`` of ``hydrokit sysid generate``: the hidden values of virtual dives, shown as
-true). A project needs at least one campaign or a ``sysid`` section; ``scale_ratio`` only
-when a campaign lacks its own.
+true), ``window`` (a window length in s > 0, ``auto`` — the default, as ``hydrokit sysid
+--window`` — or ``none`` for whole runs) and ``window_continuity`` (weight of the windows'
+joins, dimensionless, ≥ 0, default 0). A project needs at least one campaign or a ``sysid``
+section; ``scale_ratio`` only when a campaign lacks its own.
 
 Paths are relative to the project file. Every problem is one line naming the field.
 """
@@ -46,6 +48,7 @@ from typing import Any
 from pydantic import BaseModel, ConfigDict, Field, ValidationError
 
 from hydrokit.core.names import DOF_NAMES
+from hydrokit.core.validate import window_length, window_within
 from hydrokit.errors import InputError
 from hydrokit.identify.tare import TARE_CONVENTIONS
 from hydrokit.identify.types import METHODS
@@ -118,6 +121,10 @@ class _Sysid(BaseModel):
     method: str = "output-error"
     dt: float = Field(0.01, gt=0, le=0.1, description="integration step, s")
     truth: str | None = Field(None, description="truth.json of hydrokit sysid generate")
+    window: Any = Field("auto", description="window length, s (> 0), 'auto' or 'none' (whole runs): sysid --window")
+    window_continuity: float = Field(
+        0.0, ge=0, allow_inf_nan=False, strict=True, description="weight of the windows' joins, dimensionless"
+    )
 
 
 class ProjectFile(BaseModel):
@@ -175,7 +182,10 @@ class SysidSpec:
     free : parameter names (``<coefficient>.<dof>``, ``terms.<term>``,
     ``control_surfaces.<name>.<field>`` or ``thrusters.<name>.<field>``); method : output-error
     or equation-error; dt : integration step, s; truth : name → hidden value (SI) of virtual
-    dives (``truth.json`` of ``hydrokit sysid generate``), or None; truth_file : its path."""
+    dives (``truth.json`` of ``hydrokit sysid generate``), or None; truth_file : its path;
+    window : window length, s, ``"auto"`` (windows only when a run drifts) or None (whole runs),
+    as ``hydrokit sysid --window``; window_continuity : weight of the windows' joins,
+    dimensionless (``--window-continuity``)."""
 
     runs: tuple[Path, ...]
     holdout: tuple[Path, ...]
@@ -185,7 +195,12 @@ class SysidSpec:
     pattern: str
     truth: dict[str, float] | None = None
     truth_file: Path | None = None
+    window: float | str | None = "auto"
+    window_continuity: float = 0.0
 
+
+#: the label of ``sysid.window`` in its messages (``field 'sysid.window' = 'banana': expected …``)
+_WINDOW = "field 'sysid.window' ="
 
 #: DOFs a CFD speed sweep can give (a pure motion along a body axis) and their axes
 CFD_AXES = {"surge": "x", "sway": "y", "heave": "z"}
@@ -479,7 +494,19 @@ def _sysid(s: _Sysid | None, root: Path, source: str, vehicle: Path) -> SysidSpe
         truth = _sysid_truth(truth_file, source)
     pattern = s.runs if isinstance(s.runs, str) else ", ".join(map(str, s.runs))
     free = _free_names(s.free, source, *_vehicle_names(vehicle))
-    return SysidSpec(runs, holdout, free, s.method, float(s.dt), pattern, truth, truth_file)
+    window = window_length(s.window, _WINDOW, source)  # as hydrokit sysid --window reads it
+    return SysidSpec(
+        runs,
+        holdout,
+        free,
+        s.method,
+        float(s.dt),
+        pattern,
+        truth,
+        truth_file,
+        window=window,
+        window_continuity=float(s.window_continuity),
+    )
 
 
 def _sysid_truth(path: Path, source: str) -> dict[str, float]:
@@ -560,8 +587,9 @@ def check_inputs(project: Project) -> None:
 
 
 def check_sysid_runs(project: Project) -> None:
-    """Read the base vehicle and every run of ``sysid:`` once: a vehicle without thrusters, or a
-    bad run file (one line naming its file and column), is refused before any step runs."""
+    """Read the base vehicle and every run of ``sysid:`` once: a vehicle without thrusters, a
+    bad run file (one line naming its file and column) or a ``sysid.window`` longer than a
+    training run is refused before any step runs."""
     from hydrokit.io.runlog import read_run
     from hydrokit.io.thrusters import parse_thrusters
 
@@ -574,8 +602,8 @@ def check_sysid_runs(project: Project) -> None:
             "whose commands the runs hold",
             str(project.source),
         )
-    for run in (*project.sysid.runs, *project.sysid.holdout):
-        read_run(run, thrusters.names)
+    read = [read_run(run, thrusters.names) for run in (*project.sysid.runs, *project.sysid.holdout)]
+    window_within(project.sysid.window, read[: len(project.sysid.runs)], _WINDOW, str(project.source))
 
 
 def load_project(name_or_path: str | os.PathLike[str]) -> Project:

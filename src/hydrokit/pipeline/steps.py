@@ -18,9 +18,10 @@ from hydrokit.pipeline.cache import StepCache, digest, file_digest, run_key
 CONTROLLERS = ("pid", "s-plane")
 
 #: version of the sysid step's cached result: raised when what the step returns changes (2: the
-#: verdict, the physical-sign bounds and free surface and thruster fields), so results cached
-#: before are computed again rather than read
-SYSID_STEP_VERSION = 2
+#: verdict, the physical-sign bounds and free surface and thruster fields; 3: the window, as
+#: hydrokit sysid's default, and the estimator), so results cached before are computed again
+#: rather than read
+SYSID_STEP_VERSION = 3
 
 
 def _png64(png: bytes) -> str:
@@ -151,6 +152,8 @@ class Runner:
             spec.method,
             spec.dt,
             spec.truth,
+            spec.window,
+            spec.window_continuity,
             self.p.seed,
         )
 

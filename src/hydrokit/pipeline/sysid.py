@@ -1,10 +1,12 @@
 """The ``sysid`` source of ``hydrokit run``: a vehicle's coefficients from its own dives.
 
-The project's ``sysid:`` section names run files (docs/sysid.md), the free parameters and the
-method; :func:`sysid_step` identifies them with :func:`hydrokit.api.identify_runs`
-and returns a JSON-ready document (value, σ and covariance per parameter, the identifiability
-messages, per-run residuals and held-out NRMSE, figures) that the comparison reads as one more
-source, beside tank, geometry, BEM and CFD.
+The project's ``sysid:`` section names run files (docs/sysid.md), the free parameters, the
+method and the estimator's window as ``hydrokit sysid`` takes it (``window``: a length in s,
+``auto`` by default, or ``none``; ``window_continuity``, dimensionless); :func:`sysid_step`
+identifies them with :func:`hydrokit.api.identify_runs` and returns a JSON-ready document
+(value, σ and covariance per parameter, the estimator and why, the identifiability messages,
+per-run residuals and held-out NRMSE, figures) that the comparison reads as one more source,
+beside tank, geometry, BEM and CFD.
 
 Start vehicle: the project's base vehicle with every tank-identified diagonal coefficient
 (full-scale mean) written in — the best knowledge the project holds before the dives. Every
@@ -79,7 +81,10 @@ def sysid_step(
 
     Returns
     -------
-    dict — ``verdict`` (``fits``, ``reasons``: does the model describe the runs), ``parameters``
+    dict — ``verdict`` (``fits``, ``reasons``: does the model describe the runs), ``window``
+    (as asked: a length, s, ``"auto"`` or ``"none"``) and ``window_continuity`` (–),
+    ``estimator`` (which estimator fitted the runs and why: ``method``, ``window_s`` — s, None for
+    whole runs — ``jacobian_step_s`` — s — and ``why``, as sysid.json), ``parameters``
     (name → value, sigma, unit, start, base, equation_error, identifiable, truth), ``covariance``
     (SI², in ``names`` order), ``result`` (sysid.json without the prediction series),
     ``figures`` (base64 PNG), ``warnings`` (the verdict's reasons first when it does not fit),
@@ -95,6 +100,8 @@ def sysid_step(
         spec.holdout,
         method=spec.method,
         dt=spec.dt,
+        window=spec.window,
+        window_continuity=spec.window_continuity,
         samples=BAND_SAMPLES,
         seed=seed,
         progress=lambda it, cost: advance(1),
@@ -129,6 +136,9 @@ def sysid_step(
         "free": list(spec.free),
         "method": spec.method,
         "dt": spec.dt,
+        "window": "none" if spec.window is None else spec.window,
+        "window_continuity": spec.window_continuity,
+        "estimator": dict(result.estimator),
         "start_vehicle": {"name": vehicle.name, "from_tank": dict(from_tank or {})},
         "names": list(result.parameters),
         "parameters": params,

@@ -179,6 +179,23 @@ def _sysid_cell(r: dict[str, Any], relative: float | None) -> str:
     return f"{fmt(v)} ± {fmt(s, 2)}" + _ci(r.get("sysid_ci")) + _rel(relative)
 
 
+def _estimator_html(s: dict[str, Any]) -> list[str]:
+    """Which estimator fitted the runs and why (sysid.json's ``estimator``), beside the window
+    (s, ``auto`` or ``none``) and continuity weight (–) the project asked for; nothing for a
+    step that does not say."""
+    est = s.get("estimator") or s["result"].get("estimator") or {}
+    if not est.get("method"):
+        return []
+    window = s.get("window", "auto")
+    asked = f"{fmt(window)} s" if isinstance(window, (int, float)) else esc(window)
+    length = f" of about {fmt(est['window_s'])} s" if est.get("window_s") else ""
+    step = f"; Jacobian columns every {fmt(est['jacobian_step_s'])} s" if est.get("jacobian_step_s") else ""
+    return [
+        f"<p>Estimator: {esc(est['method'])}{length}{step}: {esc(est.get('why') or '')}. Asked: window {asked}, "
+        f"continuity {fmt(s.get('window_continuity', 0.0))}.</p>"
+    ]
+
+
 def sysid_section(s: dict[str, Any], figures: dict[str, list[dict[str, str]]]) -> list[str]:
     """The system identification's details: runs, parameters with σ (beside start, base,
     equation error and truth), identifiability, residuals and held-out NRMSE, figures."""
@@ -199,6 +216,7 @@ def sysid_section(s: dict[str, Any], figures: dict[str, list[dict[str, str]]]) -
         f"of the scaled Fisher information {fmt(res['condition_number'], 3)}; halving the step moves the estimates "
         f"by at most {fmt(res['step_check_sigma'], 2)} σ.</p>"
     )
+    parts += _estimator_html(s)
     has_truth = any(p.get("truth") is not None for p in s["parameters"].values())
     rows = []
     for name, p in s["parameters"].items():

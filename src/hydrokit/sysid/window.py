@@ -66,6 +66,7 @@ from typing import Any
 
 import numpy as np
 
+from hydrokit.core.validate import window_length, window_within
 from hydrokit.errors import InputError
 from hydrokit.model.vehicle import Vehicle
 from hydrokit.sysid.lm import projected_lm
@@ -94,31 +95,15 @@ _STATE_STEP = 1e-7
 
 
 def parse_window(value: Any, source: str = "--window") -> float | str | None:
-    """``"auto"``, None (``"none"``/``"off"``: whole runs) or a window length > 0 in seconds.
+    """``"auto"``, None (``"none"``/``"off"``: whole runs) or a window length > 0 in seconds
+    (:func:`hydrokit.core.validate.window_length`, which a project's ``sysid.window`` uses too).
 
     Raises
     ------
     InputError
         Anything else, naming the value and what was expected.
     """
-    if value is None:
-        return None
-    if isinstance(value, str):
-        text = value.strip().lower()
-        if text == "auto":
-            return "auto"
-        if text in ("none", "off", "whole"):
-            return None
-        try:
-            value = float(text.removesuffix("s"))
-        except ValueError:
-            raise InputError(
-                f"window {value!r}: expected a length in seconds (e.g. 30), 'auto' or 'none'", source
-            ) from None
-    s = float(value)
-    if not (math.isfinite(s) and s > 0):
-        raise InputError(f"window {value!r}: expected a length > 0 s, 'auto' or 'none'", source)
-    return s
+    return window_length(value, "window", source)
 
 
 def spans(duration: float, window: float, dt: float) -> list[tuple[float, float]]:
@@ -557,25 +542,15 @@ def _heading_turn(prep: PreparedRun, nominal: np.ndarray, probed: np.ndarray) ->
 
 
 def check_window(window: Any, runs: Sequence[RunData]) -> float | str | None:
-    """``window`` parsed (:func:`parse_window`) and checked against the runs' lengths.
+    """``window`` parsed (:func:`parse_window`) and checked against the runs' lengths
+    (:func:`hydrokit.core.validate.window_within`).
 
     Raises
     ------
     InputError
         A bad value, or a window longer than a run (naming the run and both lengths, s).
     """
-    length = parse_window(window)
-    if isinstance(length, float):
-        for r in runs:
-            t = np.asarray(r.time, float)
-            duration = float(t[-1] - t[0]) if t.size else 0.0
-            if length > duration + 1e-9:
-                raise InputError(
-                    f"window {length:g} s is longer than run {r.name} ({duration:g} s); expected a window ≤ "
-                    f"{duration:g} s, or 'none' to fit whole runs",
-                    "--window",
-                )
-    return length
+    return window_within(window, runs, "window", "--window")
 
 
 def cut_runs(
