@@ -432,8 +432,11 @@ def rk4_batch(
     """Many vehicles at once: leading axis of x0, tau_tab, out and of V_all's Minv, Mc, DL, DQ,
     scal and t_coef is the vehicle (:func:`vehicle_member`); ``done`` receives each vehicle's number of steps taken; ``D_all`` the
     driven propellers with each vehicle's wake factors and configuration columns
-    (:func:`drive_member`; :func:`no_drive_batch` for none)."""
+    (:func:`drive_member`; :func:`no_drive_batch` for none). A ``tau_tab`` of one table (1, k,
+    columns) is shared by every vehicle (a run's perturbed vehicles, whose thrusters agree: a copy
+    per vehicle costs more than the fit's linear algebra)."""
     nv = x0.shape[0]
+    shared = tau_tab.shape[0] == 1
     for k in numba.prange(nv):
         done[k] = rk4_run(
             x0[k],
@@ -442,7 +445,7 @@ def rk4_batch(
             n_steps,
             every,
             quat,
-            tau_tab[k],
+            tau_tab[0] if shared else tau_tab[k],
             cur_tab,
             vehicle_member_compiled(V_all, k),
             drive_member_compiled(D_all, k),

@@ -1,6 +1,7 @@
 """Compiled loops of identification (issue #50: bench/sysid.py under 15 s): the rotor lag over a
 run's rows and nodes, the table thrust curves, the samples of the simulated states, the
-forward-difference Jacobian columns, and the batch RK4 of many vehicles sharing one force table.
+forward-difference Jacobian columns (the batch RK4 of many vehicles, one force table shared or one
+each, is :func:`hydrokit.simulate.compiled.rk4_batch`).
 Each loop only calls the laws of :mod:`hydrokit.model.thrusters` compiled by ``compile_law``
 (:mod:`hydrokit.simulate.compiled`) and the RK4 run of the batch integrator — no law is written
 here. The serial loops release the GIL (``nogil``).
@@ -8,16 +9,12 @@ here. The serial loops release the GIL (``nogil``).
 
 from __future__ import annotations
 
-import numba
 import numpy as np
 
 from hydrokit._numba import njit
 from hydrokit.simulate.compiled import (
-    drive_member_compiled,
-    rk4_run,
     rotor_lag_compiled,
     table_interp_compiled,
-    vehicle_member_compiled,
 )
 
 
@@ -52,41 +49,6 @@ def table_thrusts(x, xs, ys, out):  # noqa: ANN001, ANN201
         out[j] = table_interp_compiled(x[j], xs, ys, n)
 
 
-@njit(parallel=True)
-def rk4_batch_shared(
-    x0,
-    dt,
-    n_steps,
-    every,
-    quat,
-    tau_tab,
-    cur_tab,
-    V_all,
-    D_all,
-    out,
-    done,
-):  # noqa: ANN001, ANN201
-    """:func:`hydrokit.simulate.compiled.rk4_batch` with one force table ``tau_tab`` (k, columns)
-    shared by all vehicles (the batch of a run's perturbed vehicles, whose thrusters agree),
-    instead of one copy per vehicle; ``D_all`` the driven propellers per vehicle
-    (:func:`hydrokit.simulate.compiled.drive_member`)."""
-    nv = x0.shape[0]
-    for k in numba.prange(nv):
-        done[k] = rk4_run(
-            x0[k],
-            0.0,
-            dt,
-            n_steps,
-            every,
-            quat,
-            tau_tab,
-            cur_tab,
-            vehicle_member_compiled(V_all, k),
-            drive_member_compiled(D_all, k),
-            out[k],
-        )
-
-
 @njit(nogil=True)
 def sample_states(out, state, i0, w, pred):  # noqa: ANN001, ANN201
     """``pred[v, j]`` = the state ``state[j]`` of vehicle v linearly interpolated between the
@@ -116,7 +78,6 @@ def as_array(values: object) -> np.ndarray:
 
 __all__ = [
     "difference_columns",
-    "rk4_batch_shared",
     "rotor_nodes",
     "rotor_rows",
     "sample_states",

@@ -641,7 +641,7 @@ def simulate_run(prep: PreparedRun, packs: Mapping[str, Any], x0: np.ndarray) ->
     interpolated between integration steps, and the steps each vehicle took (fewer: it diverged).
     """
     from hydrokit.simulate.compiled import no_drive_batch, rk4_batch
-    from hydrokit.sysid.kernels import rk4_batch_shared, sample_states
+    from hydrokit.sysid.kernels import sample_states
 
     x0 = np.ascontiguousarray(x0, dtype=float)
     nv = x0.shape[0]
@@ -654,13 +654,10 @@ def simulate_run(prep: PreparedRun, packs: Mapping[str, Any], x0: np.ndarray) ->
     # the fit's linear algebra), cut to the columns the vehicles read (the integrator interpolates
     # every column at every stage)
     k = read_columns(packs, prep.table.shape[1])
-    if own is not None:
-        batch, tab = rk4_batch, np.ascontiguousarray(own[:, :, :k])
-    else:
-        batch, tab = rk4_batch_shared, np.ascontiguousarray(prep.table[:, :k])
+    tab = np.ascontiguousarray(own[:, :, :k] if own is not None else prep.table[None, :, :k])
     vehicles = packs.get("vehicles")
     drive = drive_pack(prep, list(vehicles)) if vehicles is not None and k == prep.table.shape[1] else None
-    batch(
+    rk4_batch(
         x0,
         float(dt),
         n_steps,
