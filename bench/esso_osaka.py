@@ -49,7 +49,7 @@ zigzag's 0.496) — the random runs never settle at a propeller speed, so nothin
 speed. With ``--train-zigzags 13_04_24,13_22_52`` (10 and 16.67 rev/s, the other three held out):
 the MMG structure still approaches at 1.3 m/s and ``manoeuvre`` says it does not hold (bound 1.16
 m/s); the derivative structure (``FREE`` + ``wind.CD_t,thrusters.prop.wake_fraction``, this start
-vehicle) fits X_u|u| 3.24 ± 1.09 N·s²/m², approaches at 0.70 m/s (29 % above the zigzag's speed at
+vehicle) fits X_u|u| 3.24 ± 1.09 N·s²/m², approaches at 0.70 m/s (the zigzag ran 29 % slower, at
 r' 0.29: inside the bound), turns with advance 2.63 L and tactical diameter 2.99 L both ways (no
 asymmetric term free; a tanker's usual ≈ 3 L), 3 of the 4 measured held-out overshoots inside their
 95 % intervals; sysid 60 s. Its steady turning diameter (3.26 L) exceeds the tactical one, which a
