@@ -76,6 +76,7 @@ def test_propeller_curve_thrusts_equal_the_curve_method() -> None:
 
 def test_shared_table_batch_equals_a_copy_per_vehicle() -> None:
     from hydrokit.simulate.compiled import no_drive_batch, rk4_batch
+    from hydrokit.sysid.model import held_offset
 
     base = hydrokit.load_vehicle("bluerov2-sysid")
     truth = hidden_vehicle(base, 4)
@@ -91,7 +92,20 @@ def test_shared_table_batch_equals_a_copy_per_vehicle() -> None:
     tab = np.ascontiguousarray(np.broadcast_to(prep.table, (3, *prep.table.shape)))
     env = np.zeros((1, 4))
     keys = ("Minv", "Mc", "DL", "DQ", "scal", "t_dof", "t_coef", "t_kind", "t_idx")
-    rk4_batch(x0, prep.dt, n_steps, 1, False, tab, env, tuple(packs[k] for k in keys), no_drive_batch(3), out, done2)
+    rk4_batch(
+        x0,
+        prep.dt,
+        n_steps,
+        1,
+        False,
+        tab,
+        env,
+        tuple(packs[k] for k in keys),
+        no_drive_batch(3),
+        out,
+        done2,
+        held_offset(prep.dt),
+    )
     np.testing.assert_array_equal(done, done2)
     assert np.all(done == n_steps)
     # the prediction at the samples from the copied-table run, interpolated as simulate_run does;

@@ -340,10 +340,15 @@ def _drive_row(t, x, quat, tau_tab, cur_tab, D, row, slope):  # noqa: ANN001, AN
 
 
 @njit
-def rk4_run(x0, t0, dt, n_steps, every, quat, tau_tab, cur_tab, V, D, out):  # noqa: ANN001, ANN201
+def rk4_run(x0, t0, dt, n_steps, every, quat, tau_tab, cur_tab, V, D, out, held=0.0):  # noqa: ANN001, ANN201
     """Integrate n_steps RK4 steps from x0; store every ``every``-th state in ``out`` (rows).
     ``D``: the propellers whose thrust is evaluated at every stage's state (:func:`_drive_row`;
-    :func:`no_drive` for none: the table's inputs as they are).
+    :func:`no_drive` for none: the table's inputs as they are). ``held`` (s): each step's first
+    stage reads the tables this much after the step's start — a table of held inputs, whose value
+    at a jump node t_k is the one held up to it (the last stage of the step ending there reads it)
+    and which reaches the new one ``held`` / 2 later (:func:`hydrokit.sysid.model.force_table`),
+    gives the step starting at t_k its new value at every stage, as a zero-order hold does; 0 for
+    piecewise-linear tables.
 
     Returns the number of steps taken (< n_steps if the state became non-finite).
     """
@@ -368,8 +373,8 @@ def rk4_run(x0, t0, dt, n_steps, every, quat, tau_tab, cur_tab, V, D, out):  # n
         # the stages written out rather than deriv_rk4_step: 1.30 M against 1.10 M steps/s (BlueROV2
         # Heavy, CPU time, best of 15 × 600 s, 2026-11-29): the call of the step kernel costs ~15 %
         if driven:
-            _drive_row(t, x, quat, tau_tab, cur_tab, D, row, slope)
-        deriv(t, x, quat, tab, cur_tab, V, buf, k1)
+            _drive_row(t + held, x, quat, tau_tab, cur_tab, D, row, slope)
+        deriv(t + held, x, quat, tab, cur_tab, V, buf, k1)
         rk4_stage_compiled(x, k1, 0.5 * dt, tmp)
         if driven:
             _drive_row(t + 0.5 * dt, tmp, quat, tau_tab, cur_tab, D, row, slope)
@@ -428,13 +433,14 @@ def rk4_batch(
     D_all,
     out,
     done,
+    held=0.0,
 ):  # noqa: ANN001, ANN201
     """Many vehicles at once: leading axis of x0, tau_tab, out and of V_all's Minv, Mc, DL, DQ,
     scal and t_coef is the vehicle (:func:`vehicle_member`); ``done`` receives each vehicle's number of steps taken; ``D_all`` the
     driven propellers with each vehicle's wake factors and configuration columns
     (:func:`drive_member`; :func:`no_drive_batch` for none). A ``tau_tab`` of one table (1, k,
     columns) is shared by every vehicle (a run's perturbed vehicles, whose thrusters agree: a copy
-    per vehicle costs more than the fit's linear algebra)."""
+    per vehicle costs more than the fit's linear algebra). ``held``: as :func:`rk4_run`'s."""
     nv = x0.shape[0]
     shared = tau_tab.shape[0] == 1
     for k in numba.prange(nv):
@@ -450,6 +456,7 @@ def rk4_batch(
             vehicle_member_compiled(V_all, k),
             drive_member_compiled(D_all, k),
             out[k],
+            held,
         )
 
 

@@ -189,15 +189,16 @@ class Hold:
 
 def _integrate(packs: Mapping[str, np.ndarray], x0: np.ndarray, table: np.ndarray, dt: float, n: int) -> np.ndarray:
     """The first vehicle of ``packs`` from ``x0`` over ``n`` steps of ``dt`` (s) under the force
-    table rows [t, X … N] (t from 0) on the compiled RK4: the (n + 1, 12) states; InputError if
-    it diverged."""
+    table rows [t, X … N] (t from 0; held inputs as :func:`~hydrokit.sysid.model.force_table`
+    writes them) on the compiled RK4: the (n + 1, 12) states; InputError if it diverged."""
     from hydrokit.simulate.compiled import no_drive, rk4_run, vehicle_member
-    from hydrokit.sysid.model import vehicle_arrays
+    from hydrokit.sysid.model import held_offset, vehicle_arrays
 
     out = np.empty((n + 1, 12))
     V = vehicle_member(vehicle_arrays(packs), 0)
     x = np.ascontiguousarray(x0, dtype=float)
-    done = rk4_run(x, 0.0, dt, n, 1, False, np.ascontiguousarray(table), np.zeros((1, 4)), V, no_drive(), out)
+    tab = np.ascontiguousarray(table)
+    done = rk4_run(x, 0.0, dt, n, 1, False, tab, np.zeros((1, 4)), V, no_drive(), out, held_offset(dt))
     if done < n:
         raise InputError(f"the truth vehicle diverged at t = {done * dt:.2f} s; lower the amplitude")
     return out
