@@ -29,6 +29,12 @@ noise happens to lie along the heading's sensitivities, which the smoothed fit w
 smoothing cuts the heading's noise RMS to a third and leaves its slow part). The rest is d² 5 on
 12 runs (2 on 4), the fit's 0.01 s step against the truth's 0.0025 s: 0.0 with ``--dt 0.0025``
 (seeds 58 and 101: d² 32 and 18, still 2/6 and 4/6 held).
+
+After a220294 (a logged input reaches all four stages of the step starting at its row; the rest
+was that O(dt) lag, in the generator's truth too): rest 0.6 on every seed; seeds 56, 57, 58, 100,
+101: d² 39.3, 37.5, 27.9, 28.6, 16.5 (noise term 34.0, 33.0, 29.9, 25.3, 17.4), σ stated/exact
+0.955–0.985, intervals held 6, 4, 2, 5, 4 of 6 (21 of 30; 40-draw intervals hold about 90 %
+with honest σ, and a seed's six turn figures miss together).
 """
 
 from __future__ import annotations
