@@ -49,12 +49,14 @@ zigzag's 0.496) — the random runs never settle at a propeller speed, so nothin
 speed. With ``--train-zigzags 13_04_24,13_22_52`` (10 and 16.67 rev/s, the other three held out):
 the MMG structure still approaches at 1.3 m/s and ``manoeuvre`` says it does not hold (bound 1.16
 m/s); the derivative structure (``FREE`` + ``wind.CD_t,thrusters.prop.wake_fraction``, this start
-vehicle) fits X_u|u| 3.24 ± 1.09 N·s²/m², approaches at 0.70 m/s (the zigzag ran 29 % slower, at
-r' 0.29: inside the bound), turns with advance 2.63 L and tactical diameter 2.99 L both ways (no
-asymmetric term free; a tanker's usual ≈ 3 L), 3 of the 4 measured held-out overshoots inside their
-95 % intervals; sysid 60 s. Its steady turning diameter (3.26 L) exceeds the tactical one, which a
-tanker's does not: the turn widens as the ship slows, a sign that N_ur (held at its bound 0) is not
-what these runs determine.
+vehicle), refitted after a220294 (held inputs on time): X_u|u| 4.57 ± 1.28 N·s²/m², approaches at
+0.70 m/s (the zigzag ran 29 % slower, at r' 0.30: inside the bound 1.17 m/s), steady speed in the
+turn 0.38 m/s, advance 2.56 L and tactical diameter 2.89 L both ways (no asymmetric term free; a
+tanker's usual ≈ 3 L), 2 of the 4 measured held-out overshoots inside their 95 % intervals (3 of 4
+before the fix). Its integrator check reads 15 σ at dt 0.05 (8.7 before the fix, on a different
+optimum) and the fit says to use a smaller dt (not rerun here). Its steady turning diameter (3.13 L) exceeds the
+tactical one, which a tanker's does not: the turn widens as the ship slows, a sign that N_ur (held
+at its bound 0) is not what these runs determine.
 """
 
 from __future__ import annotations
