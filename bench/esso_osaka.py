@@ -4,7 +4,7 @@ model) from its pond trials and predict the held-out zigzags, as a user would â€
 
     python bench/esso_osaka.py PATH/TO/esso-osaka [--out DIR] [--train-runs N] [--max-seconds S]
         [--test N] [--train-zigzags 13_04_24,13_22_52] [--free LIST] [--dt 0.05] [--window auto] [--samples 20]
-        [--turn 35 --turn-command prop=12.97]
+        [--turn 35 --turn-command prop=16.6667]
     python bench/esso_osaka.py --compare OUT_A OUT_B [...]
 
 PATH holds ``zigzag/*.csv`` and ``random/*.csv`` of the FRT-DS-ESSO data set (Wakita et al. 2022,
@@ -159,7 +159,9 @@ def main() -> int:
     ap.add_argument("--samples", type=int, default=20, help="vehicles drawn for the overshoot intervals (count)")
     ap.add_argument("--workers", type=int, default=None, help="sysid threads (count)")
     ap.add_argument("--turn", type=float, default=None, help="also fly turning circles at Â±this rudder, deg")
-    ap.add_argument("--turn-command", default="prop=12.97", help="--command of the turns (prop rev/s)")
+    ap.add_argument(
+        "--turn-command", default="prop=16.6667", help="--command of the turns (prop rev/s; the zigzags hold 16.67)"
+    )
     ap.add_argument(
         "--reuse",
         action="store_true",

@@ -744,7 +744,9 @@ def _identify(
     lap("report")
     if math.isfinite(step_check) and step_check > 0.1:
         warnings.append(
-            f"halving the integration step moves an estimate by {step_check:.2f} σ (> 0.1): use a smaller dt"
+            f"halving the integration step moves an estimate by {step_check:.2f} σ (> 0.1): use a smaller dt — "
+            "unless the model does not fit or a parameter is not identifiable (above), where the optimum itself "
+            "is not determined and the step only shows it"
         )
     return SysidResult(
         vehicle=with_values(veh, params, theta),
